@@ -1,0 +1,39 @@
+// trueaxis: measure, model and compensate machine-tool axis errors.
+// Subcommands live one per file (cmd_*.cpp) and register themselves.
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+
+#include <fmt/format.h>
+
+#include "command.hpp"
+#include "trueaxis/core/input_error.hpp"
+
+namespace trueaxis::cli {
+std::vector<CommandEntry>& Registry() {
+  static std::vector<CommandEntry> registry;
+  return registry;
+}
+}  // namespace trueaxis::cli
+
+int main(int argc, char** argv) {
+  using namespace trueaxis::cli;
+  CLI::App app{"trueaxis — measure, model and compensate the geometric and thermal errors of machine-tool axes"};
+  app.set_version_flag("--version", "trueaxis 0.1.0");
+  app.require_subcommand(1);
+  auto& registry = Registry();
+  std::sort(registry.begin(), registry.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+  for (const auto& entry : registry) entry.setup(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const trueaxis::InputError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return kExitFailure;
+  }
+  return kExitOk;
+}

@@ -1,0 +1,32 @@
+# trueaxis_module(<name> [DEPS target...])
+#   Builds src/<name>/*.cpp into the static library trueaxis_<name>, with the
+#   public headers in include/trueaxis/<name>/, and records it so the CLI links it.
+function(trueaxis_module name)
+  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  add_library(trueaxis_${name} STATIC ${sources})
+  target_include_directories(trueaxis_${name} PUBLIC ${PROJECT_SOURCE_DIR}/include)
+  target_compile_options(trueaxis_${name} PRIVATE -Wall -Wextra -Wno-unused-parameter -Wno-restrict)
+  target_link_libraries(trueaxis_${name} PUBLIC ${ARG_DEPS})
+  set_property(GLOBAL APPEND PROPERTY TRUEAXIS_MODULES trueaxis_${name})
+endfunction()
+
+# trueaxis_tests(<name> [DEPS target...])
+#   Builds tests/<name>/*.cpp into the GoogleTest program test_<name> and
+#   registers each test case with CTest. Tests find the shared data folder
+#   and the CLI through compile definitions.
+function(trueaxis_tests name)
+  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  add_executable(test_${name} ${sources})
+  target_link_libraries(test_${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gmock GTest::gtest_main)
+  target_compile_definitions(test_${name} PRIVATE
+    TRUEAXIS_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    TRUEAXIS_SHARED_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/data"
+    TRUEAXIS_CLI_PATH="$<TARGET_FILE:trueaxis>")
+  add_dependencies(test_${name} trueaxis)
+  gtest_discover_tests(test_${name}
+    WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}
+    DISCOVERY_TIMEOUT 60
+    PROPERTIES TIMEOUT 600)
+endfunction()

@@ -1,0 +1,45 @@
+#pragma once
+// CncLink: the runtime's only view of a CNC (MISSION M3), in the spirit of a
+// ros2_control hardware component: it exports state (per axis machine
+// coordinate, servo direction; coolant state) and takes one command per axis
+// (the compensation value, written into the CNC's compensation input such as
+// the external origin offset through the PMC window).
+//
+// Implementations: the virtual machine tool in process (sim/), and MODBUS TCP
+// against a PMC-window register map (drivers/, docs/protocols.md). The
+// runtime cannot tell them apart.
+//
+// Contract: Read() and WriteCompensation() do not allocate and return false on
+// a link fault (timeout, refused, bad reply); the caller decides how to degrade.
+#include <cstddef>
+#include <span>
+#include <string>
+
+#include "trueaxis/core/coolant.hpp"
+
+namespace trueaxis::hw {
+
+struct AxisState {
+  double position_mm = 0;  // machine coordinate as the CNC reports it (radius, even for diameter-programmed axes)
+  int servo_direction = 0; // +1 moving/last moved towards +, -1 towards -, 0 not known
+  bool moving = false;
+};
+
+struct CncState {
+  CoolantState coolant = CoolantState::kOff;
+  bool compensation_enabled = false;  // the CNC-side enable (parameter / PMC bit)
+};
+
+class CncLink {
+ public:
+  virtual ~CncLink() = default;
+  virtual std::size_t AxisCount() const = 0;
+  virtual std::string AxisName(std::size_t axis) const = 0;
+  // Fills axes[0..AxisCount()) and machine. False on link fault.
+  virtual bool Read(std::span<AxisState> axes, CncState& machine) = 0;
+  // Writes one compensation value per axis, in µm, as the CORRECTION to add to
+  // the commanded position (docs/sign-convention.md). False on link fault.
+  virtual bool WriteCompensation(std::span<const double> correction_um) = 0;
+};
+
+}  // namespace trueaxis::hw

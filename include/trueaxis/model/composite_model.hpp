@@ -1,0 +1,119 @@
+#pragma once
+// The composite geometric + thermal error model of seed 000 (MISSION M4, M5):
+//
+//   Er(x, T) = Er(x) + tanβ·(Px − P0) + ρ·ΔT_env·(Px − P0)
+//   tanβ     = Σ_i k_i·ΔT_i            (k per coolant state, ΔT_i rise of key sensor i)
+//
+// with Er(x) the cold-state error of one direction of approach, Px the
+// reference point, P0 the current machine coordinate. One AxisModel per axis,
+// with one DirectionModel per direction (forward '+', reverse '-').
+//
+// Sign convention (docs/sign-convention.md): every *_error_um / Predict()
+// value is an ERROR = actual − commanded position. The correction to add to
+// the command is its negative: CorrectionUm(p) = −p.total_um.
+//
+// Predict() is pure, allocation-free and safe to call from the real-time
+// cycle. The JSON form is docs/model-file.md (model_json.hpp).
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "trueaxis/core/coolant.hpp"
+#include "trueaxis/core/direction.hpp"
+
+namespace trueaxis::model {
+
+// Er(x) of one direction.
+struct GeometricError {
+  enum class Kind { kPolynomial, kTable };
+  Kind kind = Kind::kPolynomial;
+  // kPolynomial: Er = Σ c_j·u^j with u = (x − center_mm) / half_span_mm
+  // (normalised for conditioning), c_j in µm.
+  double center_mm = 0;
+  double half_span_mm = 1;
+  std::vector<double> coefficients_um;
+  // kTable (seed 002): ascending positions, linear interpolation between
+  // samples, the end value held beyond the ends.
+  std::vector<double> table_position_mm;
+  std::vector<double> table_error_um;
+
+  double Evaluate(double position_mm) const;
+};
+
+// tanβ gains for one coolant working state (the seed's look-up table).
+struct ThermalGains {
+  CoolantState coolant = CoolantState::kOff;
+  std::vector<double> k_um_per_mm_per_c;  // parallel to AxisModel::key_sensors
+  double offset_um_per_mm = 0;            // constant term of tanβ (0 in the seed's form)
+};
+
+struct DirectionModel {
+  GeometricError geometric;
+  std::vector<ThermalGains> thermal;  // one entry per coolant state fitted; may be empty
+  // Gains for `coolant`; falls back to the kOff entry, then the first entry; nullptr if none.
+  const ThermalGains* GainsFor(CoolantState coolant) const;
+};
+
+struct AxisModel {
+  std::string axis;                    // "X", "Y", "Z", ...
+  double reference_position_mm = 0;    // Px: where the thermal error is zero
+  std::vector<std::string> key_sensors;
+  std::vector<double> baseline_temp_c; // per key sensor: the temperatures Er(x) was measured at
+  std::string ambient_sensor;          // empty: no ambient adjustment
+  double ambient_baseline_c = std::numeric_limits<double>::quiet_NaN();
+  double rho_um_per_mm_per_c = 0;      // ρ: ambient expansion, µm per mm per °C
+  std::array<DirectionModel, 2> directions;  // indexed by DirectionIndex()
+
+  const DirectionModel& For(Direction d) const { return directions[DirectionIndex(d)]; }
+};
+
+// Where a source file of the fit came from (lineage).
+struct SourceRecord {
+  std::string path;
+  std::string sha256;
+  std::string state;  // "cold", "warm", "ambient", "coolant:flood", ...
+};
+
+struct CompositeModel {
+  static constexpr int kFormatVersion = 1;
+  int format_version = kFormatVersion;
+  std::string machine;
+  std::string created_utc;
+  std::string generator;              // e.g. "trueaxis 0.1.0 fit"
+  int revision = 1;                   // increases by one on every re-fit
+  std::string parent_sha256;          // hash of the model this re-fit replaced, empty if none
+  std::vector<SourceRecord> sources;
+  std::vector<AxisModel> axes;
+  nlohmann::json fit_summary = nlohmann::json::object();  // statistics, free form (docs/model-file.md)
+
+  const AxisModel* FindAxis(const std::string& name) const;
+};
+
+// The thermal state the prediction is made for.
+struct ThermalState {
+  std::span<const double> key_temp_c;  // current temperatures, parallel to key_sensors
+  double ambient_c = std::numeric_limits<double>::quiet_NaN();  // NaN: no ambient adjustment
+  CoolantState coolant = CoolantState::kOff;
+  bool use_thermal = true;             // false: geometric part only (sensor-fault fallback)
+};
+
+struct Prediction {
+  double geometric_um = 0;
+  double thermal_um = 0;
+  double ambient_um = 0;
+  double tan_beta_um_per_mm = 0;
+  double total_um = 0;  // error = geometric + thermal + ambient
+};
+
+// Predicted error at `position_mm` approached in `direction`. Pure; no allocation.
+// A key temperature that is NaN makes the thermal part 0 (geometric only).
+Prediction Predict(const AxisModel& axis, double position_mm, Direction direction, const ThermalState& state);
+
+inline double CorrectionUm(const Prediction& p) { return -p.total_um; }
+
+}  // namespace trueaxis::model

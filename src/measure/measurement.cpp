@@ -1,0 +1,94 @@
+#include "trueaxis/measure/measurement.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+#include <tuple>
+
+#include <fmt/format.h>
+
+#include "trueaxis/core/input_error.hpp"
+
+namespace trueaxis::measure {
+namespace {
+constexpr double kSameTargetTolMm = 1e-6;
+}
+
+std::optional<std::string> Measurement::Meta(const std::string& key) const {
+  for (const auto& [k, v] : metadata)
+    if (k == key) return v;
+  return std::nullopt;
+}
+
+void Measurement::SetMeta(const std::string& key, const std::string& value) {
+  for (auto& [k, v] : metadata)
+    if (k == key) {
+      v = value;
+      return;
+    }
+  metadata.emplace_back(key, value);
+}
+
+std::optional<std::size_t> Measurement::SensorIndex(const std::string& name) const {
+  for (std::size_t i = 0; i < sensor_names.size(); ++i)
+    if (sensor_names[i] == name) return i;
+  return std::nullopt;
+}
+
+std::vector<double> Measurement::Targets() const {
+  std::vector<double> t;
+  t.reserve(points.size());
+  for (const auto& p : points) t.push_back(p.target_mm);
+  std::sort(t.begin(), t.end());
+  std::vector<double> out;
+  for (double v : t)
+    if (out.empty() || v - out.back() > kSameTargetTolMm) out.push_back(v);
+  return out;
+}
+
+std::vector<int> Measurement::Runs() const {
+  std::set<int> runs;
+  for (const auto& p : points) runs.insert(p.run);
+  return {runs.begin(), runs.end()};
+}
+
+void ValidateForEvaluation(const Measurement& m) {
+  if (m.points.empty()) throw InputError(m.source, "no measurement points (empty file?)");
+  const auto targets = m.Targets();
+  auto target_index = [&](double t) {
+    auto it = std::lower_bound(targets.begin(), targets.end(), t - kSameTargetTolMm);
+    return static_cast<std::size_t>(it - targets.begin());
+  };
+  std::map<std::tuple<int, int, std::size_t>, int> seen;  // (run, dir, target) -> line
+  std::vector<std::array<int, 2>> first_line(targets.size(), {0, 0});
+  std::vector<std::array<bool, 2>> has_dir(targets.size(), {false, false});
+  for (const auto& p : m.points) {
+    const auto ti = target_index(p.target_mm);
+    const int di = static_cast<int>(DirectionIndex(p.direction));
+    auto key = std::make_tuple(p.run, di, ti);
+    if (auto it = seen.find(key); it != seen.end()) {
+      throw InputError(m.source, p.source_line, "target_mm",
+                       fmt::format("duplicate point: run {} direction {} target {} mm already given on line {}",
+                                   p.run, DirectionSymbol(p.direction), p.target_mm, it->second));
+    }
+    seen.emplace(key, p.source_line);
+    has_dir[ti][di] = true;
+    if (first_line[ti][di] == 0) first_line[ti][di] = p.source_line;
+  }
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    if (has_dir[i][0] != has_dir[i][1]) {
+      const int di = has_dir[i][0] ? 0 : 1;
+      throw InputError(m.source, first_line[i][di], "direction",
+                       fmt::format("target {} mm is measured only in the '{}' direction; ISO 230-2 needs both",
+                                   targets[i], di == 0 ? '+' : '-'));
+    }
+  }
+  const auto runs = m.Runs();
+  if (runs.size() < 2)
+    throw InputError(m.source, m.points.front().source_line, "run",
+                     fmt::format("only {} run(s); repeatability needs at least 2 runs per direction", runs.size()));
+}
+
+}  // namespace trueaxis::measure

@@ -1,0 +1,177 @@
+#include "trueaxis/measure/measurement_csv.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/text_file.hpp"
+
+namespace trueaxis::measure {
+namespace {
+
+std::vector<std::string_view> SplitComma(std::string_view line) {
+  std::vector<std::string_view> out;
+  std::size_t start = 0;
+  while (true) {
+    auto pos = line.find(',', start);
+    out.push_back(Trim(line.substr(start, pos == std::string_view::npos ? std::string_view::npos : pos - start)));
+    if (pos == std::string_view::npos) break;
+    start = pos + 1;
+  }
+  return out;
+}
+
+enum class Column { kRun, kDirection, kTarget, kDeviation, kTime, kTemperature };
+
+struct ColumnSpec {
+  Column kind;
+  std::string name;
+  std::size_t sensor = 0;
+};
+
+}  // namespace
+
+Measurement ParseMeasurementCsv(std::string_view text, const std::string& source) {
+  Measurement m;
+  m.source = source;
+  std::vector<ColumnSpec> columns;
+  bool have_header = false;
+  int line_no = 0;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    auto nl = text.find('\n', pos);
+    std::string_view raw = text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
+    pos = (nl == std::string_view::npos) ? text.size() + 1 : nl + 1;
+    ++line_no;
+    if (!raw.empty() && raw.back() == '\r') raw.remove_suffix(1);
+    if (line_no == 1 && raw.size() >= 3 && raw.substr(0, 3) == "\xEF\xBB\xBF") raw.remove_prefix(3);
+    std::string_view line = Trim(raw);
+    if (line.empty()) continue;
+    if (line.front() == '#') {
+      auto body = Trim(line.substr(1));
+      auto colon = body.find(':');
+      if (colon != std::string_view::npos && colon > 0) {
+        std::string key(Trim(body.substr(0, colon)));
+        std::string value(Trim(body.substr(colon + 1)));
+        if (!have_header) m.SetMeta(key, value);
+      }
+      continue;  // other comments are free text
+    }
+    auto fields = SplitComma(line);
+    if (!have_header) {
+      have_header = true;
+      bool seen[4] = {false, false, false, false};
+      for (auto f : fields) {
+        std::string name(f);
+        ColumnSpec spec{Column::kRun, name};
+        if (name == "run") spec.kind = Column::kRun;
+        else if (name == "direction") spec.kind = Column::kDirection;
+        else if (name == "target_mm") spec.kind = Column::kTarget;
+        else if (name == "deviation_um") spec.kind = Column::kDeviation;
+        else if (name == "time_s") {
+          if (m.has_time) throw InputError(source, line_no, name, "column given twice");
+          spec.kind = Column::kTime;
+          m.has_time = true;
+        } else if (name.size() > 4 && name.rfind("t_", 0) == 0 && name.substr(name.size() - 2) == "_c") {
+          spec.kind = Column::kTemperature;
+          std::string sensor = name.substr(2, name.size() - 4);
+          if (m.SensorIndex(sensor)) throw InputError(source, line_no, name, "column given twice");
+          spec.sensor = m.sensor_names.size();
+          m.sensor_names.push_back(sensor);
+        } else {
+          throw InputError(source, line_no, name.empty() ? "(empty)" : name,
+                           "unknown column; expected run, direction, target_mm, deviation_um, time_s or t_<sensor>_c");
+        }
+        if (spec.kind <= Column::kDeviation) {
+          int k = static_cast<int>(spec.kind);
+          if (seen[k]) throw InputError(source, line_no, name, "column given twice");
+          seen[k] = true;
+        }
+        columns.push_back(spec);
+      }
+      const char* required[4] = {"run", "direction", "target_mm", "deviation_um"};
+      for (int k = 0; k < 4; ++k)
+        if (!seen[k]) throw InputError(source, line_no, required[k], "required column is missing from the header");
+      continue;
+    }
+    if (fields.size() != columns.size())
+      throw InputError(source, line_no, "",
+                       fmt::format("{} fields, but the header has {} columns", fields.size(), columns.size()));
+    MeasurementPoint p;
+    p.source_line = line_no;
+    p.temperatures_c.assign(m.sensor_names.size(), std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      const auto& col = columns[c];
+      std::string_view f = fields[c];
+      switch (col.kind) {
+        case Column::kRun: {
+          auto v = ParseInt(f);
+          if (!v || *v < 1 || *v > 100000)
+            throw InputError(source, line_no, col.name, fmt::format("'{}' is not a run number (integer >= 1)", f));
+          p.run = static_cast<int>(*v);
+          break;
+        }
+        case Column::kDirection: {
+          auto d = ParseDirection(f);
+          if (!d) throw InputError(source, line_no, col.name, fmt::format("'{}' is not a direction; use + or -", f));
+          p.direction = *d;
+          break;
+        }
+        case Column::kTarget:
+        case Column::kDeviation:
+        case Column::kTime: {
+          auto v = ParseDouble(f);
+          if (!v || !std::isfinite(*v))
+            throw InputError(source, line_no, col.name, fmt::format("'{}' is not a finite number", f));
+          if (col.kind == Column::kTarget) p.target_mm = *v;
+          else if (col.kind == Column::kDeviation) p.deviation_um = *v;
+          else p.time_s = *v;
+          break;
+        }
+        case Column::kTemperature: {
+          if (f.empty()) break;  // not read at this point: stays NaN
+          auto v = ParseDouble(f);
+          if (!v || !std::isfinite(*v) || *v < -100 || *v > 500)
+            throw InputError(source, line_no, col.name,
+                             fmt::format("'{}' is not a temperature in °C (empty means not read)", f));
+          p.temperatures_c[col.sensor] = *v;
+          break;
+        }
+      }
+    }
+    m.points.push_back(std::move(p));
+  }
+  if (!have_header) throw InputError(source, line_no, "", "no header line: the file is empty or holds only comments");
+  return m;
+}
+
+Measurement ReadMeasurementCsv(const std::string& path) { return ParseMeasurementCsv(ReadTextFile(path), path); }
+
+std::string FormatMeasurementCsv(const Measurement& m) {
+  std::string out;
+  for (const auto& [k, v] : m.metadata) out += fmt::format("# {}: {}\n", k, v);
+  out += "run,direction,target_mm,deviation_um";
+  if (m.has_time) out += ",time_s";
+  for (const auto& s : m.sensor_names) out += ",t_" + s + "_c";
+  out += '\n';
+  for (const auto& p : m.points) {
+    out += fmt::format("{},{},{},{}", p.run, DirectionSymbol(p.direction), FormatShortest(p.target_mm),
+                       FormatShortest(p.deviation_um));
+    if (m.has_time) out += "," + (p.time_s ? FormatShortest(*p.time_s) : std::string("0"));
+    for (std::size_t i = 0; i < m.sensor_names.size(); ++i) {
+      out += ',';
+      if (i < p.temperatures_c.size() && !std::isnan(p.temperatures_c[i])) out += FormatShortest(p.temperatures_c[i]);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+void WriteMeasurementCsv(const Measurement& m, const std::string& path) {
+  WriteTextFile(path, FormatMeasurementCsv(m));
+}
+
+}  // namespace trueaxis::measure

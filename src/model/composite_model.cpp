@@ -1,0 +1,71 @@
+#include "trueaxis/model/composite_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace trueaxis::model {
+
+double GeometricError::Evaluate(double position_mm) const {
+  if (kind == Kind::kPolynomial) {
+    const double u = (position_mm - center_mm) / half_span_mm;
+    double acc = 0;
+    for (auto it = coefficients_um.rbegin(); it != coefficients_um.rend(); ++it) acc = acc * u + *it;
+    return acc;
+  }
+  const auto& xs = table_position_mm;
+  const auto& ys = table_error_um;
+  if (xs.empty()) return 0;
+  if (position_mm <= xs.front()) return ys.front();
+  if (position_mm >= xs.back()) return ys.back();
+  auto it = std::upper_bound(xs.begin(), xs.end(), position_mm);
+  const std::size_t i = static_cast<std::size_t>(it - xs.begin());
+  const double x0 = xs[i - 1], x1 = xs[i];
+  const double t = (position_mm - x0) / (x1 - x0);
+  return ys[i - 1] + t * (ys[i] - ys[i - 1]);
+}
+
+const ThermalGains* DirectionModel::GainsFor(CoolantState coolant) const {
+  const ThermalGains* off = nullptr;
+  for (const auto& g : thermal) {
+    if (g.coolant == coolant) return &g;
+    if (g.coolant == CoolantState::kOff) off = &g;
+  }
+  if (off) return off;
+  return thermal.empty() ? nullptr : &thermal.front();
+}
+
+const AxisModel* CompositeModel::FindAxis(const std::string& name) const {
+  for (const auto& a : axes)
+    if (a.axis == name) return &a;
+  return nullptr;
+}
+
+Prediction Predict(const AxisModel& axis, double position_mm, Direction direction, const ThermalState& state) {
+  const DirectionModel& dm = axis.For(direction);
+  Prediction p;
+  p.geometric_um = dm.geometric.Evaluate(position_mm);
+  const double lever_mm = axis.reference_position_mm - position_mm;  // (Px − P0)
+  if (state.use_thermal) {
+    if (const ThermalGains* g = dm.GainsFor(state.coolant)) {
+      double tan_beta = g->offset_um_per_mm;
+      bool ok = state.key_temp_c.size() >= g->k_um_per_mm_per_c.size() &&
+                axis.baseline_temp_c.size() >= g->k_um_per_mm_per_c.size();
+      for (std::size_t i = 0; ok && i < g->k_um_per_mm_per_c.size(); ++i) {
+        const double t = state.key_temp_c[i];
+        if (std::isnan(t)) ok = false;
+        else tan_beta += g->k_um_per_mm_per_c[i] * (t - axis.baseline_temp_c[i]);
+      }
+      if (ok) {
+        p.tan_beta_um_per_mm = tan_beta;
+        p.thermal_um = tan_beta * lever_mm;
+      }
+    }
+    if (!axis.ambient_sensor.empty() && !std::isnan(state.ambient_c) && !std::isnan(axis.ambient_baseline_c)) {
+      p.ambient_um = axis.rho_um_per_mm_per_c * (state.ambient_c - axis.ambient_baseline_c) * lever_mm;
+    }
+  }
+  p.total_um = p.geometric_um + p.thermal_um + p.ambient_um;
+  return p;
+}
+
+}  // namespace trueaxis::model

@@ -1,0 +1,243 @@
+#include "trueaxis/model/model_json.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/text_file.hpp"
+
+namespace trueaxis::model {
+namespace {
+using nlohmann::json;
+
+const char* KindName(GeometricError::Kind k) { return k == GeometricError::Kind::kTable ? "table" : "polynomial"; }
+
+json GeometricToJson(const GeometricError& g) {
+  json j{{"kind", KindName(g.kind)}};
+  if (g.kind == GeometricError::Kind::kPolynomial) {
+    j["center_mm"] = g.center_mm;
+    j["half_span_mm"] = g.half_span_mm;
+    j["coefficients_um"] = g.coefficients_um;
+  } else {
+    j["position_mm"] = g.table_position_mm;
+    j["error_um"] = g.table_error_um;
+  }
+  return j;
+}
+
+json DirectionToJson(const DirectionModel& d) {
+  json thermal = json::array();
+  for (const auto& g : d.thermal)
+    thermal.push_back({{"coolant", std::string(CoolantStateName(g.coolant))},
+                       {"k_um_per_mm_per_c", g.k_um_per_mm_per_c},
+                       {"offset_um_per_mm", g.offset_um_per_mm}});
+  return {{"geometric", GeometricToJson(d.geometric)}, {"thermal", thermal}};
+}
+
+// Field access with errors that name the JSON path.
+class Reader {
+ public:
+  explicit Reader(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void Fail(const std::string& path, const std::string& why) const {
+    throw InputError(source_, 0, path, why);
+  }
+  const json& Get(const json& obj, const std::string& path, const char* key) const {
+    if (!obj.is_object()) Fail(path, "expected an object");
+    auto it = obj.find(key);
+    if (it == obj.end()) Fail(Join(path, key), "required field is missing");
+    return *it;
+  }
+  double Number(const json& obj, const std::string& path, const char* key) const {
+    const json& v = Get(obj, path, key);
+    if (!v.is_number() || !std::isfinite(v.get<double>())) Fail(Join(path, key), "expected a finite number");
+    return v.get<double>();
+  }
+  double NumberOr(const json& obj, const std::string& path, const char* key, double dflt) const {
+    return obj.contains(key) ? Number(obj, path, key) : dflt;
+  }
+  std::string String(const json& obj, const std::string& path, const char* key) const {
+    const json& v = Get(obj, path, key);
+    if (!v.is_string()) Fail(Join(path, key), "expected a string");
+    return v.get<std::string>();
+  }
+  std::string StringOr(const json& obj, const std::string& path, const char* key, std::string dflt) const {
+    return obj.contains(key) ? String(obj, path, key) : dflt;
+  }
+  std::vector<double> Numbers(const json& obj, const std::string& path, const char* key) const {
+    const json& v = Get(obj, path, key);
+    if (!v.is_array()) Fail(Join(path, key), "expected an array of numbers");
+    std::vector<double> out;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
+        Fail(fmt::format("{}[{}]", Join(path, key), i), "expected a finite number");
+      out.push_back(v[i].get<double>());
+    }
+    return out;
+  }
+  static std::string Join(const std::string& path, const char* key) {
+    return path.empty() ? std::string(key) : path + "." + key;
+  }
+
+ private:
+  std::string source_;
+};
+
+GeometricError GeometricFromJson(const Reader& r, const json& j, const std::string& path) {
+  GeometricError g;
+  const std::string kind = r.String(j, path, "kind");
+  if (kind == "polynomial") {
+    g.kind = GeometricError::Kind::kPolynomial;
+    g.center_mm = r.Number(j, path, "center_mm");
+    g.half_span_mm = r.Number(j, path, "half_span_mm");
+    if (!(g.half_span_mm > 0)) r.Fail(Reader::Join(path, "half_span_mm"), "must be > 0");
+    g.coefficients_um = r.Numbers(j, path, "coefficients_um");
+    if (g.coefficients_um.empty()) r.Fail(Reader::Join(path, "coefficients_um"), "needs at least one coefficient");
+  } else if (kind == "table") {
+    g.kind = GeometricError::Kind::kTable;
+    g.table_position_mm = r.Numbers(j, path, "position_mm");
+    g.table_error_um = r.Numbers(j, path, "error_um");
+    if (g.table_position_mm.size() != g.table_error_um.size())
+      r.Fail(Reader::Join(path, "error_um"), "must have as many entries as position_mm");
+    if (g.table_position_mm.empty()) r.Fail(Reader::Join(path, "position_mm"), "needs at least one point");
+    for (std::size_t i = 1; i < g.table_position_mm.size(); ++i)
+      if (!(g.table_position_mm[i] > g.table_position_mm[i - 1]))
+        r.Fail(fmt::format("{}.position_mm[{}]", path, i), "positions must be strictly ascending");
+  } else {
+    r.Fail(Reader::Join(path, "kind"), fmt::format("'{}' is not 'polynomial' or 'table'", kind));
+  }
+  return g;
+}
+
+DirectionModel DirectionFromJson(const Reader& r, const json& j, const std::string& path, std::size_t n_keys) {
+  DirectionModel d;
+  d.geometric = GeometricFromJson(r, r.Get(j, path, "geometric"), Reader::Join(path, "geometric"));
+  if (j.contains("thermal")) {
+    const json& t = j["thermal"];
+    const std::string tpath = Reader::Join(path, "thermal");
+    if (!t.is_array()) r.Fail(tpath, "expected an array");
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      const std::string ep = fmt::format("{}[{}]", tpath, i);
+      ThermalGains g;
+      const std::string coolant = r.String(t[i], ep, "coolant");
+      auto state = ParseCoolantState(coolant);
+      if (!state) r.Fail(Reader::Join(ep, "coolant"), fmt::format("unknown coolant state '{}'", coolant));
+      g.coolant = *state;
+      g.k_um_per_mm_per_c = r.Numbers(t[i], ep, "k_um_per_mm_per_c");
+      if (g.k_um_per_mm_per_c.size() != n_keys)
+        r.Fail(Reader::Join(ep, "k_um_per_mm_per_c"),
+               fmt::format("has {} gains but the axis has {} key sensors", g.k_um_per_mm_per_c.size(), n_keys));
+      g.offset_um_per_mm = r.NumberOr(t[i], ep, "offset_um_per_mm", 0);
+      d.thermal.push_back(std::move(g));
+    }
+  }
+  return d;
+}
+
+}  // namespace
+
+nlohmann::json ModelToJson(const CompositeModel& model) {
+  json axes = json::array();
+  for (const auto& a : model.axes) {
+    json ja{{"axis", a.axis},
+            {"reference_position_mm", a.reference_position_mm},
+            {"key_sensors", a.key_sensors},
+            {"baseline_temp_c", a.baseline_temp_c},
+            {"rho_um_per_mm_per_c", a.rho_um_per_mm_per_c},
+            {"forward", DirectionToJson(a.directions[0])},
+            {"reverse", DirectionToJson(a.directions[1])}};
+    if (!a.ambient_sensor.empty()) {
+      ja["ambient_sensor"] = a.ambient_sensor;
+      ja["ambient_baseline_c"] = a.ambient_baseline_c;
+    }
+    axes.push_back(std::move(ja));
+  }
+  json sources = json::array();
+  for (const auto& s : model.sources) sources.push_back({{"path", s.path}, {"sha256", s.sha256}, {"state", s.state}});
+  return {{"format", "trueaxis-model"},
+          {"format_version", model.format_version},
+          {"machine", model.machine},
+          {"created_utc", model.created_utc},
+          {"generator", model.generator},
+          {"revision", model.revision},
+          {"parent_sha256", model.parent_sha256},
+          {"sign_convention", "values are errors (actual - commanded); correction = -error"},
+          {"sources", sources},
+          {"axes", axes},
+          {"fit_summary", model.fit_summary}};
+}
+
+CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& source) {
+  Reader r(source);
+  if (!doc.is_object()) r.Fail("", "a model file is a JSON object");
+  if (r.StringOr(doc, "", "format", "") != "trueaxis-model") r.Fail("format", "expected \"trueaxis-model\"");
+  CompositeModel m;
+  const double version = r.Number(doc, "", "format_version");
+  if (version != CompositeModel::kFormatVersion)
+    r.Fail("format_version", fmt::format("version {} is not supported (this build reads {})", version,
+                                         CompositeModel::kFormatVersion));
+  m.machine = r.StringOr(doc, "", "machine", "");
+  m.created_utc = r.StringOr(doc, "", "created_utc", "");
+  m.generator = r.StringOr(doc, "", "generator", "");
+  m.revision = static_cast<int>(r.NumberOr(doc, "", "revision", 1));
+  m.parent_sha256 = r.StringOr(doc, "", "parent_sha256", "");
+  if (doc.contains("sources")) {
+    const json& s = doc["sources"];
+    if (!s.is_array()) r.Fail("sources", "expected an array");
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const std::string p = fmt::format("sources[{}]", i);
+      m.sources.push_back({r.String(s[i], p, "path"), r.StringOr(s[i], p, "sha256", ""), r.StringOr(s[i], p, "state", "")});
+    }
+  }
+  const json& axes = r.Get(doc, "", "axes");
+  if (!axes.is_array() || axes.empty()) r.Fail("axes", "expected a non-empty array");
+  for (std::size_t i = 0; i < axes.size(); ++i) {
+    const std::string p = fmt::format("axes[{}]", i);
+    const json& ja = axes[i];
+    AxisModel a;
+    a.axis = r.String(ja, p, "axis");
+    if (m.FindAxis(a.axis)) r.Fail(Reader::Join(p, "axis"), fmt::format("axis '{}' is given twice", a.axis));
+    a.reference_position_mm = r.Number(ja, p, "reference_position_mm");
+    if (ja.contains("key_sensors")) {
+      const json& ks = ja["key_sensors"];
+      if (!ks.is_array()) r.Fail(Reader::Join(p, "key_sensors"), "expected an array of names");
+      for (std::size_t k = 0; k < ks.size(); ++k) {
+        if (!ks[k].is_string()) r.Fail(fmt::format("{}.key_sensors[{}]", p, k), "expected a sensor name");
+        a.key_sensors.push_back(ks[k].get<std::string>());
+      }
+    }
+    a.baseline_temp_c = ja.contains("baseline_temp_c") ? r.Numbers(ja, p, "baseline_temp_c") : std::vector<double>{};
+    if (a.baseline_temp_c.size() != a.key_sensors.size())
+      r.Fail(Reader::Join(p, "baseline_temp_c"), "needs one temperature per key sensor");
+    a.rho_um_per_mm_per_c = r.NumberOr(ja, p, "rho_um_per_mm_per_c", 0);
+    a.ambient_sensor = r.StringOr(ja, p, "ambient_sensor", "");
+    if (!a.ambient_sensor.empty()) a.ambient_baseline_c = r.Number(ja, p, "ambient_baseline_c");
+    a.directions[0] = DirectionFromJson(r, r.Get(ja, p, "forward"), Reader::Join(p, "forward"), a.key_sensors.size());
+    a.directions[1] = DirectionFromJson(r, r.Get(ja, p, "reverse"), Reader::Join(p, "reverse"), a.key_sensors.size());
+    m.axes.push_back(std::move(a));
+  }
+  if (doc.contains("fit_summary")) m.fit_summary = doc["fit_summary"];
+  return m;
+}
+
+CompositeModel ReadModelFile(const std::string& path) {
+  const std::string text = ReadTextFile(path);
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    // e.byte is the offset of the error; turn it into a line number.
+    int line = 1;
+    for (std::size_t i = 0; i < e.byte && i < text.size(); ++i)
+      if (text[i] == '\n') ++line;
+    throw InputError(path, line, "", std::string("not valid JSON: ") + e.what());
+  }
+  return ModelFromJson(doc, path);
+}
+
+void WriteModelFile(const CompositeModel& model, const std::string& path) {
+  WriteTextFile(path, ModelToJson(model).dump(2) + "\n");
+}
+
+}  // namespace trueaxis::model

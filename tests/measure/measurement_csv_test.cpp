@@ -1,0 +1,125 @@
+#include "trueaxis/measure/measurement_csv.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "trueaxis/core/input_error.hpp"
+
+namespace trueaxis::measure {
+namespace {
+
+const char* kGood =
+    "# axis: X\n"
+    "# machine: VMC-850\n"
+    "run,direction,target_mm,deviation_um,time_s,t_nut_c,t_air_c\n"
+    "1,+,0,0.8,0,20.5,20.0\n"
+    "1,+,25,1.25,10,20.5,20.0\n"
+    "1,-,25,3.5,20,20.6,\n"
+    "1,-,0,2.5,30,20.6,20.0\n"
+    "2,+,0,0.9,40,20.7,20.1\n"
+    "2,+,25,1.2,50,20.7,20.1\n"
+    "2,-,25,3.4,60,20.7,20.1\n"
+    "2,-,0,2.4,70,20.8,20.1\n";
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    auto m = ParseMeasurementCsv(text, "f.csv");
+    ValidateForEvaluation(m);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(MeasurementCsv, ReadsMetadataColumnsAndPoints) {
+  auto m = ParseMeasurementCsv(kGood, "f.csv");
+  EXPECT_EQ(m.Meta("axis").value(), "X");
+  EXPECT_EQ(m.Meta("machine").value(), "VMC-850");
+  ASSERT_EQ(m.sensor_names, (std::vector<std::string>{"nut", "air"}));
+  ASSERT_EQ(m.points.size(), 8u);
+  EXPECT_EQ(m.points[2].direction, Direction::kReverse);
+  EXPECT_DOUBLE_EQ(m.points[1].deviation_um, 1.25);
+  EXPECT_TRUE(std::isnan(m.points[2].temperatures_c[1]));
+  EXPECT_EQ(m.points[2].source_line, 6);
+  EXPECT_EQ(m.Targets(), (std::vector<double>{0, 25}));
+  EXPECT_EQ(m.Runs(), (std::vector<int>{1, 2}));
+  EXPECT_NO_THROW(ValidateForEvaluation(m));
+}
+
+TEST(MeasurementCsv, RoundTripIsLossless) {
+  auto m = ParseMeasurementCsv(kGood, "f.csv");
+  m.points[0].deviation_um = 0.1 + 0.2;  // not exactly representable in short decimal
+  m.points[3].target_mm = 1.0 / 3.0;
+  auto again = ParseMeasurementCsv(FormatMeasurementCsv(m), "g.csv");
+  ASSERT_EQ(again.points.size(), m.points.size());
+  EXPECT_EQ(again.metadata, m.metadata);
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    EXPECT_EQ(again.points[i].deviation_um, m.points[i].deviation_um);
+    EXPECT_EQ(again.points[i].target_mm, m.points[i].target_mm);
+    EXPECT_EQ(again.points[i].time_s, m.points[i].time_s);
+    for (std::size_t s = 0; s < 2; ++s) {
+      const double a = again.points[i].temperatures_c[s], b = m.points[i].temperatures_c[s];
+      EXPECT_TRUE((std::isnan(a) && std::isnan(b)) || a == b);
+    }
+  }
+  EXPECT_EQ(FormatMeasurementCsv(again), FormatMeasurementCsv(m));
+}
+
+TEST(MeasurementCsv, MissingColumnNamesTheColumn) {
+  EXPECT_EQ(ErrorOf("run,direction,target_mm\n1,+,0\n"),
+            "f.csv:1: field 'deviation_um': required column is missing from the header");
+}
+
+TEST(MeasurementCsv, NonNumericFieldNamesLineAndField) {
+  EXPECT_EQ(ErrorOf("run,direction,target_mm,deviation_um\n1,+,0,1.0\n1,+,25,abc\n"),
+            "f.csv:3: field 'deviation_um': 'abc' is not a finite number");
+}
+
+TEST(MeasurementCsv, UnknownDirection) {
+  EXPECT_EQ(ErrorOf("run,direction,target_mm,deviation_um\n1,x,0,1.0\n"),
+            "f.csv:2: field 'direction': 'x' is not a direction; use + or -");
+}
+
+TEST(MeasurementCsv, UnknownColumnIsAnError) {
+  EXPECT_NE(ErrorOf("run,direction,target_mm,deviation_um,t_nut\n1,+,0,1,2\n").find("field 't_nut': unknown column"),
+            std::string::npos);
+}
+
+TEST(MeasurementCsv, WrongFieldCount) {
+  EXPECT_EQ(ErrorOf("run,direction,target_mm,deviation_um\n1,+,0\n"),
+            "f.csv:2: 3 fields, but the header has 4 columns");
+}
+
+TEST(MeasurementCsv, DuplicatePoint) {
+  EXPECT_EQ(ErrorOf("run,direction,target_mm,deviation_um\n1,+,0,1\n1,-,0,1\n2,+,0,1\n2,-,0,1\n1,+,0,2\n"),
+            "f.csv:6: field 'target_mm': duplicate point: run 1 direction + target 0 mm already given on line 2");
+}
+
+TEST(MeasurementCsv, OneDirectionOnly) {
+  EXPECT_EQ(ErrorOf("run,direction,target_mm,deviation_um\n1,+,0,1\n1,-,0,1\n2,+,0,1\n2,-,0,1\n1,+,25,1\n2,+,25,1\n"),
+            "f.csv:6: field 'direction': target 25 mm is measured only in the '+' direction; ISO 230-2 needs both");
+}
+
+TEST(MeasurementCsv, FewerThanTwoRuns) {
+  EXPECT_EQ(ErrorOf("run,direction,target_mm,deviation_um\n1,+,0,1\n1,-,0,1\n"),
+            "f.csv:2: field 'run': only 1 run(s); repeatability needs at least 2 runs per direction");
+}
+
+TEST(MeasurementCsv, EmptyFile) {
+  EXPECT_EQ(ErrorOf(""), "f.csv:1: no header line: the file is empty or holds only comments");
+  EXPECT_EQ(ErrorOf("# axis: X\n"), "f.csv:2: no header line: the file is empty or holds only comments");
+  EXPECT_EQ(ErrorOf("run,direction,target_mm,deviation_um\n"), "f.csv: no measurement points (empty file?)");
+}
+
+TEST(MeasurementCsv, ReadingAMissingFileNamesIt) {
+  try {
+    ReadMeasurementCsv("/nonexistent/x.csv");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/x.csv: cannot open"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace trueaxis::measure

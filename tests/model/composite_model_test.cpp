@@ -1,0 +1,132 @@
+#include "trueaxis/model/composite_model.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/model/model_json.hpp"
+
+namespace trueaxis::model {
+namespace {
+
+AxisModel ExampleAxis() {
+  AxisModel a;
+  a.axis = "X";
+  a.reference_position_mm = 0;
+  a.key_sensors = {"nut", "bearing"};
+  a.baseline_temp_c = {20, 20};
+  a.ambient_sensor = "ambient";
+  a.ambient_baseline_c = 20;
+  a.rho_um_per_mm_per_c = 0.0115;
+  auto& fwd = a.directions[0];
+  fwd.geometric.kind = GeometricError::Kind::kPolynomial;
+  fwd.geometric.center_mm = 250;
+  fwd.geometric.half_span_mm = 250;
+  fwd.geometric.coefficients_um = {1.0, 2.0, 0.5};
+  fwd.thermal = {{CoolantState::kOff, {-0.01, -0.004}, 0}, {CoolantState::kFlood, {-0.005, -0.002}, 0}};
+  auto& rev = a.directions[1];
+  rev.geometric.kind = GeometricError::Kind::kTable;
+  rev.geometric.table_position_mm = {0, 100, 200};
+  rev.geometric.table_error_um = {3, 5, 4};
+  rev.thermal = {{CoolantState::kOff, {-0.01, -0.004}, 0}};
+  return a;
+}
+
+TEST(CompositeModel, PolynomialIsEvaluatedInNormalisedCoordinate) {
+  auto a = ExampleAxis();
+  // u = (500-250)/250 = 1 -> 1 + 2 + 0.5
+  EXPECT_DOUBLE_EQ(a.directions[0].geometric.Evaluate(500), 3.5);
+  EXPECT_DOUBLE_EQ(a.directions[0].geometric.Evaluate(250), 1.0);
+}
+
+TEST(CompositeModel, TableInterpolatesLinearlyAndHoldsEnds) {
+  auto a = ExampleAxis();
+  const auto& g = a.directions[1].geometric;
+  EXPECT_DOUBLE_EQ(g.Evaluate(50), 4.0);
+  EXPECT_DOUBLE_EQ(g.Evaluate(150), 4.5);
+  EXPECT_DOUBLE_EQ(g.Evaluate(-10), 3.0);
+  EXPECT_DOUBLE_EQ(g.Evaluate(999), 4.0);
+}
+
+TEST(CompositeModel, ThermalPartIsTanBetaTimesLeverAboutReference) {
+  auto a = ExampleAxis();
+  const double temps[] = {25, 22};  // rises 5 and 2
+  ThermalState s{temps, 20.0, CoolantState::kOff, true};
+  auto p = Predict(a, 400, Direction::kForward, s);
+  const double tan_beta = -0.01 * 5 - 0.004 * 2;
+  EXPECT_DOUBLE_EQ(p.tan_beta_um_per_mm, tan_beta);
+  EXPECT_DOUBLE_EQ(p.thermal_um, tan_beta * (0 - 400));
+  EXPECT_DOUBLE_EQ(p.ambient_um, 0);
+  EXPECT_DOUBLE_EQ(p.total_um, p.geometric_um + p.thermal_um);
+  EXPECT_DOUBLE_EQ(CorrectionUm(p), -p.total_um);
+}
+
+TEST(CompositeModel, CoolantStateSelectsGainsAndFallsBackToOff) {
+  auto a = ExampleAxis();
+  const double temps[] = {25, 22};
+  auto flood = Predict(a, 400, Direction::kForward, {temps, NAN, CoolantState::kFlood, true});
+  EXPECT_DOUBLE_EQ(flood.tan_beta_um_per_mm, -0.005 * 5 - 0.002 * 2);
+  auto mist = Predict(a, 400, Direction::kForward, {temps, NAN, CoolantState::kMist, true});
+  EXPECT_DOUBLE_EQ(mist.tan_beta_um_per_mm, -0.01 * 5 - 0.004 * 2);  // no mist entry: "off" gains
+}
+
+TEST(CompositeModel, AmbientAdjustmentIsRhoDeltaTLever) {
+  auto a = ExampleAxis();
+  const double temps[] = {20, 20};
+  auto p = Predict(a, 300, Direction::kForward, {temps, 23.0, CoolantState::kOff, true});
+  EXPECT_NEAR(p.ambient_um, 0.0115 * 3 * (0 - 300), 1e-12);
+}
+
+TEST(CompositeModel, NanTemperatureOrThermalOffGivesGeometricOnly) {
+  auto a = ExampleAxis();
+  const double temps[] = {NAN, 22};
+  auto p = Predict(a, 300, Direction::kReverse, {temps, NAN, CoolantState::kOff, true});
+  EXPECT_DOUBLE_EQ(p.thermal_um, 0);
+  EXPECT_DOUBLE_EQ(p.total_um, a.directions[1].geometric.Evaluate(300));
+  const double ok[] = {30, 30};
+  auto q = Predict(a, 300, Direction::kReverse, {ok, 30.0, CoolantState::kOff, false});
+  EXPECT_DOUBLE_EQ(q.total_um, q.geometric_um);
+}
+
+TEST(ModelJson, RoundTripPreservesPredictions) {
+  CompositeModel m;
+  m.machine = "VMC";
+  m.sources = {{"cold.csv", "abc", "cold"}};
+  m.axes = {ExampleAxis()};
+  const std::string path = (std::filesystem::temp_directory_path() / "trueaxis_model_rt.json").string();
+  WriteModelFile(m, path);
+  auto back = ReadModelFile(path);
+  ASSERT_EQ(back.axes.size(), 1u);
+  const double temps[] = {27, 24};
+  for (double x : {0.0, 123.4, 480.0})
+    for (auto d : {Direction::kForward, Direction::kReverse}) {
+      ThermalState s{temps, 21.5, CoolantState::kFlood, true};
+      EXPECT_DOUBLE_EQ(Predict(back.axes[0], x, d, s).total_um, Predict(m.axes[0], x, d, s).total_um);
+    }
+  EXPECT_EQ(back.sources[0].sha256, "abc");
+}
+
+TEST(ModelJson, BadFieldsAreNamedByPath) {
+  CompositeModel m;
+  m.axes = {ExampleAxis()};
+  auto j = ModelToJson(m);
+  j["axes"][0]["reverse"]["geometric"]["position_mm"] = {0, 200, 100};
+  try {
+    ModelFromJson(j, "m.json");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "m.json: field 'axes[0].reverse.geometric.position_mm[2]': positions must be strictly ascending");
+  }
+  j = ModelToJson(m);
+  j["axes"][0]["forward"]["thermal"][0]["k_um_per_mm_per_c"] = {1.0};
+  EXPECT_THROW(ModelFromJson(j, "m.json"), InputError);
+  j = ModelToJson(m);
+  j.erase("axes");
+  EXPECT_THROW(ModelFromJson(j, "m.json"), InputError);
+}
+
+}  // namespace
+}  // namespace trueaxis::model
