@@ -108,7 +108,7 @@ TEST(AnalyzeCli, LeadFromMetadataAndBadLead) {
   const auto f2 = WriteTemp("lead_meta_bad.csv", bad_csv);
   const auto bad2 = RunCli("analyze " + Q(f2));
   EXPECT_EQ(bad2.exit_code, 2);
-  EXPECT_NE(bad2.err.find("lead_mm"), std::string::npos) << bad2.err;
+  EXPECT_NE(bad2.err.find(f2 + ":2: field 'lead_mm'"), std::string::npos) << bad2.err;
   std::filesystem::remove(f);
   std::filesystem::remove(f2);
 }
