@@ -169,3 +169,14 @@ TEST(AnalyzeCli, MissingFileIsBadInput) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("/nonexistent/trueaxis.csv"), std::string::npos) << r.err;
 }
+
+TEST(AnalyzeCli, BadCompareFileAndUnwritableReportAreReported) {
+  const auto bad = WriteTemp("bad_after.csv", std::string(kGoodHeader) + "1,+,0,x\n");
+  const auto r = RunCli("analyze " + Q(kExample) + " --compare " + Q(bad));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(bad + ":2: field 'deviation_um'"), std::string::npos) << r.err;
+  std::filesystem::remove(bad);
+  const auto r2 = RunCli("analyze " + Q(kExample) + " --report /nonexistent-dir/x.html");
+  EXPECT_NE(r2.exit_code, 0);
+  EXPECT_NE(r2.err.find("/nonexistent-dir/x.html"), std::string::npos) << r2.err;
+}
