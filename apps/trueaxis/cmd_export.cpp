@@ -182,6 +182,7 @@ void RunRead(const ExportArgs& a) {
       break;
     }
   }
+  if (t.axis.empty()) t.axis = a.axis.empty() ? "?" : a.axis;
   fmt::print("{}", PrintTable(t));
 }
 
