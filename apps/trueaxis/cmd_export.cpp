@@ -66,9 +66,7 @@ TableFormat FormatOf(const ExportArgs& a) {
 }
 
 ValueSign SignOf(const ExportArgs& a, TableFormat f) {
-  if (a.sign.empty() || a.sign == "correction") {
-    if (a.sign.empty()) return ValueSign::kCorrection;
-  }
+  if (a.sign.empty()) return ValueSign::kCorrection;
   if (a.sign != "correction" && a.sign != "error") Bad("--sign", fmt::format("'{}' is neither correction nor error", a.sign));
   if (f != TableFormat::kCsv && f != TableFormat::kHeidenhain)
     Bad("--sign", fmt::format("the {} format fixes its own sign (docs/export.md); --sign applies to csv and heidenhain",

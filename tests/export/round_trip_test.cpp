@@ -199,6 +199,20 @@ TEST(RoundTrip, FanucCarriedRoundingNeverAccumulates) {
   EXPECT_NE(res.tape.find("N10000P0\n"), std::string::npos);
 }
 
+TEST(RoundTrip, FanucUnidirectionalCarriesTheBacklashInParameter1851) {
+  auto o = Options(25);
+  o.zero_at_reference = true;
+  o.bidirectional = false;
+  const auto r = ResampleModel(ExampleAxis(), o, "m.json");
+  const auto res = WriteFanucPitchTape(r.table, {}, "t");
+  EXPECT_EQ(res.reverse_min_point_number, -1);
+  EXPECT_EQ(res.tape.find("N03626"), std::string::npos);
+  const auto back = ReadFanucPitchTape(res.tape, 1, 1.0, 0.0, "tape");
+  EXPECT_FALSE(back.bidirectional);
+  EXPECT_NEAR(back.backlash_um, r.table.backlash_um, 0.5);
+  ExpectReproduces(r.table, back, ModelCorrection{}, res.magnification * 0.5 + 0.25 + 1e-9, false);
+}
+
 TEST(RoundTrip, FanucLimitsAreErrorsNamingTheOption) {
   auto o = Options(20);
   o.zero_at_reference = true;
