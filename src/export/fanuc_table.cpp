@@ -194,12 +194,19 @@ FanucResult WriteFanucPitchTape(const CompensationTable& t, const FanucOptions& 
 
 CompensationTable ReadFanucPitchTape(std::string_view text, int axis_number, double detection_unit_um,
                                      double reference_position_mm, const std::string& source) {
-  static const std::regex kAxisParam(R"(N(\d{1,5})((?:A\d+P-?\d+)+))");
-  static const std::regex kAxisValue(R"(A(\d+)P(-?\d+))");
-  static const std::regex kPitch(R"(N(\d{5})P(-?\d+))");
+  static const std::regex kAxisParam(R"(N(\d{1,5})((?:A\d{1,2}P-?\d{1,9})+))");
+  static const std::regex kAxisValue(R"(A(\d{1,2})P(-?\d{1,9}))");
+  static const std::regex kPitch(R"(N(\d{5})P(-?\d{1,9}))");
   if (!(detection_unit_um > 0)) throw InputError(source, 0, "--detection-unit-um", "must be > 0");
   std::map<int, long long> params;
   std::map<int, long long> pitch;
+  // Integers of at most 9 digits (the regexes bound the digit count), so no overflow.
+  auto integer = [&](const std::string& digits, int line, const std::string& field) {
+    auto v = ParseInt(digits);
+    if (!v || *v > 999999999 || *v < -999999999)
+      throw InputError(source, line, field, fmt::format("'{}' is out of range", digits));
+    return *v;
+  };
   std::map<int, int> param_line;
   std::size_t pos = 0;
   int line_no = 0;
@@ -216,16 +223,16 @@ CompensationTable ReadFanucPitchTape(std::string_view text, int axis_number, dou
       continue;
     }
     std::smatch m;
-    if (std::regex_match(line, m, kPitch) && std::stoi(m[1]) >= 10000) {
-      const int n = std::stoi(m[1]) - 10000;
+    if (std::regex_match(line, m, kPitch) && integer(m[1], line_no, "N") >= 10000) {
+      const int n = static_cast<int>(integer(m[1], line_no, "N")) - 10000;
       if (pitch.count(n)) throw InputError(source, line_no, fmt::format("N{}", m[1].str()), "pitch point given twice");
-      pitch[n] = std::stoll(m[2]);
+      pitch[n] = integer(m[2], line_no, fmt::format("N{}", m[1].str()));
     } else if (std::regex_match(line, m, kAxisParam)) {
-      const int number = std::stoi(m[1]);
+      const int number = static_cast<int>(integer(m[1], line_no, "N"));
       const std::string values = m[2];
       for (std::sregex_iterator it(values.begin(), values.end(), kAxisValue), e; it != e; ++it)
-        if (std::stoi((*it)[1]) == axis_number) {
-          params[number] = std::stoll((*it)[2]);
+        if (integer((*it)[1], line_no, "A") == axis_number) {
+          params[number] = integer((*it)[2], line_no, fmt::format("{}", number));
           param_line[number] = line_no;
         }
     } else {
@@ -241,21 +248,23 @@ CompensationTable ReadFanucPitchTape(std::string_view text, int axis_number, dou
   const long long mag = params[3623];
   const double interval_mm = static_cast<double>(params[3624]) * detection_unit_um / 1000.0;
   if (!(nmin <= nref && nref <= nmax)) throw InputError(source, param_line[3620], "3620", "must lie within 3621…3622");
+  if (nmin < 0 || nmax > 89999) throw InputError(source, param_line[3622], "3622", "point numbers must be 0…89999");
+  if (params.count(3626) && (params[3626] < 0 || params[3626] + (nmax - nmin) > 89999))
+    throw InputError(source, param_line[3626], "3626", "reverse point numbers must be 0…89999");
   if (mag < 1 || mag > 100) throw InputError(source, param_line[3623], "3623", "magnification must be 1…100");
   if (!(interval_mm > 0)) throw InputError(source, param_line[3624], "3624", "interval must be > 0");
   const bool bidirectional = params.count(3626) > 0;
   const double unit = static_cast<double>(mag) * detection_unit_um;
   auto column = [&](int offset, double at_ref_um) {
-    // Positions from point nmin − 1 (start of nmin's interval) to nmax.
+    // Positions from point nmin − 1 (start of nmin's interval) to nmax;
+    // cumulative sum from the reference outwards.
+    const auto value = [&](int k) { return pitch.count(k + offset) ? pitch.at(k + offset) : 0LL; };
+    std::vector<long long> s(static_cast<std::size_t>(nmax - nmin + 2), 0);
+    auto at = [&](int n) -> long long& { return s[static_cast<std::size_t>(n - (nmin - 1))]; };
+    for (int n = nref + 1; n <= nmax; ++n) at(n) = at(n - 1) + value(n);
+    for (int n = nref - 1; n >= nmin - 1; --n) at(n) = at(n + 1) - value(n + 1);
     std::vector<double> c;
-    for (int n = nmin - 1; n <= nmax; ++n) {
-      long long s = 0;
-      if (n > nref)
-        for (int k = nref + 1; k <= n; ++k) s += pitch.count(k + offset) ? pitch[k + offset] : 0;
-      else
-        for (int k = n + 1; k <= nref; ++k) s -= pitch.count(k + offset) ? pitch[k + offset] : 0;
-      c.push_back(static_cast<double>(s) * unit + at_ref_um);
-    }
+    for (long long v : s) c.push_back(static_cast<double>(v) * unit + at_ref_um);
     return c;
   };
   for (int n = nmin; n <= nmax; ++n)

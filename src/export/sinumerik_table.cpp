@@ -127,7 +127,9 @@ CompensationTable ReadSinumerikEec(std::string_view text, const std::string& sou
     } else if (std::regex_search(code, m, kComp)) {
       if (axis && *axis != m[3]) throw InputError(source, line_no, "axis", "the file mixes axes " + *axis + " and " + m[3].str());
       axis = m[3];
-      const long long idx = std::stoll(m[2]);
+      const auto idx_opt = ParseInt(m[2].str());
+      if (!idx_opt || *idx_opt > 10000000) throw InputError(source, line_no, "$AA_ENC_COMP", "point index out of range");
+      const long long idx = *idx_opt;
       if (values.count(idx)) throw InputError(source, line_no, "$AA_ENC_COMP", fmt::format("point {} given twice", idx));
       values[idx] = number(m[4], line_no, "$AA_ENC_COMP");
     } else {
