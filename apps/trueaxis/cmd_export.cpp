@@ -216,6 +216,18 @@ void RunExport(const ExportArgs& a) {
   fmt::print("{}\n", rr.BriefReport());
   if (a.mode == "auto" && !SupportsBidirectional(f))
     fmt::print("note: {} holds one curve per axis: exported unidirectional (mean curve + backlash)\n", TableFormatName(f));
+  if (f == TableFormat::kSinumerik && !a.zero_at_reference) {
+    const auto& t = rr.table;
+    const double ref = t.reference_position_mm;
+    if (!std::isnan(ref) && ref >= t.position_mm.front() && ref <= t.position_mm.back()) {
+      const double at_ref = AppliedCorrectionUm(t, ref, Direction::kForward) +
+                            t.thermal_tan_beta_um_per_mm * (t.thermal_reference_mm - ref) - 0.5 * t.backlash_um;
+      if (std::abs(at_ref) > 0.5)
+        fmt::print("note: the LEC value at the reference point {} mm is {:.2f} um; Siemens recommends 0 there "
+                   "(no jump when LEC activates after referencing): consider --zero-at-reference\n",
+                   FormatShortest(ref), -at_ref);
+    }
+  }
   if (f == TableFormat::kFanuc && !a.zero_at_reference)
     fmt::print("note: FANUC tables are relative to the reference position: zeroed there (shift {:.4f} um)\n",
                rr.zero_shift_um);

@@ -68,6 +68,10 @@ TEST_F(ExportCli, EveryFormatWritesAndReadsBack) {
     ASSERT_EQ(r.code, 0) << format << ": " << r.out;
     EXPECT_NE(r.out.find("position_mm,forward_correction_um,reverse_correction_um"), std::string::npos) << r.out;
   }
+  const auto note = Cli(base + "--format sinumerik --out " + Path("X2_EEC.INI"));
+  EXPECT_NE(note.out.find("Siemens recommends 0 there"), std::string::npos) << note.out;
+  const auto zeroed = Cli(base + "--format sinumerik --zero-at-reference --out " + Path("X3_EEC.INI"));
+  EXPECT_EQ(zeroed.out.find("Siemens recommends 0 there"), std::string::npos) << zeroed.out;
   EXPECT_TRUE(fs::exists(Path("X_OFF.COM")));
   EXPECT_TRUE(fs::exists(Path("X_FLOOD.COM")));
   EXPECT_TRUE(fs::exists(Path("X_COLD.COM")));

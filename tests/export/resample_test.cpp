@@ -140,6 +140,18 @@ TEST(Resample, ZeroAtReferenceAndUnidirectionalBacklash) {
   for (std::size_t i = 0; i < r.table.size(); ++i) EXPECT_EQ(r.table.forward_um[i], r.table.reverse_um[i]);
 }
 
+TEST(Resample, ZeroAtAReferenceOutsideTheTableIsAnError) {
+  ResampleOptions o;
+  o.range_min_mm = 100;
+  o.range_max_mm = 400;
+  o.zero_at_reference = true;  // Px = 0 is outside 100…400
+  EXPECT_EQ(FieldOf([&] { ResampleModel(ExampleAxis(), o, "m.json"); }), "--zero-at-reference");
+  o.reference_position_mm = 200;
+  const auto r = ResampleModel(ExampleAxis(), o, "m.json");
+  EXPECT_EQ(r.table.position_mm.front(), 100);
+  EXPECT_NEAR(AppliedCorrectionUm(r.table, 200, Direction::kForward), 0, 1e-12);
+}
+
 TEST(Resample, MeasurementMeansPerTargetAndDirection) {
   measure::Measurement m;
   m.source = "meas.csv";

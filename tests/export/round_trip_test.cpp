@@ -159,6 +159,19 @@ TEST(RoundTrip, SinumerikValuesAreErrorsInMillimetres) {
   EXPECT_EQ(FieldOf([&] { WriteSinumerikEec(t, {}, "t"); }), "--mode");
 }
 
+TEST(RoundTrip, SinumerikNeedsAnEquidistantTable) {
+  CompensationTable t;
+  t.axis = "X";
+  t.position_mm = {0, 10, 25};
+  t.forward_um = t.reverse_um = {0, 1, 2};
+  t.bidirectional = false;
+  EXPECT_EQ(FieldOf([&] { WriteSinumerikEec(t, {}, "t"); }), "--spacing");
+  SinumerikOptions bad;
+  bad.axis_name = "x 1";
+  t.position_mm = {0, 10, 20};
+  EXPECT_EQ(FieldOf([&] { WriteSinumerikEec(t, bad, "t"); }), "--siemens-axis");
+}
+
 TEST(RoundTrip, FanucBidirectionalWithinRoundingOfOneIncrement) {
   auto o = Options(20);
   o.zero_at_reference = true;
