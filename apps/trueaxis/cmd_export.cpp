@@ -3,6 +3,7 @@
 // (--measurement). Output: LinuxCNC COMP_FILE, SINUMERIK LEC table, FANUC
 // pitch-error tape, HEIDENHAIN .COM/.CMA, or plain CSV. `--read FILE` reads a
 // table back and prints it as corrections (the round trip a user can check).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -120,6 +121,11 @@ ResampleOptions ResampleOf(const ExportArgs& a, TableFormat f) {
     o.bidirectional = false;
   } else {
     Bad("--mode", fmt::format("'{}' is not auto, bidirectional or unidirectional", a.mode));
+  }
+  if (f == TableFormat::kFanuc) {
+    // One point number per interval and direction must fit under the highest number.
+    const int numbers = a.fanuc.max_point_number + 1;
+    o.max_points = std::min(o.max_points, o.bidirectional ? numbers / 2 : numbers);
   }
   // FANUC tables are relative to the reference position by construction.
   o.zero_at_reference = a.zero_at_reference || f == TableFormat::kFanuc;

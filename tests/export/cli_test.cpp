@@ -128,6 +128,14 @@ TEST_F(ExportCli, BadOptionsExitTwoNamingTheOption) {
   EXPECT_FALSE(fs::exists(Path("bad")));
 }
 
+TEST_F(ExportCli, FanucDerivedGridFitsThePointNumbersOfBothDirections) {
+  // 41 numbers (0…40) for two directions: at most 20 points per direction → 50 mm.
+  const auto r = Cli("export --model " + kModel + " --axis X --format fanuc --fanuc-max-point 40 --out " + Path("f.tape"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("step 50 mm"), std::string::npos) << r.out;
+  EXPECT_NE(ReadTextFile(Path("f.tape")).find("N03624A1P50000"), std::string::npos);
+}
+
 TEST_F(ExportCli, CorruptTableOnReadNamesTheLine) {
   WriteTextFile(Path("c.txt"), "0 0 0\n10 0.001\n");
   const auto r = Cli("export --read " + Path("c.txt") + " --format linuxcnc");
