@@ -52,6 +52,7 @@ struct ExportArgs {
   // sinumerik
   std::string siemens_axis;
   int siemens_encoder = 0;
+  bool siemens_thermal_in_table = false;
   // fanuc
   FanucOptions fanuc;
 };
@@ -131,7 +132,8 @@ ResampleOptions ResampleOf(const ExportArgs& a, TableFormat f) {
   o.zero_at_reference = a.zero_at_reference || f == TableFormat::kFanuc;
   o.reference_position_mm = a.reference_mm;
   o.thermal = ThermalOf(a);
-  o.thermal_in_table = f != TableFormat::kSinumerik;  // SINUMERIK models the thermal line itself
+  // SINUMERIK models the thermal line itself (temperature compensation), unless asked to freeze it.
+  o.thermal_in_table = f != TableFormat::kSinumerik || a.siemens_thermal_in_table;
   std::string why;
   if (!o.IsValid(&why)) Bad(why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
   return o;
@@ -351,6 +353,8 @@ void Setup(CLI::App& app) {
   cmd->add_option("--joint", a->joint, "linuxcnc [JOINT_n] for the INI lines");
   cmd->add_option("--siemens-axis", a->siemens_axis, "sinumerik machine axis name (default: <axis>1)");
   cmd->add_option("--siemens-encoder", a->siemens_encoder, "sinumerik measuring system 0 or 1");
+  cmd->add_flag("--siemens-thermal-in-table", a->siemens_thermal_in_table,
+                "sinumerik: freeze the thermal part into the LEC values instead of TEMP_COMP settings");
   cmd->add_option("--fanuc-axis", a->fanuc.axis_number, "fanuc controlled axis number (A<n>)");
   cmd->add_option("--detection-unit-um", a->fanuc.detection_unit_um, "fanuc detection unit, um (default 1)");
   cmd->add_option("--fanuc-magnification", a->fanuc.magnification, "3623, 1..100 (default: smallest that fits)");

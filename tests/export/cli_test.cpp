@@ -72,6 +72,10 @@ TEST_F(ExportCli, EveryFormatWritesAndReadsBack) {
   EXPECT_NE(note.out.find("Siemens recommends 0 there"), std::string::npos) << note.out;
   const auto zeroed = Cli(base + "--format sinumerik --zero-at-reference --out " + Path("X3_EEC.INI"));
   EXPECT_EQ(zeroed.out.find("Siemens recommends 0 there"), std::string::npos) << zeroed.out;
+  const auto frozen = Cli(base + "--format sinumerik --siemens-thermal-in-table --out " + Path("X4_EEC.INI"));
+  ASSERT_EQ(frozen.code, 0) << frozen.out;
+  EXPECT_NE(frozen.out.find("$MA_TEMP_COMP_TYPE[X1]=0"), std::string::npos) << frozen.out;
+  EXPECT_NE(ReadTextFile(Path("X2_EEC.INI")).find("$MA_TEMP_COMP_TYPE[X1]=2"), std::string::npos);
   EXPECT_TRUE(fs::exists(Path("X_OFF.COM")));
   EXPECT_TRUE(fs::exists(Path("X_FLOOD.COM")));
   EXPECT_TRUE(fs::exists(Path("X_COLD.COM")));
