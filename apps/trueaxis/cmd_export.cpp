@@ -1,0 +1,375 @@
+// trueaxis export: compensation tables for real CNC controllers (issue 6,
+// docs/export.md). Input: a fitted model (--model, --axis) or a measurement
+// (--measurement). Output: LinuxCNC COMP_FILE, SINUMERIK LEC table, FANUC
+// pitch-error tape, HEIDENHAIN .COM/.CMA, or plain CSV. `--read FILE` reads a
+// table back and prints it as corrections (the round trip a user can check).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "command.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/text_file.hpp"
+#include "trueaxis/export/csv_table.hpp"
+#include "trueaxis/export/fanuc_table.hpp"
+#include "trueaxis/export/heidenhain_table.hpp"
+#include "trueaxis/export/linuxcnc_table.hpp"
+#include "trueaxis/export/resample.hpp"
+#include "trueaxis/export/sinumerik_table.hpp"
+#include "trueaxis/export/table_format.hpp"
+#include "trueaxis/measure/measurement_csv.hpp"
+#include "trueaxis/model/model_json.hpp"
+
+namespace trueaxis::cli {
+namespace {
+
+using namespace trueaxis::exporter;
+
+constexpr const char* kCli = "command line";
+
+struct ExportArgs {
+  std::string model_path, measurement_path, axis, format, out, read;
+  double start = ResampleOptions::kNaN, spacing = ResampleOptions::kNaN;
+  int count = 0;
+  std::string range;
+  int max_points = 0;
+  std::string mode = "auto";
+  std::string sign;
+  bool zero_at_reference = false;
+  double reference_mm = ResampleOptions::kNaN;
+  std::vector<std::string> temps;
+  std::string coolant = "off";
+  // linuxcnc
+  int comp_file_type = 1;
+  int joint = 0;
+  // sinumerik
+  std::string siemens_axis;
+  int siemens_encoder = 0;
+  bool siemens_thermal_in_table = false;
+  // fanuc
+  FanucOptions fanuc;
+};
+
+[[noreturn]] void Bad(const std::string& field, const std::string& message) {
+  throw InputError(kCli, 0, field, message);
+}
+
+TableFormat FormatOf(const ExportArgs& a) {
+  auto f = ParseTableFormat(a.format);
+  if (!f) Bad("--format", fmt::format("'{}' is not one of linuxcnc, sinumerik, fanuc, heidenhain, csv", a.format));
+  return *f;
+}
+
+ValueSign SignOf(const ExportArgs& a, TableFormat f) {
+  if (a.sign.empty()) return ValueSign::kCorrection;
+  if (a.sign != "correction" && a.sign != "error") Bad("--sign", fmt::format("'{}' is neither correction nor error", a.sign));
+  if (f != TableFormat::kCsv && f != TableFormat::kHeidenhain)
+    Bad("--sign", fmt::format("the {} format fixes its own sign (docs/export.md); --sign applies to csv and heidenhain",
+                              TableFormatName(f)));
+  return a.sign == "error" ? ValueSign::kError : ValueSign::kCorrection;
+}
+
+ThermalFreeze ThermalOf(const ExportArgs& a) {
+  ThermalFreeze t;
+  std::set<std::string> seen;
+  for (const auto& s : a.temps) {
+    const auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0) Bad("--temp", fmt::format("'{}' is not NAME=DEGREES", s));
+    const std::string name = s.substr(0, eq);
+    auto v = ParseDouble(s.substr(eq + 1));
+    if (!v || !std::isfinite(*v)) Bad("--temp", fmt::format("'{}' is not a temperature in °C", s.substr(eq + 1)));
+    if (!seen.insert(name).second) Bad("--temp", fmt::format("sensor '{}' given twice", name));
+    t.temperatures_c.emplace_back(name, *v);
+  }
+  auto c = ParseCoolantState(a.coolant);
+  if (!c) Bad("--coolant", fmt::format("'{}' is not one of off, flood, mist, air", a.coolant));
+  t.coolant = *c;
+  return t;
+}
+
+ResampleOptions ResampleOf(const ExportArgs& a, TableFormat f) {
+  ResampleOptions o;
+  o.start_mm = a.start;
+  o.spacing_mm = a.spacing;
+  o.count = a.count;
+  if (!a.range.empty()) {
+    const auto colon = a.range.find(':');
+    auto lo = colon == std::string::npos ? std::nullopt : ParseDouble(a.range.substr(0, colon));
+    auto hi = colon == std::string::npos ? std::nullopt : ParseDouble(a.range.substr(colon + 1));
+    if (!lo || !hi) Bad("--range", fmt::format("'{}' is not MIN:MAX in mm", a.range));
+    o.range_min_mm = *lo;
+    o.range_max_mm = *hi;
+  }
+  const int format_max = DefaultMaxPoints(f);
+  o.max_points = a.max_points > 0 ? a.max_points : format_max;
+  if ((f == TableFormat::kLinuxCnc || f == TableFormat::kHeidenhain) && o.max_points > format_max)
+    Bad("--max-points", fmt::format("{} allows at most {} points per table", TableFormatName(f), format_max));
+  if (a.mode == "auto") {
+    o.bidirectional = SupportsBidirectional(f);
+  } else if (a.mode == "bidirectional") {
+    if (!SupportsBidirectional(f))
+      Bad("--mode", fmt::format("{} tables hold one curve; use --mode unidirectional (mean curve + backlash)",
+                                TableFormatName(f)));
+    o.bidirectional = true;
+  } else if (a.mode == "unidirectional") {
+    o.bidirectional = false;
+  } else {
+    Bad("--mode", fmt::format("'{}' is not auto, bidirectional or unidirectional", a.mode));
+  }
+  if (f == TableFormat::kFanuc) {
+    // One point number per interval and direction must fit under the highest number.
+    const int numbers = a.fanuc.max_point_number + 1;
+    o.max_points = std::min(o.max_points, o.bidirectional ? numbers / 2 : numbers);
+  }
+  // FANUC tables are relative to the reference position by construction.
+  o.zero_at_reference = a.zero_at_reference || f == TableFormat::kFanuc;
+  o.reference_position_mm = a.reference_mm;
+  o.thermal = ThermalOf(a);
+  // SINUMERIK models the thermal line itself (temperature compensation), unless asked to freeze it.
+  o.thermal_in_table = f != TableFormat::kSinumerik || a.siemens_thermal_in_table;
+  std::string why;
+  if (!o.IsValid(&why)) Bad(why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
+  return o;
+}
+
+std::string Upper(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string PrintTable(const CompensationTable& t) {
+  std::string s = fmt::format("# axis {}: {} points, {}{}\n", t.axis, t.size(),
+                              t.bidirectional ? "bidirectional" : "unidirectional",
+                              t.bidirectional ? "" : fmt::format(", backlash {} um", FormatShortest(t.backlash_um)));
+  if (t.thermal_tan_beta_um_per_mm != 0)
+    s += fmt::format("# thermal line: tan_beta {} um/mm about {} mm (added below)\n",
+                     FormatShortest(t.thermal_tan_beta_um_per_mm), FormatShortest(t.thermal_reference_mm));
+  s += "position_mm,forward_correction_um,reverse_correction_um\n";
+  for (double x : t.position_mm)
+    s += fmt::format("{},{:.4f},{:.4f}\n", FormatShortest(x), AppliedCorrectionUm(t, x, Direction::kForward) + 0.0,
+                     AppliedCorrectionUm(t, x, Direction::kReverse) + 0.0);
+  return s;
+}
+
+void RunRead(const ExportArgs& a) {
+  const TableFormat f = FormatOf(a);
+  const std::string text = ReadTextFile(a.read);
+  CompensationTable t;
+  switch (f) {
+    case TableFormat::kLinuxCnc: t = ReadLinuxCncCompFile(text, a.comp_file_type, a.read); break;
+    case TableFormat::kSinumerik: t = ReadSinumerikEec(text, a.read); break;
+    case TableFormat::kFanuc:
+      t = ReadFanucPitchTape(text, a.fanuc.axis_number, a.fanuc.detection_unit_um,
+                             std::isnan(a.reference_mm) ? 0.0 : a.reference_mm, a.read);
+      break;
+    case TableFormat::kCsv: t = ReadCsvTable(text, a.read); break;
+    case TableFormat::kHeidenhain: {
+      const ValueSign sign = SignOf(a, f);
+      if (Upper(std::filesystem::path(a.read).extension().string()) == ".CMA") {
+        const auto lines = ReadHeidenhainCma(text, a.axis.empty() ? "X" : a.axis, a.read);
+        for (std::size_t i = 0; i < lines.size(); ++i)
+          fmt::print("# CMA line {}: {} {} {}\n", i, lines[i].com_file, lines[i].active ? "ACTIVE" : "      ",
+                     lines[i].description);
+        for (const auto& l : lines)
+          if (l.active) {
+            const auto com = (std::filesystem::path(a.read).parent_path() / l.com_file).string();
+            t = ReadHeidenhainCom(ReadTextFile(com), sign, com);
+          }
+      } else {
+        t = ReadHeidenhainCom(text, sign, a.read);
+      }
+      break;
+    }
+  }
+  if (t.axis.empty()) t.axis = a.axis.empty() ? "?" : a.axis;
+  fmt::print("{}", PrintTable(t));
+}
+
+void RunExport(const ExportArgs& a) {
+  const TableFormat f = FormatOf(a);
+  if (a.out.empty()) Bad("--out", "required: the file to write");
+  if (a.model_path.empty() == a.measurement_path.empty())
+    Bad("--model", "give exactly one of --model (with --axis) or --measurement");
+  const ValueSign sign = SignOf(a, f);
+  const ResampleOptions ro = ResampleOf(a, f);
+
+  model::CompositeModel cm;
+  const model::AxisModel* axis = nullptr;
+  measure::Measurement meas;
+  if (!a.model_path.empty()) {
+    if (a.axis.empty()) Bad("--axis", "required with --model");
+    cm = model::ReadModelFile(a.model_path);
+    axis = cm.FindAxis(a.axis);
+    if (!axis) {
+      std::string known;
+      for (const auto& ax : cm.axes) known += (known.empty() ? "" : ", ") + ax.axis;
+      Bad("--axis", fmt::format("the model has no axis '{}' (it has: {})", a.axis, known));
+    }
+  } else {
+    meas = measure::ReadMeasurementCsv(a.measurement_path);
+  }
+  auto resample = [&](const ResampleOptions& o) {
+    return axis ? ResampleModel(*axis, o, a.model_path) : ResampleMeasurement(meas, o);
+  };
+  ResampleResult rr = resample(ro);
+  if (!axis && !a.axis.empty()) rr.table.axis = a.axis;
+  if (rr.table.axis.empty()) rr.table.axis = "X";
+  fmt::print("{}\n", rr.BriefReport());
+  if (a.mode == "auto" && !SupportsBidirectional(f))
+    fmt::print("note: {} holds one curve per axis: exported unidirectional (mean curve + backlash)\n", TableFormatName(f));
+  if (f == TableFormat::kSinumerik && !a.zero_at_reference) {
+    const auto& t = rr.table;
+    const double ref = t.reference_position_mm;
+    if (!std::isnan(ref) && ref >= t.position_mm.front() && ref <= t.position_mm.back()) {
+      const double at_ref = AppliedCorrectionUm(t, ref, Direction::kForward) +
+                            t.thermal_tan_beta_um_per_mm * (t.thermal_reference_mm - ref) - 0.5 * t.backlash_um;
+      if (std::abs(at_ref) > 0.5)
+        fmt::print("note: the LEC value at the reference point {} mm is {:.2f} um; Siemens recommends 0 there "
+                   "(no jump when LEC activates after referencing): consider --zero-at-reference\n",
+                   FormatShortest(ref), -at_ref);
+    }
+  }
+  if (f == TableFormat::kFanuc && !a.zero_at_reference)
+    fmt::print("note: FANUC tables are relative to the reference position: zeroed there (shift {:.4f} um)\n",
+               rr.zero_shift_um);
+
+  switch (f) {
+    case TableFormat::kLinuxCnc: {
+      LinuxCncOptions o;
+      o.comp_file_type = a.comp_file_type;
+      o.joint = a.joint;
+      o.comp_file_name = std::filesystem::path(a.out).filename().string();
+      const std::string text = WriteLinuxCncCompFile(rr.table, o, kCli);
+      WriteTextFile(a.out, text);
+      fmt::print("wrote {}\npaste into the INI file:\n{}", a.out, LinuxCncIniSnippet(rr.table, o));
+      break;
+    }
+    case TableFormat::kSinumerik: {
+      SinumerikOptions o;
+      o.axis_name = a.siemens_axis.empty() ? a.axis.empty() ? rr.table.axis + "1" : a.axis + "1" : a.siemens_axis;
+      o.encoder = a.siemens_encoder;
+      const std::string text = WriteSinumerikEec(rr.table, o, kCli);
+      WriteTextFile(a.out, text);
+      fmt::print("wrote {}\nset these machine/setting data (also in the file as comments):\n{}", a.out,
+                 SinumerikMachineData(rr.table, o));
+      break;
+    }
+    case TableFormat::kFanuc: {
+      const FanucResult res = WriteFanucPitchTape(rr.table, a.fanuc, kCli);
+      WriteTextFile(a.out, res.tape);
+      fmt::print("wrote {}\n{}", a.out, res.Instructions());
+      break;
+    }
+    case TableFormat::kCsv: {
+      WriteTextFile(a.out, WriteCsvTable(rr.table, sign, kCli));
+      fmt::print("wrote {}\n", a.out);
+      break;
+    }
+    case TableFormat::kHeidenhain: {
+      const std::filesystem::path out(a.out);
+      if (Upper(out.extension().string()) != ".CMA") Bad("--out", "for heidenhain give the .CMA file; the .COM files go next to it");
+      const std::string stem = Upper(out.stem().string());
+      struct State {
+        std::string name, description;
+        CompensationTable table;
+        bool active;
+      };
+      std::vector<State> states;
+      const bool frozen = !ro.thermal.temperatures_c.empty();
+      {
+        ResampleOptions cold = ro;
+        cold.thermal.temperatures_c.clear();
+        cold.thermal.coolant = CoolantState::kOff;
+        ResampleResult c = axis ? resample(cold) : rr;
+        c.table.axis = rr.table.axis;
+        states.push_back({"COLD", axis ? "cold state, coolant off" : "as measured", c.table, !frozen});
+      }
+      if (frozen && axis) {
+        std::set<CoolantState> fitted;
+        for (const auto& d : axis->directions)
+          for (const auto& g : d.thermal) fitted.insert(g.coolant);
+        if (fitted.empty()) fitted.insert(CoolantState::kOff);
+        std::string temps;
+        for (const auto& [n, v] : ro.thermal.temperatures_c) temps += fmt::format(" {}={}", n, FormatShortest(v));
+        bool any_active = false;
+        for (CoolantState c : fitted) {
+          ResampleOptions o = ro;
+          o.thermal.coolant = c;
+          ResampleResult s = resample(o);
+          s.table.axis = rr.table.axis;
+          const bool active = c == ro.thermal.coolant;
+          any_active |= active;
+          states.push_back({Upper(std::string(CoolantStateName(c))),
+                            fmt::format("coolant {},{}", CoolantStateName(c), temps), s.table, active});
+        }
+        if (!any_active)
+          Bad("--coolant", fmt::format("the model has no thermal gains for coolant '{}'", CoolantStateName(ro.thermal.coolant)));
+      }
+      std::vector<CmaLine> lines;
+      for (const auto& s : states) {
+        const std::string com = fmt::format("{}_{}.COM", stem, s.name);
+        const auto path = (out.parent_path() / com).string();
+        WriteTextFile(path, WriteHeidenhainCom(s.table, com, sign, kCli));
+        fmt::print("wrote {}\n", path);
+        lines.push_back({com, s.active, s.description});
+      }
+      WriteTextFile(a.out, WriteHeidenhainCma(rr.table.axis, out.filename().string(), lines, kCli));
+      fmt::print("wrote {} ({} lines; switch lines by soft key or PLC; MP_backLash must be 0 when BACKLASH "
+                 "columns are used)\n",
+                 a.out, lines.size());
+      break;
+    }
+  }
+}
+
+void Setup(CLI::App& app) {
+  auto a = std::make_shared<ExportArgs>();
+  auto* cmd = app.add_subcommand("export", "Write (or --read back) a compensation table for a CNC controller");
+  cmd->add_option("--model", a->model_path, "fitted model JSON (docs/model-file.md)");
+  cmd->add_option("--measurement", a->measurement_path, "measurement CSV: per-target mean deviations per direction");
+  cmd->add_option("--axis", a->axis, "axis name in the model (X, Y, Z, ...)");
+  cmd->add_option("--format", a->format, "linuxcnc | sinumerik | fanuc | heidenhain | csv")->required();
+  cmd->add_option("--out", a->out, "file to write (heidenhain: the .CMA; .COM files go next to it)");
+  cmd->add_option("--read", a->read, "read this table back and print it as corrections (um)");
+  cmd->add_option("--start", a->start, "first table position, mm (default: derived, aligned on the reference)");
+  cmd->add_option("--spacing", a->spacing, "distance between points, mm (default: smallest 1-2-5 step that fits)");
+  cmd->add_option("--count", a->count, "number of points (default: derived)");
+  cmd->add_option("--range", a->range, "MIN:MAX axis range to cover, mm (default: where the model is valid)");
+  cmd->add_option("--max-points", a->max_points, "point limit (default: the format's)");
+  cmd->add_option("--mode", a->mode, "auto | bidirectional | unidirectional (mean curve + one backlash value)");
+  cmd->add_option("--sign", a->sign, "csv/heidenhain: correction (default) or error");
+  cmd->add_flag("--zero-at-reference", a->zero_at_reference, "shift the table to 0 at the reference point");
+  cmd->add_option("--reference-mm", a->reference_mm, "reference point, mm (default: the model's Px; fanuc --read: 0)");
+  cmd->add_option("--temp", a->temps, "NAME=DEGREES: freeze the thermal part at this sensor temperature (repeat)");
+  cmd->add_option("--coolant", a->coolant, "coolant state for the frozen thermal part: off | flood | mist | air");
+  cmd->add_option("--comp-file-type", a->comp_file_type, "linuxcnc COMP_FILE_TYPE 0 (actual) or 1 (trim, default)");
+  cmd->add_option("--joint", a->joint, "linuxcnc [JOINT_n] for the INI lines");
+  cmd->add_option("--siemens-axis", a->siemens_axis, "sinumerik machine axis name (default: <axis>1)");
+  cmd->add_option("--siemens-encoder", a->siemens_encoder, "sinumerik measuring system 0 or 1");
+  cmd->add_flag("--siemens-thermal-in-table", a->siemens_thermal_in_table,
+                "sinumerik: freeze the thermal part into the LEC values instead of TEMP_COMP settings");
+  cmd->add_option("--fanuc-axis", a->fanuc.axis_number, "fanuc controlled axis number (A<n>)");
+  cmd->add_option("--detection-unit-um", a->fanuc.detection_unit_um, "fanuc detection unit, um (default 1)");
+  cmd->add_option("--fanuc-magnification", a->fanuc.magnification, "3623, 1..100 (default: smallest that fits)");
+  cmd->add_option("--fanuc-point-limit", a->fanuc.point_limit, "largest |value| per point (default 7)");
+  cmd->add_option("--fanuc-reference-number", a->fanuc.reference_point_number, "3620 (default: derived)");
+  cmd->add_option("--fanuc-reverse-number", a->fanuc.reverse_first_number, "3626 (default: after the forward block)");
+  cmd->add_option("--fanuc-max-point", a->fanuc.max_point_number, "highest compensation point number (default 1023)");
+  cmd->add_option("--max-feed", a->fanuc.max_feed_mm_per_min, "fanuc: max feedrate mm/min; interval >= feed/7500");
+  cmd->callback([a] {
+    if (!a->read.empty()) RunRead(*a);
+    else RunExport(*a);
+  });
+}
+
+static CommandRegistrar reg("export", Setup);
+
+}  // namespace
+}  // namespace trueaxis::cli

@@ -1,0 +1,64 @@
+#include "trueaxis/export/compensation_table.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "trueaxis/core/input_error.hpp"
+
+namespace trueaxis::exporter {
+
+double CompensationTable::UniformSpacingMm() const {
+  if (position_mm.size() < 2) return std::numeric_limits<double>::quiet_NaN();
+  const double step = position_mm[1] - position_mm[0];
+  for (std::size_t i = 1; i < position_mm.size(); ++i) {
+    const double expected = position_mm[0] + step * static_cast<double>(i);
+    if (std::abs(position_mm[i] - expected) > 1e-9 * std::max(1.0, std::abs(expected)) + 1e-9)
+      return std::numeric_limits<double>::quiet_NaN();
+  }
+  return step;
+}
+
+namespace {
+double Interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
+  if (xs.empty()) return 0;
+  if (x <= xs.front()) return ys.front();
+  if (x >= xs.back()) return ys.back();
+  auto it = std::upper_bound(xs.begin(), xs.end(), x);
+  const std::size_t i = static_cast<std::size_t>(it - xs.begin());
+  const double t = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
+  return ys[i - 1] + t * (ys[i] - ys[i - 1]);
+}
+}  // namespace
+
+double AppliedCorrectionUm(const CompensationTable& table, double position_mm, Direction direction) {
+  const auto& column = direction == Direction::kForward ? table.forward_um : table.reverse_um;
+  double c = Interpolate(table.position_mm, column, position_mm);
+  if (!table.bidirectional) c += DirectionSign(direction) * 0.5 * table.backlash_um;
+  // Thermal line kept out of the table: correction = −error.
+  c -= table.thermal_tan_beta_um_per_mm * (table.thermal_reference_mm - position_mm);
+  return c;
+}
+
+void ValidateTable(const CompensationTable& table, const std::string& source) {
+  const std::size_t n = table.position_mm.size();
+  if (n == 0) throw InputError(source, 0, "position_mm", "the table has no points");
+  if (table.forward_um.size() != n || table.reverse_um.size() != n)
+    throw InputError(source, 0, "forward_um",
+                     fmt::format("column sizes differ: {} positions, {} forward, {} reverse values", n,
+                                 table.forward_um.size(), table.reverse_um.size()));
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(table.position_mm[i]))
+      throw InputError(source, 0, fmt::format("position_mm[{}]", i), "is not a finite number");
+    if (!std::isfinite(table.forward_um[i]) || !std::isfinite(table.reverse_um[i]))
+      throw InputError(source, 0, fmt::format("forward_um[{}]", i), "correction is not a finite number");
+    if (i > 0 && !(table.position_mm[i] > table.position_mm[i - 1]))
+      throw InputError(source, 0, fmt::format("position_mm[{}]", i),
+                       fmt::format("positions must be strictly ascending ({} mm follows {} mm)",
+                                   table.position_mm[i], table.position_mm[i - 1]));
+  }
+  if (!std::isfinite(table.backlash_um)) throw InputError(source, 0, "backlash_um", "is not a finite number");
+}
+
+}  // namespace trueaxis::exporter

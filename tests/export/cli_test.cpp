@@ -1,0 +1,151 @@
+// The `trueaxis export` command end to end (TRUEAXIS_CLI_PATH): good runs
+// reproduce the golden files, bad options exit 2 naming the option.
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include "trueaxis/core/text_file.hpp"
+#include "trueaxis/measure/measurement_csv.hpp"
+
+namespace trueaxis::exporter {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kModel = std::string(TRUEAXIS_SOURCE_DIR) + "/tests/export/golden/example_model.json";
+const std::string kGolden = std::string(TRUEAXIS_SOURCE_DIR) + "/tests/export/golden/";
+
+struct Run {
+  int code;
+  std::string out;  // stdout + stderr
+};
+
+Run Cli(const std::string& args) {
+  const std::string cmd = std::string(TRUEAXIS_CLI_PATH) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (p && fgets(buf.data(), buf.size(), p)) out += buf.data();
+  const int status = p ? pclose(p) : -1;
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+class ExportCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("trueaxis_export_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(ExportCli, LinuxCncMatchesTheGoldenFileAndReadsBack) {
+  const auto r = Cli("export --model " + kModel + " --axis X --format linuxcnc --spacing 50 --temp nut=30 --temp bearing=26 --out " +
+                     Path("x_comp.txt"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(ReadTextFile(Path("x_comp.txt")), ReadTextFile(kGolden + "x_comp_type1.txt"));
+  EXPECT_NE(r.out.find("COMP_FILE_TYPE = 1"), std::string::npos) << r.out;
+  const auto back = Cli("export --read " + Path("x_comp.txt") + " --format linuxcnc --axis X");
+  ASSERT_EQ(back.code, 0) << back.out;
+  EXPECT_NE(back.out.find("400,-48.1000,-54.6000"), std::string::npos) << back.out;
+}
+
+TEST_F(ExportCli, EveryFormatWritesAndReadsBack) {
+  const std::string base = "export --model " + kModel + " --axis X --spacing 20 --temp nut=30 --temp bearing=26 ";
+  for (const auto& [format, file] : {std::pair<std::string, std::string>{"sinumerik", "X_EEC.INI"},
+                                     {"fanuc", "x.tape"}, {"heidenhain", "X.CMA"}, {"csv", "x.csv"}}) {
+    const auto w = Cli(base + "--format " + format + " --out " + Path(file));
+    ASSERT_EQ(w.code, 0) << format << ": " << w.out;
+    const auto r = Cli("export --read " + Path(file) + " --format " + format + " --axis X");
+    ASSERT_EQ(r.code, 0) << format << ": " << r.out;
+    EXPECT_NE(r.out.find("position_mm,forward_correction_um,reverse_correction_um"), std::string::npos) << r.out;
+  }
+  const auto note = Cli(base + "--format sinumerik --out " + Path("X2_EEC.INI"));
+  EXPECT_NE(note.out.find("Siemens recommends 0 there"), std::string::npos) << note.out;
+  const auto zeroed = Cli(base + "--format sinumerik --zero-at-reference --out " + Path("X3_EEC.INI"));
+  EXPECT_EQ(zeroed.out.find("Siemens recommends 0 there"), std::string::npos) << zeroed.out;
+  const auto frozen = Cli(base + "--format sinumerik --siemens-thermal-in-table --out " + Path("X4_EEC.INI"));
+  ASSERT_EQ(frozen.code, 0) << frozen.out;
+  EXPECT_NE(frozen.out.find("$MA_TEMP_COMP_TYPE[X1]=0"), std::string::npos) << frozen.out;
+  EXPECT_NE(ReadTextFile(Path("X2_EEC.INI")).find("$MA_TEMP_COMP_TYPE[X1]=2"), std::string::npos);
+  EXPECT_TRUE(fs::exists(Path("X_OFF.COM")));
+  EXPECT_TRUE(fs::exists(Path("X_FLOOD.COM")));
+  EXPECT_TRUE(fs::exists(Path("X_COLD.COM")));
+}
+
+TEST_F(ExportCli, MeasurementInput) {
+  measure::Measurement m;
+  m.SetMeta("axis", "Y");
+  for (int run = 1; run <= 2; ++run)
+    for (double x : {0.0, 100.0, 200.0}) {
+      m.points.push_back({run, Direction::kForward, x, x / 20, {}, {}, 0});
+      m.points.push_back({run, Direction::kReverse, x, x / 20 - 4, {}, {}, 0});
+    }
+  measure::WriteMeasurementCsv(m, Path("y.csv"));
+  const auto w = Cli("export --measurement " + Path("y.csv") + " --format csv --out " + Path("y_table.csv"));
+  ASSERT_EQ(w.code, 0) << w.out;
+  const auto r = Cli("export --read " + Path("y_table.csv") + " --format csv");
+  EXPECT_NE(r.out.find("200,-10.0000,-6.0000"), std::string::npos) << r.out;
+  const auto t = Cli("export --measurement " + Path("y.csv") + " --format csv --temp nut=30 --out " + Path("z.csv"));
+  EXPECT_EQ(t.code, 2);
+  EXPECT_NE(t.out.find("'--temp'"), std::string::npos) << t.out;
+}
+
+TEST_F(ExportCli, BadOptionsExitTwoNamingTheOption) {
+  const std::string m = "export --model " + kModel + " --axis X ";
+  const std::string out = " --out " + Path("bad");
+  const std::pair<std::string, std::string> cases[] = {
+      {m + "--format linuxcnc --spacing 1" + out, "'--spacing'"},
+      {m + "--format linuxcnc --count 300" + out, "'--count'"},
+      {"export --model " + kModel + " --axis Q --format csv" + out, "'--axis'"},
+      {m + "--format sinumerik --mode bidirectional" + out, "'--mode'"},
+      {m + "--format linuxcnc --sign error" + out, "'--sign'"},
+      {m + "--format plc" + out, "'--format'"},
+      {m + "--format csv --temp nut" + out, "'--temp'"},
+      {m + "--format csv --temp spindle=30" + out, "'--temp'"},
+      {m + "--format csv --temp nut=30" + out, "'--temp'"},  // bearing missing
+      {m + "--format csv --coolant lava" + out, "'--coolant'"},
+      {m + "--format csv --range 10" + out, "'--range'"},
+      {m + "--format csv --range -100:400" + out, "'--range'"},
+      {m + "--format csv --measurement x.csv" + out, "'--model'"},
+      {m + "--format heidenhain --out " + Path("X.txt"), "'--out'"},
+      {m + "--format heidenhain --max-points 300" + out, "'--max-points'"},
+      {m + "--format fanuc --detection-unit-um 0.3" + out, "'--spacing'"},
+      {m + "--format fanuc --fanuc-magnification 1 --fanuc-point-limit 1 --spacing 50" + out, "'--fanuc-magnification'"},
+      {m + "--format linuxcnc --comp-file-type 2" + out, "'--comp-file-type'"},
+      {m + "--format heidenhain --temp nut=30 --temp bearing=26 --coolant mist --out " + Path("X.CMA"), "'--coolant'"},
+      {"export --model " + Path("missing.json") + " --axis X --format csv" + out, "missing.json"},
+  };
+  for (const auto& [args, needle] : cases) {
+    const auto r = Cli(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find(needle), std::string::npos) << args << "\n" << r.out;
+  }
+  EXPECT_FALSE(fs::exists(Path("bad")));
+}
+
+TEST_F(ExportCli, FanucDerivedGridFitsThePointNumbersOfBothDirections) {
+  // 41 numbers (0…40) for two directions: at most 20 points per direction → 50 mm.
+  const auto r = Cli("export --model " + kModel + " --axis X --format fanuc --fanuc-max-point 40 --out " + Path("f.tape"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("step 50 mm"), std::string::npos) << r.out;
+  EXPECT_NE(ReadTextFile(Path("f.tape")).find("N03624A1P50000"), std::string::npos);
+}
+
+TEST_F(ExportCli, CorruptTableOnReadNamesTheLine) {
+  WriteTextFile(Path("c.txt"), "0 0 0\n10 0.001\n");
+  const auto r = Cli("export --read " + Path("c.txt") + " --format linuxcnc");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("c.txt:2: field 'triplet'"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace trueaxis::exporter
