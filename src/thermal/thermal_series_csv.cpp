@@ -191,8 +191,8 @@ ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& so
     }
     s.time_s.push_back(time);
   }
-  if (!have_header) throw InputError(source, line_no, "", "no header line: the file is empty or holds only comments");
-  if (s.time_s.empty()) throw InputError(source, line_no, "", "no data rows after the header");
+  if (!have_header) throw InputError(source, 0, "", "no header line: the file is empty or holds only comments");
+  if (s.time_s.empty()) throw InputError(source, 0, "", "no data rows after the header");
   const auto n = static_cast<Eigen::Index>(s.time_s.size());
   s.temperatures_c = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
       temps.data(), n, static_cast<Eigen::Index>(s.temperature_names.size()));
