@@ -25,7 +25,7 @@ struct CommonOptions {
   bool strict = false;
   bool allow_time_gaps = false;
   // models
-  std::string select = "correlation-clusters";
+  std::string select = "lasso";
   int sensors = 4;
   double lambda = 1e-3;
   int temperature_inputs = 1;
@@ -56,7 +56,7 @@ void AddCommon(CLI::App* cmd, CommonOptions* o) {
       ->capture_default_str();
   cmd->add_flag("--strict", o->strict, "refuse a series with a dead/gappy temperature channel instead of dropping it");
   cmd->add_flag("--allow-time-gaps", o->allow_time_gaps, "warn instead of refusing jumps in time_s");
-  cmd->add_option("--select", o->select, "sensor selection: correlation-clusters, lasso or all")->capture_default_str();
+  cmd->add_option("--select", o->select, "sensor selection: lasso, correlation-clusters or all")->capture_default_str();
   cmd->add_option("--sensors", o->sensors, "sensors per channel for mlr/ridge/hysteresis")->capture_default_str();
   cmd->add_option("--lambda", o->lambda, "ridge penalty on standardised temperatures")->capture_default_str();
   cmd->add_option("--temperature-inputs", o->temperature_inputs,

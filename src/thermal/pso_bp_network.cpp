@@ -143,7 +143,7 @@ nlohmann::json PsoBpNetworkModel::ToJson() const {
           {"training",
            {{"learning_rate", o.learning_rate}, {"epochs", o.epochs}, {"particles", o.particles},
             {"pso_iterations", o.pso_iterations}, {"c1", o.c1}, {"c2", o.c2}, {"inertia", o.inertia},
-            {"velocity_limit", o.velocity_limit}, {"seed", o.seed}}},
+            {"velocity_limit", o.velocity_limit}, {"bp_shuffle", o.bp_shuffle}, {"seed", o.seed}}},
           {"channels", nets}};
 }
 
@@ -346,8 +346,13 @@ PsoBpNetworkModel FitPsoBpNetwork(const ThermalSeries& s, const PsoBpOptions& o,
     Eigen::VectorXd w2 = gbest.segment(hid * in + hid, hid);
     double b2 = gbest(hid * in + 2 * hid);
     Eigen::VectorXd h(hid), delta_h(hid);
+    std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
+    for (Eigen::Index r = 0; r < n; ++r) order[static_cast<std::size_t>(r)] = r;
     for (int epoch = 0; epoch < o.epochs; ++epoch) {
-      for (Eigen::Index r = 0; r < n; ++r) {
+      if (o.bp_shuffle)  // Fisher-Yates with our own draws: same sequence on every platform
+        for (std::size_t i = order.size(); i > 1; --i)
+          std::swap(order[i - 1], order[static_cast<std::size_t>(u01(rng) * static_cast<double>(i)) % i]);
+      for (Eigen::Index r : order) {
         h = (w1 * x.col(r) + b1).unaryExpr([](double a) { return LogSig(a); });
         const double out = LogSig(w2.dot(h) + b2);
         const double delta_o = (out - t(r)) * out * (1.0 - out);

@@ -15,8 +15,11 @@
 // Not stated in the seed, chosen here and documented (docs/thermal-models.md):
 //   the number of PSO iterations (pso_iterations = 100); initial positions
 //   uniform in [-1, 1], initial velocities uniform in [-1, 1]; online
-//   (per-sample) back-propagation in training order without momentum, as
-//   AForge's BackPropagationLearning.RunEpoch; inputs scaled linearly from the
+//   (per-sample) back-propagation without momentum, as AForge's
+//   BackPropagationLearning.RunEpoch, visiting the rows in a fresh seeded
+//   random order every epoch (bp_shuffle; in time order, online updates on a
+//   long recording drift towards its last hours and undo the swarm's fit —
+//   measured on fl_thermal, bench/results/thermal.md); inputs scaled linearly from the
 //   training range to [-1, 1] (a constant input maps to 0); targets scaled
 //   into the sigmoid's range, [0.1, 0.9], and back; on long series the PSO
 //   fitness uses at most pso_max_samples evenly spaced training rows (BP
@@ -48,6 +51,7 @@ struct PsoBpOptions {
   int pso_max_samples = 400;
   double target_low = 0.1;
   double target_high = 0.9;
+  bool bp_shuffle = true;
   std::uint64_t seed = 1;
   SensorSelectionOptions selection;  // max_sensors is replaced by temperature_inputs
 

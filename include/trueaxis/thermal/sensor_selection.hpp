@@ -2,7 +2,9 @@
 // Temperature-sensitive point selection: pick a few sensors out of many
 // (docs/thermal-models.md "Sensor selection").
 //
-// kCorrelationClusters (default): sensors are clustered by agglomerative
+// kLasso is the default: on fl_thermal it validated better than the
+// clusters on 4 of 5 channels (bench/results/thermal.md).
+// kCorrelationClusters: sensors are clustered by agglomerative
 //   average-linkage clustering with distance 1 - |r(Ti, Tj)| until
 //   max_sensors clusters remain (sensors that move together carry the same
 //   information and make a regression ill-conditioned); from each cluster the
@@ -26,7 +28,7 @@ const char* SelectionMethodName(SelectionMethod m);
 bool ParseSelectionMethod(const std::string& text, SelectionMethod* out);
 
 struct SensorSelectionOptions {
-  SelectionMethod method = SelectionMethod::kCorrelationClusters;
+  SelectionMethod method = SelectionMethod::kLasso;
   int max_sensors = 4;
   double lasso_lambda_min_ratio = 1e-4;
   int lasso_path_steps = 60;
