@@ -169,10 +169,8 @@ void Setup(CLI::App& app) {
       ThermalSeries s = ReadThermalSeriesCsv(*series);
       SeriesCleaningOptions co;
       co.max_interpolated_gap_samples = *gap;
-      co.min_temperature_std_c = 0;  // prediction does not standardise
-      // Error channels are not needed for prediction: keep only temperatures.
-      s.errors_um = Eigen::MatrixXd::Zero(s.Rows(), 1);
-      s.error_names = {"unused"};
+      co.min_temperature_std_c = 0;       // prediction does not standardise
+      co.check_error_channels = false;    // and needs no measured error
       SeriesCleaningReport rep;
       ThermalSeries cleaned = CleanSeries(s, co, &rep);
       for (const auto& w : rep.warnings) fmt::print(stderr, "warning: {}\n", w);

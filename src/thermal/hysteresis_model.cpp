@@ -114,7 +114,7 @@ void HysteresisThermalModel::Predict(const ThermalSample& sample, std::span<doub
   const std::size_t which = (i < fitted_.size() && fitted_[i]) ? i : per_interval_.size();
   const LinearThermalModel& m = which < per_interval_.size() ? per_interval_[which] : all_data_;
   const std::vector<int>& map = maps_[which];
-  std::array<double, kMaxSensors> buf{};
+  std::array<double, kMaxSensors> buf;  // only the first map.size() are read
   for (std::size_t k = 0; k < map.size() && k < kMaxSensors; ++k) buf[k] = sample.temperatures_c[static_cast<std::size_t>(map[k])];
   ThermalSample sub{std::span<const double>(buf.data(), map.size()), sample.position_mm, sample.interval};
   m.Predict(sub, out_um);

@@ -46,6 +46,7 @@ std::unique_ptr<ThermalErrorModel> FitThermalModel(const ThermalSeries& s, const
                                                    std::string* fit_report) {
   std::string why;
   if (!o.IsValid(&why)) throw InputError("fit options", why);
+  if (s.error_names.empty()) throw InputError(s.source, 0, "", "no error channel to fit");
   switch (o.kind) {
     case ModelKind::kMlr: {
       LinearFitOptions lo = o.linear;

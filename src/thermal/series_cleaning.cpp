@@ -95,6 +95,8 @@ ThermalSeries CleanSeries(const ThermalSeries& in, const SeriesCleaningOptions& 
   rep = SeriesCleaningReport{};
   const Eigen::Index n = in.Rows();
   if (n < 2) throw InputError(in.source, 0, "", fmt::format("{} row(s); a thermal series needs at least 2", n));
+  if (options.check_error_channels && in.error_names.empty())
+    throw InputError(in.source, 0, "", "no error column (e_<channel>_um or <channel>_um): nothing to model");
 
   // 1. Time gaps.
   if (in.has_time && n >= 3) {
@@ -190,7 +192,7 @@ ThermalSeries CleanSeries(const ThermalSeries& in, const SeriesCleaningOptions& 
   }
 
   // 4./5. Error channels.
-  for (std::size_t c = 0; c < in.error_names.size(); ++c) {
+  for (std::size_t c = 0; options.check_error_channels && c < in.error_names.size(); ++c) {
     const auto col = static_cast<Eigen::Index>(c);
     const std::string field = in.error_names[c];
     GapScan g = Scan(in.errors_um.col(col));

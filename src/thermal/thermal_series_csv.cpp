@@ -118,8 +118,6 @@ ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& so
       }
       if (s.temperature_names.empty())
         throw InputError(source, line_no, "", "no temperature column (t_<sensor>_c or <sensor>_C)");
-      if (s.error_names.empty())
-        throw InputError(source, line_no, "", "no error column (e_<channel>_um or <channel>_um)");
       continue;
     }
     if (fields.size() != columns.size())

@@ -80,6 +80,8 @@ TEST(ThermalCli, BadInputsExitTwoNamingFileLineAndField) {
   Write(bad, "time_s,t_a_c,t_b_c,e_x_um\n0,20,21,1\n15,20.1,21,1.1\n30,warm,21,1.2\n");
   ExpectBadInput("thermal fit --series " + bad + " -o " + dir + "/m.json", {"bad.csv:4", "t_a_c", "warm"});
   ExpectBadInput("thermal evaluate --series " + dir + "/nope.csv", {"nope.csv", "cannot open"});
+  Write(dir + "/noerr.csv", "time_s,t_a_c\n0,20\n15,20.5\n30,21\n");
+  ExpectBadInput("thermal fit --series " + dir + "/noerr.csv -o " + dir + "/m.json", {"noerr.csv", "no error column"});
 
   std::string gap = "time_s,t_a_c,t_b_c,e_x_um\n";
   for (int r = 0; r < 40; ++r)
@@ -107,7 +109,7 @@ TEST(ThermalCli, BadInputsExitTwoNamingFileLineAndField) {
   ExpectBadInput("thermal fit --series " + good + " --channels nope -o " + dir + "/x.json", {"'nope'", "no such error channel"});
   // The fitted model needs sensor s0; a series without it is refused by name.
   ASSERT_EQ(RunCli("thermal fit --series " + good + " --sensors 1 -o " + dir + "/m1.json").exit_code, 0);
-  Write(dir + "/other.csv", "time_s,t_q_c,e_e_um\n0,20,1\n15,20.5,1\n30,21,1\n");
+  Write(dir + "/other.csv", "time_s,t_q_c\n0,20\n15,20.5\n30,21\n");
   ExpectBadInput("thermal predict --model " + dir + "/m1.json --series " + dir + "/other.csv", {"'s0'", "needs temperature"});
   Write(dir + "/broken.json", "{\"model\": {\"kind\": \"linear\", \"ridge_lambda\": -1,");
   ExpectBadInput("thermal predict --model " + dir + "/broken.json --series " + good, {"broken.json", "not valid JSON"});

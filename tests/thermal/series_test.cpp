@@ -70,7 +70,6 @@ TEST(ThermalSeriesCsv, BadInputNamesLineAndField) {
   ExpectError("time_s,t_a_c,e_x_um\n0,20,1um\n", 2, "e_x_um");
   ExpectError("time_s,t_a_c,e_x_um\n0,900,1\n", 2, "t_a_c");              // implausible °C
   ExpectError("time_s,spindle_rpm,t_a_c,e_x_um\n0,-5,20,1\n", 2, "spindle_rpm");
-  ExpectError("time_s,t_a_c\n0,20\n", 1, "");                             // no error channel
   ExpectError("# only a comment\n", 0, "");
 }
 
@@ -187,6 +186,15 @@ TEST(SeriesCleaning, RefusesErrorGapsTimeGapsAndNoTemperatureLeft) {
     for (int r = 10; r < 200; ++r) s.temperatures_c(r, 2) = kNaN;
     EXPECT_THROW(CleanSeries(s, {}, nullptr), InputError);
   }
+}
+
+TEST(SeriesCleaning, ASeriesWithoutErrorsIsForPredictionOnly) {
+  ThermalSeries s = ParseThermalSeriesCsv("time_s,t_a_c\n0,20\n15,20.5\n30,21\n", "p.csv");
+  EXPECT_TRUE(s.error_names.empty());
+  EXPECT_THROW(CleanSeries(s, {}, nullptr), InputError);
+  SeriesCleaningOptions predict_only;
+  predict_only.check_error_channels = false;
+  EXPECT_EQ(CleanSeries(s, predict_only, nullptr).Rows(), 3);
 }
 
 TEST(SeriesCleaning, KeepsAllConstantTemperaturesOfAOneTemperatureTable) {

@@ -34,6 +34,9 @@ struct SeriesCleaningOptions {
   bool drop_bad_temperature_channels = true;
   double max_time_step_factor = 10.0;
   bool allow_time_gaps = false;
+  // false: error channels are left as they are (prediction needs only
+  // temperatures; rules 4-5 do not apply to errors).
+  bool check_error_channels = true;
 
   bool IsValid(std::string* why) const;
 };

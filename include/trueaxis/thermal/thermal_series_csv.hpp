@@ -9,6 +9,7 @@
 //   coolant                 off|flood|mist|air or 0..3 (optional)
 //   t_<name>_c or <name>_C  a temperature in °C; empty or "nan" = not read
 //   e_<name>_um or <name>_um an error channel in µm; empty or "nan" = not measured
+//                           (none at all is allowed: a series to predict on; fitting refuses it)
 // plus "# key: value" metadata lines before the header. Anything else is an
 // InputError naming file, line and field. Missing values are kept as NaN
 // here and handled by CleanSeries, never silently fitted.
