@@ -228,6 +228,24 @@ TEST(Hysteresis, ClassifiesSyntheticHeatingSteadyCooling) {
   EXPECT_EQ(wrong, 0);
 }
 
+TEST(Hysteresis, TrackerClassifiesSampleBySampleLikeTheBatchRule) {
+  std::mt19937_64 rng(8);
+  ThermalSeries s = testing::MakeSeries(3000, 1);
+  s.temperatures_c.col(0) = testing::RandomWalk(rng, 3000, 25, 0.01);
+  IntervalClassifierOptions o;
+  auto batch = ClassifyIntervals(s.time_s, s.temperatures_c.col(0), o);
+  IntervalTracker tracker(o);
+  int heating = 0, cooling = 0;
+  for (int r = 0; r < 3000; ++r) {
+    const ThermalInterval got = tracker.Push(s.time_s[static_cast<std::size_t>(r)], s.temperatures_c(r, 0));
+    ASSERT_EQ(got, batch[static_cast<std::size_t>(r)]) << "row " << r;
+    heating += got == ThermalInterval::kHeating;
+    cooling += got == ThermalInterval::kCooling;
+  }
+  EXPECT_GT(heating, 0);  // the walk really visits all three intervals
+  EXPECT_GT(cooling, 0);
+}
+
 TEST(Hysteresis, PerIntervalModelsBeatOneModelOnAHysteresisLoop) {
   // The error lags temperature: e = 3*T_lag with a 30 min first-order lag, so
   // at the same temperature heating and cooling give different errors.

@@ -37,6 +37,25 @@ std::vector<double> TemperatureTrendCPerH(const std::vector<double>& time_s, con
 std::vector<ThermalInterval> ClassifyIntervals(const std::vector<double>& time_s, const Eigen::VectorXd& reference_c,
                                                const IntervalClassifierOptions& options);
 
+// The same rule, one sample at a time, for a runtime compensator: push each
+// new (time, reference temperature) and get the interval of that sample,
+// identical to ClassifyIntervals over the whole series. Keeps only the
+// samples inside the window (bounded memory once the sample rate is bounded).
+class IntervalTracker {
+ public:
+  explicit IntervalTracker(IntervalClassifierOptions options);
+  // Time must increase; a sample not after the previous one resets the tracker.
+  ThermalInterval Push(double time_s, double reference_c);
+  double TrendCPerH() const { return trend_c_per_h_; }
+  void Reset();
+
+ private:
+  IntervalClassifierOptions options_;
+  std::vector<std::pair<double, double>> window_;  // (time, temperature), oldest first
+  std::size_t head_ = 0;                           // first live entry in window_
+  double trend_c_per_h_ = 0;
+};
+
 struct HysteresisFitOptions {
   LinearFitOptions sub_model;
   IntervalClassifierOptions classifier;
@@ -63,6 +82,7 @@ class HysteresisThermalModel final : public ThermalErrorModel {
   std::string Describe() const override;
 
   const std::vector<std::string>& reference_sensors() const { return reference_; }
+  const IntervalClassifierOptions& classifier() const { return classifier_; }
   static HysteresisThermalModel FromJson(const nlohmann::json& doc, const std::string& source, const std::string& path);
 
  private:
