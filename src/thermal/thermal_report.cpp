@@ -58,7 +58,7 @@ void WriteThermalReport(const ThermalEvaluation& ev, const std::string& path) {
   for (const auto& m : ev.models) {
     page.AddHeading(fmt::format("{} (fitted in {:.2f} s)", m.name, m.fit_seconds), 3);
     page.AddKeyValueTable({{"input sensors", fmt::format("{}", fmt::join(m.model->InputSensors(), ", "))}});
-    page.AddRawHtml("<pre>" + report::EscapeHtml(m.model->Describe() + m.fit_report) + "</pre>");
+    page.AddRawHtml("<pre style=\"white-space:pre-wrap\">" + report::EscapeHtml(m.model->Describe() + m.fit_report) + "</pre>");
   }
 
   const std::vector<Eigen::Index> rows = PlotRows(s.Rows(), 1500);
