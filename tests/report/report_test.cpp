@@ -110,7 +110,7 @@ TEST(HtmlPage, SelfContainedEscapedAndSaved) {
   page.AddParagraph("x < y");
   page.AddKeyValueTable({{"machine", "VMC <850>"}});
   tr::HtmlTable t({"target (mm)", "x̄↑ (µm)"}, "per target");
-  t.AddRow({"0", "1.25"}).AddRow({"100", "text"});
+  t.AddRow({"0", "1.25"}).AddRow({"100", "text"}).AddRow({"12.5 µm", "5 from 15 to 55.8 mm"});
   EXPECT_THROW(t.AddRow({"only one"}), std::invalid_argument);
   page.AddTable(t);
   tr::SvgChart chart;
@@ -123,6 +123,8 @@ TEST(HtmlPage, SelfContainedEscapedAndSaved) {
   EXPECT_NE(html.find("VMC &lt;850&gt;"), std::string::npos);
   EXPECT_NE(html.find("<td class=\"num\">1.25</td>"), std::string::npos);
   EXPECT_NE(html.find("<td>text</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"num\">12.5 µm</td>"), std::string::npos);  // number + unit: right
+  EXPECT_NE(html.find("<td>5 from 15 to 55.8 mm</td>"), std::string::npos);     // prose: left
   EXPECT_NE(html.find("<svg"), std::string::npos);
   // Self-contained: no scripts, no external resources.
   EXPECT_EQ(html.find("<script"), std::string::npos);
@@ -138,4 +140,24 @@ TEST(HtmlPage, SelfContainedEscapedAndSaved) {
 TEST(EscapeHtml, AllSpecialCharacters) {
   EXPECT_EQ(tr::EscapeHtml("<a href='x'>&\"</a>"), "&lt;a href=&#39;x&#39;&gt;&amp;&quot;&lt;/a&gt;");
   EXPECT_EQ(tr::EscapeHtml("µm ±2s"), "µm ±2s");
+}
+
+TEST(SvgChart, FixedLimitsOverrideTheDataRange) {
+  tr::SvgChartOptions o;
+  o.y_min = -10;
+  o.y_max = 10;
+  o.x_min = 0;
+  o.x_max = 100;
+  tr::SvgChart chart(o);
+  chart.AddLine("l", {0, 50}, {1, 2});
+  const auto svg = chart.Render();
+  EXPECT_NE(svg.find(">-10.0<"), std::string::npos);  // tick labels at the fixed limits (step 2.5)
+  EXPECT_NE(svg.find(">10.0<"), std::string::npos);
+  EXPECT_NE(svg.find(">100<"), std::string::npos);
+  tr::SvgChartOptions bad;
+  bad.y_min = 5;
+  bad.y_max = 1;
+  std::string why;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("y_min"), std::string::npos);
 }
