@@ -147,6 +147,8 @@ void HysteresisThermalModel::BuildMaps() {
     for (const auto& n : m.InputSensors()) map.push_back(add(n));
     maps_.push_back(std::move(map));
   }
+  if (sensors_.size() > kMaxSensors)  // Predict gathers into a fixed buffer (no allocation)
+    throw InputError("hysteresis model", fmt::format("{} sensors; at most {} are supported", sensors_.size(), kMaxSensors));
 }
 
 void HysteresisThermalModel::Predict(const ThermalSample& sample, std::span<double> out_um) const {
