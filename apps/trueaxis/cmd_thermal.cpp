@@ -1,0 +1,243 @@
+// trueaxis thermal fit|predict|evaluate — data-driven thermal error models
+// (docs/thermal-models.md, docs/thermal-series.md).
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "command.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/text_file.hpp"
+#include "trueaxis/thermal/model_fitting.hpp"
+#include "trueaxis/thermal/thermal_series_csv.hpp"
+
+namespace trueaxis::cli {
+namespace {
+using namespace trueaxis::thermal;
+
+struct CommonOptions {
+  std::string series;
+  std::string channels;  // comma list; empty = all
+  // cleaning
+  int max_gap_samples = 4;
+  bool strict = false;
+  bool allow_time_gaps = false;
+  // models
+  std::string select = "lasso";
+  int sensors = 4;
+  double lambda = 1e-3;
+  int temperature_inputs = 1;
+  int hidden = 7;
+  int epochs = 500;
+  int particles = 200;
+  int pso_iterations = 100;
+  int pso_max_samples = 400;
+  std::uint64_t seed = 1;
+  double window_s = 900;
+  double threshold_c_per_h = 0.3;
+};
+
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!Trim(item).empty()) out.emplace_back(Trim(item));
+  return out;
+}
+
+void AddCommon(CLI::App* cmd, CommonOptions* o) {
+  cmd->add_option("--series", o->series, "thermal series CSV (docs/thermal-series.md; fl_thermal.csv reads as is)")
+      ->required();
+  cmd->add_option("--channels", o->channels, "error channels to model, comma separated (default: all)");
+  cmd->add_option("--max-gap-samples", o->max_gap_samples, "interior gaps up to this many rows are interpolated")
+      ->capture_default_str();
+  cmd->add_flag("--strict", o->strict, "refuse a series with a dead/gappy temperature channel instead of dropping it");
+  cmd->add_flag("--allow-time-gaps", o->allow_time_gaps, "warn instead of refusing jumps in time_s");
+  cmd->add_option("--select", o->select, "sensor selection: lasso, correlation-clusters or all")->capture_default_str();
+  cmd->add_option("--sensors", o->sensors, "sensors per channel for mlr/ridge/hysteresis")->capture_default_str();
+  cmd->add_option("--lambda", o->lambda, "ridge penalty on standardised temperatures")->capture_default_str();
+  cmd->add_option("--temperature-inputs", o->temperature_inputs,
+                  "pso-bp: selected temperatures fed to the network (seed 003: 1, plus the position)")
+      ->capture_default_str();
+  cmd->add_option("--hidden", o->hidden, "pso-bp: hidden units")->capture_default_str();
+  cmd->add_option("--epochs", o->epochs, "pso-bp: back-propagation epochs")->capture_default_str();
+  cmd->add_option("--particles", o->particles, "pso-bp: swarm size")->capture_default_str();
+  cmd->add_option("--pso-iterations", o->pso_iterations, "pso-bp: swarm iterations (not given by seed 003)")
+      ->capture_default_str();
+  cmd->add_option("--pso-max-samples", o->pso_max_samples, "pso-bp: rows used for the swarm's fitness")
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "pso-bp: random seed (same seed, same network)")->capture_default_str();
+  cmd->add_option("--window-s", o->window_s, "hysteresis: trailing window of the temperature trend")->capture_default_str();
+  cmd->add_option("--threshold-c-per-h", o->threshold_c_per_h, "hysteresis: |trend| above this is heating/cooling")
+      ->capture_default_str();
+}
+
+ThermalFitOptions MakeFitOptions(const CommonOptions& o, ModelKind kind) {
+  ThermalFitOptions f;
+  f.kind = kind;
+  if (!ParseSelectionMethod(o.select, &f.linear.selection.method))
+    throw InputError("command line", 0, "--select", "'" + o.select + "' is not correlation-clusters, lasso or all");
+  f.linear.selection.max_sensors = o.sensors;
+  f.ridge_lambda = o.lambda;
+  f.network.selection = f.linear.selection;
+  f.network.temperature_inputs = o.temperature_inputs;
+  f.network.hidden_units = o.hidden;
+  f.network.epochs = o.epochs;
+  f.network.particles = o.particles;
+  f.network.pso_iterations = o.pso_iterations;
+  f.network.pso_max_samples = o.pso_max_samples;
+  f.network.seed = o.seed;
+  f.hysteresis.classifier.window_s = o.window_s;
+  f.hysteresis.classifier.threshold_c_per_h = o.threshold_c_per_h;
+  std::string why;
+  if (!f.IsValid(&why)) throw InputError("command line", 0, "", why);
+  return f;
+}
+
+ThermalSeries LoadSeries(const CommonOptions& o, SeriesCleaningReport* report) {
+  ThermalSeries s = ReadThermalSeriesCsv(o.series);
+  if (!o.channels.empty()) s = SelectErrorChannels(s, SplitList(o.channels));
+  SeriesCleaningOptions co;
+  co.max_interpolated_gap_samples = o.max_gap_samples;
+  co.drop_bad_temperature_channels = !o.strict;
+  co.allow_time_gaps = o.allow_time_gaps;
+  std::string why;
+  if (!co.IsValid(&why)) throw InputError("command line", 0, "--max-gap-samples", why);
+  ThermalSeries cleaned = CleanSeries(s, co, report);
+  for (const auto& w : report->warnings) fmt::print(stderr, "warning: {}\n", w);
+  return cleaned;
+}
+
+ModelKind ParseKind(const std::string& text, const std::string& field) {
+  ModelKind k;
+  if (!ParseModelKind(text, &k))
+    throw InputError("command line", 0, field, "'" + text + "' is not a model: mlr, ridge, pso-bp or hysteresis");
+  return k;
+}
+
+void Setup(CLI::App& app) {
+  auto* thermal = app.add_subcommand("thermal", "Data-driven thermal error models: fit, predict, evaluate");
+  thermal->require_subcommand(1);
+
+  // fit
+  {
+    auto* cmd = thermal->add_subcommand("fit", "Fit a thermal error model to a series and write it as JSON");
+    auto o = std::make_shared<CommonOptions>();
+    auto kind = std::make_shared<std::string>("ridge");
+    auto out = std::make_shared<std::string>();
+    auto blocks = std::make_shared<std::string>("all");
+    AddCommon(cmd, o.get());
+    cmd->add_option("--model", *kind, "mlr, ridge, pso-bp or hysteresis")->capture_default_str();
+    cmd->add_option("--train-blocks", *blocks, "speed blocks to fit on (e.g. 0-8); default all rows")
+        ->capture_default_str();
+    cmd->add_option("-o,--out", *out, "model JSON to write")->required();
+    cmd->callback([o, kind, out, blocks] {
+      SeriesCleaningReport rep;
+      ThermalSeries s = LoadSeries(*o, &rep);
+      ThermalFitOptions fo = MakeFitOptions(*o, ParseKind(*kind, "--model"));
+      auto sb = SpeedBlocks(s);
+      ThermalSeries train = SelectRows(s, RowsOfBlocks(sb, ParseBlockList(*blocks, static_cast<int>(sb.size()), "--train-blocks")));
+      std::string report;
+      auto model = FitThermalModel(train, fo, &report);
+      WriteThermalModelFile(*model, *out);
+      Eigen::MatrixXd pred = PredictSeries(*model, train);
+      std::vector<Eigen::Index> all(static_cast<std::size_t>(train.Rows()));
+      for (Eigen::Index r = 0; r < train.Rows(); ++r) all[static_cast<std::size_t>(r)] = r;
+      auto metrics = ResidualMetrics(train, pred, all);
+      fmt::print("{} model on {} rows, written to {}\n{}{}", *kind, train.Rows(), *out, model->Describe(), report);
+      for (const auto& m : metrics)
+        fmt::print("{}: fit RMSE {:.3f} um, max |residual| {:.3f} um\n", m.channel, m.rmse_um, m.max_abs_um);
+    });
+  }
+
+  // predict
+  {
+    auto* cmd = thermal->add_subcommand("predict", "Predict the thermal error of every row of a series");
+    auto model_path = std::make_shared<std::string>();
+    auto series = std::make_shared<std::string>();
+    auto out = std::make_shared<std::string>();
+    auto gap = std::make_shared<int>(4);
+    cmd->add_option("--model", *model_path, "model JSON from 'thermal fit'")->required();
+    cmd->add_option("--series", *series, "thermal series CSV")->required();
+    cmd->add_option("-o,--out", *out, "CSV to write (default: stdout)");
+    cmd->add_option("--max-gap-samples", *gap, "interior gaps up to this many rows are interpolated")->capture_default_str();
+    cmd->callback([model_path, series, out, gap] {
+      auto model = ReadThermalModelFile(*model_path);
+      ThermalSeries s = ReadThermalSeriesCsv(*series);
+      SeriesCleaningOptions co;
+      co.max_interpolated_gap_samples = *gap;
+      co.min_temperature_std_c = 0;       // prediction does not standardise
+      co.check_error_channels = false;    // and needs no measured error
+      SeriesCleaningReport rep;
+      ThermalSeries cleaned = CleanSeries(s, co, &rep);
+      for (const auto& w : rep.warnings) fmt::print(stderr, "warning: {}\n", w);
+      Eigen::MatrixXd pred = PredictSeries(*model, cleaned);
+      std::vector<ThermalInterval> iv = model->ClassifyRows(cleaned);
+      std::string text = cleaned.has_time ? "time_s" : "row";
+      if (cleaned.has_position) text += ",position_mm";
+      if (model->UsesInterval()) text += ",interval";
+      for (const auto& c : model->Channels()) text += ",e_" + c + "_predicted_um";
+      text += '\n';
+      for (Eigen::Index r = 0; r < cleaned.Rows(); ++r) {
+        text += FormatShortest(cleaned.time_s[static_cast<std::size_t>(r)]);
+        if (cleaned.has_position) text += "," + FormatShortest(cleaned.position_mm[static_cast<std::size_t>(r)]);
+        if (model->UsesInterval()) text += std::string(",") + ThermalIntervalName(iv[static_cast<std::size_t>(r)]);
+        for (Eigen::Index c = 0; c < pred.cols(); ++c) text += "," + FormatShortest(pred(r, c));
+        text += '\n';
+      }
+      if (out->empty()) std::cout << text;
+      else WriteTextFile(*out, text);
+    });
+  }
+
+  // evaluate
+  {
+    auto* cmd = thermal->add_subcommand(
+        "evaluate", "Train on some speed blocks, validate on others; RMSE and max |error| per channel and model");
+    auto o = std::make_shared<CommonOptions>();
+    auto models = std::make_shared<std::string>("mlr,ridge,pso-bp,hysteresis");
+    auto train = std::make_shared<std::string>("auto");
+    auto validate = std::make_shared<std::string>("auto");
+    auto report = std::make_shared<std::string>();
+    auto markdown = std::make_shared<std::string>();
+    AddCommon(cmd, o.get());
+    cmd->add_option("--models", *models, "comma list of mlr, ridge, pso-bp, hysteresis")->capture_default_str();
+    cmd->add_option("--train-blocks", *train,
+                    "speed blocks to train on, e.g. 0-8 (auto: first 60 % of blocks; all)")
+        ->capture_default_str();
+    cmd->add_option("--validate-blocks", *validate, "speed blocks to validate on (auto: the others)")
+        ->capture_default_str();
+    cmd->add_option("--report", *report, "write an HTML report (plots of measured vs predicted, residuals, sensors)");
+    cmd->add_option("--markdown", *markdown, "write the metrics table as Markdown");
+    cmd->callback([o, models, train, validate, report, markdown] {
+      SeriesCleaningReport rep;
+      ThermalSeries s = LoadSeries(*o, &rep);
+      EvaluationOptions eo;
+      eo.train_blocks = *train;
+      eo.validate_blocks = *validate;
+      for (const auto& m : SplitList(*models)) eo.models.push_back(MakeFitOptions(*o, ParseKind(m, "--models")));
+      if (eo.models.empty()) throw InputError("command line", 0, "--models", "no model given");
+      ThermalEvaluation ev = EvaluateThermalModels(s, rep, eo);
+      fmt::print("series: {} ({} rows, {} temperatures, {} channels)\n", s.source, s.Rows(), s.temperature_names.size(),
+                 s.error_names.size());
+      fmt::print("{}", ev.SplitDescription());
+      for (const auto& m : ev.models)
+        fmt::print("\n[{}] fitted in {:.2f} s; inputs: {}\n{}{}", m.name, m.fit_seconds,
+                   fmt::join(m.model->InputSensors(), ", "), m.model->Describe(), m.fit_report);
+      fmt::print("\n{}", ev.BriefReport());
+      if (!markdown->empty()) WriteTextFile(*markdown, ev.SplitDescription() + "\n" + ev.MarkdownTable());
+      if (!report->empty()) {
+        WriteThermalReport(ev, *report);
+        fmt::print("report: {}\n", *report);
+      }
+    });
+  }
+}
+
+CommandRegistrar reg("thermal", Setup);
+
+}  // namespace
+}  // namespace trueaxis::cli

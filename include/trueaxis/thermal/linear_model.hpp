@@ -1,0 +1,59 @@
+#pragma once
+// Multiple linear regression / ridge regression of each error channel on a
+// few selected temperatures (docs/thermal-models.md):
+//   e_c = intercept_c + sum_i k_ci * T_i      (µm, °C)
+// Ridge: the penalty lambda * |k_std|^2 acts on standardised temperatures
+// (so it does not depend on units); lambda = 0 is ordinary least squares.
+// Sensors are chosen per channel by SelectSensors (sensor_selection.hpp).
+#include <string>
+#include <vector>
+
+#include "trueaxis/thermal/sensor_selection.hpp"
+#include "trueaxis/thermal/thermal_model.hpp"
+
+namespace trueaxis::thermal {
+
+struct LinearFitOptions {
+  double ridge_lambda = 0.0;
+  SensorSelectionOptions selection;
+
+  bool IsValid(std::string* why) const;
+};
+
+struct LinearChannel {
+  std::string name;
+  std::vector<int> inputs;          // indices into InputSensors()
+  std::vector<double> k_um_per_c;   // parallel to inputs
+  double intercept_um = 0;
+};
+
+class LinearThermalModel final : public ThermalErrorModel {
+ public:
+  LinearThermalModel() = default;
+  LinearThermalModel(std::vector<std::string> input_sensors, std::vector<LinearChannel> channels, double ridge_lambda,
+                     std::string selection_method);
+
+  std::string_view Kind() const override { return "linear"; }
+  const std::vector<std::string>& InputSensors() const override { return sensors_; }
+  const std::vector<std::string>& Channels() const override { return channel_names_; }
+  void Predict(const ThermalSample& sample, std::span<double> out_um) const override;
+  nlohmann::json ToJson() const override;
+  std::string Describe() const override;
+
+  const std::vector<LinearChannel>& channel_models() const { return channels_; }
+  double ridge_lambda() const { return ridge_lambda_; }
+
+  static LinearThermalModel FromJson(const nlohmann::json& doc, const std::string& source, const std::string& path);
+
+ private:
+  std::vector<std::string> sensors_;
+  std::vector<std::string> channel_names_;
+  std::vector<LinearChannel> channels_;
+  double ridge_lambda_ = 0;
+  std::string selection_method_;
+};
+
+// Fits every error channel of a cleaned series (no NaN).
+LinearThermalModel FitLinearModel(const ThermalSeries& series, const LinearFitOptions& options);
+
+}  // namespace trueaxis::thermal

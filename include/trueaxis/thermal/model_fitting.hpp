@@ -1,0 +1,75 @@
+#pragma once
+// One entry point to fit any thermal model kind by name, and the
+// train/validate evaluation run behind `trueaxis thermal evaluate`
+// (docs/thermal-models.md).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "trueaxis/thermal/evaluation.hpp"
+#include "trueaxis/thermal/hysteresis_model.hpp"
+#include "trueaxis/thermal/linear_model.hpp"
+#include "trueaxis/thermal/pso_bp_network.hpp"
+#include "trueaxis/thermal/series_cleaning.hpp"
+
+namespace trueaxis::thermal {
+
+// mlr: least squares on selected sensors; ridge: ridge_lambda > 0 on the same;
+// pso-bp: seed 003 network; hysteresis: seed 001 per-interval ridge models.
+enum class ModelKind { kMlr, kRidge, kPsoBp, kHysteresis };
+const char* ModelKindName(ModelKind k);
+bool ParseModelKind(const std::string& text, ModelKind* out);
+
+struct ThermalFitOptions {
+  ModelKind kind = ModelKind::kRidge;
+  LinearFitOptions linear;        // mlr/ridge (mlr forces ridge_lambda = 0)
+  double ridge_lambda = 1e-3;     // used by ridge and by the hysteresis sub-models
+  PsoBpOptions network;
+  HysteresisFitOptions hysteresis;  // its sub_model is taken from `linear` + ridge_lambda
+
+  bool IsValid(std::string* why) const;
+};
+
+// Fits a cleaned series. `fit_report` (optional) receives a short text of
+// what training did (PSO/BP errors for the network).
+std::unique_ptr<ThermalErrorModel> FitThermalModel(const ThermalSeries& series, const ThermalFitOptions& options,
+                                                   std::string* fit_report = nullptr);
+
+struct ModelEvaluation {
+  std::string name;
+  std::unique_ptr<ThermalErrorModel> model;
+  Eigen::MatrixXd predicted_um;  // every row of the series
+  std::vector<ChannelMetrics> train, validate;
+  double fit_seconds = 0;
+  std::string fit_report;
+};
+
+struct ThermalEvaluation {
+  ThermalSeries series;  // cleaned
+  SeriesCleaningReport cleaning;
+  std::vector<SpeedBlock> blocks;
+  std::vector<int> train_blocks, validate_blocks;
+  std::vector<Eigen::Index> train_rows, validate_rows;
+  bool in_sample = false;  // validation rows overlap training rows
+  std::vector<ChannelMetrics> baseline_train, baseline_validate;
+  std::vector<ModelEvaluation> models;
+
+  std::string SplitDescription() const;
+  std::string BriefReport() const;   // metrics table as text
+  std::string MarkdownTable() const;  // validation (and training) metrics per channel and model
+};
+
+struct EvaluationOptions {
+  std::vector<ThermalFitOptions> models;
+  std::string train_blocks = "auto";     // "auto": the first 60 % of blocks (rounded up); "all"; or "0-8"
+  std::string validate_blocks = "auto";  // "auto": the blocks not trained on (all when one block)
+};
+
+ThermalEvaluation EvaluateThermalModels(const ThermalSeries& cleaned, SeriesCleaningReport cleaning,
+                                        const EvaluationOptions& options);
+
+// Self-contained HTML: split, metrics, measured vs predicted over time,
+// residuals, chosen sensors, per model and channel.
+void WriteThermalReport(const ThermalEvaluation& evaluation, const std::string& path);
+
+}  // namespace trueaxis::thermal

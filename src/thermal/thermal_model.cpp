@@ -1,0 +1,90 @@
+#include "trueaxis/thermal/thermal_model.hpp"
+
+#include <fmt/format.h>
+
+#include "json_fields.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/text_file.hpp"
+#include "trueaxis/thermal/hysteresis_model.hpp"
+#include "trueaxis/thermal/linear_model.hpp"
+#include "trueaxis/thermal/pso_bp_network.hpp"
+
+namespace trueaxis::thermal {
+
+const char* ThermalIntervalName(ThermalInterval i) {
+  switch (i) {
+    case ThermalInterval::kHeating: return "heating";
+    case ThermalInterval::kSteady: return "steady";
+    case ThermalInterval::kCooling: return "cooling";
+  }
+  return "?";
+}
+
+std::vector<ThermalInterval> ThermalErrorModel::ClassifyRows(const ThermalSeries& series) const {
+  return std::vector<ThermalInterval>(static_cast<std::size_t>(series.Rows()), ThermalInterval::kSteady);
+}
+
+Eigen::MatrixXd PredictSeries(const ThermalErrorModel& model, const ThermalSeries& s) {
+  const auto& need = model.InputSensors();
+  std::vector<Eigen::Index> cols;
+  for (const auto& name : need) {
+    auto idx = s.TemperatureIndex(name);
+    if (!idx) {
+      std::string have;
+      for (const auto& t : s.temperature_names) have += (have.empty() ? "" : ", ") + t;
+      throw InputError(s.source, 0, name,
+                       fmt::format("the model needs temperature '{}' but the series has only: {}", name, have));
+    }
+    cols.push_back(static_cast<Eigen::Index>(*idx));
+  }
+  if (model.UsesPosition() && !s.has_position)
+    throw InputError(s.source, 0, "position_mm", "the model uses the axis position but the series has no position_mm");
+  std::vector<ThermalInterval> intervals = model.ClassifyRows(s);
+  const Eigen::Index n = s.Rows();
+  Eigen::MatrixXd out(n, static_cast<Eigen::Index>(model.Channels().size()));
+  std::vector<double> temps(cols.size()), pred(model.Channels().size());
+  for (Eigen::Index r = 0; r < n; ++r) {
+    for (std::size_t k = 0; k < cols.size(); ++k) {
+      temps[k] = s.temperatures_c(r, cols[k]);
+      if (std::isnan(temps[k]))
+        throw InputError(s.source, s.LineOf(r), "t_" + need[k] + "_c", "temperature missing; clean the series first");
+    }
+    ThermalSample sample{temps, s.has_position ? s.position_mm[static_cast<std::size_t>(r)] : 0.0,
+                         intervals[static_cast<std::size_t>(r)]};
+    model.Predict(sample, pred);
+    for (std::size_t c = 0; c < pred.size(); ++c) out(r, static_cast<Eigen::Index>(c)) = pred[c];
+  }
+  return out;
+}
+
+std::unique_ptr<ThermalErrorModel> ThermalModelFromJson(const nlohmann::json& doc, const std::string& source) {
+  detail::JsonFields f(source);
+  const std::string kind = f.String(doc, "", "kind");
+  if (kind == "linear") return std::make_unique<LinearThermalModel>(LinearThermalModel::FromJson(doc, source, ""));
+  if (kind == "pso_bp") return std::make_unique<PsoBpNetworkModel>(PsoBpNetworkModel::FromJson(doc, source, ""));
+  if (kind == "hysteresis")
+    return std::make_unique<HysteresisThermalModel>(HysteresisThermalModel::FromJson(doc, source, ""));
+  f.Fail("kind", "'" + kind + "' is not a thermal model kind (linear, pso_bp, hysteresis)");
+}
+
+std::unique_ptr<ThermalErrorModel> ReadThermalModelFile(const std::string& path) {
+  const std::string text = ReadTextFile(path);
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    // byte offset -> line number for the message
+    int line = 1;
+    for (std::size_t i = 0; i < e.byte && i < text.size(); ++i) line += text[i] == '\n' ? 1 : 0;
+    throw InputError(path, line, "", std::string("not valid JSON: ") + e.what());
+  }
+  if (doc.contains("model") && doc["model"].is_object()) return ThermalModelFromJson(doc["model"], path);
+  return ThermalModelFromJson(doc, path);
+}
+
+void WriteThermalModelFile(const ThermalErrorModel& model, const std::string& path) {
+  nlohmann::json doc = {{"format", "trueaxis-thermal-model"}, {"version", 1}, {"model", model.ToJson()}};
+  WriteTextFile(path, doc.dump(2) + "\n");
+}
+
+}  // namespace trueaxis::thermal

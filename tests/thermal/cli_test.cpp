@@ -1,0 +1,121 @@
+// `trueaxis thermal` end to end through the built CLI (TRUEAXIS_CLI_PATH).
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "test_util.hpp"
+#include "trueaxis/core/text_file.hpp"
+#include "trueaxis/thermal/thermal_series_csv.hpp"
+
+namespace trueaxis::thermal {
+namespace {
+
+using testing::RunCli;
+
+// 8 h: four 2 h blocks at 0/2000/0/3000 rpm; sensor s0 heats with the
+// spindle, s1 is ambient, s2 noise; error = 2.5 µm/°C on s0.
+std::string WriteFixture(const std::string& dir) {
+  const int rows = 8 * 240;
+  ThermalSeries s = testing::MakeSeries(rows, 3);
+  s.has_spindle = true;
+  std::mt19937_64 rng(2);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  double t0 = 22;
+  for (int r = 0; r < rows; ++r) {
+    const double h = s.time_s[static_cast<std::size_t>(r)] / 3600;
+    const double rpm = h < 2 ? 0 : h < 4 ? 2000 : h < 6 ? 0 : 3000;
+    s.spindle_rpm.push_back(rpm);
+    const double target = 22 + rpm / 500.0;
+    t0 += (target - t0) * 15.0 / 2400.0;
+    s.temperatures_c(r, 0) = t0 + noise(rng);
+    s.temperatures_c(r, 1) = 21 + 0.3 * std::sin(h) + noise(rng);
+    s.temperatures_c(r, 2) = 23 + noise(rng);
+    s.errors_um(r, 0) = 2.5 * (t0 - 22) + noise(rng);
+  }
+  const std::string path = dir + "/series.csv";
+  WriteThermalSeriesCsv(s, path);
+  return path;
+}
+
+TEST(ThermalCli, FitPredictEvaluateWithReport) {
+  const std::string dir = testing::TempDir("cli_ok");
+  const std::string series = WriteFixture(dir);
+  auto fit = RunCli("thermal fit --series " + series + " --model ridge --sensors 2 -o " + dir + "/m.json");
+  ASSERT_EQ(fit.exit_code, 0) << fit.output;
+  EXPECT_NE(fit.output.find("T[s0]"), std::string::npos) << fit.output;  // the heated sensor is chosen
+  auto pred = RunCli("thermal predict --model " + dir + "/m.json --series " + series + " -o " + dir + "/p.csv");
+  ASSERT_EQ(pred.exit_code, 0) << pred.output;
+  const std::string text = ReadTextFile(dir + "/p.csv");
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 8 * 240 + 1);
+  EXPECT_EQ(text.substr(0, text.find('\n')), "time_s,e_e_predicted_um");
+
+  auto ev = RunCli("thermal evaluate --series " + series +
+                   " --train-blocks 0-1 --validate-blocks 2-3 --particles 20 --pso-iterations 10 --epochs 20"
+                   " --temperature-inputs 2 --report " + dir + "/r.html --markdown " + dir + "/r.md");
+  ASSERT_EQ(ev.exit_code, 0) << ev.output;
+  for (const char* model : {"no compensation", "mlr", "ridge", "pso-bp", "hysteresis"})
+    EXPECT_NE(ev.output.find(model), std::string::npos) << model;
+  EXPECT_NE(ev.output.find("validate: 960 rows in blocks 2(0 rpm"), std::string::npos) << ev.output;
+  const std::string html = ReadTextFile(dir + "/r.html");
+  EXPECT_NE(html.find("<svg"), std::string::npos);
+  EXPECT_NE(html.find("measured"), std::string::npos);
+  EXPECT_NE(html.find("Chosen temperature sensors"), std::string::npos);
+  const std::string md = ReadTextFile(dir + "/r.md");
+  EXPECT_NE(md.find("| ridge | e |"), std::string::npos) << md;
+}
+
+void ExpectBadInput(const std::string& args, const std::vector<std::string>& must_contain) {
+  auto r = RunCli(args);
+  EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+  for (const auto& s : must_contain) EXPECT_NE(r.output.find(s), std::string::npos) << "missing '" << s << "' in:\n" << r.output;
+}
+
+void Write(const std::string& path, const std::string& text) { WriteTextFile(path, text); }
+
+TEST(ThermalCli, BadInputsExitTwoNamingFileLineAndField) {
+  const std::string dir = testing::TempDir("cli_bad");
+  const std::string bad = dir + "/bad.csv";
+  Write(bad, "time_s,t_a_c,t_b_c,e_x_um\n0,20,21,1\n15,20.1,21,1.1\n30,warm,21,1.2\n");
+  ExpectBadInput("thermal fit --series " + bad + " -o " + dir + "/m.json", {"bad.csv:4", "t_a_c", "warm"});
+  ExpectBadInput("thermal evaluate --series " + dir + "/nope.csv", {"nope.csv", "cannot open"});
+  Write(dir + "/noerr.csv", "time_s,t_a_c\n0,20\n15,20.5\n30,21\n");
+  ExpectBadInput("thermal fit --series " + dir + "/noerr.csv -o " + dir + "/m.json", {"noerr.csv", "no error column"});
+
+  std::string gap = "time_s,t_a_c,t_b_c,e_x_um\n";
+  for (int r = 0; r < 40; ++r)
+    gap += std::to_string(r * 15) + "," + std::to_string(20 + r * 0.01) + "," + std::to_string(21 - r * 0.02) + "," +
+           (r >= 10 && r < 20 ? std::string("") : std::to_string(r * 0.1)) + "\n";
+  Write(dir + "/gap.csv", gap);
+  ExpectBadInput("thermal fit --series " + dir + "/gap.csv -o " + dir + "/m.json", {"gap.csv:12", "'x'", "gap of 10 rows"});
+
+  // A sensor that dies half way: dropped with a warning (exit 0) or, with --strict, refused.
+  std::string dies = "time_s,t_a_c,t_b_c,e_x_um\n";
+  for (int r = 0; r < 40; ++r)
+    dies += std::to_string(r * 15) + "," + std::to_string(20 + r * 0.01) + "," +
+            (r >= 20 ? std::string("nan") : std::to_string(21 - r * 0.02)) + "," + std::to_string(r * 0.1) + "\n";
+  Write(dir + "/dies.csv", dies);
+  auto ok = RunCli("thermal fit --series " + dir + "/dies.csv --model mlr -o " + dir + "/d.json");
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_NE(ok.output.find("warning: temperature 'b' dropped"), std::string::npos) << ok.output;
+  ExpectBadInput("thermal fit --strict --series " + dir + "/dies.csv -o " + dir + "/d2.json", {"dies.csv:22", "'b'", "died"});
+
+  // Options and models.
+  const std::string good = WriteFixture(dir);
+  ExpectBadInput("thermal evaluate --series " + good + " --train-blocks 0-9", {"--train-blocks", "blocks 0..3"});
+  ExpectBadInput("thermal fit --series " + good + " --model magic -o " + dir + "/x.json", {"--model", "magic"});
+  ExpectBadInput("thermal fit --series " + good + " --select psychic -o " + dir + "/x.json", {"--select"});
+  ExpectBadInput("thermal fit --series " + good + " --channels nope -o " + dir + "/x.json", {"'nope'", "no such error channel"});
+  // The fitted model needs sensor s0; a series without it is refused by name.
+  ASSERT_EQ(RunCli("thermal fit --series " + good + " --sensors 1 -o " + dir + "/m1.json").exit_code, 0);
+  Write(dir + "/other.csv", "time_s,t_q_c\n0,20\n15,20.5\n30,21\n");
+  ExpectBadInput("thermal predict --model " + dir + "/m1.json --series " + dir + "/other.csv", {"'s0'", "needs temperature"});
+  Write(dir + "/broken.json", "{\"model\": {\"kind\": \"linear\", \"ridge_lambda\": -1,");
+  ExpectBadInput("thermal predict --model " + dir + "/broken.json --series " + good, {"broken.json", "not valid JSON"});
+  Write(dir + "/neg.json", R"({"model": {"kind": "linear", "ridge_lambda": -1, "sensors": [], "channels": []}})");
+  ExpectBadInput("thermal predict --model " + dir + "/neg.json --series " + good, {"neg.json", "ridge_lambda"});
+}
+
+}  // namespace
+}  // namespace trueaxis::thermal
