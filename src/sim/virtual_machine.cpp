@@ -268,6 +268,15 @@ void VirtualMachine::AdvanceMotion(double dt) {
       a.dist_mm += std::abs(m1 - m0);
       a.speed_now = feed;
       left -= tt;
+      if (tt >= t_need) {  // arrived: settle now so Read() never shows a stale "moving"
+        a.speed_now = 0;
+        if (move) {
+          a.mode = Axis::Mode::kIdle;
+        } else {
+          a.recip_dir = -a.recip_dir;
+          a.pause_left_s = (a.hi - a.lo) / v * (1 - a.duty) / a.duty;
+        }
+      }
     }
   }
 }
@@ -343,7 +352,7 @@ void VirtualMachine::MoveTo(std::size_t axis, double target_mm, double feed_mm_m
   Advance(t_need);
   // Rounding can leave a hair of travel; finish it without advancing the clock noticeably.
   int guard = 0;
-  while (a.mode == Axis::Mode::kMove && ++guard < 100) Advance(1e-6);
+  while (a.mode == Axis::Mode::kMove && ++guard < 100) Advance(1e-9);
 }
 
 void VirtualMachine::Home(std::size_t axis) {
@@ -448,10 +457,10 @@ bool VirtualMachine::WriteCompensation(std::span<const double> correction_um) {
   if (!compensation_enabled_) return true;
   for (std::size_t i = 0; i < axes_.size(); ++i) {
     axes_[i]->correction_um = correction_um[i];
-    const double before = axes_[i]->last_motor_mm;
+    // The servo direction the CNC reports stays that of the programmed
+    // motion: a compensation that flipped it would make a direction-dependent
+    // compensator chase its own output.
     UpdatePlay(*axes_[i]);
-    const double delta = axes_[i]->last_motor_mm - before;
-    if (delta != 0) axes_[i]->servo_dir = delta > 0 ? 1 : -1;
   }
   return true;
 }

@@ -134,9 +134,15 @@ TEST(Physics, CompensationThroughCncLinkMovesTheTable) {
   hw::CncState ms;
   ASSERT_TRUE(cnc.Read(st, ms));
   EXPECT_DOUBLE_EQ(st[0].position_mm, 300);  // the CNC still reports the commanded position
+  EXPECT_EQ(st[0].servo_direction, 1);
+  EXPECT_FALSE(st[0].moving);
+  EXPECT_EQ(ms.coolant, CoolantState::kOff);
+  EXPECT_TRUE(ms.compensation_enabled);
   // A correction against the last motion first takes up the 6 µm of play.
   const double back[2] = {0, 0};
   ASSERT_TRUE(cnc.WriteCompensation(back));
+  ASSERT_TRUE(cnc.Read(st, ms));
+  EXPECT_EQ(st[0].servo_direction, 1);  // programmed direction, not the compensation's
   // Now resting on the other flank: the shift is the reversal at 300 mm.
   const double reversal = vm.ErrorAtUm(0, 300, -1) - vm.ErrorAtUm(0, 300, +1);
   EXPECT_NEAR(reversal, 6.0, 2.0);
@@ -153,6 +159,39 @@ TEST(Physics, CompensationThroughCncLinkMovesTheTable) {
   vm.SetCompensationEnabled(true);
   const double nan[2] = {std::nan(""), 0};
   EXPECT_FALSE(cnc.WriteCompensation(nan));
+}
+
+TEST(Physics, NonBlockingMotionReportsDirectionAndMoving) {
+  VirtualMachine vm(TestMachine(), 8);
+  hw::AxisState st[2];
+  hw::CncState ms;
+  vm.CommandMove(0, 100, 6000);  // 100 mm/s: 1 s
+  vm.Advance(0.5);
+  ASSERT_TRUE(vm.Read(st, ms));
+  EXPECT_TRUE(st[0].moving);
+  EXPECT_EQ(st[0].servo_direction, 1);
+  EXPECT_NEAR(st[0].position_mm, 50, 1e-9);
+  vm.Advance(0.5);
+  ASSERT_TRUE(vm.Read(st, ms));
+  EXPECT_FALSE(st[0].moving);
+  EXPECT_NEAR(st[0].position_mm, 100, 1e-9);
+  vm.CommandMove(0, 20, 6000);
+  vm.Advance(0.2);
+  ASSERT_TRUE(vm.Read(st, ms));
+  EXPECT_EQ(st[0].servo_direction, -1);
+  vm.SetCoolant(CoolantState::kMist);
+  ASSERT_TRUE(vm.Read(st, ms));
+  EXPECT_EQ(ms.coolant, CoolantState::kMist);
+  EXPECT_THROW(vm.CommandMove(0, 700, 1000), std::invalid_argument);  // beyond the travel
+  // Machining duty cycle: moving half of the time.
+  vm.CommandReciprocate(0, 100, 400, 3000, 0.5);
+  int moving = 0;
+  for (int i = 0; i < 600; ++i) {
+    vm.Advance(1);
+    ASSERT_TRUE(vm.Read(st, ms));
+    moving += st[0].moving;
+  }
+  EXPECT_NEAR(moving / 600.0, 0.5, 0.1);
 }
 
 TEST(Physics, AdvanceSlicingDoesNotChangeResults) {
