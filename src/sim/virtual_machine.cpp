@@ -177,21 +177,35 @@ void VirtualMachine::SetLogger(double interval_s, std::function<void(const Virtu
   next_log_s_ = t_s_;
 }
 
+void VirtualMachine::SetController(double interval_s, std::function<void(VirtualMachine&)> controller) {
+  control_interval_s_ = interval_s;
+  controller_ = std::move(controller);
+  next_control_s_ = t_s_;
+}
+
 void VirtualMachine::Advance(double dt_s) {
   if (!(dt_s > 0)) return;
   const double t_end = t_s_ + dt_s;
   while (t_s_ < t_end - 1e-9) {
-    const double t_next = std::min(t_end, next_grid_s_);
-    AdvanceMotion(t_next - t_s_);
-    t_s_ = t_next;
+    // Events: thermal grid steps and, independently, the controller's own
+    // period (a compensator may run much faster than the thermal step).
+    double t_next = std::min(t_end, next_grid_s_);
+    const bool control = controller_ && control_interval_s_ > 0;
+    if (control) t_next = std::min(t_next, next_control_s_);
+    if (t_next > t_s_) AdvanceMotion(t_next - t_s_);
+    t_s_ = std::max(t_s_, t_next);
     if (t_s_ >= next_grid_s_ - 1e-9) {
-      t_s_ = next_grid_s_;
+      t_s_ = std::max(t_s_, next_grid_s_);
       ThermalStep(step_s_);
       next_grid_s_ += step_s_;
       if (logger_ && log_interval_s_ > 0 && t_s_ >= next_log_s_ - 1e-9) {
         logger_(*this);
         next_log_s_ += log_interval_s_ * std::max(1.0, std::floor((t_s_ - next_log_s_) / log_interval_s_ + 1));
       }
+    }
+    if (control && controller_ && t_s_ >= next_control_s_ - 1e-9) {
+      next_control_s_ += control_interval_s_ * std::max(1.0, std::floor((t_s_ - next_control_s_) / control_interval_s_ + 1));
+      controller_(*this);
     }
   }
   t_s_ = std::max(t_s_, t_end);
