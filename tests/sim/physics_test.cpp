@@ -240,6 +240,23 @@ TEST(Physics, LaserSeesACompensationAppliedInTheLoop) {
   EXPECT_LT(compensated, 1.5);
 }
 
+TEST(Physics, CoarseThermalStepStaysStableAndClose) {
+  // The network sub-steps below its stability limit, so even a 30 s step
+  // (twice the limit of the screw segments) neither blows up nor drifts far.
+  auto nut_after = [](const std::string& step) {
+    auto toml = testing::TestMachineToml();
+    toml.replace(toml.find("start = "), 0, "thermal_step_s = " + step + "\n");
+    VirtualMachine vm(ParseMachineToml(toml, "t.toml"), 1);
+    vm.CommandReciprocate(0, 0, 600, 3000);
+    vm.Advance(2 * 3600);
+    return std::make_pair(vm.NodeTemperatureC("x_nut"), vm.ThermalGrowthUm(0, 600));
+  };
+  const auto fine = nut_after("1.0"), coarse = nut_after("30");
+  EXPECT_NEAR(coarse.first, fine.first, 0.2);
+  EXPECT_NEAR(coarse.second, fine.second, 1.0);
+  EXPECT_TRUE(std::isfinite(coarse.first));
+}
+
 TEST(Physics, AdvanceSlicingDoesNotChangeResults) {
   VirtualMachine a(TestMachine(), 9), b(TestMachine(), 9);
   a.CommandReciprocate(0, 0, 600, 3000);
