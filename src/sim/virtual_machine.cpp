@@ -262,7 +262,9 @@ void VirtualMachine::AdvanceMotion(double dt) {
       const double feed = move || a.recip_dir > 0 ? a.feed : a.return_feed;
       const double v = feed / 60.0;
       const double dist = target - a.cmd_mm;
-      if (std::abs(dist) < 1e-12) {
+      if (std::abs(dist) < 1e-9) {  // within a picometre: arrived (absorbs rounding of t = d/v)
+        a.cmd_mm = target;
+        UpdatePlay(a);
         if (move) {
           a.mode = Axis::Mode::kIdle;
         } else {
@@ -366,7 +368,7 @@ void VirtualMachine::MoveTo(std::size_t axis, double target_mm, double feed_mm_m
   Advance(t_need);
   // Rounding can leave a hair of travel; finish it without advancing the clock noticeably.
   int guard = 0;
-  while (a.mode == Axis::Mode::kMove && ++guard < 100) Advance(1e-9);
+  while (a.mode == Axis::Mode::kMove && ++guard < 100) Advance(1e-6);
 }
 
 void VirtualMachine::Home(std::size_t axis) {

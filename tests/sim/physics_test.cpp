@@ -176,6 +176,13 @@ TEST(Physics, NonBlockingMotionReportsDirectionAndMoving) {
   ASSERT_TRUE(vm.Read(st, ms));
   EXPECT_FALSE(st[0].moving);
   EXPECT_NEAR(st[0].position_mm, 100, 1e-9);
+  for (double x : {123.456789, 17.0, 599.999}) {  // blocking moves end at rest, exactly on target
+    vm.MoveTo(0, x, 1234.5);
+    ASSERT_TRUE(vm.Read(st, ms));
+    EXPECT_FALSE(st[0].moving);
+    EXPECT_FALSE(vm.IsMoving(0));
+    EXPECT_DOUBLE_EQ(st[0].position_mm, x);
+  }
   vm.CommandMove(0, 20, 6000);
   vm.Advance(0.2);
   ASSERT_TRUE(vm.Read(st, ms));
