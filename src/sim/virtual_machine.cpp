@@ -35,7 +35,7 @@ struct VirtualMachine::Axis {
   int away = 1;  // +1: growth pushes towards + (fixed end at min)
   // thermal nodes and edges
   std::size_t nut = 0, bearing = 0, floating = 0, motor = 0;
-  std::vector<std::size_t> seg, nut_seg_edge, seg_cool_edge;
+  std::vector<std::size_t> seg, nut_seg_edge, seg_cool_edge, seg_air_edge;
   std::size_t nut_cool_edge = 0;
   double seg_area_m2 = 0;
   // motion
@@ -104,7 +104,8 @@ VirtualMachine::VirtualMachine(MachineDescription description, std::uint64_t see
     for (int i = 0; i < n; ++i)
       a->seg.push_back(net_.AddNode(fmt::format("{}_screw_{:02}", p, i), kSteelDensity * kSteelHeat * area * ds_m, t_amb));
     for (int i = 0; i + 1 < n; ++i) net_.AddEdge(a->seg[i], a->seg[i + 1], kSteelConductivity * area / ds_m);
-    for (int i = 0; i < n; ++i) net_.AddEdge(a->seg[i], ambient_node_, th.screw_convection_w_per_m2_k * a->seg_area_m2);
+    for (int i = 0; i < n; ++i)
+      a->seg_air_edge.push_back(net_.AddEdge(a->seg[i], ambient_node_, th.screw_convection_w_per_m2_k * a->seg_area_m2));
     a->nut = net_.AddNode(p + "_nut", th.nut_capacity_j_per_k, t_amb);
     a->bearing = net_.AddNode(p + "_bearing", th.bearing_capacity_j_per_k, t_amb);
     a->floating = net_.AddNode(p + "_floating_bearing", th.bearing_capacity_j_per_k, t_amb);
@@ -311,12 +312,17 @@ void VirtualMachine::ThermalStep(double h) {
     net_.SetHeat(a.bearing, th.fixed_bearing_heat_w * f);
     net_.SetHeat(a.floating, th.floating_bearing_heat_w * f);
     net_.SetHeat(a.motor, th.motor_idle_heat_w + th.motor_heat_w * f);
+    // A spinning screw loses heat faster than a still one: cooling after a
+    // warm-up is slower than the heating suggests.
+    const double h_air = th.screw_convection_w_per_m2_k +
+                         (feed > 0 ? th.screw_convection_rotating_w_per_m2_k * std::pow(feed / th.reference_feed_mm_min, 0.6) : 0.0);
     double occ_total = 0;
     for (double o : a.occupancy_s) occ_total += o;
     for (std::size_t i = 0; i < a.seg.size(); ++i) {
       const double share = occ_total > 0 ? a.occupancy_s[i] / occ_total : 0.0;
       net_.SetConductance(a.nut_seg_edge[i], th.nut_to_screw_w_per_k * share);
       net_.SetConductance(a.seg_cool_edge[i], cool.screw_w_per_m2_k * a.seg_area_m2);
+      net_.SetConductance(a.seg_air_edge[i], h_air * a.seg_area_m2);
       a.occupancy_s[i] = 0;
     }
     net_.SetConductance(a.nut_cool_edge, cool.nut_w_per_k);
