@@ -2,6 +2,7 @@
 // Runs a calibration campaign on the virtual machine (docs/campaign.md).
 #include <cstdio>
 #include <memory>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -47,7 +48,14 @@ void Run(const Options& o) {
   if (!c.IsValid(&why)) throw trueaxis::InputError("command line", why);
   for (const auto& a : o.axes)
     if (machine.AxisIndex(a) < 0) throw trueaxis::InputError(o.machine, 0, "--axes", "the machine has no axis '" + a + "'");
-  const auto summary = trueaxis::sim::RunCampaign(machine, c);
+  trueaxis::sim::CampaignSummary summary;
+  try {
+    summary = trueaxis::sim::RunCampaign(machine, c);
+  } catch (const std::invalid_argument& e) {
+    // The machine and the options do not fit together (e.g. targets plus
+    // overrun longer than an axis' travel): bad input, not a crash.
+    throw trueaxis::InputError(o.machine, e.what());
+  }
   fmt::print(stderr, "{}\n", summary.BriefReport());
   fmt::print("{}\n", o.out);
 }

@@ -177,6 +177,11 @@ TEST(Campaign, CliRunsAndRejectsBadMachineFile) {
   EXPECT_NE(err.find("bad.toml:"), std::string::npos) << err;
   EXPECT_NE(err.find("backlsh_um"), std::string::npos) << err;
 
+  const auto tiny = dir / "tiny.toml";
+  WriteTextFile(tiny.string(), "[[axis]]\nname = \"X\"\ntravel_mm = 8\nlead_mm = 5\n");
+  EXPECT_EQ(RunCli("sim campaign --machine " + tiny.string() + " --out " + (dir / "out4").string(), &err), 2);
+  EXPECT_NE(err.find("do not fit the travel"), std::string::npos) << err;
+
   EXPECT_EQ(RunCli("sim campaign --machine " + machine.string() + " --out " + (dir / "out3").string() + " --axes Q", &err), 2);
   EXPECT_NE(err.find("'Q'"), std::string::npos) << err;
   fs::remove_all(dir);
