@@ -2,6 +2,7 @@
 
 #include <xlsxwriter.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -132,19 +133,18 @@ ExportResult ExportCsv(const HistoryDb& db, HistoryTable table, const ExportRequ
 
 namespace {
 
-constexpr lxw_row_t kExcelMaxRows = 1048576;
-
 // A sheet that continues on "<name>_2", "<name>_3", ... when Excel's row limit is reached.
 class SheetWriter {
  public:
   SheetWriter(lxw_workbook* wb, std::string name, std::vector<std::pair<std::string, double>> columns,
-              lxw_format* header, lxw_format* time_format)
-      : wb_(wb), name_(std::move(name)), columns_(std::move(columns)), header_(header), time_format_(time_format) {
+              lxw_format* header, lxw_format* time_format, lxw_row_t max_rows)
+      : wb_(wb), name_(std::move(name)), columns_(std::move(columns)), header_(header), time_format_(time_format),
+        max_rows_(std::clamp<lxw_row_t>(max_rows, 1, 1048575)) {
     NewSheet();
   }
   // Starts a row; returns the worksheet and the row index to write to.
   lxw_worksheet* Row(lxw_row_t* row) {
-    if (next_row_ >= kExcelMaxRows) NewSheet();
+    if (next_row_ > max_rows_) NewSheet();
     *row = next_row_++;
     return ws_;
   }
@@ -175,6 +175,7 @@ class SheetWriter {
   std::vector<std::pair<std::string, double>> columns_;
   lxw_format* header_;
   lxw_format* time_format_;
+  lxw_row_t max_rows_;
   lxw_worksheet* ws_ = nullptr;
   lxw_row_t next_row_ = 1;
   int part_ = 0;
@@ -202,7 +203,7 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
 
     SheetWriter temps(wb, "temperature",
                       {{"time_s", 16}, {"time_utc", 24}, {"channel", 16}, {"raw_c", 10}, {"filtered_c", 10}, {"status", 16}},
-                      header, time_format);
+                      header, time_format, request.max_rows_per_sheet);
     db.ForEachTemperature(request.range, request.channels, [&](const TemperatureRow& r) {
       lxw_row_t row;
       auto* ws = temps.Row(&row);
@@ -215,7 +216,7 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
     });
     SheetWriter comp(wb, "compensation",
                      {{"time_s", 16}, {"time_utc", 24}, {"axis", 8}, {"position_mm", 12}, {"correction_um", 14}, {"state", 12}},
-                     header, time_format);
+                     header, time_format, request.max_rows_per_sheet);
     db.ForEachCompensation(request.range, request.axes, [&](const CompensationRow& r) {
       lxw_row_t row;
       auto* ws = comp.Row(&row);
@@ -227,7 +228,7 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
       ++result.compensation_rows;
     });
     SheetWriter alarms(wb, "alarms", {{"time_s", 16}, {"time_utc", 24}, {"severity", 10}, {"source", 16}, {"message", 60}},
-                       header, time_format);
+                       header, time_format, request.max_rows_per_sheet);
     for (const auto& r : db.QueryAlarms(request.range)) {
       lxw_row_t row;
       auto* ws = alarms.Row(&row);
@@ -238,7 +239,7 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
       ++result.alarm_rows;
     }
     SheetWriter models(wb, "model_changes", {{"time_s", 16}, {"time_utc", 24}, {"sha256", 66}, {"revision", 16}, {"note", 40}},
-                       header, time_format);
+                       header, time_format, request.max_rows_per_sheet);
     for (const auto& r : db.QueryModelChanges(request.range)) {
       lxw_row_t row;
       auto* ws = models.Row(&row);

@@ -91,6 +91,39 @@ TEST_F(HistoryExportTest, XlsxIsAValidWorkbookWithOneSheetPerTable) {
   EXPECT_FALSE(fs::exists(Path("h.xlsx.tmp")));
 }
 
+TEST_F(HistoryExportTest, XlsxContinuesOnNextSheetAtTheRowLimit) {
+  HistoryDb db(db_path_, HistoryDb::Mode::kReadOnly);
+  ExportRequest req;
+  req.max_rows_per_sheet = 50;  // stands in for Excel's 1,048,575
+  const auto result = ExportXlsx(db, req, Path("split.xlsx"));
+  EXPECT_EQ(result.temperature_rows, 120);
+  const std::string workbook = Unzip(Path("split.xlsx"), "xl/workbook.xml");
+  for (const char* sheet : {"name=\"temperature\"", "name=\"temperature_2\"", "name=\"temperature_3\"",
+                            "name=\"compensation\"", "name=\"compensation_2\""})
+    EXPECT_NE(workbook.find(sheet), std::string::npos) << sheet;
+  EXPECT_EQ(workbook.find("name=\"temperature_4\""), std::string::npos);
+  EXPECT_EQ(workbook.find("name=\"compensation_3\""), std::string::npos);
+  // 50 + 50 + 20 rows: the third temperature sheet (sheet3.xml) ends at row 21.
+  const std::string third = Unzip(Path("split.xlsx"), "xl/worksheets/sheet3.xml");
+  EXPECT_NE(third.find("<row r=\"21\""), std::string::npos);
+  EXPECT_EQ(third.find("<row r=\"22\""), std::string::npos);
+}
+
+TEST_F(HistoryExportTest, ReaderWorksWhileTheWriterIsRunning) {
+  // The runtime keeps writing while an engineer exports: WAL lets both work.
+  HistoryWriter writer(db_path_);
+  for (int i = 0; i < 500; ++i) writer.PushTemperature(1795400000.0 + i, "x_nut", 30, 30, "ok");
+  writer.Flush();
+  auto r = testing::RunCli("history export --db " + db_path_ + " --from 1795400000 --format csv --out " + Path("live.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("500 temperature readings"), std::string::npos) << r.output;
+  for (int i = 0; i < 100; ++i) writer.PushTemperature(1795401000.0 + i, "x_nut", 31, 31, "ok");
+  writer.Flush();
+  HistoryDb reader(db_path_, HistoryDb::Mode::kReadOnly);
+  EXPECT_EQ(reader.QueryTemperatures({1795400000.0, 1e12}).size(), 600u);
+  EXPECT_EQ(writer.Stats().failed, 0u);
+}
+
 TEST_F(HistoryExportTest, XlsxWithUnknownChannelWritesNothing) {
   HistoryDb db(db_path_, HistoryDb::Mode::kReadOnly);
   ExportRequest req;

@@ -21,6 +21,9 @@ struct ExportRequest {
   TimeRange range;
   std::vector<std::string> channels;  // temperature: empty = all
   std::vector<std::string> axes;      // compensation: empty = all
+  // xlsx: data rows per sheet before continuing on "<table>_2"; Excel's limit
+  // is 1,048,576 rows including the header. Lower only for tests.
+  std::uint32_t max_rows_per_sheet = 1048575;
 };
 
 struct ExportResult {
