@@ -94,11 +94,17 @@ void RunQuery(const HistoryOptions& o) {
   HistoryDb db(o.db, HistoryDb::Mode::kReadOnly);
   std::size_t n = 0;
   auto more = [&] { return o.limit == 0 || n < o.limit; };
+  // Stops a row walk once --limit rows are printed (no need to scan the rest of a big database).
+  struct LimitReached {};
+  auto stop_if_done = [&] {
+    if (!more()) throw LimitReached{};
+  };
+  try {
   switch (table) {
     case HistoryTable::kTemperature:
       fmt::print("time_s,time_utc,channel,raw_c,filtered_c,status\n");
       db.ForEachTemperature(req.range, req.channels, [&](const TemperatureRow& r) {
-        if (!more()) return;
+        stop_if_done();
         ++n;
         fmt::print("{},{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), Csv(r.channel), Num(r.raw_c),
                    Num(r.filtered_c), Csv(r.status));
@@ -107,7 +113,7 @@ void RunQuery(const HistoryOptions& o) {
     case HistoryTable::kCompensation:
       fmt::print("time_s,time_utc,axis,position_mm,correction_um,state\n");
       db.ForEachCompensation(req.range, req.axes, [&](const CompensationRow& r) {
-        if (!more()) return;
+        stop_if_done();
         ++n;
         fmt::print("{},{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), Csv(r.axis), Num(r.position_mm),
                    Num(r.correction_um), Csv(r.state));
@@ -129,6 +135,8 @@ void RunQuery(const HistoryOptions& o) {
         fmt::print("{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), Csv(r.sha256), Csv(r.revision), Csv(r.note));
       }
       break;
+  }
+  } catch (const LimitReached&) {
   }
 }
 
