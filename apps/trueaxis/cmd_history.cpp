@@ -29,6 +29,7 @@ struct HistoryOptions {
   std::string format;
   std::string out;
   std::size_t limit = 0;
+  std::string layout = "long";
 };
 
 std::vector<std::string> SplitList(const std::string& text) {
@@ -144,7 +145,10 @@ void RunExport(const HistoryOptions& o) {
   if (o.format != "csv" && o.format != "xlsx")
     throw InputError("command line", 0, "--format", fmt::format("'{}' is not csv or xlsx", o.format));
   const HistoryTable table = Table(o.table);
-  const ExportRequest req = MakeRequest(o, table);
+  ExportRequest req = MakeRequest(o, table);
+  if (o.layout != "long" && o.layout != "wide")
+    throw InputError("command line", 0, "--layout", fmt::format("'{}' is not long or wide", o.layout));
+  req.wide = o.layout == "wide";
   HistoryDb db(o.db, HistoryDb::Mode::kReadOnly);
   const ExportResult result = o.format == "csv" ? ExportCsv(db, table, req, o.out) : ExportXlsx(db, req, o.out);
   fmt::print("exported {} to {}\n", result.BriefReport(), o.out);
@@ -178,6 +182,8 @@ void Setup(CLI::App& app) {
   AddRangeOptions(export_cmd, *exp);
   export_cmd->add_option("--format", exp->format, "csv or xlsx")->required();
   export_cmd->add_option("--out", exp->out, "file to write")->required();
+  export_cmd->add_option("--layout", exp->layout,
+                         "temperature layout: long (a row per reading, default) or wide (a row per instant, a column per channel)");
   export_cmd->callback([exp] { RunExport(*exp); });
 }
 

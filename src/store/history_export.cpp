@@ -8,6 +8,8 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <unordered_map>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -87,6 +89,42 @@ class AtomicOutput {
   bool committed_ = false;
 };
 
+// Groups the time-ordered readings by instant: one call per distinct time_s
+// with the filtered value and status of each channel (NaN / "" where a
+// channel has no reading then). Returns the number of readings seen.
+std::int64_t ForEachInstant(const HistoryDb& db, const ExportRequest& req, const std::vector<std::string>& channels,
+                            const std::function<void(double, const std::vector<double>&, const std::vector<std::string>&)>& fn) {
+  std::unordered_map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < channels.size(); ++i) index[channels[i]] = i;
+  std::vector<double> values(channels.size(), NAN);
+  std::vector<std::string> statuses(channels.size());
+  double current = NAN;
+  bool pending = false;
+  std::int64_t readings = 0;
+  auto emit = [&] {
+    if (!pending) return;
+    fn(current, values, statuses);
+    std::fill(values.begin(), values.end(), NAN);
+    std::fill(statuses.begin(), statuses.end(), std::string());
+    pending = false;
+  };
+  db.ForEachTemperature(req.range, req.channels, [&](const TemperatureRow& r) {
+    if (pending && r.time_s != current) emit();
+    current = r.time_s;
+    const std::size_t i = index.at(r.channel);
+    values[i] = r.filtered_c;
+    statuses[i] = r.status;
+    pending = true;
+    ++readings;
+  });
+  emit();
+  return readings;
+}
+
+std::vector<std::string> WideChannels(const HistoryDb& db, const ExportRequest& req) {
+  return req.channels.empty() ? db.Channels() : req.channels;
+}
+
 }  // namespace
 
 ExportResult ExportCsv(const HistoryDb& db, HistoryTable table, const ExportRequest& request, const std::string& out_path) {
@@ -95,6 +133,21 @@ ExportResult ExportCsv(const HistoryDb& db, HistoryTable table, const ExportRequ
   auto& out = file.stream();
   switch (table) {
     case HistoryTable::kTemperature:
+      if (request.wide) {
+        const auto channels = WideChannels(db, request);
+        db.QueryTemperatures(TimeRange{1, 0}, request.channels);  // unknown names fail before any output
+        out << "time_s,time_utc";
+        for (const auto& c : channels) out << ',' << CsvField(c + "_c");
+        for (const auto& c : channels) out << ',' << CsvField(c + "_status");
+        out << '\n';
+        result.temperature_rows = ForEachInstant(db, request, channels, [&](double t, const auto& values, const auto& statuses) {
+          out << FormatShortest(t) << ',' << FormatUtc(t);
+          for (double v : values) out << ',' << Num(v);
+          for (const auto& st : statuses) out << ',' << CsvField(st);
+          out << '\n';
+        });
+        break;
+      }
       out << "time_s,time_utc,channel,raw_c,filtered_c,status\n";
       db.ForEachTemperature(request.range, request.channels, [&](const TemperatureRow& r) {
         out << FormatShortest(r.time_s) << ',' << FormatUtc(r.time_s) << ',' << CsvField(r.channel) << ','
@@ -201,7 +254,24 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
     lxw_format* time_format = workbook_add_format(wb);
     format_set_num_format(time_format, "yyyy-mm-dd hh:mm:ss.000");
 
-    SheetWriter temps(wb, "temperature",
+    if (request.wide) {
+      const auto channels = WideChannels(db, request);
+      std::vector<std::pair<std::string, double>> columns = {{"time_s", 16}, {"time_utc", 24}};
+      for (const auto& c : channels) columns.emplace_back(c + "_c", 12);
+      for (const auto& c : channels) columns.emplace_back(c + "_status", 14);
+      SheetWriter wide(wb, "temperature", columns, header, time_format, request.max_rows_per_sheet);
+      const auto n = static_cast<lxw_col_t>(channels.size());
+      result.temperature_rows = ForEachInstant(db, request, channels, [&](double t, const auto& values, const auto& statuses) {
+        lxw_row_t row;
+        auto* ws = wide.Row(&row);
+        wide.Time(ws, row, 0, t);
+        for (lxw_col_t i = 0; i < n; ++i) {
+          wide.Number(ws, row, 2 + i, values[i]);
+          if (!statuses[i].empty()) worksheet_write_string(ws, row, 2 + n + i, statuses[i].c_str(), nullptr);
+        }
+      });
+    }
+    SheetWriter temps(wb, request.wide ? "temperature_long" : "temperature",
                       {{"time_s", 16}, {"time_utc", 24}, {"channel", 16}, {"raw_c", 10}, {"filtered_c", 10}, {"status", 16}},
                       header, time_format, request.max_rows_per_sheet);
     db.ForEachTemperature(request.range, request.channels, [&](const TemperatureRow& r) {
@@ -212,7 +282,7 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
       temps.Number(ws, row, 3, r.raw_c);
       temps.Number(ws, row, 4, r.filtered_c);
       worksheet_write_string(ws, row, 5, r.status.c_str(), nullptr);
-      ++result.temperature_rows;
+      if (!request.wide) ++result.temperature_rows;
     });
     SheetWriter comp(wb, "compensation",
                      {{"time_s", 16}, {"time_utc", 24}, {"axis", 8}, {"position_mm", 12}, {"correction_um", 14}, {"state", 12}},

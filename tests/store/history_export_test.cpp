@@ -8,6 +8,7 @@
 #include "cli_runner.hpp"
 #include "test_dir.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/store/history_writer.hpp"
 
@@ -89,6 +90,36 @@ TEST_F(HistoryExportTest, XlsxIsAValidWorkbookWithOneSheetPerTable) {
   EXPECT_NE(sheet1.find("<row r=\"121\""), std::string::npos);  // header + 120 readings
   EXPECT_EQ(sheet1.find("<row r=\"122\""), std::string::npos);
   EXPECT_FALSE(fs::exists(Path("h.xlsx.tmp")));
+}
+
+TEST_F(HistoryExportTest, WideLayoutHasOneRowPerInstantAndAColumnPerChannel) {
+  HistoryDb db(db_path_, HistoryDb::Mode::kReadOnly);
+  ExportRequest req;
+  req.wide = true;
+  req.range = {1795334400.0 + 1740, 1795334400.0 + 1800};  // 08:29 .. 08:30
+  const auto result = ExportCsv(db, HistoryTable::kTemperature, req, Path("w.csv"));
+  EXPECT_EQ(result.temperature_rows, 4);  // readings
+  const std::string csv = ReadTextFile(Path("w.csv"));
+  EXPECT_EQ(csv,
+            "time_s,time_utc,ambient_c,x_nut_c,ambient_status,x_nut_status\n"
+            "1795336140,2026-11-22T08:29:00.000Z,20," + FormatShortest(22 + 0.05 * 29 - 0.01) + ",ok,ok\n"
+            "1795336200,2026-11-22T08:30:00.000Z,20," + FormatShortest(22 + 0.05 * 30 - 0.01) + ",hardware_fault,ok\n");
+  req.channels = {"x_nut"};
+  ExportXlsx(db, req, Path("w.xlsx"));
+  const std::string workbook = Unzip(Path("w.xlsx"), "xl/workbook.xml");
+  EXPECT_NE(workbook.find("name=\"temperature\""), std::string::npos);
+  EXPECT_NE(workbook.find("name=\"temperature_long\""), std::string::npos);
+  const std::string sheet1 = Unzip(Path("w.xlsx"), "xl/worksheets/sheet1.xml");
+  EXPECT_NE(sheet1.find("x_nut_c"), std::string::npos);
+  EXPECT_EQ(sheet1.find("ambient_c"), std::string::npos);
+  EXPECT_NE(sheet1.find("<row r=\"3\""), std::string::npos);  // header + 2 instants
+  EXPECT_EQ(sheet1.find("<row r=\"4\""), std::string::npos);
+  auto r = testing::RunCli("history export --db " + db_path_ + " --layout wide --format csv --out " + Path("cli_w.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string cli = ReadTextFile(Path("cli_w.csv"));
+  EXPECT_EQ(std::count(cli.begin(), cli.end(), '\n'), 61);  // header + 60 instants
+  r = testing::RunCli("history export --db " + db_path_ + " --layout tall --format csv --out " + Path("x.csv"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
 }
 
 TEST_F(HistoryExportTest, XlsxContinuesOnNextSheetAtTheRowLimit) {
