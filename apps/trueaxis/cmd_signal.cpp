@@ -2,9 +2,12 @@
 //   trueaxis signal filter  --in readings.csv [--channels a,b] [--calibration cal.json] [--groups "a,b,c;d,e"]
 //                           [--hampel-window 9] [--median-window 5] [--tau-s 5] [--max-rate 0.5]
 //                           [--stuck-window-s 300] [--min-c -10] [--max-c 80] [--out filtered.csv]
+//                           [--db history.db [--start-time 2026-11-22T08:00:00Z]]
 //   trueaxis signal convert --adc COUNT [--bits 12 --adc-min-v 0 --adc-max-v 5 --span-min-c 0 --span-max-c 50 ...]
 //   trueaxis signal convert --ds18b20 0x0550 [--resolution-bits 12]
+#include <algorithm>
 #include <memory>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -14,6 +17,8 @@
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/signal/conversions.hpp"
 #include "trueaxis/signal/offline_filter.hpp"
+#include "trueaxis/store/history_writer.hpp"
+#include "trueaxis/store/time_text.hpp"
 
 namespace {
 
@@ -34,7 +39,7 @@ std::vector<std::string> SplitList(std::string_view text, char sep) {
 }
 
 struct FilterCmd {
-  std::string in, out, channels, calibration, groups;
+  std::string in, out, channels, calibration, groups, db, start_time;
   MonitorOptions options;
 };
 
@@ -54,6 +59,29 @@ void RunFilter(FilterCmd& o) {
   if (!o.out.empty()) {
     trueaxis::WriteTextFile(o.out, FormatOfflineFilterCsv(table, result));
     fmt::print("filtered values and statuses written to {}\n", o.out);
+  }
+  if (!o.db.empty()) {
+    double offset_s = 0;
+    if (!o.start_time.empty()) {
+      auto t = trueaxis::store::ParseTimeText(o.start_time);
+      if (!t) throw InputError("command line", 0, "--start-time", fmt::format("'{}' is not a time", o.start_time));
+      offset_s = *t - table.time_s.front();
+    }
+    trueaxis::store::HistoryWriterOptions wo;
+    wo.queue_capacity = 1 << 16;
+    trueaxis::store::HistoryWriter writer(o.db, wo);
+    for (std::size_t row = 0; row < table.time_s.size(); ++row) {
+      for (std::size_t c = 0; c < table.channels.size(); ++c) {
+        // Offline there is no deadline: wait for room instead of dropping.
+        while (!writer.PushTemperature(table.time_s[row] + offset_s, table.channels[c], table.values_c[c][row],
+                                       result.filtered_c[c][row], ChannelStatusName(result.status[c][row])))
+          std::this_thread::yield();
+      }
+    }
+    writer.Close();
+    const auto stats = writer.Stats();
+    if (stats.failed > 0) throw std::runtime_error(o.db + ": " + std::to_string(stats.failed) + " readings not stored: " + stats.last_error);
+    fmt::print("{} readings stored in {}\n", stats.written, o.db);
   }
 }
 
@@ -106,6 +134,9 @@ void Setup(CLI::App& app) {
   filter->add_option("--min-c", f->options.faults.min_plausible_c, "below: under_range");
   filter->add_option("--max-c", f->options.faults.max_plausible_c, "above: over_range");
   filter->add_option("--out", f->out, "write time_s,<ch>_c,<ch>_status,... here");
+  filter->add_option("--db", f->db, "also store raw, filtered and status of every reading in this history database");
+  filter->add_option("--start-time", f->start_time,
+                     "with --db: the absolute time of the first row (ISO 8601 UTC or seconds); default: time_s as is");
   filter->callback([f] { RunFilter(*f); });
 
   auto c = std::make_shared<ConvertCmd>();

@@ -91,6 +91,19 @@ TEST(SignalCli, FilterAndConvert) {
   r = testing::RunCli("signal filter --in " + kFlThermal + " --channels nope");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("fl_thermal.csv:1: field 'nope'"), std::string::npos) << r.output;
+  // Recorded data into the history database, then read back with `history query`.
+  const std::string db = (dir / "fl.db").string();
+  r = testing::RunCli("signal filter --in " + kFlThermal + " --channels t1_C,t9_C --db " + db +
+                      " --start-time 2026-11-20T06:00:00Z");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("22230 readings stored"), std::string::npos) << r.output;
+  r = testing::RunCli("history query --db " + db + " --channels t9_C --from 2026-11-20T06:00:00Z --to 2026-11-20T06:00:15Z");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("1795154400,2026-11-20T06:00:00.000Z,t9_C,33.1892103616527,33.1892103616527,ok"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("2026-11-20T06:00:15.000Z,t9_C,33.1793069856068,"), std::string::npos) << r.output;
+  r = testing::RunCli("signal filter --in " + kFlThermal + " --channels t1_C --db " + db + " --start-time noon");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
   r = testing::RunCli("signal convert --adc 2048");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("25.0061 °C (ok)"), std::string::npos) << r.output;
