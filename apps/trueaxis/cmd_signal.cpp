@@ -131,6 +131,7 @@ void Setup(CLI::App& app) {
   filter->add_option("--tau-s", f->options.filter.lowpass_time_constant_s, "low-pass time constant (s)");
   filter->add_option("--max-rate", f->options.faults.max_rate_c_per_s, "implausible rate of change (°C/s)");
   filter->add_option("--stuck-window-s", f->options.faults.stuck_window_s, "stuck detection window (s)");
+  filter->add_option("--stuck-band-c", f->options.faults.stuck_band_c, "own span at or below this counts as no change (°C)");
   filter->add_option("--min-c", f->options.faults.min_plausible_c, "below: under_range");
   filter->add_option("--max-c", f->options.faults.max_plausible_c, "above: over_range");
   filter->add_option("--out", f->out, "write time_s,<ch>_c,<ch>_status,... here");

@@ -107,6 +107,8 @@ OfflineFilterResult RunMonitorOffline(const ReadingsTable& table, const MonitorO
   out.status.assign(channels, std::vector<ChannelStatus>(n));
   out.summary.assign(channels, {});
   std::vector<hw::RawTemperature> raw(channels);
+  std::vector<double> sum_sq(channels, 0.0);
+  std::vector<std::size_t> ok_samples(channels, 0);
   for (std::size_t row = 0; row < n; ++row) {
     for (std::size_t c = 0; c < channels; ++c) {
       const double v = table.values_c[c][row];
@@ -122,16 +124,22 @@ OfflineFilterResult RunMonitorOffline(const ReadingsTable& table, const MonitorO
       s.spikes_rejected += r.spike_rejected;
       s.status_changes += r.status_changed;
       ++s.samples_in_status[static_cast<int>(r.status)];
-      if (r.usable() && std::isfinite(r.calibrated_c))
-        s.max_abs_raw_minus_filtered_c = std::max(s.max_abs_raw_minus_filtered_c, std::abs(r.calibrated_c - r.filtered_c));
+      if (r.usable() && std::isfinite(r.calibrated_c)) {
+        const double d = r.calibrated_c - r.filtered_c;
+        s.max_abs_raw_minus_filtered_c = std::max(s.max_abs_raw_minus_filtered_c, std::abs(d));
+        sum_sq[c] += d * d;
+        ++ok_samples[c];
+      }
     }
   }
+  for (std::size_t c = 0; c < channels; ++c)
+    if (ok_samples[c] > 0) out.summary[c].rms_raw_minus_filtered_c = std::sqrt(sum_sq[c] / ok_samples[c]);
   return out;
 }
 
 std::string OfflineFilterResult::FullReport() const {
-  std::string out = fmt::format("{:<16} {:>8} {:>7} {:>8} {:>10}  time in status\n", "channel", "samples", "spikes",
-                                "changes", "max|x-f|");
+  std::string out = fmt::format("{:<16} {:>8} {:>7} {:>8} {:>10} {:>10}  time in status\n", "channel", "samples",
+                                "spikes", "changes", "rms(x-f)", "max|x-f|");
   for (std::size_t c = 0; c < channels.size(); ++c) {
     const auto& s = summary[c];
     std::string statuses;
@@ -140,8 +148,8 @@ std::string OfflineFilterResult::FullReport() const {
       statuses += fmt::format("{}{} {:.1f}%", statuses.empty() ? "" : ", ", kChannelStatusNames[k],
                               100.0 * s.samples_in_status[k] / std::max<std::size_t>(s.samples, 1));
     }
-    out += fmt::format("{:<16} {:>8} {:>7} {:>8} {:>8.3f} C  {}\n", channels[c], s.samples, s.spikes_rejected,
-                       s.status_changes, s.max_abs_raw_minus_filtered_c, statuses);
+    out += fmt::format("{:<16} {:>8} {:>7} {:>8} {:>8.3f} C {:>8.3f} C  {}\n", channels[c], s.samples, s.spikes_rejected,
+                       s.status_changes, s.rms_raw_minus_filtered_c, s.max_abs_raw_minus_filtered_c, statuses);
   }
   return out;
 }

@@ -35,7 +35,8 @@ struct ChannelSummary {
   std::size_t spikes_rejected = 0;
   std::size_t status_changes = 0;
   std::array<std::size_t, kChannelStatusCount> samples_in_status{};
-  double max_abs_raw_minus_filtered_c = 0;  // over ok samples
+  double max_abs_raw_minus_filtered_c = 0;  // over ok samples (large where a spike was removed)
+  double rms_raw_minus_filtered_c = 0;      // over ok samples: how much the filter changes the signal overall
 };
 
 struct OfflineFilterResult {

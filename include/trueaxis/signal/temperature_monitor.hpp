@@ -39,7 +39,7 @@ struct FaultOptions {
   double stuck_band_c = 0.0;
   double others_moving_c = 0.3;     // ... while another healthy channel's filtered value moved at least this much
   double max_disagreement_c = 3.0;  // from the median of its neighbour group
-  double reset_filter_after_s = 10.0;  // a channel unfed this long restarts its filter
+  double reset_filter_after_s = 10.0;  // a channel that missed samples (fault) for this long restarts its filter
   double stale_after_s = 2.0;       // MarkSourceFailed: no data this long -> no_data
   int confirm_samples = 3;
   int recover_samples = 20;
