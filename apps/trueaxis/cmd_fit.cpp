@@ -38,6 +38,7 @@ struct FitCliOptions {
   std::string ambient_sensor;
   std::string axis;
   int max_keys = 3;
+  double max_key_correlation = 0.98;
   bool full = false;
 };
 
@@ -79,6 +80,7 @@ void RunFit(const FitCliOptions& o) {
   fo.max_degree = o.max_degree;
   fo.key_sensors = o.keys;
   fo.max_key_sensors = o.max_keys;
+  fo.max_key_correlation = o.max_key_correlation;
   fo.reference_position_mm = o.reference_mm;
   fo.rho_um_per_mm_per_c = o.rho;
   fo.ambient_sensor = o.ambient_sensor;
@@ -128,6 +130,9 @@ void Setup(CLI::App& app) {
   cmd->add_option("--previous", opts->previous, "Model this fit replaces: revision+1, lineage recorded");
   cmd->add_option("--keys", opts->keys, "Key sensors to use instead of selecting them (comma separated)")->delimiter(',');
   cmd->add_option("--max-keys", opts->max_keys, "Most key sensors the selection may choose")->capture_default_str();
+  cmd->add_option("--max-key-correlation", opts->max_key_correlation,
+                  "Candidates whose rises correlate more than this with a chosen key are skipped")
+      ->capture_default_str();
   cmd->add_option("--reference-mm", opts->reference_mm, "Reference point Px in mm (default: metadata or fitted)");
   cmd->add_option("--rho", opts->rho, "ρ in µm/mm/°C (default: fitted, or −cte/1000 from metadata)");
   cmd->add_option("--ambient-sensor", opts->ambient_sensor, "Ambient sensor name ('none' for no ambient term)");

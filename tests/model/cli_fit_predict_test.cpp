@@ -14,6 +14,7 @@
 #include "synthetic_machine.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
+#include "trueaxis/model/model_fit.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/model/sha256.hpp"
 
@@ -92,6 +93,34 @@ TEST_F(CliFit, FitWritesModelReportAndPredictUsesIt) {
   auto text = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction - --temp nut=26,bearing=23");
   ASSERT_EQ(text.code, 0) << text.out;
   EXPECT_THAT(text.out, HasSubstr("correction (added to the command)"));
+}
+
+TEST_F(CliFit, PredictMeasurementReportsHeldOutResidual) {
+  ASSERT_EQ(Cli("fit --out " + P("m.json") + AllFiles()).code, 0);
+  // Another day of the same synthetic machine, not used in the fit.
+  testing::SyntheticMachine day2;
+  std::mt19937 rng(77);
+  auto m = day2.Make({"heated-x", 5.0, 2.2, 3.0, 1.5}, rng);
+  measure::WriteMeasurementCsv(m, P("day2.csv"));
+  auto r = Cli("predict --model " + P("m.json") + " --measurement " + P("day2.csv") + " --residual-out " + P("res.csv"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("measured − predicted  ISO 230-2 A"));
+  const auto res = measure::ReadMeasurementCsv(P("res.csv"));
+  const auto model = ReadModelFile(P("m.json"));
+  ASSERT_EQ(res.points.size(), m.points.size());
+  for (std::size_t i = 0; i < m.points.size(); i += 37) {
+    const auto t = TemperaturesForPoint(model.axes[0], m, m.points[i]);
+    const double pred = Predict(model.axes[0], m.points[i].target_mm, m.points[i].direction,
+                                {t.key_temp_c, t.ambient_c, CoolantState::kOff, true}).total_um;
+    EXPECT_NEAR(res.points[i].deviation_um, m.points[i].deviation_um - pred, 1e-6);
+  }
+  // A file without the model's key sensors is refused, naming the column.
+  m.sensor_names = {"ambient"};
+  for (auto& p : m.points) p.temperatures_c = {20};
+  measure::WriteMeasurementCsv(m, P("nokeys.csv"));
+  r = Cli("predict --model " + P("m.json") + " --measurement " + P("nokeys.csv"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("t_nut_c"));
 }
 
 TEST_F(CliFit, RefitRecordsRevisionParentAndLineage) {
