@@ -1,5 +1,5 @@
 // trueaxis fit --out model.json INPUTS… [--manifest DIR/manifest.json]
-//              [--geometric poly|table] [--max-degree N] [--report fit.html]
+//              [--geometric auto|poly|table] [--max-degree N] [--report fit.html]
 //              [--previous old.json] [--keys nut,bearing] [--reference-mm P]
 //              [--rho R] [--ambient-sensor NAME] [--axis X] [--full]
 // Fits the composite geometric + thermal model (seed 000) per axis and per
@@ -28,7 +28,7 @@ struct FitCliOptions {
   std::string out;
   std::vector<std::string> inputs;
   std::string manifest;
-  std::string geometric = "poly";
+  std::string geometric = "auto";
   int max_degree = 8;
   std::string report;
   std::string previous;
@@ -76,7 +76,8 @@ void RunFit(const FitCliOptions& o) {
   model::FitOptions fo;
   if (o.geometric == "poly" || o.geometric == "polynomial") fo.geometric = model::FitOptions::Geometric::kPolynomial;
   else if (o.geometric == "table") fo.geometric = model::FitOptions::Geometric::kTable;
-  else throw InputError("command line", 0, "--geometric", fmt::format("'{}' is not 'poly' or 'table'", o.geometric));
+  else if (o.geometric == "auto") fo.geometric = model::FitOptions::Geometric::kAuto;
+  else throw InputError("command line", 0, "--geometric", fmt::format("'{}' is not 'poly', 'table' or 'auto'", o.geometric));
   fo.max_degree = o.max_degree;
   fo.key_sensors = o.keys;
   fo.max_key_sensors = o.max_keys;
@@ -123,7 +124,7 @@ void Setup(CLI::App& app) {
   cmd->add_option("--out", opts->out, "Model file to write (JSON, docs/model-file.md)")->required();
   cmd->add_option("inputs", opts->inputs, "Measurement CSV files, one thermal state each ('# state:' metadata)");
   cmd->add_option("--manifest", opts->manifest, "Campaign manifest.json listing files and their states");
-  cmd->add_option("--geometric", opts->geometric, "Geometric part: poly (degree chosen by CV) or table (seed 002)")
+  cmd->add_option("--geometric", opts->geometric, "Geometric part: poly (degree chosen by CV), table (seed 002), or auto (table when the polynomial leaves a systematic pattern)")
       ->capture_default_str();
   cmd->add_option("--max-degree", opts->max_degree, "Highest polynomial degree tried")->capture_default_str();
   cmd->add_option("--report", opts->report, "Write an HTML fit report (measured vs model per state)");

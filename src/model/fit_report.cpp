@@ -85,13 +85,16 @@ std::string RenderFitReportHtml(const FitResult& result, const std::vector<FitSt
     page.AddHeading("Geometric part Er(x)", 3);
     for (int d = 0; d < 2; ++d) {
       const auto& ds = sum.directions[d];
-      if (ds.kind == GeometricError::Kind::kPolynomial) {
+      page.AddParagraph(fmt::format("{} direction: {}", d == 0 ? "forward (+)" : "reverse (−)", ds.choice));
+      if (!ds.degree.candidates.empty()) {
         report::HtmlTable t({"degree", "fit RMS (µm)", "leave-one-target-out CV RMS (µm)", "chosen"},
                             fmt::format("{} direction: {}", d == 0 ? "forward (+)" : "reverse (−)", ds.degree.rule));
         for (const auto& c : ds.degree.candidates)
-          t.AddRow({std::to_string(c.degree), Num(c.fit_rms_um), Num(c.cv_rms_um), c.degree == ds.degree.degree ? "✔" : ""});
+          t.AddRow({std::to_string(c.degree), Num(c.fit_rms_um), Num(c.cv_rms_um),
+                    c.degree == ds.degree.degree && ds.kind == GeometricError::Kind::kPolynomial ? "✔" : ""});
         page.AddTable(t);
-      } else {
+      }
+      if (ds.kind == GeometricError::Kind::kTable) {
         page.AddParagraph(fmt::format("{} direction: sampled table of {} targets (seed 002), CV RMS {} µm",
                                       d == 0 ? "forward" : "reverse", ds.targets, Num(ds.table_cv_rms_um)));
       }

@@ -313,14 +313,8 @@ class AxisFitter {
       GeometricError& g = model_.directions[di].geometric;
       g.center_mm = 0.5 * (tm.x.front() + tm.x.back());
       g.half_span_mm = 0.5 * (tm.x.back() - tm.x.front());
-      if (o_.geometric == FitOptions::Geometric::kTable) {
-        g.kind = GeometricError::Kind::kTable;
-        g.table_position_mm = tm.x;
-        g.table_error_um = tm.mean;
-        ds.kind = g.kind;
-        ds.geometric_fit_rms_um = 0;
-        ds.geometric_cv_rms_um = ds.table_cv_rms_um;
-      } else {
+      bool table = o_.geometric == FitOptions::Geometric::kTable;
+      if (!table) {
         g.kind = GeometricError::Kind::kPolynomial;
         ds.degree = SelectPolynomialDegree(tm.x, tm.mean, g.center_mm, g.half_span_mm, o_.max_degree, tm.noise_um);
         std::vector<double> u;
@@ -329,6 +323,31 @@ class AxisFitter {
         for (const auto& c : ds.degree.candidates)
           if (c.degree == ds.degree.degree) ds.geometric_fit_rms_um = c.fit_rms_um, ds.geometric_cv_rms_um = c.cv_rms_um;
         ds.kind = g.kind;
+        ds.choice = "polynomial (asked for)";
+        if (o_.geometric == FitOptions::Geometric::kAuto) {
+          const bool systematic =
+              std::isfinite(tm.noise_um) && ds.geometric_fit_rms_um > o_.auto_systematic_factor * tm.noise_um;
+          const bool table_ok = std::isfinite(ds.table_cv_rms_um) && std::isfinite(ds.geometric_cv_rms_um) &&
+                                ds.table_cv_rms_um <= o_.auto_table_cv_ratio * ds.geometric_cv_rms_um;
+          table = systematic && table_ok;
+          ds.choice = fmt::format(
+              "auto → {}: polynomial fit RMS {:.3f} µm {} {:.0f}× the noise of the means ({}), table LOTO CV {:.3f} "
+              "vs polynomial {:.3f} µm",
+              table ? "table" : "polynomial", ds.geometric_fit_rms_um, systematic ? ">" : "≤",
+              o_.auto_systematic_factor, std::isfinite(tm.noise_um) ? fmt::format("{:.3f} µm", tm.noise_um) : "unknown",
+              ds.table_cv_rms_um, ds.geometric_cv_rms_um);
+        }
+      } else {
+        ds.choice = "table (asked for)";
+      }
+      if (table) {
+        g.kind = GeometricError::Kind::kTable;
+        g.coefficients_um.clear();
+        g.table_position_mm = tm.x;
+        g.table_error_um = tm.mean;
+        ds.kind = g.kind;
+        ds.geometric_fit_rms_um = 0;
+        ds.geometric_cv_rms_um = ds.table_cv_rms_um;
       }
       if (tm.runs < 2) Warn(fmt::format("direction '{}': one cold run only, so the run-to-run scatter is unknown",
                                         DirectionSymbol(d)));

@@ -57,7 +57,9 @@ TEST(PolynomialFit, TwoTargetsGiveALine) {
 TEST(ModelFit, RecoversGeometricPartPerDirection) {
   SyntheticMachine sm;
   auto states = sm.MakeStates({{"cold", 0, 0, 0, 0}});
-  auto res = FitCompositeModel(states, {});
+  FitOptions poly;
+  poly.geometric = FitOptions::Geometric::kPolynomial;
+  auto res = FitCompositeModel(states, poly);
   ASSERT_EQ(res.model.axes.size(), 1u);
   const auto& a = res.model.axes[0];
   for (int d = 0; d < 2; ++d) {
@@ -86,6 +88,28 @@ TEST(ModelFit, TableAlternativeHoldsTheColdMeans) {
   ASSERT_EQ(g.table_position_mm.size(), 21u);
   for (std::size_t i = 0; i < g.table_position_mm.size(); ++i)
     EXPECT_NEAR(g.table_error_um[i], sm.Geometric(g.table_position_mm[i], true), 1e-9);
+}
+
+TEST(ModelFit, AutoKeepsThePolynomialForASmoothErrorAndTakesTheTableForARepeatablePattern) {
+  SyntheticMachine smooth;
+  auto res = FitCompositeModel(smooth.MakeStates({{"cold", 0, 0, 0, 0}}), {});  // auto is the default
+  EXPECT_EQ(res.model.axes[0].directions[0].geometric.kind, GeometricError::Kind::kPolynomial)
+      << res.summary.axes[0].directions[0].choice;
+  EXPECT_THAT(res.summary.axes[0].directions[0].choice, HasSubstr("auto → polynomial"));
+  // Add a repeatable 2.5 µm wave of 125 mm period (a screw's random pitch part): four periods over
+  // the travel, far above the 0.1 µm run-to-run noise; no polynomial of degree ≤ 8 follows it, while
+  // interpolating between the 25 mm targets still does better than the polynomial.
+  std::mt19937 rng(4);
+  auto m = smooth.Make({"cold", 0, 0, 0, 0}, rng);
+  for (auto& p : m.points) p.deviation_um += 2.5 * std::sin(2 * M_PI * p.target_mm / 125.0);
+  res = FitCompositeModel({MakeFitState(m)}, {});
+  EXPECT_EQ(res.model.axes[0].directions[0].geometric.kind, GeometricError::Kind::kTable)
+      << res.summary.axes[0].directions[0].choice;
+  EXPECT_THAT(res.summary.axes[0].directions[0].choice, HasSubstr("auto → table"));
+  FitOptions poly;
+  poly.geometric = FitOptions::Geometric::kPolynomial;
+  EXPECT_EQ(FitCompositeModel({MakeFitState(m)}, poly).model.axes[0].directions[0].geometric.kind,
+            GeometricError::Kind::kPolynomial);
 }
 
 TEST(ModelFit, SelectsNutAndBearingRecoversGainsPxAndRho) {
