@@ -65,9 +65,6 @@ std::string RenderFitReportHtml(const FitResult& result, const std::vector<FitSt
                          {"revision", std::to_string(m.revision)},
                          {"parent sha256", m.parent_sha256.empty() ? "–" : m.parent_sha256},
                          {"source files", std::to_string(m.sources.size())}});
-  report::HtmlTable src({"file", "state", "sha256"}, "Data the model came from");
-  for (const auto& s : m.sources) src.AddRow({s.path, s.state, s.sha256});
-  page.AddTable(src);
 
   for (std::size_t ai = 0; ai < m.axes.size() && ai < result.summary.axes.size(); ++ai) {
     const auto& a = m.axes[ai];
@@ -157,6 +154,10 @@ std::string RenderFitReportHtml(const FitResult& result, const std::vector<FitSt
     page.AddHeading("Warnings", 2);
     for (const auto& w : result.summary.warnings) page.AddParagraph(w);
   }
+  page.AddHeading("Data the model came from", 2);
+  report::HtmlTable src({"file", "state", "sha256 (first 16 hex; full in the model file)"});
+  for (const auto& s : m.sources) src.AddRow({s.path, s.state, s.sha256.substr(0, 16)});
+  page.AddTable(src);
   page.AddHeading("Full fit report", 2);
   page.AddRawHtml("<pre>" + report::EscapeHtml(result.summary.FullReport()) + "</pre>");
   return page.Render();
