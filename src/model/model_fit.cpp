@@ -869,7 +869,9 @@ FitResult FitCompositeModel(const std::vector<FitState>& states, const FitOption
   for (const auto& s : states) {
     if (res.model.machine.empty())
       if (auto mm = s.measurement.Meta("machine")) res.model.machine = *mm;
-    res.model.sources.push_back({s.path, s.sha256, s.label.empty() ? std::string(StateKindName(s.kind)) : s.label});
+    res.model.sources.push_back({s.path, s.sha256, s.label.empty() ? std::string(StateKindName(s.kind)) : s.label,
+                                 std::string(CoolantStateName(s.coolant)),
+                                 s.axis.empty() ? options.default_axis : s.axis});
   }
   for (const auto& axis : order) {
     AxisFitSummary sum;
