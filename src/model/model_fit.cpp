@@ -651,6 +651,9 @@ class AxisFitter {
     } else if (!thermal_.empty() && sum.key_selection_reason.empty()) {
       sum.key_selection_reason = "no thermal part fitted";
     }
+    // No key sensor (none present everywhere, or none helped) does not stop ρ: the other-ambient
+    // states still determine it on their own.
+    if (fit_rho && !sum.thermal_fitted) rho = joint_rho({});
     model_.rho_um_per_mm_per_c = rho;
     sum.rho_um_per_mm_per_c = rho;
     sum.rho_source = rho_source;

@@ -142,6 +142,25 @@ TEST(ModelFit, SelectsNutAndBearingRecoversGainsPxAndRho) {
   for (const auto& st : s.states) EXPECT_LT(st.residual_rms_um, 0.3) << st.label;
 }
 
+TEST(ModelFit, RhoIsFittedFromAmbientStatesEvenWithoutKeySensors) {
+  // Only an ambient sensor: no key-sensor candidate, but two soaks at other room temperatures.
+  SyntheticMachine sm;
+  std::mt19937 rng(8);
+  std::vector<FitState> states;
+  for (const SyntheticMachine::State& st : std::vector<SyntheticMachine::State>{
+           {"cold", 0, 0, 0, 0}, {"ambient-23", 0, 0, 0, 3.0}, {"ambient-26", 0, 0, 0, 6.0}}) {
+    auto m = sm.Make(st, rng);
+    m.sensor_names = {"ambient"};
+    for (auto& p : m.points) p.temperatures_c = {p.temperatures_c.back()};
+    states.push_back(MakeFitState(m));
+  }
+  auto res = FitCompositeModel(states, {});
+  EXPECT_FALSE(res.summary.axes[0].thermal_fitted);
+  EXPECT_NEAR(res.model.axes[0].rho_um_per_mm_per_c, sm.rho, 0.0005) << res.summary.FullReport();
+  EXPECT_THAT(res.summary.axes[0].rho_source, HasSubstr("fitted"));
+  for (const auto& s : res.summary.axes[0].states) EXPECT_LT(s.residual_rms_um, 0.3) << s.label;
+}
+
 TEST(ModelFit, CollinearSensorIsNotChosenTwice) {
   // bearing rises exactly with nut (×0.5): only one of them can carry information.
   SyntheticMachine sm;
