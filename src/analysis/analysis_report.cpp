@@ -18,7 +18,7 @@ using report::SvgChartOptions;
 constexpr const char* kUp = "#0072B2";    // forward (+)
 constexpr const char* kDown = "#D55E00";  // reverse (−)
 
-std::string Um(double v) { return fmt::format("{:.3f}", v); }
+std::string Um(double v) { return fmt::format("{:.4f}", v); }
 
 std::string KLabel(const Evaluation& ev) { return fmt::format("{:g}", ev.standard.coverage_factor); }
 
@@ -108,7 +108,7 @@ void AddResultsTable(report::HtmlPage& page, const Evaluation& b, const Evaluati
     std::vector<std::string> cells = {r.what, r.sym, Um(b.axis.*(r.field))};
     if (a) {
       cells.push_back(Um(a->axis.*(r.field)));
-      cells.push_back(fmt::format("{:+.3f}", a->axis.*(r.field) - b.axis.*(r.field)));
+      cells.push_back(fmt::format("{:+.4f}", a->axis.*(r.field) - b.axis.*(r.field)));
     }
     t.AddRow(cells);
   }
@@ -140,18 +140,18 @@ void AddDecomposition(report::HtmlPage& page, const Evaluation& ev, const Decomp
   rows.emplace_back("screw lead", d.options.lead_mm > 0 ? fmt::format("{:g} mm", d.options.lead_mm) : "not given");
   std::string trend;
   for (std::size_t i = 0; i < d.trend_coefficients.size(); ++i) {
-    if (i == 0) trend += fmt::format("{:.3f} µm", d.trend_coefficients[0]);
-    else if (i == 1) trend += fmt::format(", slope {:.3f} µm/m", d.trend_coefficients[1] * 1000);
+    if (i == 0) trend += fmt::format("{:.4f} µm", d.trend_coefficients[0]);
+    else if (i == 1) trend += fmt::format(", slope {:.4f} µm/m", d.trend_coefficients[1] * 1000);
     else trend += fmt::format(", c{} {:.4g} µm/mm^{}", i, d.trend_coefficients[i], i);
   }
   rows.emplace_back("progressive part (at " + fmt::format("{:g}", d.trend_origin_mm) + " mm)", trend);
   for (const auto& h : d.harmonics)
     rows.emplace_back(fmt::format("harmonic {} (period {:.4g} mm)", h.order, h.period_mm),
-                      h.resolved ? fmt::format("amplitude {:.3f} µm, phase {:.2f} rad", h.amplitude_um, h.phase_rad)
+                      h.resolved ? fmt::format("amplitude {:.4f} µm, phase {:.2f} rad", h.amplitude_um, h.phase_rad)
                                  : "not fitted — " + h.note);
-  rows.emplace_back("random part σ (pooled)", fmt::format("{:.3f} µm; ±{:g}σ = ±{:.3f} µm", d.sigma_um,
+  rows.emplace_back("random part σ (pooled)", fmt::format("{:.4f} µm; ±{:g}σ = ±{:.4f} µm", d.sigma_um,
                                                            d.options.band_sigmas, d.options.band_sigmas * d.sigma_um));
-  rows.emplace_back("unexplained systematic RMS", fmt::format("{:.3f} µm", d.residual_rms_um));
+  rows.emplace_back("unexplained systematic RMS", fmt::format("{:.4f} µm", d.residual_rms_um));
   rows.emplace_back("target spacing", fmt::format("{:.4g} … {:.4g} mm", d.min_gap_mm, d.max_gap_mm));
   page.AddKeyValueTable(rows, "Decomposition");
   for (const auto& n : d.notes) page.AddNote("Note: " + n);

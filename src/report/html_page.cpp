@@ -32,11 +32,11 @@ svg.chart { display: block; margin: 8px 0 16px 0; border: 1px solid #eee; max-wi
 bool LooksNumeric(const std::string& s) {
   if (s.empty()) return false;
   if (ParseDouble(s)) return true;
-  // "12.3 µm", "±1.2" and similar still read best right-aligned.
-  const auto first = s.find_first_not_of("+-±−");
-  if (first == std::string::npos) return false;
-  auto sp = s.find(' ');
-  return ParseDouble(s.substr(first, sp == std::string::npos ? std::string::npos : sp - first)).has_value();
+  // "12.3 µm" or "+0.5 mm": a number and at most one unit word read best right-aligned;
+  // "5 from 15 to 55.8 mm" is prose and stays left-aligned.
+  const auto sp = s.find(' ');
+  if (sp == std::string::npos || s.find(' ', sp + 1) != std::string::npos) return false;
+  return ParseDouble(s.substr(0, sp)).has_value();
 }
 
 }  // namespace

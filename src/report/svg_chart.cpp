@@ -144,6 +144,9 @@ std::string SvgChart::Render() const {
   if (options_.y_includes_zero) ymin = std::min(ymin, 0.0), ymax = std::max(ymax, 0.0);
   if (xmax == xmin) xmin -= 0.5, xmax += 0.5;
   if (ymax == ymin) ymin -= 0.5, ymax += 0.5;
+  // A little room at the ends so markers on the first/last target are not cut in half.
+  const double xpad = 0.02 * (xmax - xmin);
+  xmin -= xpad, xmax += xpad;
   const double ypad = 0.06 * (ymax - ymin);
   ymin -= ypad, ymax += ypad;
   auto xticks = NiceTicks(xmin, xmax, options_.target_tick_count);

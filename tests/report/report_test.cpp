@@ -110,7 +110,7 @@ TEST(HtmlPage, SelfContainedEscapedAndSaved) {
   page.AddParagraph("x < y");
   page.AddKeyValueTable({{"machine", "VMC <850>"}});
   tr::HtmlTable t({"target (mm)", "x̄↑ (µm)"}, "per target");
-  t.AddRow({"0", "1.25"}).AddRow({"100", "text"});
+  t.AddRow({"0", "1.25"}).AddRow({"100", "text"}).AddRow({"12.5 µm", "5 from 15 to 55.8 mm"});
   EXPECT_THROW(t.AddRow({"only one"}), std::invalid_argument);
   page.AddTable(t);
   tr::SvgChart chart;
@@ -123,6 +123,8 @@ TEST(HtmlPage, SelfContainedEscapedAndSaved) {
   EXPECT_NE(html.find("VMC &lt;850&gt;"), std::string::npos);
   EXPECT_NE(html.find("<td class=\"num\">1.25</td>"), std::string::npos);
   EXPECT_NE(html.find("<td>text</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"num\">12.5 µm</td>"), std::string::npos);  // number + unit: right
+  EXPECT_NE(html.find("<td>5 from 15 to 55.8 mm</td>"), std::string::npos);     // prose: left
   EXPECT_NE(html.find("<svg"), std::string::npos);
   // Self-contained: no scripts, no external resources.
   EXPECT_EQ(html.find("<script"), std::string::npos);
