@@ -441,6 +441,15 @@ class AxisFitter {
         Warn(fmt::format("sensor '{}' has no reading in the cold state: not a key-sensor candidate", n));
         continue;
       }
+      // A column that is there but never read (a broken channel) is as good as missing: its CV
+      // would be computed on fewer points and look better than it is.
+      std::vector<std::string> unread;
+      for (auto* s : thermal_)
+        if (!std::isfinite(MeanOfSensor(s->measurement, n))) unread.push_back(s->path);
+      if (!unread.empty()) {
+        Warn(fmt::format("sensor '{}' has no reading in {}: not a key-sensor candidate", n, fmt::join(unread, ", ")));
+        continue;
+      }
       candidates.push_back(n);
     }
     for (auto* s : thermal_)

@@ -223,6 +223,18 @@ TEST(ModelFit, SensorMissingInOneFileIsExcludedWithWarning) {
   }
 }
 
+TEST(ModelFit, SensorNeverReadInOneStateIsNotACandidate) {
+  SyntheticMachine sm;
+  auto states = sm.MakeStates(sm.DefaultStates());
+  auto& m = states[3].measurement;  // heated-3
+  const auto idx = *m.SensorIndex("motor");
+  for (auto& p : m.points) p.temperatures_c[idx] = NAN;
+  auto res = FitCompositeModel(states, {});
+  EXPECT_THAT(res.summary.axes[0].candidate_sensors, ::testing::Not(::testing::Contains("motor")));
+  EXPECT_THAT(res.summary.warnings, ::testing::Contains(HasSubstr("'motor' has no reading in heated-3.csv")));
+  EXPECT_THAT(res.model.axes[0].key_sensors, ::testing::UnorderedElementsAre("nut", "bearing"));
+}
+
 TEST(ModelFit, HeatedStateWithoutTemperaturesIsAnInputError) {
   SyntheticMachine sm;
   std::mt19937 rng(1);
