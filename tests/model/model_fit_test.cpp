@@ -402,3 +402,52 @@ TEST(FitInput, CampaignSequencesMakeUniqueLabelsAndCoolantNeedsAName) {
 
 }  // namespace
 }  // namespace trueaxis::model
+
+namespace trueaxis::model {
+namespace {
+
+TEST(CompositeModelAboveAmbient, KeyRiseIsMeasuredAboveTheRoomAndFallsBackWithoutIt) {
+  AxisModel a;
+  a.axis = "X";
+  a.reference_position_mm = 0;
+  a.key_sensors = {"nut"};
+  a.baseline_temp_c = {20};
+  a.ambient_sensor = "ambient";
+  a.ambient_baseline_c = 20;
+  a.rho_um_per_mm_per_c = -0.01;
+  a.key_rise_above_ambient = true;
+  for (auto& d : a.directions) {
+    d.geometric.coefficients_um = {0};
+    d.thermal = {{CoolantState::kOff, {-0.005}, 0}};
+  }
+  const double soak[] = {23};  // the whole machine at a 3 °C warmer room: no rise above ambient
+  auto p = Predict(a, 100, Direction::kForward, {soak, 23.0, CoolantState::kOff, true});
+  EXPECT_DOUBLE_EQ(p.thermal_um, 0);
+  EXPECT_NEAR(p.ambient_um, -0.01 * 3 * (0 - 100), 1e-12);
+  const double hot[] = {25};  // nut 2 °C above a 3 °C warmer room
+  p = Predict(a, 100, Direction::kForward, {hot, 23.0, CoolantState::kOff, true});
+  EXPECT_NEAR(p.tan_beta_um_per_mm, -0.005 * 2, 1e-12);
+  // No ambient reading: the plain rise (5 °C) and no ambient term.
+  p = Predict(a, 100, Direction::kForward, {hot, NAN, CoolantState::kOff, true});
+  EXPECT_NEAR(p.tan_beta_um_per_mm, -0.005 * 5, 1e-12);
+  EXPECT_DOUBLE_EQ(p.ambient_um, 0);
+  // JSON: the mode round-trips and a bad value is named.
+  CompositeModel m;
+  m.axes = {a};
+  auto j = ModelToJson(m);
+  EXPECT_EQ(j["axes"][0]["key_temperature_rise"], "above_ambient");
+  EXPECT_TRUE(ModelFromJson(j, "mem").axes[0].key_rise_above_ambient);
+  j["axes"][0]["key_temperature_rise"] = "sideways";
+  try {
+    ModelFromJson(j, "mem");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "axes[0].key_temperature_rise");
+  }
+  j["axes"][0]["key_temperature_rise"] = "above_ambient";
+  j["axes"][0].erase("ambient_sensor");
+  EXPECT_THROW(ModelFromJson(j, "mem"), InputError);
+}
+
+}  // namespace
+}  // namespace trueaxis::model
