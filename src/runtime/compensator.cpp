@@ -124,8 +124,10 @@ const CycleStatus& Compensator::RunCycle(hw::CncLink& link, hw::TemperatureSourc
       st.enabled = false;
     } else {
       const hw::AxisState& as = axis_states_[i];
-      if (as.servo_direction > 0) last_direction_[i] = Direction::kForward;
-      else if (as.servo_direction < 0) last_direction_[i] = Direction::kReverse;
+      if (as.moving || !options_.direction_only_while_moving) {
+        if (as.servo_direction > 0) last_direction_[i] = Direction::kForward;
+        else if (as.servo_direction < 0) last_direction_[i] = Direction::kReverse;
+      }
       st.cnc_position_mm = as.position_mm;
       st.model_position_mm = ai.ModelPositionMm(as.position_mm);
       st.direction = last_direction_[i];

@@ -91,10 +91,23 @@ TEST(Compensator, ServoDirectionPicksTheModelAndIsHeldWhileStopped) {
   r.cnc.axes[0].servo_direction = 0;  // stopped: keep the reverse model
   r.Cycle(2);
   EXPECT_NEAR(r.cnc.cnc_value_um[0], rev, kQuantTol);
+  r.cnc.axes[0] = {250, +1, false};  // standstill nudge by the compensation itself: not a reversal
+  r.Cycle(2);
+  EXPECT_NEAR(r.cnc.cnc_value_um[0], rev, kQuantTol);
   EXPECT_EQ(r.comp->LastStatus().axes[0].direction, Direction::kReverse);
-  r.cnc.axes[0].servo_direction = +1;
+  r.cnc.axes[0] = {250, +1, true};
   r.Cycle(2);
   EXPECT_NEAR(r.cnc.cnc_value_um[0], fwd, kQuantTol);
+}
+
+TEST(Compensator, DirectionFromAnyReportWhenTheCncHasNoMovingFlag) {
+  auto o = Rig::Fast();
+  o.direction_only_while_moving = false;
+  Rig r(o);
+  r.comp->PublishModel(TestModel(), "test");
+  r.cnc.axes[0] = {250, -1, false};
+  r.Cycle(2);
+  EXPECT_EQ(r.comp->LastStatus().axes[0].direction, Direction::kReverse);
 }
 
 TEST(Compensator, CoolantStateSelectsItsGains) {

@@ -12,6 +12,7 @@
 
 #include "fakes.hpp"
 #include "trueaxis/runtime/compensator.hpp"
+#include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
 
 namespace {
@@ -84,6 +85,7 @@ TEST(NoAllocation, ManyCyclesWithFaultsSwapsAndTogglesAllocateNothing) {
   for (int c = 0; c < 100000; ++c) {
     cnc.axes[0].position_mm = (c % 5000) * 0.1;
     cnc.axes[0].servo_direction = (c / 5000) % 2 ? -1 : 1;
+    cnc.axes[0].moving = (c % 5000) != 0;
     cnc.axes[1].position_mm = 200 + (c % 300);
     temps.values[1].temp_c = 20 + (c % 10000) * 1e-3;
     temps.values[1].hardware_fault = (c % 20000) > 19000;  // held, then lost
@@ -105,7 +107,8 @@ TEST(NoAllocation, RealTimeLoopThreadAllocatesNothingOnceRunning) {
   FakeTemps temps({"ambient", "nut", "bearing"}, 20.0);
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   comp->PublishModel(TestModel(), "a");
-  LoopRunner runner(*comp, cnc, temps, LoopOptions{0.001});
+  CycleRecorder recorder(4096, 1);  // the logging observer runs on the loop thread too
+  LoopRunner runner(*comp, cnc, temps, LoopOptions{0.001}, &recorder);
   runner.Start();
   while (runner.Stats().cycles < 5) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   const auto before = runner.Stats().cycles;
@@ -117,6 +120,8 @@ TEST(NoAllocation, RealTimeLoopThreadAllocatesNothingOnceRunning) {
   runner.Stop();
   EXPECT_GT(after, before);
   EXPECT_EQ(g_allocations.load(), 0);
+  CycleRecord r;
+  EXPECT_TRUE(recorder.Pop(r));
 }
 
 }  // namespace

@@ -45,6 +45,12 @@ struct CompensatorOptions {
   // Ramp to zero while the CNC reports its compensation input disabled, so
   // that enabling it on the CNC never applies a stale value at once.
   bool follow_cnc_enable = true;
+  // Take the servo direction only while the CNC reports the axis moving (a
+  // commanded motion). At standstill the compensation output itself moves the
+  // motor by a few µm and a CNC reports that as a direction; following it would
+  // flip between the forward and reverse models (a limit cycle of the reversal
+  // value). Set false for a CNC that never reports `moving`.
+  bool direction_only_while_moving = true;
   // Model sensor name → temperature channel name (absent: same name).
   std::map<std::string, std::string> channel_map;
 
