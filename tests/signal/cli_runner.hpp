@@ -1,0 +1,29 @@
+#pragma once
+// Runs the built `trueaxis` CLI (TRUEAXIS_CLI_PATH) and captures its exit
+// code and combined output.
+#include <array>
+#include <cstdio>
+#include <string>
+#include <sys/wait.h>
+
+namespace trueaxis::testing {
+
+struct CliResult {
+  int exit_code = -1;
+  std::string output;
+};
+
+inline CliResult RunCli(const std::string& args) {
+  CliResult r;
+  const std::string cmd = std::string(TRUEAXIS_CLI_PATH) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  std::size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
+  const int status = pclose(p);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+}  // namespace trueaxis::testing
