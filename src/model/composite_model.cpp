@@ -50,10 +50,14 @@ Prediction Predict(const AxisModel& axis, double position_mm, Direction directio
       double tan_beta = g->offset_um_per_mm;
       bool ok = state.key_temp_c.size() >= g->k_um_per_mm_per_c.size() &&
                 axis.baseline_temp_c.size() >= g->k_um_per_mm_per_c.size();
+      // Rise above ambient (key_rise_above_ambient): subtract the room's own change.
+      double ambient_shift_c = 0;
+      if (axis.key_rise_above_ambient && !std::isnan(state.ambient_c) && !std::isnan(axis.ambient_baseline_c))
+        ambient_shift_c = state.ambient_c - axis.ambient_baseline_c;
       for (std::size_t i = 0; ok && i < g->k_um_per_mm_per_c.size(); ++i) {
         const double t = state.key_temp_c[i];
         if (std::isnan(t)) ok = false;
-        else tan_beta += g->k_um_per_mm_per_c[i] * (t - axis.baseline_temp_c[i]);
+        else tan_beta += g->k_um_per_mm_per_c[i] * (t - axis.baseline_temp_c[i] - ambient_shift_c);
       }
       if (ok) {
         p.tan_beta_um_per_mm = tan_beta;

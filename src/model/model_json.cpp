@@ -151,10 +151,14 @@ nlohmann::json ModelToJson(const CompositeModel& model) {
       ja["ambient_sensor"] = a.ambient_sensor;
       ja["ambient_baseline_c"] = a.ambient_baseline_c;
     }
+    ja["key_temperature_rise"] = a.key_rise_above_ambient ? "above_ambient" : "from_baseline";
     axes.push_back(std::move(ja));
   }
   json sources = json::array();
   for (const auto& s : model.sources) sources.push_back({{"path", s.path}, {"sha256", s.sha256}, {"state", s.state}});
+  json lineage = json::array();
+  for (const auto& l : model.lineage)
+    lineage.push_back({{"revision", l.revision}, {"sha256", l.sha256}, {"created_utc", l.created_utc}});
   return {{"format", "trueaxis-model"},
           {"format_version", model.format_version},
           {"machine", model.machine},
@@ -164,6 +168,7 @@ nlohmann::json ModelToJson(const CompositeModel& model) {
           {"parent_sha256", model.parent_sha256},
           {"sign_convention", "values are errors (actual - commanded); correction = -error"},
           {"sources", sources},
+          {"lineage", lineage},
           {"axes", axes},
           {"fit_summary", model.fit_summary}};
 }
@@ -190,6 +195,18 @@ CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& sourc
       m.sources.push_back({r.String(s[i], p, "path"), r.StringOr(s[i], p, "sha256", ""), r.StringOr(s[i], p, "state", "")});
     }
   }
+  if (doc.contains("lineage")) {
+    const json& l = doc["lineage"];
+    if (!l.is_array()) r.Fail("lineage", "expected an array");
+    for (std::size_t i = 0; i < l.size(); ++i) {
+      const std::string p = fmt::format("lineage[{}]", i);
+      LineageEntry e;
+      e.revision = static_cast<int>(r.Number(l[i], p, "revision"));
+      e.sha256 = r.StringOr(l[i], p, "sha256", "");
+      e.created_utc = r.StringOr(l[i], p, "created_utc", "");
+      m.lineage.push_back(std::move(e));
+    }
+  }
   const json& axes = r.Get(doc, "", "axes");
   if (!axes.is_array() || axes.empty()) r.Fail("axes", "expected a non-empty array");
   for (std::size_t i = 0; i < axes.size(); ++i) {
@@ -213,6 +230,15 @@ CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& sourc
     a.rho_um_per_mm_per_c = r.NumberOr(ja, p, "rho_um_per_mm_per_c", 0);
     a.ambient_sensor = r.StringOr(ja, p, "ambient_sensor", "");
     if (!a.ambient_sensor.empty()) a.ambient_baseline_c = r.Number(ja, p, "ambient_baseline_c");
+    const std::string rise = r.StringOr(ja, p, "key_temperature_rise", "from_baseline");
+    if (rise == "above_ambient") {
+      if (a.ambient_sensor.empty())
+        r.Fail(Reader::Join(p, "key_temperature_rise"), "\"above_ambient\" needs ambient_sensor and ambient_baseline_c");
+      a.key_rise_above_ambient = true;
+    } else if (rise != "from_baseline") {
+      r.Fail(Reader::Join(p, "key_temperature_rise"),
+             fmt::format("'{}' is not \"from_baseline\" or \"above_ambient\"", rise));
+    }
     a.directions[0] = DirectionFromJson(r, r.Get(ja, p, "forward"), Reader::Join(p, "forward"), a.key_sensors.size());
     a.directions[1] = DirectionFromJson(r, r.Get(ja, p, "reverse"), Reader::Join(p, "reverse"), a.key_sensors.size());
     m.axes.push_back(std::move(a));

@@ -67,9 +67,23 @@ struct AxisModel {
   std::string ambient_sensor;          // empty: no ambient adjustment
   double ambient_baseline_c = std::numeric_limits<double>::quiet_NaN();
   double rho_um_per_mm_per_c = 0;      // ρ: ambient expansion, µm per mm per °C
+  // How ΔT_i of a key sensor is measured (added by the fitter, docs/model-file.md):
+  //   false: ΔT_i = T_i − baseline_i (the seed's form; the default)
+  //   true:  ΔT_i = (T_i − baseline_i) − (T_amb − ambient_baseline_c), the rise ABOVE AMBIENT,
+  //          so a uniform soak at another room temperature moves only the ρ term and is not
+  //          counted twice. Needs ambient_sensor; with no ambient reading (NaN) Predict falls
+  //          back to the plain rise.
+  bool key_rise_above_ambient = false;
   std::array<DirectionModel, 2> directions;  // indexed by DirectionIndex()
 
   const DirectionModel& For(Direction d) const { return directions[DirectionIndex(d)]; }
+};
+
+// One earlier revision of a model this one was re-fitted from (oldest first).
+struct LineageEntry {
+  int revision = 0;
+  std::string sha256;       // of that model file's bytes
+  std::string created_utc;
 };
 
 // Where a source file of the fit came from (lineage).
@@ -88,6 +102,7 @@ struct CompositeModel {
   int revision = 1;                   // increases by one on every re-fit
   std::string parent_sha256;          // hash of the model this re-fit replaced, empty if none
   std::vector<SourceRecord> sources;
+  std::vector<LineageEntry> lineage;  // every ancestor, oldest first; the parent is the last
   std::vector<AxisModel> axes;
   nlohmann::json fit_summary = nlohmann::json::object();  // statistics, free form (docs/model-file.md)
 

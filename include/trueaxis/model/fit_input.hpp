@@ -1,0 +1,53 @@
+#pragma once
+// The input of the automatic modelling (seed 000 "在线自动建模模块"): a set of
+// laser-interferometer measurement files, each one THERMAL STATE of the machine
+// (cold, heated to some temperature, soaked at another room temperature,
+// heated with coolant on), each carrying its own temperatures per point.
+//
+// Where the state comes from, in order of precedence:
+//   1. a campaign manifest (JSON, docs/model-file.md "Fit input"): each file
+//      entry's "state" (and optional "coolant");
+//   2. the file's own metadata lines: `# state: cold|heated-1|ambient-24|coolant:flood`
+//      and optionally `# coolant: flood`;
+//   3. nothing: the kind is left kUnknown and the fitter takes the file with the
+//      lowest temperatures as the cold state (and says so in its warnings).
+// A state label starting with "cold" is the cold state, "ambient" a soak at
+// another room temperature, anything else a heated state; "coolant:<name>" or
+// "coolant-<name>" (or `# coolant: <name>`) sets the coolant working state.
+#include <string>
+#include <vector>
+
+#include "trueaxis/core/coolant.hpp"
+#include "trueaxis/measure/measurement.hpp"
+
+namespace trueaxis::model {
+
+enum class StateKind { kUnknown, kCold, kHeated, kAmbient };
+const char* StateKindName(StateKind k);
+
+struct FitState {
+  std::string path;    // as given (for messages and the model's sources)
+  std::string sha256;  // of the file's bytes
+  std::string label;   // "cold", "heated-2", ... ("" when none was given)
+  StateKind kind = StateKind::kUnknown;
+  CoolantState coolant = CoolantState::kOff;
+  std::string axis;    // from `# axis:` (or the manifest)
+  measure::Measurement measurement;
+};
+
+// Kind and coolant from a label ("cold", "coolant:flood", ...). InputError-free:
+// an unknown coolant name in a label is reported by the caller.
+StateKind KindFromLabel(const std::string& label);
+
+// Builds a FitState from an already-parsed measurement, reading `# state:`,
+// `# coolant:` and `# axis:`; label/coolant arguments (non-empty) override them.
+// Throws InputError(source, 0, "coolant", ...) for an unknown coolant name.
+FitState MakeFitState(measure::Measurement m, const std::string& label_override = "",
+                      const std::string& coolant_override = "", const std::string& sha256 = "");
+
+// Reads each CSV (measure::ReadMeasurementCsv) and, when manifest_path is not
+// empty, every file the manifest lists (paths relative to the manifest's folder).
+// Throws InputError naming the file/line/field for any bad input.
+std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, const std::string& manifest_path);
+
+}  // namespace trueaxis::model

@@ -1,0 +1,47 @@
+#pragma once
+// Options of the automatic composite-model fit (Ceres-style: defaults that
+// work, IsValid() says what is wrong). See model_fit.hpp for the method.
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace trueaxis::model {
+
+struct FitOptions {
+  enum class Geometric { kPolynomial, kTable };
+  Geometric geometric = Geometric::kPolynomial;  // seed 000 polynomial, or seed 002 sampled table
+  int max_degree = 8;                            // highest polynomial degree tried (capped at targets − 2)
+
+  // Reference point Px (where the thermal error is zero: the screw's fixed
+  // bearing). NaN: `# reference_position_mm:` metadata of the cold file, else
+  // fitted as the common pivot of the heated states' residual fans.
+  double reference_position_mm = std::numeric_limits<double>::quiet_NaN();
+
+  // Key sensors. Empty: chosen automatically (forward stepwise selection
+  // under leave-one-state-out CV). Non-empty: used as given, every file must have them.
+  std::vector<std::string> key_sensors;
+  int max_key_sensors = 3;
+  // A sensor is not added when it improves the CV error by less than this fraction.
+  double min_cv_improvement = 0.05;
+  // Two candidates whose per-point rises correlate more than this are collinear:
+  // only the better one can be chosen.
+  double max_key_correlation = 0.98;
+  // Fewer heated (or ambient) off-coolant states than this → geometric-only model with a warning.
+  int min_thermal_states = 2;
+
+  // Ambient sensor for the ρ·ΔT_env term. Empty: the first sensor named
+  // ambient/air/env/environment/room present in every file; "none": no ambient term.
+  std::string ambient_sensor;
+  // ρ (µm per mm per °C) in the seed's form ΔEr = ρ·ΔT_env·(Px − P0). NaN: fitted
+  // when the room temperature varies by ≥ min_ambient_range_c over the states,
+  // else −cte/1000 from `# cte_um_per_m_c:` metadata, else 0 (warned).
+  double rho_um_per_mm_per_c = std::numeric_limits<double>::quiet_NaN();
+  double min_ambient_range_c = 1.0;
+
+  // Used when a file has no `# axis:` line (empty: such a file is an error).
+  std::string default_axis;
+
+  bool IsValid(std::string* why) const;
+};
+
+}  // namespace trueaxis::model

@@ -1,0 +1,84 @@
+#pragma once
+// What the automatic fit did and how well (Ceres-style BriefReport/FullReport).
+// Every number a metrology engineer would ask about: the degree and why, the
+// cross-validated errors, the key sensors and why, Px and ρ and where they came
+// from, residual RMS / max per state, and every fallback taken as a warning.
+#include <array>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "trueaxis/core/coolant.hpp"
+#include "trueaxis/model/composite_model.hpp"
+#include "trueaxis/model/fit_input.hpp"
+#include "trueaxis/model/polynomial_fit.hpp"
+
+namespace trueaxis::model {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct StateFitStats {
+  std::string label;
+  std::string path;
+  StateKind kind = StateKind::kUnknown;
+  CoolantState coolant = CoolantState::kOff;
+  bool used_for_thermal = false;  // took part in the gain fit
+  std::size_t points = 0;
+  std::vector<double> mean_key_rise_c;           // parallel to the axis' key sensors
+  double mean_ambient_rise_c = kNaN;
+  std::array<double, 2> tan_beta_um_per_mm{kNaN, kNaN};  // per-state slope about Px (seed stage 1), fwd/rev
+  double uncorrected_rms_um = 0, uncorrected_max_um = 0;  // measured deviation itself
+  double geometric_only_rms_um = 0;                       // measured − Er(x)
+  double residual_rms_um = 0, residual_max_um = 0;        // measured − full model
+};
+
+struct SelectionStep {
+  std::vector<std::string> keys;  // the set after this step
+  double cv_rms_um = kNaN;        // leave-one-state-out CV of the thermal residual
+  std::string note;
+};
+
+struct DirectionFitStats {
+  GeometricError::Kind kind = GeometricError::Kind::kPolynomial;
+  std::size_t targets = 0;
+  int runs = 0;
+  DegreeSelection degree;          // polynomial: the candidates and the rule
+  double geometric_fit_rms_um = kNaN;  // fit of the cold target means
+  double geometric_cv_rms_um = kNaN;   // leave-one-target-out
+  double table_cv_rms_um = kNaN;       // the seed-002 table's CV, for comparison
+};
+
+struct AxisFitSummary {
+  std::string axis;
+  std::string cold_source;
+  std::array<DirectionFitStats, 2> directions;
+  bool thermal_fitted = false;
+  std::vector<std::string> candidate_sensors;
+  std::vector<std::string> key_sensors;
+  std::string key_selection_reason;
+  std::vector<SelectionStep> selection_steps;
+  double thermal_cv_rms_um = kNaN;       // with the chosen keys
+  double no_thermal_cv_rms_um = kNaN;    // residual RMS with no thermal term (step 0)
+  double reference_position_mm = 0;
+  std::string reference_source;          // "option", "metadata", "fitted ...", "default ..."
+  double rho_um_per_mm_per_c = 0;
+  std::string rho_source;
+  std::vector<std::string> coolant_notes;  // how each coolant entry was fitted
+  std::vector<StateFitStats> states;
+};
+
+struct FitSummary {
+  std::vector<AxisFitSummary> axes;
+  std::vector<std::string> warnings;
+
+  // A few lines: per axis degree, keys, CV errors, worst state residual, warnings count.
+  std::string BriefReport() const;
+  // Everything, as a plain-text table report.
+  std::string FullReport() const;
+  // Stored as CompositeModel::fit_summary (docs/model-file.md).
+  nlohmann::json ToJson() const;
+};
+
+}  // namespace trueaxis::model

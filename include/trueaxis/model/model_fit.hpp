@@ -1,0 +1,60 @@
+#pragma once
+// Automatic fitting of the composite model of seed 000 (MISSION M4, M5):
+//
+//   Er(x, T) = Er(x) + tanβ·(Px − P0) + ρ·ΔT_env·(Px − P0),   tanβ = Σ k_i·ΔT_i
+//
+// per axis and per direction of approach. The method (docs/model-file.md "How
+// the fit works" says the same with the reasons):
+//   1. Cold state → Er(x) per direction: mean of the repeated runs at each
+//      target, then a polynomial (degree by SelectPolynomialDegree) or the
+//      seed-002 table of the means.
+//   2. Every other state: residual r = measured − Er(x) point by point.
+//      Px = the common pivot of the residual lines r_s(x) = a_s + b_s·x of the
+//      states (least squares: Px = −Σ a_s b_s / Σ b_s²), unless given.
+//   3. Gains: r = Σ_i k_i·ΔT_i·(Px − x) (+ ρ·ΔT_env·(Px − x)) by least squares over
+//      every point of the off-coolant heated/ambient states, with each point's
+//      own temperatures (the seed's two-stage "slope per state, then slope vs
+//      temperature" is the special case of temperatures constant within a
+//      state; the per-state slopes are still reported).
+//   4. Key sensors: forward stepwise, adding the candidate that most lowers the
+//      leave-one-state-out CV RMS, while it lowers it by ≥ min_cv_improvement,
+//      skipping candidates collinear with a chosen one, never more keys than
+//      states − 1.
+//   5. Coolant: per coolant state, the same keys refitted on that coolant's
+//      states (≥ keys + 1 states), else the off-coolant gains times one fitted
+//      factor (documented fallback).
+#include <vector>
+
+#include "trueaxis/model/composite_model.hpp"
+#include "trueaxis/model/fit_input.hpp"
+#include "trueaxis/model/fit_options.hpp"
+#include "trueaxis/model/fit_summary.hpp"
+
+namespace trueaxis::model {
+
+struct FitResult {
+  CompositeModel model;  // sources filled from the states; revision/lineage left to the caller
+  FitSummary summary;    // also stored in model.fit_summary
+};
+
+// Throws InputError (file, line, field) for input that cannot give a sound
+// model, std::invalid_argument for invalid options.
+FitResult FitCompositeModel(const std::vector<FitState>& states, const FitOptions& options);
+
+// The key-sensor temperatures of one measurement point in the order of
+// axis.key_sensors (NaN where the file lacks the sensor) and its ambient.
+struct PointTemperatures {
+  std::vector<double> key_temp_c;
+  double ambient_c = kNaN;
+};
+PointTemperatures TemperaturesForPoint(const AxisModel& axis, const measure::Measurement& m,
+                                       const measure::MeasurementPoint& p);
+
+// measured − predicted, point by point (same runs, directions, targets): the
+// error that would remain after compensation with `axis`. Deviation replaced,
+// everything else kept, so it can be evaluated by ISO 230-2 directly.
+measure::Measurement PredictionResidual(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant);
+// The model's prediction for each point (deviation_um = predicted error).
+measure::Measurement PredictedMeasurement(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant);
+
+}  // namespace trueaxis::model

@@ -1,0 +1,34 @@
+#include "trueaxis/model/fit_options.hpp"
+
+#include <cmath>
+#include <set>
+
+#include <fmt/format.h>
+
+namespace trueaxis::model {
+
+bool FitOptions::IsValid(std::string* why) const {
+  auto fail = [&](std::string msg) {
+    if (why) *why = std::move(msg);
+    return false;
+  };
+  if (max_degree < 1 || max_degree > 15) return fail(fmt::format("max_degree {} must be within 1 … 15", max_degree));
+  if (std::isinf(reference_position_mm)) return fail("reference_position_mm must be finite (or NaN for automatic)");
+  if (max_key_sensors < 0 || max_key_sensors > 8)
+    return fail(fmt::format("max_key_sensors {} must be within 0 … 8", max_key_sensors));
+  if (!(min_cv_improvement >= 0 && min_cv_improvement < 1))
+    return fail("min_cv_improvement must be within [0, 1)");
+  if (!(max_key_correlation > 0 && max_key_correlation <= 1)) return fail("max_key_correlation must be within (0, 1]");
+  if (min_thermal_states < 1) return fail("min_thermal_states must be >= 1");
+  if (std::isinf(rho_um_per_mm_per_c)) return fail("rho_um_per_mm_per_c must be finite (or NaN for automatic)");
+  if (!(min_ambient_range_c > 0)) return fail("min_ambient_range_c must be > 0");
+  std::set<std::string> seen;
+  for (const auto& k : key_sensors) {
+    if (k.empty()) return fail("key_sensors has an empty name");
+    if (!seen.insert(k).second) return fail(fmt::format("key sensor '{}' is given twice", k));
+    if (k == ambient_sensor) return fail(fmt::format("'{}' is the ambient sensor; it cannot also be a key sensor", k));
+  }
+  return true;
+}
+
+}  // namespace trueaxis::model

@@ -1,0 +1,847 @@
+#include "trueaxis/model/model_fit.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/number_text.hpp"
+
+namespace trueaxis::model {
+namespace {
+
+constexpr double kSameTargetTolMm = 1e-6;
+
+std::string Lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+std::string StateName(const FitState& s) { return s.label.empty() ? s.path : s.label; }
+
+int FirstLine(const measure::Measurement& m) { return m.points.empty() ? 0 : m.points.front().source_line; }
+
+double MeanOfSensor(const measure::Measurement& m, std::size_t idx) {
+  double sum = 0;
+  int n = 0;
+  for (const auto& p : m.points)
+    if (idx < p.temperatures_c.size() && std::isfinite(p.temperatures_c[idx])) sum += p.temperatures_c[idx], ++n;
+  return n ? sum / n : kNaN;
+}
+
+double MeanOfSensor(const measure::Measurement& m, const std::string& name) {
+  auto idx = m.SensorIndex(name);
+  return idx ? MeanOfSensor(m, *idx) : kNaN;
+}
+
+std::string UtcNow() {
+  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+// Cold-state means per target for one direction.
+struct TargetMeans {
+  std::vector<double> x, mean;
+  int runs = 0;
+  double noise_um = kNaN;  // standard error of a mean, from the pooled run-to-run scatter
+};
+
+TargetMeans MeansForDirection(const measure::Measurement& m, Direction d) {
+  std::vector<std::pair<double, double>> pts;
+  for (const auto& p : m.points)
+    if (p.direction == d) pts.emplace_back(p.target_mm, p.deviation_um);
+  std::sort(pts.begin(), pts.end());
+  TargetMeans tm;
+  std::vector<std::vector<double>> groups;
+  for (const auto& [x, y] : pts) {
+    if (tm.x.empty() || x - tm.x.back() > kSameTargetTolMm) {
+      tm.x.push_back(x);
+      groups.emplace_back();
+    }
+    groups.back().push_back(y);
+  }
+  double ss = 0, dof = 0, runs_sum = 0;
+  for (const auto& g : groups) {
+    double mu = 0;
+    for (double v : g) mu += v;
+    mu /= static_cast<double>(g.size());
+    tm.mean.push_back(mu);
+    for (double v : g) ss += (v - mu) * (v - mu);
+    dof += static_cast<double>(g.size()) - 1;
+    runs_sum += static_cast<double>(g.size());
+  }
+  if (!groups.empty()) tm.runs = static_cast<int>(std::lround(runs_sum / static_cast<double>(groups.size())));
+  if (dof > 0 && tm.runs >= 2) tm.noise_um = std::sqrt(ss / dof) / std::sqrt(runs_sum / static_cast<double>(groups.size()));
+  return tm;
+}
+
+// One point of a non-cold state, ready for the thermal regression.
+struct ThermalPoint {
+  std::size_t state = 0;  // index into the axis' thermal states
+  int dir = 0;
+  double x = 0;
+  double lever_mm = 0;   // Px − x (filled once Px is known)
+  double r = 0;          // measured − Er(x)
+  std::vector<double> rise;  // per candidate sensor, °C (NaN if unread)
+  double amb_rise = kNaN;
+};
+
+struct GainFit {
+  bool ok = false;
+  std::vector<double> k;
+  double rho = 0;
+};
+
+// Least squares r = Σ k_j·rise_j·L (+ ρ·amb·L) over the selected points of one direction.
+template <typename Pred>
+GainFit SolveGains(const std::vector<ThermalPoint>& pts, Pred use, const std::vector<std::size_t>& keys, bool fit_rho,
+                   double fixed_rho) {
+  std::vector<const ThermalPoint*> rows;
+  for (const auto& p : pts) {
+    if (!use(p)) continue;
+    bool finite = true;
+    for (auto k : keys) finite = finite && std::isfinite(p.rise[k]);
+    if (fit_rho) finite = finite && std::isfinite(p.amb_rise);
+    if (finite) rows.push_back(&p);
+  }
+  const Eigen::Index cols = static_cast<Eigen::Index>(keys.size()) + (fit_rho ? 1 : 0);
+  GainFit g;
+  g.rho = fixed_rho;
+  if (cols == 0) {
+    g.ok = true;
+    return g;
+  }
+  if (static_cast<Eigen::Index>(rows.size()) < cols) return g;
+  Eigen::MatrixXd a(static_cast<Eigen::Index>(rows.size()), cols);
+  Eigen::VectorXd b(static_cast<Eigen::Index>(rows.size()));
+  for (Eigen::Index i = 0; i < a.rows(); ++i) {
+    const ThermalPoint& p = *rows[static_cast<std::size_t>(i)];
+    for (std::size_t j = 0; j < keys.size(); ++j) a(i, static_cast<Eigen::Index>(j)) = p.rise[keys[j]] * p.lever_mm;
+    double y = p.r;
+    if (fit_rho) a(i, cols - 1) = p.amb_rise * p.lever_mm;
+    else if (std::isfinite(p.amb_rise)) y -= fixed_rho * p.amb_rise * p.lever_mm;
+    b(i) = y;
+  }
+  // Scale columns to unit norm so the pivoting QR's rank decision is not fooled by units.
+  Eigen::VectorXd scale = a.colwise().norm().transpose();
+  for (Eigen::Index j = 0; j < cols; ++j)
+    if (scale(j) > 0) a.col(j) /= scale(j);
+    else scale(j) = 1;
+  Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
+  c = c.cwiseQuotient(scale);
+  g.k.assign(c.data(), c.data() + keys.size());
+  if (fit_rho) g.rho = c(cols - 1);
+  g.ok = c.allFinite();
+  return g;
+}
+
+double PredictThermal(const ThermalPoint& p, const std::vector<std::size_t>& keys, const GainFit& g) {
+  double tan_beta = 0;
+  for (std::size_t j = 0; j < keys.size(); ++j) tan_beta += g.k[j] * p.rise[keys[j]];
+  double out = tan_beta * p.lever_mm;
+  if (std::isfinite(p.amb_rise)) out += g.rho * p.amb_rise * p.lever_mm;
+  return out;
+}
+
+bool RowUsable(const ThermalPoint& p, const std::vector<std::size_t>& keys, bool fit_rho) {
+  for (auto k : keys)
+    if (!std::isfinite(p.rise[k])) return false;
+  return !fit_rho || std::isfinite(p.amb_rise);
+}
+
+// Leave-one-state-out CV RMS over both directions, on the states in `states`.
+double CrossValidate(const std::vector<ThermalPoint>& pts, const std::set<std::size_t>& states,
+                     const std::vector<std::size_t>& keys, bool fit_rho, double fixed_rho) {
+  double ss = 0;
+  std::size_t n = 0;
+  for (int dir = 0; dir < 2; ++dir) {
+    for (std::size_t s : states) {
+      auto g = SolveGains(
+          pts, [&](const ThermalPoint& p) { return p.dir == dir && p.state != s && states.count(p.state); }, keys,
+          fit_rho, fixed_rho);
+      if (!g.ok) return std::numeric_limits<double>::infinity();
+      for (const auto& p : pts) {
+        if (p.dir != dir || p.state != s || !RowUsable(p, keys, fit_rho)) continue;
+        ss += std::pow(p.r - PredictThermal(p, keys, g), 2);
+        ++n;
+      }
+    }
+  }
+  return n ? std::sqrt(ss / static_cast<double>(n)) : kNaN;
+}
+
+double Correlation(const std::vector<ThermalPoint>& pts, const std::set<std::size_t>& states, std::size_t a,
+                   std::size_t b) {
+  double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+  double n = 0;
+  for (const auto& p : pts) {
+    if (!states.count(p.state) || !std::isfinite(p.rise[a]) || !std::isfinite(p.rise[b])) continue;
+    sa += p.rise[a], sb += p.rise[b], saa += p.rise[a] * p.rise[a], sbb += p.rise[b] * p.rise[b];
+    sab += p.rise[a] * p.rise[b];
+    n += 1;
+  }
+  if (n < 2) return 0;
+  const double va = saa - sa * sa / n, vb = sbb - sb * sb / n, cab = sab - sa * sb / n;
+  if (va <= 0 || vb <= 0) return 1;  // a constant rise cannot be told apart from anything
+  return cab / std::sqrt(va * vb);
+}
+
+std::string JoinNames(const std::vector<std::string>& v) { return v.empty() ? "none" : fmt::format("{}", fmt::join(v, ", ")); }
+
+class AxisFitter {
+ public:
+  AxisFitter(std::string axis, std::vector<const FitState*> states, const FitOptions& o, std::vector<std::string>& warnings)
+      : axis_name_(std::move(axis)), all_(std::move(states)), o_(o), warnings_(warnings) {}
+
+  AxisModel Fit(AxisFitSummary& sum) {
+    sum.axis = axis_name_;
+    model_.axis = axis_name_;
+    PickCold(sum);
+    FitGeometric(sum);
+    PrepareThermal(sum);
+    ComputeStateStats(sum);
+    return model_;
+  }
+
+ private:
+  void Warn(std::string w) { warnings_.push_back(fmt::format("axis {}: {}", axis_name_, std::move(w))); }
+
+  void PickCold(AxisFitSummary& sum) {
+    std::vector<const FitState*> colds;
+    for (auto* s : all_)
+      if (s->kind == StateKind::kCold) colds.push_back(s);
+    if (colds.empty()) {
+      // Infer: the state with the lowest mean temperature over the sensors all states share.
+      std::set<std::string> common;
+      bool first = true;
+      for (auto* s : all_) {
+        std::set<std::string> names(s->measurement.sensor_names.begin(), s->measurement.sensor_names.end());
+        if (first) common = names, first = false;
+        else {
+          std::set<std::string> keep;
+          for (const auto& n : common)
+            if (names.count(n)) keep.insert(n);
+          common = keep;
+        }
+      }
+      if (all_.size() == 1) {
+        colds.push_back(all_.front());
+        Warn(fmt::format("'{}' has no '# state:' line; as the only file it is taken as the cold state", all_.front()->path));
+      } else if (common.empty()) {
+        throw InputError(all_.front()->path, 0, "state",
+                         "no file is marked '# state: cold' and the files share no temperature sensor to tell which "
+                         "one is cold; add '# state: cold' to the cold-state file (or \"state\" in the manifest)");
+      } else {
+        const FitState* best = nullptr;
+        double best_t = std::numeric_limits<double>::infinity();
+        for (auto* s : all_) {
+          double t = 0;
+          for (const auto& n : common) t += MeanOfSensor(s->measurement, n);
+          t /= static_cast<double>(common.size());
+          if (std::isfinite(t) && t < best_t) best_t = t, best = s;
+        }
+        if (!best)
+          throw InputError(all_.front()->path, 0, "state", "no file is marked cold and no temperatures could be read");
+        colds.push_back(best);
+        Warn(fmt::format("no file is marked '# state: cold'; took '{}' (lowest mean temperature {:.2f} °C over {})",
+                         best->path, best_t, fmt::join(common, ", ")));
+      }
+    }
+    cold_states_ = colds;
+    for (auto* s : all_)
+      if (std::find(colds.begin(), colds.end(), s) == colds.end()) thermal_.push_back(s);
+    // One combined cold measurement: runs of later files renumbered after the earlier ones.
+    cold_ = colds.front()->measurement;
+    int run_offset = 0;
+    for (const auto& p : cold_.points) run_offset = std::max(run_offset, p.run);
+    for (std::size_t i = 1; i < colds.size(); ++i) {
+      const auto& m = colds[i]->measurement;
+      if (m.sensor_names != cold_.sensor_names)
+        throw InputError(m.source, 0, "t_<sensor>_c",
+                         fmt::format("cold-state files must have the same temperature columns as '{}'", cold_.source));
+      int max_run = 0;
+      for (auto p : m.points) {
+        max_run = std::max(max_run, p.run);
+        p.run += run_offset;
+        cold_.points.push_back(p);
+      }
+      run_offset += max_run;
+    }
+    std::vector<std::string> names;
+    for (auto* c : colds) names.push_back(c->path);
+    sum.cold_source = fmt::format("{}", fmt::join(names, " + "));
+  }
+
+  void FitGeometric(AxisFitSummary& sum) {
+    const auto& m = cold_;
+    if (m.points.empty()) throw InputError(m.source, "the cold state has no measurement points (empty file?)");
+    const auto targets = m.Targets();
+    if (targets.size() < 2)
+      throw InputError(m.source, FirstLine(m), "target_mm",
+                       fmt::format("all {} points are at the same target {} mm: the geometric error Er(x) needs at "
+                                   "least 2 distinct targets (degenerate positions)",
+                                   m.points.size(), FormatShortest(targets.front())));
+    for (Direction d : {Direction::kForward, Direction::kReverse}) {
+      const int di = static_cast<int>(DirectionIndex(d));
+      TargetMeans tm = MeansForDirection(m, d);
+      if (tm.x.empty())
+        throw InputError(m.source, FirstLine(m), "direction",
+                         fmt::format("the cold state has no points approached in the '{}' direction; forward and "
+                                     "reverse are modelled apart, so both are needed",
+                                     DirectionSymbol(d)));
+      if (tm.x.size() < 2)
+        throw InputError(m.source, FirstLine(m), "target_mm",
+                         fmt::format("direction '{}' has points at one target only ({} mm); Er(x) needs at least 2",
+                                     DirectionSymbol(d), FormatShortest(tm.x.front())));
+      auto& ds = sum.directions[di];
+      ds.targets = tm.x.size();
+      ds.runs = tm.runs;
+      ds.table_cv_rms_um = TableCrossValidationRms(tm.x, tm.mean);
+      GeometricError& g = model_.directions[di].geometric;
+      g.center_mm = 0.5 * (tm.x.front() + tm.x.back());
+      g.half_span_mm = 0.5 * (tm.x.back() - tm.x.front());
+      if (o_.geometric == FitOptions::Geometric::kTable) {
+        g.kind = GeometricError::Kind::kTable;
+        g.table_position_mm = tm.x;
+        g.table_error_um = tm.mean;
+        ds.kind = g.kind;
+        ds.geometric_fit_rms_um = 0;
+        ds.geometric_cv_rms_um = ds.table_cv_rms_um;
+      } else {
+        g.kind = GeometricError::Kind::kPolynomial;
+        ds.degree = SelectPolynomialDegree(tm.x, tm.mean, g.center_mm, g.half_span_mm, o_.max_degree, tm.noise_um);
+        std::vector<double> u;
+        for (double x : tm.x) u.push_back((x - g.center_mm) / g.half_span_mm);
+        g.coefficients_um = FitPolynomial(u, tm.mean, ds.degree.degree);
+        for (const auto& c : ds.degree.candidates)
+          if (c.degree == ds.degree.degree) ds.geometric_fit_rms_um = c.fit_rms_um, ds.geometric_cv_rms_um = c.cv_rms_um;
+        ds.kind = g.kind;
+      }
+      if (tm.runs < 2) Warn(fmt::format("direction '{}': one cold run only, so the run-to-run scatter is unknown",
+                                        DirectionSymbol(d)));
+    }
+  }
+
+  std::string AmbientSensorName() {
+    if (Lower(o_.ambient_sensor) == "none") return "";
+    auto in_all = [&](const std::string& n) {
+      for (auto* s : all_)
+        if (!s->measurement.SensorIndex(n)) return false;
+      return true;
+    };
+    if (!o_.ambient_sensor.empty()) {
+      for (auto* s : all_)
+        if (!s->measurement.SensorIndex(o_.ambient_sensor))
+          throw InputError(s->path, 0, fmt::format("t_{}_c", o_.ambient_sensor),
+                           fmt::format("the ambient sensor '{}' is missing in this file", o_.ambient_sensor));
+      return o_.ambient_sensor;
+    }
+    for (const auto& n : cold_.sensor_names) {
+      const std::string l = Lower(n);
+      if ((l == "ambient" || l == "air" || l == "env" || l == "environment" || l == "room") && in_all(n)) return n;
+    }
+    return "";
+  }
+
+  void PrepareThermal(AxisFitSummary& sum) {
+    const std::string amb = AmbientSensorName();
+    // Reference point from option or metadata first (needed even for a geometric-only model's ρ term).
+    double px = o_.reference_position_mm;
+    std::string px_source = "option";
+    if (std::isnan(px)) {
+      if (auto meta = cold_.Meta("reference_position_mm")) {
+        auto v = ParseDouble(*meta);
+        if (!v || !std::isfinite(*v))
+          throw InputError(cold_.source, 0, "reference_position_mm", fmt::format("'{}' is not a number", *meta));
+        px = *v;
+        px_source = "metadata of the cold file";
+      }
+    }
+
+    if (thermal_.empty()) {
+      Warn("no heated or ambient state was given: geometric-only model (no thermal part)");
+    }
+    // Temperatures: every thermal state needs some, and then the cold state too (the baseline).
+    for (auto* s : thermal_) {
+      if (s->measurement.sensor_names.empty())
+        throw InputError(s->path, 0, "t_<sensor>_c",
+                         fmt::format("state '{}' has no temperature columns; a heated or ambient state needs the "
+                                     "temperatures it was measured at",
+                                     StateName(*s)));
+      const auto targets = s->measurement.Targets();
+      if (targets.size() < 2)
+        throw InputError(s->path, FirstLine(s->measurement), "target_mm",
+                         fmt::format("state '{}': all points are at the same target{}: the thermal slope tanβ needs "
+                                     "at least 2 distinct targets (degenerate positions)",
+                                     StateName(*s), targets.empty() ? "" : " " + FormatShortest(targets.front()) + " mm"));
+    }
+    if (!thermal_.empty() && cold_.sensor_names.empty())
+      throw InputError(cold_.source, 0, "t_<sensor>_c",
+                       "the cold state has no temperature columns, so there is no baseline for the temperature rises "
+                       "of the heated states");
+
+    // Candidates: sensors in the cold state and in every thermal state.
+    std::vector<std::string> candidates;
+    const bool above_ambient = !amb.empty();
+    for (const auto& n : cold_.sensor_names) {
+      if (above_ambient && n == amb) continue;
+      std::vector<std::string> missing;
+      for (auto* s : thermal_)
+        if (!s->measurement.SensorIndex(n)) missing.push_back(s->path);
+      if (!missing.empty()) {
+        Warn(fmt::format("sensor '{}' is missing in {}: not a key-sensor candidate", n, fmt::join(missing, ", ")));
+        continue;
+      }
+      if (!std::isfinite(MeanOfSensor(cold_, n))) {
+        Warn(fmt::format("sensor '{}' has no reading in the cold state: not a key-sensor candidate", n));
+        continue;
+      }
+      candidates.push_back(n);
+    }
+    for (auto* s : thermal_)
+      for (const auto& n : s->measurement.sensor_names)
+        if (!cold_.SensorIndex(n) && !(above_ambient && n == amb))
+          Warn(fmt::format("sensor '{}' of '{}' is missing in the cold state: not a key-sensor candidate", n, s->path));
+    // Forced keys must be everywhere.
+    for (const auto& k : o_.key_sensors) {
+      for (const measure::Measurement* m : AllMeasurements())
+        if (!m->SensorIndex(k))
+          throw InputError(m->source, 0, fmt::format("t_{}_c", k),
+                           fmt::format("key sensor '{}' (asked for in the options) is missing in this file", k));
+      if (k == amb) throw InputError(cold_.source, 0, "key_sensors", fmt::format("'{}' is the ambient sensor", k));
+    }
+    if (!o_.key_sensors.empty()) candidates = o_.key_sensors;
+    sum.candidate_sensors = candidates;
+
+    std::vector<double> base;
+    for (const auto& n : candidates) base.push_back(MeanOfSensor(cold_, n));
+    const double amb_base = amb.empty() ? kNaN : MeanOfSensor(cold_, amb);
+    if (!amb.empty() && !std::isfinite(amb_base))
+      throw InputError(cold_.source, 0, fmt::format("t_{}_c", amb), "the ambient sensor has no reading in the cold state");
+
+    // Thermal points.
+    std::vector<ThermalPoint> pts;
+    for (std::size_t si = 0; si < thermal_.size(); ++si) {
+      const auto& m = thermal_[si]->measurement;
+      std::vector<std::optional<std::size_t>> idx;
+      for (const auto& n : candidates) idx.push_back(m.SensorIndex(n));
+      const auto amb_idx = amb.empty() ? std::nullopt : m.SensorIndex(amb);
+      for (const auto& p : m.points) {
+        ThermalPoint t;
+        t.state = si;
+        t.dir = static_cast<int>(DirectionIndex(p.direction));
+        t.x = p.target_mm;
+        t.r = p.deviation_um - model_.directions[t.dir].geometric.Evaluate(p.target_mm);
+        double amb_shift = 0;
+        if (amb_idx) {
+          t.amb_rise = p.temperatures_c[*amb_idx] - amb_base;
+          amb_shift = std::isfinite(t.amb_rise) ? t.amb_rise : kNaN;
+        }
+        for (std::size_t j = 0; j < candidates.size(); ++j)
+          t.rise.push_back(idx[j] ? p.temperatures_c[*idx[j]] - base[j] - amb_shift : kNaN);
+        pts.push_back(std::move(t));
+      }
+    }
+
+    // Px: the common pivot of the residual lines r_s(x) = a + b·x (both directions, every state).
+    if (std::isnan(px)) {
+      double num = 0, den = 0;
+      double max_abs_b = 0;
+      for (std::size_t si = 0; si < thermal_.size(); ++si)
+        for (int dir = 0; dir < 2; ++dir) {
+          double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
+          for (const auto& p : pts)
+            if (p.state == si && p.dir == dir) sx += p.x, sy += p.r, sxx += p.x * p.x, sxy += p.x * p.r, n += 1;
+          const double var = sxx - sx * sx / std::max(n, 1.0);
+          if (n < 2 || var <= 0) continue;
+          const double b = (sxy - sx * sy / n) / var;
+          const double a = (sy - b * sx) / n;
+          num += a * b;
+          den += b * b;
+          max_abs_b = std::max(max_abs_b, std::abs(b));
+        }
+      const double span = std::max(std::abs(cold_.Targets().back() - cold_.Targets().front()), 1e-9);
+      // A fan needs slopes: below 0.1 µm over the whole travel there is no pivot to find.
+      if (den > 0 && max_abs_b * span > 0.1) {
+        px = -num / den;
+        px_source = fmt::format("fitted: common pivot of {} residual lines (−Σ a·b / Σ b²)", 2 * thermal_.size());
+        const auto t = cold_.Targets();
+        if (px < t.front() - span || px > t.back() + span)
+          Warn(fmt::format("the fitted reference point Px = {:.1f} mm lies more than one travel outside the measured "
+                           "range [{}, {}] mm: the residual fans hardly pivot; consider giving --reference-mm",
+                           px, FormatShortest(t.front()), FormatShortest(t.back())));
+      } else {
+        const auto t = cold_.Targets();
+        px = std::abs(t.front()) <= std::abs(t.back()) ? t.front() : t.back();
+        px_source = thermal_.empty() ? "default: the measured end nearer machine zero (no heated state to fit it)"
+                                     : "default: the measured end nearer machine zero (the heated states show no "
+                                       "slope to pivot on)";
+        if (!thermal_.empty()) Warn("the heated states show no thermal slope; Px set to the measured end nearer 0");
+      }
+    }
+    model_.reference_position_mm = px;
+    sum.reference_position_mm = px;
+    sum.reference_source = px_source;
+    for (auto& p : pts) p.lever_mm = px - p.x;
+
+    // Stage-1 diagnostics: each state's own slope about Px.
+    stage1_.assign(thermal_.size(), {kNaN, kNaN});
+    for (std::size_t si = 0; si < thermal_.size(); ++si)
+      for (int dir = 0; dir < 2; ++dir) {
+        double num = 0, den = 0;
+        for (const auto& p : pts)
+          if (p.state == si && p.dir == dir) num += p.r * p.lever_mm, den += p.lever_mm * p.lever_mm;
+        if (den > 0) stage1_[si][dir] = num / den;
+      }
+
+    // ρ and the ambient sensor.
+    std::set<std::size_t> off_states;
+    for (std::size_t si = 0; si < thermal_.size(); ++si)
+      if (thermal_[si]->coolant == CoolantState::kOff) off_states.insert(si);
+    double amb_lo = 0, amb_hi = 0;  // the cold state is the 0 rise
+    for (const auto& p : pts)
+      if (off_states.count(p.state) && std::isfinite(p.amb_rise))
+        amb_lo = std::min(amb_lo, p.amb_rise), amb_hi = std::max(amb_hi, p.amb_rise);
+    bool fit_rho = false;
+    double rho = 0;
+    std::string rho_source;
+    if (amb.empty()) {
+      rho_source = "no ambient sensor: no ambient adjustment";
+    } else if (!std::isnan(o_.rho_um_per_mm_per_c)) {
+      rho = o_.rho_um_per_mm_per_c;
+      rho_source = "option";
+    } else if (amb_hi - amb_lo >= o_.min_ambient_range_c && off_states.size() >= 2) {
+      fit_rho = true;
+      rho_source = fmt::format("fitted (room temperature varied by {:.2f} °C over the states)", amb_hi - amb_lo);
+    } else if (auto cte = cold_.Meta("cte_um_per_m_c")) {
+      auto v = ParseDouble(*cte);
+      if (!v || !std::isfinite(*v))
+        throw InputError(cold_.source, 0, "cte_um_per_m_c", fmt::format("'{}' is not a number", *cte));
+      rho = -*v / 1000.0;
+      rho_source = fmt::format("−cte/1000 from the cold file's cte_um_per_m_c = {} (the screw grows away from Px)", *cte);
+    } else {
+      rho_source = "not determined (room temperature constant within the states, no cte metadata): ρ = 0";
+      Warn(fmt::format("ρ could not be determined: the room temperature varied by only {:.2f} °C and the cold file "
+                       "has no '# cte_um_per_m_c:'; ρ = 0",
+                       amb_hi - amb_lo));
+    }
+    if (!amb.empty()) {
+      model_.ambient_sensor = amb;
+      model_.ambient_baseline_c = amb_base;
+      model_.key_rise_above_ambient = true;
+    }
+
+    // Gains.
+    const std::size_t n_off = off_states.size();
+    std::vector<std::size_t> keys;
+    bool thermal = !thermal_.empty();
+    if (thermal && n_off < static_cast<std::size_t>(o_.min_thermal_states)) {
+      Warn(fmt::format("only {} off-coolant heated/ambient state(s); the thermal part needs at least {}: "
+                       "geometric-only model",
+                       n_off, o_.min_thermal_states));
+      thermal = false;
+    }
+    if (thermal && candidates.empty()) {
+      Warn("no temperature sensor is present in every state: geometric-only model");
+      thermal = false;
+    }
+    // ρ is informed only by the states at another room temperature, so leaving
+    // such a state out would leave ρ undetermined: for the selection ρ is held
+    // at a preliminary estimate (all candidates + ρ fitted jointly), then
+    // refitted jointly with the chosen keys.
+    auto joint_rho = [&](const std::vector<std::size_t>& with_keys) {
+      double rs = 0;
+      int rn = 0;
+      for (int dir = 0; dir < 2; ++dir) {
+        auto g = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
+                            with_keys, true, 0);
+        if (g.ok) rs += g.rho, ++rn;
+      }
+      return rn ? rs / rn : 0.0;  // one ρ per axis (one screw): the mean of the two directions' estimates
+    };
+    if (thermal && fit_rho) {
+      std::vector<std::size_t> all_keys;
+      for (std::size_t j = 0; j < candidates.size(); ++j) all_keys.push_back(j);
+      rho = joint_rho(all_keys);
+    }
+    if (thermal) {
+      sum.no_thermal_cv_rms_um = CrossValidate(pts, off_states, {}, false, rho);
+      sum.selection_steps.push_back({{}, sum.no_thermal_cv_rms_um, fit_rho ? "no key sensor (ρ term only)" : "no thermal term"});
+      if (!o_.key_sensors.empty()) {
+        for (std::size_t j = 0; j < candidates.size(); ++j) keys.push_back(j);
+        const double cv = CrossValidate(pts, off_states, keys, false, rho);
+        sum.selection_steps.push_back({candidates, cv, "given in the options"});
+        sum.key_selection_reason = "key sensors given in the options, not selected from the data";
+      } else {
+        SelectKeys(pts, off_states, candidates, rho, keys, sum);
+      }
+      if (keys.empty()) {
+        Warn("no temperature sensor lowered the cross-validated error: thermal part omitted (geometric-only model)");
+        thermal = false;
+      }
+    }
+    if (thermal) {
+      GainFit fits[2];
+      if (fit_rho) rho = joint_rho(keys);
+      for (int dir = 0; dir < 2; ++dir) {
+        fits[dir] = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
+                               keys, false, rho);
+        if (!fits[dir].ok)
+          throw InputError(thermal_.front()->path, 0, "t_<sensor>_c",
+                           "the thermal gains cannot be determined from these states (too few usable points)");
+      }
+      sum.thermal_cv_rms_um = CrossValidate(pts, off_states, keys, false, rho);
+      sum.thermal_fitted = true;
+      for (auto k : keys) {
+        model_.key_sensors.push_back(candidates[k]);
+        model_.baseline_temp_c.push_back(base[k]);
+      }
+      sum.key_sensors = model_.key_sensors;
+      for (int dir = 0; dir < 2; ++dir)
+        model_.directions[dir].thermal.push_back({CoolantState::kOff, fits[dir].k, 0});
+      FitCoolant(pts, keys, rho, fits, sum);
+    } else if (!thermal_.empty() && sum.key_selection_reason.empty()) {
+      sum.key_selection_reason = "no thermal part fitted";
+    }
+    model_.rho_um_per_mm_per_c = rho;
+    sum.rho_um_per_mm_per_c = rho;
+    sum.rho_source = rho_source;
+    if (thermal_.empty()) sum.key_selection_reason = "no heated states: nothing to select from";
+  }
+
+  void SelectKeys(const std::vector<ThermalPoint>& pts, const std::set<std::size_t>& off_states,
+                  const std::vector<std::string>& candidates, double rho, std::vector<std::size_t>& keys,
+                  AxisFitSummary& sum) {
+    const bool fit_rho = false;  // ρ is held fixed during the selection (see PrepareThermal)
+    double cv_cur = sum.no_thermal_cv_rms_um;
+    std::vector<std::string> reasons;
+    const std::size_t n_states = off_states.size();
+    std::set<std::string> noted_collinear;
+    // LOSO CV trains on n − 1 states: never more gains (+ ρ) than that.
+    const std::size_t max_params = std::max<std::size_t>(1, n_states - 1);
+    while (static_cast<int>(keys.size()) < o_.max_key_sensors && keys.size() + 1 + (fit_rho ? 1 : 0) <= max_params) {
+      std::size_t best = candidates.size();
+      double best_cv = std::numeric_limits<double>::infinity();
+      for (std::size_t c = 0; c < candidates.size(); ++c) {
+        if (std::find(keys.begin(), keys.end(), c) != keys.end()) continue;
+        bool collinear = false;
+        for (auto k : keys) {
+          const double r = Correlation(pts, off_states, c, k);
+          if (std::abs(r) > o_.max_key_correlation) {
+            collinear = true;
+            if (noted_collinear.insert(candidates[c]).second)
+              reasons.push_back(fmt::format("{} skipped: its rise correlates r = {:.3f} with {} (collinear)",
+                                            candidates[c], r, candidates[k]));
+          }
+        }
+        if (collinear) continue;
+        auto trial = keys;
+        trial.push_back(c);
+        const double cv = CrossValidate(pts, off_states, trial, fit_rho, rho);
+        if (cv < best_cv) best_cv = cv, best = c;
+      }
+      if (best == candidates.size()) break;
+      auto trial = keys;
+      trial.push_back(best);
+      std::vector<std::string> names;
+      for (auto k : trial) names.push_back(candidates[k]);
+      if (!(best_cv < cv_cur * (1 - o_.min_cv_improvement))) {
+        reasons.push_back(fmt::format("stopped: the best next sensor, {}, would change the CV RMS {:.3f} → {:.3f} µm "
+                                      "(less than {:.0f} % better)",
+                                      candidates[best], cv_cur, best_cv, 100 * o_.min_cv_improvement));
+        sum.selection_steps.push_back({names, best_cv, "rejected"});
+        break;
+      }
+      reasons.push_back(fmt::format("{}: CV RMS {:.3f} → {:.3f} µm", candidates[best], cv_cur, best_cv));
+      sum.selection_steps.push_back({names, best_cv, "added " + candidates[best]});
+      keys.push_back(best);
+      cv_cur = best_cv;
+    }
+    if (static_cast<int>(keys.size()) == o_.max_key_sensors) reasons.push_back("stopped at max_key_sensors");
+    else if (keys.size() + 1 + (fit_rho ? 1 : 0) > max_params && keys.size() < candidates.size())
+      reasons.push_back(fmt::format("stopped: {} states allow at most {} gain(s)", n_states, keys.size()));
+    sum.key_selection_reason = fmt::format("forward stepwise selection by leave-one-state-out CV over {} states "
+                                           "from candidates {}: {}",
+                                           n_states, JoinNames(candidates), fmt::join(reasons, "; "));
+  }
+
+  void FitCoolant(const std::vector<ThermalPoint>& pts, const std::vector<std::size_t>& keys, double rho,
+                  const GainFit* off_fits, AxisFitSummary& sum) {
+    std::map<CoolantState, std::set<std::size_t>> by_coolant;
+    for (std::size_t si = 0; si < thermal_.size(); ++si)
+      if (thermal_[si]->coolant != CoolantState::kOff) by_coolant[thermal_[si]->coolant].insert(si);
+    for (const auto& [coolant, states] : by_coolant) {
+      const bool full = states.size() >= keys.size() + 1 && !keys.empty();
+      for (int dir = 0; dir < 2; ++dir) {
+        ThermalGains tg;
+        tg.coolant = coolant;
+        if (full) {
+          auto g = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && states.count(p.state); }, keys,
+                              false, rho);
+          tg.k_um_per_mm_per_c = g.ok ? g.k : off_fits[dir].k;
+        } else {
+          // Fallback: the off-coolant gains scaled by one factor fitted on this coolant's states.
+          double num = 0, den = 0;
+          for (const auto& p : pts) {
+            if (p.dir != dir || !states.count(p.state) || !RowUsable(p, keys, false)) continue;
+            GainFit no_rho = off_fits[dir];
+            no_rho.rho = 0;
+            const double pred = PredictThermal(p, keys, no_rho);
+            const double y = p.r - (std::isfinite(p.amb_rise) ? rho * p.amb_rise * p.lever_mm : 0);
+            num += y * pred, den += pred * pred;
+          }
+          const double f = den > 0 ? num / den : 1;
+          for (double k : off_fits[dir].k) tg.k_um_per_mm_per_c.push_back(f * k);
+          if (dir == 0)
+            sum.coolant_notes.push_back(fmt::format(
+                "coolant {}: {} state(s) < keys + 1 = {}: off-coolant gains × one fitted factor ({:.3f} forward)",
+                CoolantStateName(coolant), states.size(), keys.size() + 1, f));
+          else
+            sum.coolant_notes.back() += fmt::format(", {:.3f} reverse", f);
+        }
+        model_.directions[dir].thermal.push_back(std::move(tg));
+      }
+      if (full)
+        sum.coolant_notes.push_back(fmt::format("coolant {}: gains fitted on its own {} state(s)",
+                                                CoolantStateName(coolant), states.size()));
+    }
+  }
+
+  std::vector<const measure::Measurement*> AllMeasurements() const {
+    std::vector<const measure::Measurement*> out;
+    for (auto* s : all_) out.push_back(&s->measurement);
+    return out;
+  }
+
+  void ComputeStateStats(AxisFitSummary& sum) {
+    auto stats_for = [&](const FitState& s, bool used, const std::array<double, 2>& tb) {
+      StateFitStats st;
+      st.label = s.label.empty() ? "(unlabelled)" : s.label;
+      st.path = s.path;
+      st.kind = s.kind == StateKind::kUnknown ? StateKind::kHeated : s.kind;
+      st.coolant = s.coolant;
+      st.used_for_thermal = used;
+      st.tan_beta_um_per_mm = tb;
+      const auto& m = s.measurement;
+      st.points = m.points.size();
+      for (std::size_t k = 0; k < model_.key_sensors.size(); ++k) {
+        const double mean = MeanOfSensor(m, model_.key_sensors[k]);
+        double shift = 0;
+        if (model_.key_rise_above_ambient) shift = MeanOfSensor(m, model_.ambient_sensor) - model_.ambient_baseline_c;
+        st.mean_key_rise_c.push_back(mean - model_.baseline_temp_c[k] - shift);
+      }
+      if (!model_.ambient_sensor.empty())
+        st.mean_ambient_rise_c = MeanOfSensor(m, model_.ambient_sensor) - model_.ambient_baseline_c;
+      double su = 0, sg = 0, sr = 0;
+      for (const auto& p : m.points) {
+        const auto t = TemperaturesForPoint(model_, m, p);
+        const auto pr = Predict(model_, p.target_mm, p.direction, {t.key_temp_c, t.ambient_c, s.coolant, true});
+        const double res = p.deviation_um - pr.total_um;
+        su += p.deviation_um * p.deviation_um;
+        sg += std::pow(p.deviation_um - pr.geometric_um, 2);
+        sr += res * res;
+        st.uncorrected_max_um = std::max(st.uncorrected_max_um, std::abs(p.deviation_um));
+        st.residual_max_um = std::max(st.residual_max_um, std::abs(res));
+      }
+      const double n = std::max<double>(1, static_cast<double>(m.points.size()));
+      st.uncorrected_rms_um = std::sqrt(su / n);
+      st.geometric_only_rms_um = std::sqrt(sg / n);
+      st.residual_rms_um = std::sqrt(sr / n);
+      return st;
+    };
+    for (auto* c : cold_states_) {
+      auto st = stats_for(*c, false, {kNaN, kNaN});
+      st.kind = StateKind::kCold;
+      sum.states.push_back(std::move(st));
+    }
+    for (std::size_t si = 0; si < thermal_.size(); ++si)
+      sum.states.push_back(stats_for(*thermal_[si], sum.thermal_fitted, stage1_.empty() ? std::array<double, 2>{kNaN, kNaN} : stage1_[si]));
+  }
+
+  std::string axis_name_;
+  std::vector<const FitState*> all_;
+  const FitOptions& o_;
+  std::vector<std::string>& warnings_;
+  std::vector<const FitState*> cold_states_;
+  std::vector<const FitState*> thermal_;
+  std::vector<std::array<double, 2>> stage1_;
+  measure::Measurement cold_;
+  AxisModel model_;
+};
+
+}  // namespace
+
+PointTemperatures TemperaturesForPoint(const AxisModel& axis, const measure::Measurement& m,
+                                       const measure::MeasurementPoint& p) {
+  PointTemperatures t;
+  for (const auto& k : axis.key_sensors) {
+    auto idx = m.SensorIndex(k);
+    t.key_temp_c.push_back(idx && *idx < p.temperatures_c.size() ? p.temperatures_c[*idx] : kNaN);
+  }
+  if (!axis.ambient_sensor.empty())
+    if (auto idx = m.SensorIndex(axis.ambient_sensor); idx && *idx < p.temperatures_c.size())
+      t.ambient_c = p.temperatures_c[*idx];
+  return t;
+}
+
+measure::Measurement PredictedMeasurement(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant) {
+  measure::Measurement out = m;
+  for (auto& p : out.points) {
+    const auto t = TemperaturesForPoint(axis, m, p);
+    p.deviation_um = Predict(axis, p.target_mm, p.direction, {t.key_temp_c, t.ambient_c, coolant, true}).total_um;
+  }
+  return out;
+}
+
+measure::Measurement PredictionResidual(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant) {
+  measure::Measurement out = PredictedMeasurement(axis, m, coolant);
+  for (std::size_t i = 0; i < out.points.size(); ++i)
+    out.points[i].deviation_um = m.points[i].deviation_um - out.points[i].deviation_um;
+  return out;
+}
+
+FitResult FitCompositeModel(const std::vector<FitState>& states, const FitOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument("invalid fit options: " + why);
+  if (states.empty()) throw InputError("(fit input)", "no measurement files were given");
+  // Group by axis, in the order axes first appear.
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<const FitState*>> by_axis;
+  for (const auto& s : states) {
+    std::string axis = s.axis.empty() ? options.default_axis : s.axis;
+    if (axis.empty())
+      throw InputError(s.path, 0, "axis", "no '# axis:' metadata line; add one (e.g. '# axis: X') or pass --axis");
+    if (!by_axis.count(axis)) order.push_back(axis);
+    by_axis[axis].push_back(&s);
+  }
+  FitResult res;
+  res.model.created_utc = UtcNow();
+  res.model.generator = "trueaxis 0.1.0 fit";
+  for (const auto& s : states) {
+    if (res.model.machine.empty())
+      if (auto mm = s.measurement.Meta("machine")) res.model.machine = *mm;
+    res.model.sources.push_back({s.path, s.sha256, s.label.empty() ? std::string(StateKindName(s.kind)) : s.label});
+  }
+  for (const auto& axis : order) {
+    AxisFitSummary sum;
+    AxisFitter fitter(axis, by_axis[axis], options, res.summary.warnings);
+    res.model.axes.push_back(fitter.Fit(sum));
+    res.summary.axes.push_back(std::move(sum));
+  }
+  res.model.fit_summary = res.summary.ToJson();
+  return res;
+}
+
+}  // namespace trueaxis::model

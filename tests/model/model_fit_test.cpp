@@ -1,0 +1,293 @@
+#include "trueaxis/model/model_fit.hpp"
+
+#include <cmath>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "synthetic_machine.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/model/model_json.hpp"
+#include "trueaxis/model/polynomial_fit.hpp"
+
+namespace trueaxis::model {
+namespace {
+
+using testing::SyntheticMachine;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+
+TEST(PolynomialFit, RecoversExactCoefficientsWithQr) {
+  std::vector<double> u, y;
+  for (int i = 0; i <= 10; ++i) {
+    const double v = -1 + 0.2 * i;
+    u.push_back(v);
+    y.push_back(1 - 2 * v + 0.5 * v * v * v);
+  }
+  auto c = FitPolynomial(u, y, 3);
+  ASSERT_EQ(c.size(), 4u);
+  EXPECT_NEAR(c[0], 1, 1e-12);
+  EXPECT_NEAR(c[1], -2, 1e-12);
+  EXPECT_NEAR(c[2], 0, 1e-12);
+  EXPECT_NEAR(c[3], 0.5, 1e-12);
+}
+
+TEST(PolynomialFit, DegreeSelectionPicksTheTrueDegreeNotMore) {
+  // Quartic truth with noise well below its smallest term: degree 4 chosen, not 3 (misses) or 6 (overfits).
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0, 0.05);
+  std::vector<double> x, y;
+  for (int i = 0; i <= 20; ++i) {
+    const double u = -1 + 0.1 * i;
+    x.push_back(100 + 100 * u);
+    y.push_back(2 + 3 * u - 4 * u * u + u * u * u + 2.5 * u * u * u * u + noise(rng));
+  }
+  auto sel = SelectPolynomialDegree(x, y, 100, 100, 8, 0.05 / std::sqrt(5.0));
+  EXPECT_EQ(sel.degree, 4) << sel.rule;
+  EXPECT_EQ(sel.candidates.size(), 8u);
+  EXPECT_THAT(sel.rule, HasSubstr("degree 4"));
+}
+
+TEST(PolynomialFit, TwoTargetsGiveALine) {
+  std::vector<double> x{0, 100}, y{1, 3};
+  auto sel = SelectPolynomialDegree(x, y, 50, 50, 8, NAN);
+  EXPECT_EQ(sel.degree, 1);
+}
+
+TEST(ModelFit, RecoversGeometricPartPerDirection) {
+  SyntheticMachine sm;
+  auto states = sm.MakeStates({{"cold", 0, 0, 0, 0}});
+  auto res = FitCompositeModel(states, {});
+  ASSERT_EQ(res.model.axes.size(), 1u);
+  const auto& a = res.model.axes[0];
+  for (int d = 0; d < 2; ++d) {
+    const auto& g = a.directions[d].geometric;
+    EXPECT_EQ(res.summary.axes[0].directions[d].degree.degree, 3) << res.summary.FullReport();
+    const auto& truth = d == 0 ? sm.fwd_coef : sm.rev_coef;
+    ASSERT_EQ(g.coefficients_um.size(), 4u);
+    for (int j = 0; j < 4; ++j) EXPECT_NEAR(g.coefficients_um[j], truth[j], 0.05) << "dir " << d << " c" << j;
+  }
+  // Forward and reverse differ by the reversal: they were fitted apart.
+  EXPECT_NEAR(a.For(Direction::kReverse).geometric.Evaluate(250) - a.For(Direction::kForward).geometric.Evaluate(250),
+              3.0, 0.1);
+  EXPECT_FALSE(res.summary.axes[0].thermal_fitted);
+  EXPECT_THAT(res.summary.warnings, ::testing::Contains(HasSubstr("geometric-only")));
+}
+
+TEST(ModelFit, TableAlternativeHoldsTheColdMeans) {
+  SyntheticMachine sm;
+  sm.noise_um = 0;
+  auto states = sm.MakeStates({{"cold", 0, 0, 0, 0}});
+  FitOptions o;
+  o.geometric = FitOptions::Geometric::kTable;
+  auto res = FitCompositeModel(states, o);
+  const auto& g = res.model.axes[0].directions[0].geometric;
+  ASSERT_EQ(g.kind, GeometricError::Kind::kTable);
+  ASSERT_EQ(g.table_position_mm.size(), 21u);
+  for (std::size_t i = 0; i < g.table_position_mm.size(); ++i)
+    EXPECT_NEAR(g.table_error_um[i], sm.Geometric(g.table_position_mm[i], true), 1e-9);
+}
+
+TEST(ModelFit, SelectsNutAndBearingRecoversGainsPxAndRho) {
+  SyntheticMachine sm;
+  sm.px_mm = 40;  // pivot not at a measured target: must be fitted
+  auto res = FitCompositeModel(sm.MakeStates(sm.DefaultStates()), {});
+  const auto& a = res.model.axes[0];
+  const auto& s = res.summary.axes[0];
+  ASSERT_TRUE(s.thermal_fitted) << res.summary.FullReport();
+  EXPECT_THAT(a.key_sensors, ::testing::UnorderedElementsAre("nut", "bearing")) << res.summary.FullReport();
+  EXPECT_EQ(a.ambient_sensor, "ambient");
+  EXPECT_TRUE(a.key_rise_above_ambient);
+  EXPECT_NEAR(a.reference_position_mm, 40, 5) << s.reference_source;
+  EXPECT_THAT(s.reference_source, HasSubstr("fitted"));
+  EXPECT_NEAR(a.rho_um_per_mm_per_c, sm.rho, 0.001) << s.rho_source;
+  for (int d = 0; d < 2; ++d) {
+    const auto* g = a.directions[d].GainsFor(CoolantState::kOff);
+    ASSERT_NE(g, nullptr);
+    for (std::size_t k = 0; k < a.key_sensors.size(); ++k) {
+      const double truth = a.key_sensors[k] == "nut" ? sm.k_nut : sm.k_bearing;
+      EXPECT_NEAR(g->k_um_per_mm_per_c[k], truth, 0.0006) << a.key_sensors[k] << " dir " << d;
+    }
+  }
+  // The motor sensor was a candidate and was rejected.
+  EXPECT_THAT(s.candidate_sensors, ::testing::Contains("motor"));
+  EXPECT_THAT(s.key_selection_reason, HasSubstr("stopped"));
+  // The thermal term explains the heated states down to about the noise.
+  EXPECT_LT(s.thermal_cv_rms_um, 0.3);
+  EXPECT_GT(s.no_thermal_cv_rms_um, 3.0);
+  for (const auto& st : s.states) EXPECT_LT(st.residual_rms_um, 0.3) << st.label;
+}
+
+TEST(ModelFit, CollinearSensorIsNotChosenTwice) {
+  // bearing rises exactly with nut (×0.5): only one of them can carry information.
+  SyntheticMachine sm;
+  std::vector<SyntheticMachine::State> st{{"cold", 0, 0, 0, 0},
+                                          {"h1", 2, 1, 4, 0},
+                                          {"h2", 4, 2, 1, 0},
+                                          {"h3", 6, 3, 6, 0},
+                                          {"h4", 8, 4, 2, 0}};
+  auto res = FitCompositeModel(sm.MakeStates(st), {});
+  const auto& s = res.summary.axes[0];
+  EXPECT_EQ(s.key_sensors.size(), 1u) << res.summary.FullReport();
+  EXPECT_THAT(s.key_selection_reason, HasSubstr("collinear"));
+  EXPECT_LT(s.thermal_cv_rms_um, 0.3);
+}
+
+TEST(ModelFit, CoolantStatesGetTheirOwnGainsLookUpEntry) {
+  SyntheticMachine sm;
+  auto list = sm.DefaultStates();
+  list.push_back({"coolant-flood-1", 4.0, 2.0, 3.0, 0, "flood"});
+  auto res = FitCompositeModel(sm.MakeStates(list), {});
+  const auto& a = res.model.axes[0];
+  const auto* off = a.directions[0].GainsFor(CoolantState::kOff);
+  const auto* flood = a.directions[0].GainsFor(CoolantState::kFlood);
+  ASSERT_NE(flood, off);
+  ASSERT_EQ(flood->coolant, CoolantState::kFlood);
+  for (std::size_t k = 0; k < a.key_sensors.size(); ++k)
+    EXPECT_NEAR(flood->k_um_per_mm_per_c[k] / off->k_um_per_mm_per_c[k], sm.k_nut_flood_factor, 0.05);
+  ASSERT_FALSE(res.summary.axes[0].coolant_notes.empty());
+  EXPECT_THAT(res.summary.axes[0].coolant_notes[0], HasSubstr("factor"));
+}
+
+TEST(ModelFit, TooFewHeatedStatesGiveGeometricOnlyWithWarning) {
+  SyntheticMachine sm;
+  auto res = FitCompositeModel(sm.MakeStates({{"cold", 0, 0, 0, 0}, {"heated-1", 3, 1, 2, 0}}), {});
+  EXPECT_FALSE(res.summary.axes[0].thermal_fitted);
+  EXPECT_TRUE(res.model.axes[0].directions[0].thermal.empty());
+  EXPECT_THAT(res.summary.warnings, ::testing::Contains(HasSubstr("needs at least 2")));
+  EXPECT_THAT(res.summary.BriefReport(), HasSubstr("geometric only"));
+}
+
+TEST(ModelFit, SensorMissingInOneFileIsExcludedWithWarning) {
+  SyntheticMachine sm;
+  std::mt19937 rng(1);
+  std::vector<FitState> states;
+  for (const auto& s : sm.DefaultStates())
+    states.push_back(MakeFitState(sm.Make(s, rng, /*with_motor=*/s.label != "heated-2")));
+  auto res = FitCompositeModel(states, {});
+  EXPECT_THAT(res.summary.axes[0].candidate_sensors, ::testing::Not(::testing::Contains("motor")));
+  EXPECT_THAT(res.summary.warnings, ::testing::Contains(HasSubstr("'motor' is missing in heated-2.csv")));
+  EXPECT_TRUE(res.summary.axes[0].thermal_fitted);
+
+  FitOptions forced;
+  forced.key_sensors = {"nut", "motor"};
+  try {
+    FitCompositeModel(states, forced);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), "heated-2.csv");
+    EXPECT_EQ(e.field(), "t_motor_c");
+  }
+}
+
+TEST(ModelFit, HeatedStateWithoutTemperaturesIsAnInputError) {
+  SyntheticMachine sm;
+  std::mt19937 rng(1);
+  std::vector<FitState> states;
+  for (const auto& s : sm.DefaultStates()) states.push_back(MakeFitState(sm.Make(s, rng, true, s.label != "heated-3")));
+  try {
+    FitCompositeModel(states, {});
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), "heated-3.csv");
+    EXPECT_THAT(e.message(), HasSubstr("no temperature"));
+  }
+}
+
+TEST(ModelFit, DegeneratePositionsAreAnInputErrorNamingTheLine) {
+  SyntheticMachine sm;
+  std::mt19937 rng(1);
+  auto m = sm.Make({"cold", 0, 0, 0, 0}, rng);
+  for (auto& p : m.points) p.target_mm = 100;
+  try {
+    FitCompositeModel({MakeFitState(m)}, {});
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "target_mm");
+    EXPECT_EQ(e.line(), m.points.front().source_line);
+    EXPECT_THAT(e.message(), HasSubstr("same target"));
+  }
+}
+
+TEST(ModelFit, MissingAxisMetadataIsAnInputErrorUnlessDefaulted) {
+  SyntheticMachine sm;
+  std::mt19937 rng(1);
+  auto m = sm.Make({"cold", 0, 0, 0, 0}, rng);
+  m.metadata = {{"state", "cold"}};
+  EXPECT_THROW(FitCompositeModel({MakeFitState(m)}, {}), InputError);
+  FitOptions o;
+  o.default_axis = "Y";
+  EXPECT_EQ(FitCompositeModel({MakeFitState(m)}, o).model.axes[0].axis, "Y");
+}
+
+TEST(ModelFit, UnlabelledFilesTakeTheColdestAsColdAndSayWhy) {
+  SyntheticMachine sm;
+  auto states = sm.MakeStates(sm.DefaultStates());
+  for (auto& s : states) s.kind = StateKind::kUnknown, s.label.clear();
+  std::swap(states[0], states[3]);
+  auto res = FitCompositeModel(states, {});
+  EXPECT_EQ(res.summary.axes[0].cold_source, "cold.csv");
+  EXPECT_THAT(res.summary.warnings, ::testing::Contains(HasSubstr("lowest mean temperature")));
+}
+
+TEST(ModelFit, NoHeatedStateAndNoCteGivesRhoFromCteMetadataWhenPresent) {
+  SyntheticMachine sm;
+  std::mt19937 rng(1);
+  auto m = sm.Make({"cold", 0, 0, 0, 0}, rng);
+  m.metadata.push_back({"cte_um_per_m_c", "11.5"});
+  auto res = FitCompositeModel({MakeFitState(m)}, {});
+  EXPECT_DOUBLE_EQ(res.model.axes[0].rho_um_per_mm_per_c, -0.0115);
+  EXPECT_THAT(res.summary.axes[0].rho_source, HasSubstr("cte"));
+}
+
+TEST(ModelFit, PredictionResidualIsMeasuredMinusPredicted) {
+  SyntheticMachine sm;
+  auto states = sm.MakeStates(sm.DefaultStates());
+  auto res = FitCompositeModel(states, {});
+  // A held-out day: other seed, other rises.
+  SyntheticMachine day2 = sm;
+  day2.seed = 99;
+  auto held = day2.MakeStates({{"heated-x", 5.0, 2.2, 3.0, 1.5}})[0];
+  auto resid = PredictionResidual(res.model.axes[0], held.measurement, CoolantState::kOff);
+  double ss_raw = 0, ss_res = 0;
+  for (std::size_t i = 0; i < resid.points.size(); ++i) {
+    ss_raw += std::pow(held.measurement.points[i].deviation_um, 2);
+    ss_res += std::pow(resid.points[i].deviation_um, 2);
+  }
+  const double n = static_cast<double>(resid.points.size());
+  EXPECT_LT(std::sqrt(ss_res / n), 0.3);
+  EXPECT_GT(std::sqrt(ss_raw / n), 3.0);
+}
+
+TEST(ModelFit, SummaryAndModelJsonRoundTrip) {
+  SyntheticMachine sm;
+  auto res = FitCompositeModel(sm.MakeStates(sm.DefaultStates()), {});
+  auto again = ModelFromJson(ModelToJson(res.model), "mem");
+  const auto& a = again.axes[0];
+  EXPECT_TRUE(a.key_rise_above_ambient);
+  EXPECT_EQ(a.key_sensors, res.model.axes[0].key_sensors);
+  EXPECT_EQ(again.sources.size(), 6u);
+  EXPECT_EQ(again.fit_summary["axes"][0]["key_sensors"], nlohmann::json(a.key_sensors));
+  const double temps[] = {25, 22};
+  ThermalState st{std::span<const double>(temps, a.key_sensors.size()), 21.0, CoolantState::kOff, true};
+  EXPECT_DOUBLE_EQ(Predict(a, 300, Direction::kReverse, st).total_um,
+                   Predict(res.model.axes[0], 300, Direction::kReverse, st).total_um);
+  EXPECT_THAT(res.summary.FullReport(), HasSubstr("← chosen"));
+}
+
+TEST(FitOptions, IsValidExplainsWhatIsWrong) {
+  FitOptions o;
+  std::string why;
+  EXPECT_TRUE(o.IsValid(&why));
+  o.max_degree = 0;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_THAT(why, HasSubstr("max_degree"));
+  o = {};
+  o.key_sensors = {"nut", "nut"};
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_THAT(why, HasSubstr("twice"));
+  EXPECT_THROW(FitCompositeModel({}, o), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace trueaxis::model

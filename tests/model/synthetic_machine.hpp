@@ -1,0 +1,104 @@
+#pragma once
+// A known composite model that writes measurement files, so the fitter can be
+// checked against the truth it should recover (degree, gains, sensors, Px, ρ).
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "trueaxis/measure/measurement.hpp"
+#include "trueaxis/model/fit_input.hpp"
+
+namespace trueaxis::model::testing {
+
+struct SyntheticMachine {
+  // Er(x) of each direction: cubic in u = (x − 250)/250 on 0 … 500 mm.
+  std::vector<double> fwd_coef{1.0, 6.0, -2.0, 3.0};
+  std::vector<double> rev_coef{4.0, 6.5, -2.0, 3.0};  // ~3 µm reversal
+  double center_mm = 250, half_span_mm = 250;
+  double px_mm = 0;                   // fixed end of the screw
+  double k_nut = -0.006;              // µm per mm per °C (rise above ambient)
+  double k_bearing = -0.002;
+  double k_nut_flood_factor = 0.5;    // coolant flood halves the gains
+  double rho = -0.0115;               // µm per mm per °C of room change
+  double noise_um = 0.1;              // run-to-run scatter
+  int runs = 5;
+  double step_mm = 25;
+  double travel_mm = 500;
+  double baseline_c = 20.0;
+  unsigned seed = 7;
+
+  double Geometric(double x, bool forward) const {
+    const auto& c = forward ? fwd_coef : rev_coef;
+    const double u = (x - center_mm) / half_span_mm;
+    double acc = 0;
+    for (auto it = c.rbegin(); it != c.rend(); ++it) acc = acc * u + *it;
+    return acc;
+  }
+
+  // One state: rises above ambient of nut / bearing, a motor sensor unrelated to
+  // the error, the room's change, and the coolant.
+  struct State {
+    std::string label;
+    double nut_rise, bearing_rise, motor_rise, ambient_rise;
+    std::string coolant = "off";
+  };
+
+  measure::Measurement Make(const State& s, std::mt19937& rng, bool with_motor = true, bool with_temps = true) const {
+    std::normal_distribution<double> noise(0, noise_um);
+    std::normal_distribution<double> tnoise(0, 0.02);
+    measure::Measurement m;
+    m.source = s.label + ".csv";
+    m.metadata = {{"axis", "X"}, {"state", s.label}};
+    if (s.coolant != "off") m.metadata.push_back({"coolant", s.coolant});
+    if (with_temps) {
+      m.sensor_names = {"nut", "bearing"};
+      if (with_motor) m.sensor_names.push_back("motor");
+      m.sensor_names.push_back("ambient");
+    }
+    const double gain = s.coolant == "flood" ? k_nut_flood_factor : 1.0;
+    const double tan_beta = gain * (k_nut * s.nut_rise + k_bearing * s.bearing_rise);
+    int line = 2;
+    for (int run = 1; run <= runs; ++run)
+      for (int d = 0; d < 2; ++d) {
+        const int n = static_cast<int>(travel_mm / step_mm);
+        for (int i = 0; i <= n; ++i) {
+          const int ii = d == 0 ? i : n - i;
+          const double x = ii * step_mm;
+          measure::MeasurementPoint p;
+          p.run = run;
+          p.direction = d == 0 ? Direction::kForward : Direction::kReverse;
+          p.target_mm = x;
+          p.deviation_um = Geometric(x, d == 0) + tan_beta * (px_mm - x) + rho * s.ambient_rise * (px_mm - x) +
+                           noise(rng);
+          p.source_line = ++line;
+          if (with_temps) {
+            const double amb = baseline_c + s.ambient_rise;
+            p.temperatures_c = {amb + s.nut_rise + tnoise(rng), amb + s.bearing_rise + tnoise(rng)};
+            if (with_motor) p.temperatures_c.push_back(amb + s.motor_rise + tnoise(rng));
+            p.temperatures_c.push_back(amb + tnoise(rng));
+          }
+          m.points.push_back(p);
+        }
+      }
+    return m;
+  }
+
+  std::vector<State> DefaultStates() const {
+    return {{"cold", 0, 0, 0, 0},
+            {"heated-1", 1.5, 0.5, 4.0, 0},
+            {"heated-2", 3.0, 1.6, 1.0, 0},
+            {"heated-3", 4.5, 1.5, 6.5, 0},
+            {"heated-4", 6.0, 3.0, 2.5, 0},
+            {"ambient-24", 0, 0, 0, 4.0}};
+  }
+
+  std::vector<FitState> MakeStates(const std::vector<State>& states) const {
+    std::mt19937 rng(seed);
+    std::vector<FitState> out;
+    for (const auto& s : states) out.push_back(MakeFitState(Make(s, rng)));
+    return out;
+  }
+};
+
+}  // namespace trueaxis::model::testing
