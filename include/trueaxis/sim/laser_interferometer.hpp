@@ -1,0 +1,70 @@
+#pragma once
+// LaserInterferometer: a virtual linear-displacement laser measuring one axis
+// of a VirtualMachine the way seed 000 §2 and ISO 230-2 describe:
+// bidirectional linear test cycle, 3–5 runs, targets every ~20–25 mm, an
+// overrun beyond each end for the reversal, a stop and averaged reading at
+// each target. The test takes machine time: the machine keeps heating or
+// cooling while it runs, and every sensor is recorded at every point.
+//
+// What the laser sees: the table's displacement from where the laser was
+// zeroed (Setup), in units of the air-compensated wavelength — i.e. a true
+// length (20 °C scale) apart from the residual error of its air sensor.
+// With material compensation on, it rescales the reading to a part of CTE
+// `material_cte_um_per_m_c` at the temperature of its material sensor
+// (placed on the table: the "bed" node), as a real laser does. Off (default),
+// a uniform ambient change ΔT gives ΔEr = α_screw·ΔT·(distance from the fixed
+// end); on, the difference (α_screw − α_material) remains.
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <random>
+#include <string>
+
+#include "trueaxis/measure/measurement.hpp"
+#include "trueaxis/sim/virtual_machine.hpp"
+
+namespace trueaxis::sim {
+
+struct LaserOptions {
+  int runs = 5;                    // ISO 230-2: 5 (seed 000: 3–5)
+  double spacing_mm = 25;          // nominal target spacing (adjusted to fill the range evenly)
+  double first_mm = std::numeric_limits<double>::quiet_NaN();  // default: overrun_mm
+  double last_mm = std::numeric_limits<double>::quiet_NaN();   // default: travel − overrun_mm
+  double overrun_mm = 5;
+  double feed_mm_min = 2000;
+  double dwell_s = 3;              // settle + averaging time at each target
+  double resolution_nm = 1;
+  double noise_nm = 150;           // rms of one averaged reading (vibration, air turbulence)
+  bool material_compensation = false;
+  double material_cte_um_per_m_c = 11.5;
+  double material_sensor_error_c = 0.1;  // rms, drawn once per instrument
+  double air_sensor_error_c = 0.1;       // rms, drawn once per instrument (≈0.93 ppm/°C)
+
+  bool IsValid(std::string* why) const;
+};
+
+class LaserInterferometer {
+ public:
+  LaserInterferometer(LaserOptions options, std::uint64_t seed);
+  const LaserOptions& options() const { return o_; }
+
+  // Moves the axis to datum_mm (approaching forward) and zeroes the laser there.
+  void Setup(VirtualMachine& vm, std::size_t axis, double datum_mm);
+  // One averaged reading of the axis position, mm (needs Setup on that axis).
+  double ReadMm(VirtualMachine& vm);
+  // Target positions for the axis (ascending).
+  std::vector<double> Targets(const VirtualMachine& vm, std::size_t axis) const;
+  // Runs the full bidirectional test; metadata: axis, machine, date, seed,
+  // lead, cte, fixed end, laser settings plus `extra_metadata`.
+  measure::Measurement Measure(VirtualMachine& vm,
+                               const std::vector<std::pair<std::string, std::string>>& extra_metadata = {});
+
+ private:
+  LaserOptions o_;
+  std::mt19937_64 rng_;
+  double air_error_c_ = 0, material_error_c_ = 0;
+  int axis_ = -1;
+  double zero_actual_mm_ = 0, zero_commanded_mm_ = 0;
+};
+
+}  // namespace trueaxis::sim

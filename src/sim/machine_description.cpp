@@ -1,0 +1,385 @@
+// Machine file reader (docs/machine-file.md). Every value is checked for type
+// and range; unknown keys are errors, because a typo silently falling back to
+// a default would make a wrong machine that looks right.
+#include "trueaxis/sim/machine_description.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <set>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/text_file.hpp"
+#include "trueaxis/sim/ambient_profile.hpp"
+
+namespace trueaxis::sim {
+
+int MachineDescription::AxisIndex(const std::string& name) const {
+  for (std::size_t i = 0; i < axes.size(); ++i) {
+    const auto& a = axes[i].name;
+    if (a.size() == name.size() &&
+        std::equal(a.begin(), a.end(), name.begin(), [](char x, char y) { return std::toupper(x) == std::toupper(y); }))
+      return static_cast<int>(i);
+  }
+  return -1;
+}
+
+std::string_view SensorKindName(SensorKind k) {
+  switch (k) {
+    case SensorKind::kPt100Adc: return "pt100_adc";
+    case SensorKind::kDs18b20: return "ds18b20";
+    case SensorKind::kRtdModule: return "rtd_module";
+  }
+  return "?";
+}
+
+namespace {
+
+class TableReader {
+ public:
+  TableReader(const toml::table& t, std::string source, std::string prefix)
+      : t_(t), source_(std::move(source)), prefix_(std::move(prefix)) {}
+
+  int Line(const toml::node* n) const {
+    const toml::node* x = n ? n : &t_;
+    return static_cast<int>(x->source().begin.line);
+  }
+  std::string Key(std::string_view k) const { return prefix_.empty() ? std::string(k) : prefix_ + "." + std::string(k); }
+  [[noreturn]] void Fail(std::string_view key, const toml::node* n, const std::string& why) const {
+    throw InputError(source_, Line(n), Key(key), why);
+  }
+
+  void Double(std::string_view key, double& out, double lo, double hi, bool required = false) {
+    seen_.insert(std::string(key));
+    const toml::node* n = t_.get(key);
+    if (!n) {
+      if (required) Fail(key, nullptr, "missing (required)");
+      return;
+    }
+    double v;
+    if (auto f = n->as_floating_point()) v = f->get();
+    else if (auto i = n->as_integer()) v = static_cast<double>(i->get());
+    else Fail(key, n, "must be a number");
+    if (!std::isfinite(v) || v < lo || v > hi) Fail(key, n, fmt::format("{} is out of range [{}, {}]", v, lo, hi));
+    out = v;
+  }
+  void Int(std::string_view key, int& out, int lo, int hi) {
+    seen_.insert(std::string(key));
+    const toml::node* n = t_.get(key);
+    if (!n) return;
+    auto i = n->as_integer();
+    if (!i) Fail(key, n, "must be an integer");
+    if (i->get() < lo || i->get() > hi) Fail(key, n, fmt::format("{} is out of range [{}, {}]", i->get(), lo, hi));
+    out = static_cast<int>(i->get());
+  }
+  void U64(std::string_view key, std::uint64_t& out) {
+    seen_.insert(std::string(key));
+    const toml::node* n = t_.get(key);
+    if (!n) return;
+    auto i = n->as_integer();
+    if (!i || i->get() < 0) Fail(key, n, "must be a non-negative integer");
+    out = static_cast<std::uint64_t>(i->get());
+  }
+  bool String(std::string_view key, std::string& out, bool required = false) {
+    seen_.insert(std::string(key));
+    const toml::node* n = t_.get(key);
+    if (!n) {
+      if (required) Fail(key, nullptr, "missing (required)");
+      return false;
+    }
+    auto s = n->as_string();
+    if (!s) Fail(key, n, "must be a string");
+    out = s->get();
+    return true;
+  }
+  void Doubles(std::string_view key, std::vector<double>& out, double lo, double hi) {
+    seen_.insert(std::string(key));
+    const toml::node* n = t_.get(key);
+    if (!n) return;
+    auto a = n->as_array();
+    if (!a) Fail(key, n, "must be an array of numbers");
+    out.clear();
+    for (const auto& e : *a) {
+      double v;
+      if (auto f = e.as_floating_point()) v = f->get();
+      else if (auto i = e.as_integer()) v = static_cast<double>(i->get());
+      else Fail(key, &e, "must be an array of numbers");
+      if (!std::isfinite(v) || v < lo || v > hi) Fail(key, &e, fmt::format("{} is out of range [{}, {}]", v, lo, hi));
+      out.push_back(v);
+    }
+  }
+  const toml::table* Table(std::string_view key) {
+    seen_.insert(std::string(key));
+    const toml::node* n = t_.get(key);
+    if (!n) return nullptr;
+    auto t = n->as_table();
+    if (!t) Fail(key, n, "must be a table");
+    return t;
+  }
+  const toml::node* Node(std::string_view key) {
+    seen_.insert(std::string(key));
+    return t_.get(key);
+  }
+  // Every key of the table must have been asked for.
+  void RejectUnknown() const {
+    for (const auto& [k, v] : t_)
+      if (!seen_.count(std::string(k.str()))) Fail(k.str(), &v, "unknown key");
+  }
+  const std::string& source() const { return source_; }
+
+ private:
+  const toml::table& t_;
+  std::string source_;
+  std::string prefix_;
+  std::set<std::string> seen_;
+};
+
+constexpr double kBig = 1e12;
+
+void ReadThermal(TableReader& r, DriveThermalDescription& t) {
+  r.Double("reference_feed_mm_min", t.reference_feed_mm_min, 1, 1e6);
+  r.Double("heat_speed_exponent", t.heat_speed_exponent, 0.3, 3);
+  r.Double("nut_heat_w", t.nut_heat_w, 0, 1e4);
+  r.Double("fixed_bearing_heat_w", t.fixed_bearing_heat_w, 0, 1e4);
+  r.Double("floating_bearing_heat_w", t.floating_bearing_heat_w, 0, 1e4);
+  r.Double("motor_heat_w", t.motor_heat_w, 0, 1e4);
+  r.Double("motor_idle_heat_w", t.motor_idle_heat_w, 0, 1e4);
+  r.Double("screw_convection_w_per_m2_k", t.screw_convection_w_per_m2_k, 0, 1e4);
+  r.Double("nut_capacity_j_per_k", t.nut_capacity_j_per_k, 1, kBig);
+  r.Double("nut_to_screw_w_per_k", t.nut_to_screw_w_per_k, 0, 1e4);
+  r.Double("nut_to_ambient_w_per_k", t.nut_to_ambient_w_per_k, 0, 1e4);
+  r.Double("bearing_capacity_j_per_k", t.bearing_capacity_j_per_k, 1, kBig);
+  r.Double("bearing_to_screw_w_per_k", t.bearing_to_screw_w_per_k, 0, 1e4);
+  r.Double("bearing_to_bed_w_per_k", t.bearing_to_bed_w_per_k, 0, 1e4);
+  r.Double("bearing_to_ambient_w_per_k", t.bearing_to_ambient_w_per_k, 0, 1e4);
+  r.Double("motor_capacity_j_per_k", t.motor_capacity_j_per_k, 1, kBig);
+  r.Double("motor_to_ambient_w_per_k", t.motor_to_ambient_w_per_k, 0, 1e4);
+  r.Double("motor_to_bearing_w_per_k", t.motor_to_bearing_w_per_k, 0, 1e4);
+  r.Int("screw_segments", t.screw_segments, 4, 400);
+  r.RejectUnknown();
+}
+
+void ReadPitch(TableReader& r, PitchErrorDescription& p) {
+  r.Double("progressive_um", p.progressive_um, -1e4, 1e4);
+  r.Double("curvature_um", p.curvature_um, -1e4, 1e4);
+  r.Doubles("lead_harmonics_um", p.lead_harmonics_um, 0, 1e3);
+  r.Double("random_um", p.random_um, 0, 1e3);
+  r.Double("random_wavelength_mm", p.random_wavelength_mm, 1, 1e5);
+  r.Double("flank_difference_um", p.flank_difference_um, 0, 1e3);
+  r.RejectUnknown();
+}
+
+bool ValidSensorName(const std::string& s) {
+  if (s.empty() || s.size() > 40) return false;
+  for (char c : s)
+    if (!(std::islower(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return std::islower(static_cast<unsigned char>(s[0]));
+}
+
+}  // namespace
+
+MachineDescription ParseMachineToml(const std::string& text, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    throw InputError(source, static_cast<int>(e.source().begin.line), "", std::string(e.description()));
+  }
+  MachineDescription m;
+  m.source = source;
+  // Coolant defaults: flood washes the nut and screw; mist cools by evaporation
+  // a little below ambient; air blast only adds convection.
+  m.coolant[static_cast<int>(CoolantState::kFlood)] = {4.0, 60.0, 1.5};
+  m.coolant[static_cast<int>(CoolantState::kMist)] = {1.5, 20.0, -0.5};
+  m.coolant[static_cast<int>(CoolantState::kAir)] = {0.6, 10.0, 0.0};
+
+  TableReader r(root, source, "");
+  if (auto* t = r.Table("machine")) {
+    TableReader mr(*t, source, "machine");
+    mr.String("name", m.name);
+    mr.U64("serial_seed", m.serial_seed);
+    if (const toml::node* n = mr.Node("start")) {
+      std::string iso;
+      if (auto s = n->as_string()) iso = s->get();
+      else if (auto dt = n->as_date_time()) {
+        const auto& v = dt->get();
+        iso = fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}", v.date.year, v.date.month, v.date.day, v.time.hour,
+                          v.time.minute, v.time.second);
+      } else mr.Fail("start", n, "must be a date-time such as 2026-03-02T07:00:00");
+      try {
+        ParseIsoTime(iso);
+      } catch (const std::exception&) {
+        mr.Fail("start", n, "must be a date-time such as 2026-03-02T07:00:00");
+      }
+      m.start_iso = iso;
+    }
+    mr.Double("thermal_step_s", m.thermal_step_s, 0.01, 60);
+    mr.RejectUnknown();
+  }
+  if (auto* t = r.Table("ambient")) {
+    TableReader ar(*t, source, "ambient");
+    auto& a = m.ambient;
+    ar.Double("mean_c", a.mean_c, -20, 50);
+    ar.Double("seasonal_amplitude_c", a.seasonal_amplitude_c, 0, 30);
+    ar.Double("seasonal_peak_day", a.seasonal_peak_day, 0, 366);
+    ar.Double("daily_amplitude_c", a.daily_amplitude_c, 0, 20);
+    ar.Double("daily_peak_hour", a.daily_peak_hour, 0, 24);
+    ar.Double("weather_amplitude_c", a.weather_amplitude_c, 0, 20);
+    ar.RejectUnknown();
+  }
+  if (auto* t = r.Table("bed")) {
+    TableReader br(*t, source, "bed");
+    br.Double("capacity_j_per_k", m.bed.capacity_j_per_k, 1, kBig);
+    br.Double("to_ambient_w_per_k", m.bed.to_ambient_w_per_k, 0.01, 1e6);
+    br.Double("cte_um_per_m_c", m.bed.cte_um_per_m_c, 0, 100);
+    br.RejectUnknown();
+  }
+  if (auto* t = r.Table("coolant")) {
+    TableReader cr(*t, source, "coolant");
+    for (int s = 1; s < kCoolantStateCount; ++s) {
+      std::string name(kCoolantStateNames[s]);
+      if (auto* ct = cr.Table(name)) {
+        TableReader sr(*ct, source, "coolant." + name);
+        auto& c = m.coolant[s];
+        sr.Double("nut_w_per_k", c.nut_w_per_k, 0, 1e4);
+        sr.Double("screw_w_per_m2_k", c.screw_w_per_m2_k, 0, 1e5);
+        sr.Double("temperature_offset_c", c.temperature_offset_c, -20, 20);
+        sr.RejectUnknown();
+      }
+    }
+    cr.RejectUnknown();
+  }
+  if (const toml::node* n = r.Node("axis")) {
+    auto* arr = n->as_array();
+    if (!arr || !arr->is_array_of_tables()) r.Fail("axis", n, "must be an array of tables ([[axis]])");
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+      const toml::table& at = *(*arr)[i].as_table();
+      TableReader ar(at, source, fmt::format("axis[{}]", i));
+      AxisDescription a;
+      ar.String("name", a.name, true);
+      std::transform(a.name.begin(), a.name.end(), a.name.begin(), [](char c) { return std::toupper(c); });
+      if (a.name.empty() || a.name.size() > 3 || !std::all_of(a.name.begin(), a.name.end(), [](char c) { return std::isalpha(static_cast<unsigned char>(c)); }))
+        ar.Fail("name", at.get("name"), "must be 1–3 letters such as X");
+      if (m.AxisIndex(a.name) >= 0) ar.Fail("name", at.get("name"), "axis '" + a.name + "' is defined twice");
+      ar.Double("travel_mm", a.travel_mm, 1, 1e5, true);
+      ar.Double("lead_mm", a.lead_mm, 0.5, 200, true);
+      std::string fe = "min";
+      ar.String("fixed_end", fe);
+      if (fe == "min") a.fixed_end = FixedEnd::kMin;
+      else if (fe == "max") a.fixed_end = FixedEnd::kMax;
+      else ar.Fail("fixed_end", at.get("fixed_end"), "must be \"min\" or \"max\"");
+      a.reference_mm = a.fixed_end == FixedEnd::kMin ? 0 : a.travel_mm;
+      ar.Double("reference_mm", a.reference_mm, 0, a.travel_mm);
+      ar.Double("screw_diameter_mm", a.screw_diameter_mm, 4, 500);
+      ar.Double("screw_overhang_mm", a.screw_overhang_mm, 0, 1e4);
+      ar.Double("screw_cte_um_per_m_c", a.screw_cte_um_per_m_c, 0, 100);
+      ar.Double("backlash_um", a.backlash_um, 0, 1e3);
+      ar.Double("homing_repeatability_um", a.homing_repeatability_um, 0, 1e3);
+      ar.Double("bed_anchor_mm", a.bed_anchor_mm, -1e4, 1e4);
+      if (auto* pt = ar.Table("pitch")) {
+        TableReader pr(*pt, source, ar.Key("pitch"));
+        ReadPitch(pr, a.pitch);
+      }
+      if (auto* tt = ar.Table("thermal")) {
+        TableReader tr(*tt, source, ar.Key("thermal"));
+        ReadThermal(tr, a.thermal);
+      }
+      ar.RejectUnknown();
+      m.axes.push_back(std::move(a));
+    }
+  }
+  if (m.axes.empty()) throw InputError(source, 0, "axis", "no [[axis]] defined");
+  if (const toml::node* n = r.Node("sensor")) {
+    auto* arr = n->as_array();
+    if (!arr || !arr->is_array_of_tables()) r.Fail("sensor", n, "must be an array of tables ([[sensor]])");
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+      const toml::table& st = *(*arr)[i].as_table();
+      TableReader sr(st, source, fmt::format("sensor[{}]", i));
+      SensorDescription s;
+      sr.String("name", s.name, true);
+      if (!ValidSensorName(s.name)) sr.Fail("name", st.get("name"), "must be lower case letters, digits and '_' (e.g. x_nut)");
+      if (!names.insert(s.name).second) sr.Fail("name", st.get("name"), "sensor '" + s.name + "' is defined twice");
+      std::string kind = "pt100_adc";
+      sr.String("kind", kind);
+      if (kind == "pt100_adc") s.kind = SensorKind::kPt100Adc;
+      else if (kind == "ds18b20") s.kind = SensorKind::kDs18b20;
+      else if (kind == "rtd_module") s.kind = SensorKind::kRtdModule;
+      else sr.Fail("kind", st.get("kind"), "must be pt100_adc, ds18b20 or rtd_module");
+      s.location = s.name;
+      sr.String("location", s.location);
+      // Location is checked against the thermal nodes here so the line is known.
+      bool ok = s.location == "ambient" || s.location == "bed" || s.location == "coolant";
+      for (const auto& a : m.axes) {
+        std::string p;
+        for (char c : a.name) p += static_cast<char>(std::tolower(c));
+        for (const char* suffix : {"_nut", "_bearing", "_floating_bearing", "_motor"})
+          if (s.location == p + suffix) ok = true;
+      }
+      if (!ok)
+        sr.Fail("location", st.get("location") ? st.get("location") : st.get("name"),
+                "unknown location '" + s.location + "' (use <axis>_nut, <axis>_bearing, <axis>_floating_bearing, <axis>_motor, bed, ambient, coolant)");
+      sr.Double("offset_c", s.offset_c, -50, 50);
+      sr.Double("gain_error", s.gain_error, -0.5, 0.5);
+      sr.Double("noise_c", s.noise_c, 0, 10);
+      sr.Double("time_constant_s", s.time_constant_s, 0, 1e5);
+      sr.RejectUnknown();
+      m.sensors.push_back(std::move(s));
+    }
+  }
+  r.RejectUnknown();
+  FinishMachineDescription(m);
+  return m;
+}
+
+MachineDescription ReadMachineFile(const std::string& path) { return ParseMachineToml(ReadTextFile(path), path); }
+
+void FinishMachineDescription(MachineDescription& m) {
+  if (m.axes.empty()) throw InputError(m.source, "machine has no axes");
+  if (m.sensors.empty()) {
+    for (const auto& a : m.axes) {
+      std::string p;
+      for (char c : a.name) p += static_cast<char>(std::tolower(c));
+      // The seed 000 chain (Pt100 + transmitter + 12-bit card) on nut and
+      // bearing seat, a DS18B20 on the motor housing.
+      m.sensors.push_back({p + "_nut", SensorKind::kPt100Adc, p + "_nut"});
+      m.sensors.push_back({p + "_bearing", SensorKind::kPt100Adc, p + "_bearing"});
+      m.sensors.push_back({p + "_motor", SensorKind::kDs18b20, p + "_motor"});
+    }
+    m.sensors.push_back({"ambient", SensorKind::kRtdModule, "ambient"});
+    m.sensors.push_back({"bed", SensorKind::kRtdModule, "bed"});
+  }
+  // Unset imperfections are drawn from the kind's typical spread with the
+  // serial seed: a property of the installed sensor, not of the run.
+  std::uint64_t h = m.serial_seed * 0x9E3779B97F4A7C15ull + 0x5151;
+  auto next = [&h]() {  // splitmix64 → uniform in (0,1)
+    h += 0x9E3779B97F4A7C15ull;
+    std::uint64_t z = h;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return (static_cast<double>(z >> 11) + 0.5) / 9007199254740992.0;
+  };
+  auto normal = [&]() { return std::sqrt(-2 * std::log(next())) * std::cos(2 * M_PI * next()); };
+  for (auto& s : m.sensors) {
+    double offset_sd, gain_sd, noise, tau;
+    switch (s.kind) {
+      case SensorKind::kPt100Adc: offset_sd = 0.15; gain_sd = 0.004; noise = 0.02; tau = 20; break;
+      case SensorKind::kDs18b20: offset_sd = 0.2; gain_sd = 0.002; noise = 0.01; tau = 30; break;
+      default: offset_sd = 0.05; gain_sd = 0.001; noise = 0.008; tau = 15; break;
+    }
+    double o = normal() * offset_sd, g = normal() * gain_sd;
+    if (std::isnan(s.offset_c)) s.offset_c = o;
+    if (std::isnan(s.gain_error)) s.gain_error = g;
+    if (std::isnan(s.noise_c)) s.noise_c = noise;
+    if (std::isnan(s.time_constant_s)) s.time_constant_s = tau;
+  }
+  for (const auto& a : m.axes)
+    if (a.reference_mm < 0 || a.reference_mm > a.travel_mm)
+      throw InputError(m.source, 0, "axis " + a.name + ".reference_mm", "must lie within the travel");
+}
+
+}  // namespace trueaxis::sim
