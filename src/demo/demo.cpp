@@ -79,6 +79,9 @@ class DayObserver : public runtime::CycleObserver {
       : vm_(vm), result_(result), history_(history) {}
   void OnCycle(const runtime::CycleStatus& s) override {
     alarms_ |= s.alarms;
+    if (s.alarms != last_alarms_ && result_.alarm_log.size() < 200)
+      result_.alarm_log.push_back(fmt::format("{} {}", vm_.IsoTime(), s.alarms ? runtime::AlarmNames(s.alarms) : "cleared"));
+    last_alarms_ = s.alarms;
     const double t = vm_.TimeS();
     if (t < next_sample_s_) return;
     next_sample_s_ = t + 60;
@@ -110,7 +113,7 @@ class DayObserver : public runtime::CycleObserver {
   runtime::CycleRecord record_;
   double day_start_s_ = 0, next_sample_s_ = 0;
   bool other_day_ = false;
-  std::uint32_t alarms_ = 0;
+  std::uint32_t alarms_ = 0, last_alarms_ = 0;
 };
 
 class WorkingDay {
@@ -125,7 +128,16 @@ class WorkingDay {
     for (std::size_t i = 0; i < vm_.ChannelCount(); ++i) result_.channel_names.push_back(vm_.ChannelName(i));
     for (std::size_t i = 0; i < vm_.AxisCount(); ++i) all_axes_.push_back(vm_.AxisName(i));
     result_.machine_axes = all_axes_;
-    comp_ = runtime::Compensator::ForHardware(o.compensator, vm_, vm_, {});
+    // Axes without a model (not calibrated in this run) stay switched off.
+    std::vector<runtime::AxisInterface> interfaces;
+    for (const auto& name : all_axes_) {
+      runtime::AxisInterface a;
+      a.axis = name;
+      const auto* am = model->FindAxis(name);
+      a.enabled = am != nullptr;
+      interfaces.push_back(a);
+    }
+    comp_ = runtime::Compensator::ForHardware(o.compensator, vm_, vm_, interfaces);
     if (writer) history_ = std::make_unique<runtime::HistoryLogger>(*writer, all_axes_, result_.channel_names);
     observer_ = std::make_unique<DayObserver>(vm_, result_, history_.get());
     runner_ = std::make_unique<runtime::LoopRunner>(*comp_, vm_, vm_, runtime::LoopOptions{o.period_s}, observer_.get());
@@ -134,24 +146,24 @@ class WorkingDay {
   }
 
   void Run(const std::vector<std::string>& axes) {
-    const bool fast = o_.fast;
+    const bool fast = o_.fast;  // fast: fewer states measured (the machine time is cheap)
     // The working day starts at 07:00, `day_offset` days after the campaign's first day.
-    vm_.IdleUntil(o_.day_offset * 86400.0);
+    IdleUntil(o_.day_offset * 86400.0);
     observer_->SetDayStart(vm_.TimeS(), false);
     Progress(fmt::format("working day {}: machine cold, compensator running every {:.0f} ms", vm_.IsoTime(), o_.period_s * 1000));
     Step(60);
     MeasureState("cold", axes);
-    Machining(fast ? 1.5 : 3.0, CoolantState::kOff);
+    Machining(3.0, CoolantState::kOff);
     MeasureState("warm", axes);
-    Machining(fast ? 1.0 : 1.5, CoolantState::kFlood);
+    Machining(2.5, CoolantState::kFlood);
     MeasureState("warm+coolant", axes);
-    Machining(fast ? 0.5 : 1.5, CoolantState::kOff);
+    Machining(1.5, CoolantState::kOff);
     if (!fast) MeasureState("afternoon", axes);
     StopAll();
     vm_.SetCoolant(CoolantState::kOff);
     // Another day: the machine soaked at another season's air, mid-morning.
     const double day_h = (vm_.TimeS() - o_.day_offset * 86400.0) / 3600.0;
-    vm_.IdleUntil(o_.other_day_offset * 86400.0 + 3 * 3600.0);
+    IdleUntil(o_.other_day_offset * 86400.0 + 3 * 3600.0);
     observer_->SetDayStart(vm_.TimeS() - day_h * 3600.0 - 3600.0, true);  // plotted after a 1 h gap
     Progress(fmt::format("another day {}: machine soaked at {:.1f} °C air", vm_.IsoTime(), vm_.AmbientC()));
     Step(60);
@@ -168,6 +180,12 @@ class WorkingDay {
   }
   void Step(double seconds) {
     runner_->StepSimulated(static_cast<std::uint64_t>(std::llround(seconds / o_.period_s)), advance_);
+  }
+  // The machine stands switched off until t_s; the compensator's clock jumps with it.
+  void IdleUntil(double t_s) {
+    const double before = vm_.TimeS();
+    vm_.IdleUntil(t_s);
+    runner_->PauseSimulated(vm_.TimeS() - before);
   }
   void StopAll() {
     for (std::size_t i = 0; i < vm_.AxisCount(); ++i) vm_.CommandStop(i);

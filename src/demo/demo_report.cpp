@@ -173,6 +173,7 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
       {"cycle cost (compensator only)", fmt::format("mean {:.2f} µs, max {:.1f} µs", r.loop_stats.mean_cycle_s * 1e6,
                                                     r.loop_stats.max_cycle_s * 1e6)},
       {"alarms seen", r.alarms_seen ? runtime::AlarmNames(r.alarms_seen) : "none"},
+      {"alarm log", r.alarm_log.empty() ? "(empty)" : fmt::format("{}", fmt::join(r.alarm_log, "; "))},
       {"history database", r.history_path},
       {"measurement files", (std::string(r.out_dir) + "/day/*.csv")},
   });

@@ -71,6 +71,7 @@ struct DemoResult {
   double machine_time_h = 0;
   double wall_s = 0, campaign_wall_s = 0, fit_wall_s = 0, day_wall_s = 0;
   std::uint32_t alarms_seen = 0;
+  std::vector<std::string> alarm_log;  // "<date> <alarms>" at each change
   std::string BriefReport() const;  // the before/after table as text
 };
 

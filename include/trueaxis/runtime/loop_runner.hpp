@@ -60,7 +60,11 @@ class LoopRunner {
   // Runs `cycles` cycles; before each, `advance(period_s)` moves the plant on.
   // Simulated time starts at 0 and continues across calls.
   void StepSimulated(std::uint64_t cycles, const std::function<void(double dt_s)>& advance);
-  double SimulatedTimeS() const { return static_cast<double>(sim_cycles_) * options_.period_s; }
+  double SimulatedTimeS() const { return static_cast<double>(sim_cycles_) * options_.period_s + sim_pause_s_; }
+  // The loop was not running for `seconds` of simulated time (e.g. the
+  // machine stood switched off overnight): the clock jumps, so time-based
+  // checks (rate of change, hold times) see the real elapsed time.
+  void PauseSimulated(double seconds) { sim_pause_s_ += seconds; }
 
   LoopStats Stats() const;
 
@@ -77,6 +81,7 @@ class LoopRunner {
   std::atomic<bool> running_{false};
   std::atomic<bool> stop_{false};
   std::uint64_t sim_cycles_ = 0;
+  double sim_pause_s_ = 0;
   std::atomic<std::uint64_t> cycles_{0};
   std::atomic<std::uint64_t> overruns_{0};
   std::atomic<double> max_cycle_s_{0};
