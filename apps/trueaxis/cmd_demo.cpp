@@ -52,6 +52,10 @@ void Setup(CLI::App& app) {
   cmd->add_option("--axes", opts->demo.axes, "Axes to calibrate and measure, e.g. X,Y (default: all; --fast: the first)")
       ->delimiter(',');
   cmd->add_option("--period-ms", opts->period_ms, "Compensation cycle in ms of machine time")->capture_default_str();
+  cmd->add_option("--geometric", opts->demo.geometric,
+                  "Er(x) model: auto (polynomial or table by cross-validation), polynomial (seed 000), table (seed 002)")
+      ->check(CLI::IsMember({"auto", "polynomial", "table"}))
+      ->capture_default_str();
   cmd->add_flag("--quiet", opts->quiet, "No progress on stderr");
   cmd->callback([opts] { Run(*opts); });
 }

@@ -36,6 +36,8 @@ bool DemoOptions::IsValid(std::string* why) const {
   if (machine_file.empty()) return fail("machine_file is empty");
   if (out_dir.empty()) return fail("out_dir is empty");
   if (!(period_s >= 0.001 && period_s <= 1)) return fail(fmt::format("period_s must be in [0.001, 1] s, got {}", period_s));
+  if (geometric != "auto" && geometric != "polynomial" && geometric != "table")
+    return fail("geometric must be auto, polynomial or table, got '" + geometric + "'");
   if (day_offset < 1 || other_day_offset <= day_offset)
     return fail("day_offset must be >= 1 and other_day_offset > day_offset");
   return compensator.IsValid(why);
@@ -377,12 +379,14 @@ DemoResult RunDemo(const DemoOptions& o) {
     if (std::find(sensors.begin(), sensors.end(), nut) != sensors.end() &&
         std::find(sensors.begin(), sensors.end(), bearing) != sensors.end())
       fo.key_sensors = {nut, bearing};
+    if (o.geometric == "table") fo.geometric = model::FitOptions::Geometric::kTable;
     model::FitResult one = model::FitCompositeModel(axis_states, fo);
     // Er(x): the seed-000 polynomial, unless the seed-002 table (linear
-    // interpolation between the measured targets) cross-validates better in
+    // interpolation between the measured targets) cross-validates better over
     // both directions — a screw's short-wavelength error is not a polynomial.
     const auto& ds = one.summary.axes.front().directions;
-    if (ds[0].table_cv_rms_um < ds[0].geometric_cv_rms_um && ds[1].table_cv_rms_um < ds[1].geometric_cv_rms_um) {
+    if (o.geometric == "auto" &&
+        ds[0].table_cv_rms_um + ds[1].table_cv_rms_um < ds[0].geometric_cv_rms_um + ds[1].geometric_cv_rms_um) {
       fo.geometric = model::FitOptions::Geometric::kTable;
       one = model::FitCompositeModel(axis_states, fo);
     }

@@ -31,6 +31,9 @@ struct DemoOptions {
   std::vector<std::string> axes;   // empty: every axis (fast: the first)
   double period_s = 0.010;         // compensation cycle, simulated time
   runtime::CompensatorOptions compensator;  // defaults: ±100 µm, 1 µm per cycle
+  // Er(x): "auto" picks the seed-000 polynomial or the seed-002 table by
+  // cross-validation per axis; "polynomial" / "table" force one.
+  std::string geometric = "auto";
   int day_offset = 30;             // the working day: days after the campaign's first day
   int other_day_offset = 250;      // "another day"
   std::function<void(const std::string&)> progress;  // one line per step (stderr in the CLI)
