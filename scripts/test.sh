@@ -8,3 +8,25 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j"$(nproc)"
 cd build
 ctest -j"$(nproc)" --output-on-failure --timeout 900
+
+# Bounded libFuzzer run of the measurement readers (fuzz/): a separate clang
+# build with sanitizers; each fuzzer stops after a fixed number of runs (and at
+# most 12 s), so this adds < 30 s of fuzzing. Skipped, saying so, without clang.
+cd ..
+if command -v clang++ >/dev/null 2>&1 && command -v clang >/dev/null 2>&1; then
+  CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DTRUEAXIS_BUILD_FUZZ=ON \
+    -DTRUEAXIS_BUILD_TESTS=OFF -DTRUEAXIS_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    "-DCMAKE_CXX_FLAGS=-fsanitize=fuzzer-no-link,address,undefined"
+  cmake --build build-fuzz -j"$(nproc)" --target fuzz_measurement_csv fuzz_ecmc_dat
+  scratch="$(mktemp -d)"
+  trap 'rm -rf "$scratch"' EXIT
+  for target in measurement_csv:csv ecmc_dat:ecmc; do
+    name="${target%%:*}" corpus="${target##*:}"
+    mkdir -p "$scratch/$corpus"
+    echo "fuzzing $name (15000 runs)"
+    ./build-fuzz/fuzz/fuzz_"$name" "$scratch/$corpus" "fuzz/corpus/$corpus" \
+      -runs=15000 -max_len=4096 -max_total_time=12 -print_final_stats=0 2>&1 | tail -n 2
+  done
+else
+  echo "clang/clang++ not found: skipping the libFuzzer run (install clang to enable it)"
+fi

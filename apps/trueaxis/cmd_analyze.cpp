@@ -17,6 +17,7 @@
 #include "trueaxis/analysis/evaluation_json.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/text_file.hpp"
 #include "trueaxis/measure/measurement_file.hpp"
 
 namespace trueaxis::cli {
@@ -34,6 +35,28 @@ struct AnalyzeOptions {
   int trend_degree = 1;
 };
 
+// Line of a "# key: value" metadata line in the file, for error messages (0 if not found).
+int MetadataLine(const std::string& path, const std::string& key) {
+  try {
+    const auto text = ReadTextFile(path);
+    int line = 0;
+    std::size_t pos = 0;
+    while (pos <= text.size()) {
+      const auto nl = text.find('\n', pos);
+      auto l = Trim(std::string_view(text).substr(pos, nl == std::string::npos ? std::string::npos : nl - pos));
+      ++line;
+      if (!l.empty() && l.front() == '#') {
+        l = Trim(l.substr(1));
+        if (l.rfind(key, 0) == 0 && Trim(l.substr(key.size())).rfind(':', 0) == 0) return line;
+      }
+      if (nl == std::string::npos) break;
+      pos = nl + 1;
+    }
+  } catch (const InputError&) {
+  }
+  return 0;
+}
+
 // Lead from --lead-mm, else from a "lead_mm" metadata line, else 0 (unknown).
 double ResolveLead(const AnalyzeOptions& o, const measure::Measurement& m) {
   if (o.lead_mm) {
@@ -44,7 +67,7 @@ double ResolveLead(const AnalyzeOptions& o, const measure::Measurement& m) {
   if (auto meta = m.Meta("lead_mm")) {
     auto v = ParseDouble(*meta);
     if (!v || !std::isfinite(*v) || *v <= 0)
-      throw InputError(m.source, 0, "lead_mm", fmt::format("metadata value '{}' is not a positive screw lead in mm", *meta));
+      throw InputError(m.source, MetadataLine(m.source, "lead_mm"), "lead_mm", fmt::format("metadata value '{}' is not a positive screw lead in mm", *meta));
     return *v;
   }
   return 0;

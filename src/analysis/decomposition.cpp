@@ -138,9 +138,7 @@ Decomposition Decompose(const Evaluation& ev, const DecompositionOptions& option
     d.notes.push_back("least-squares system is rank-deficient for this target set; periodic part not fitted");
     for (auto& h : d.harmonics)
       if (h.resolved) h.resolved = false, h.note = "rank-deficient with this target set";
-    Eigen::MatrixXd At = A.leftCols(degree + 1);
-    Eigen::VectorXd c = At.colPivHouseholderQr().solve(y);
-    A = At;
+    A = Eigen::MatrixXd(A.leftCols(degree + 1));
     qr.compute(A);
   }
   const Eigen::VectorXd coef = qr.solve(y);

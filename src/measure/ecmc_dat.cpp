@@ -183,7 +183,8 @@ Measurement ParseEcmcDat(std::string_view text, const std::string& source) {
     MeasurementPoint p;
     p.run = static_cast<int>(j);
     p.direction = dir == 0 ? Direction::kForward : Direction::kReverse;
-    p.target_mm = targets.at(i).value * scale / 1000.0;
+    // mm files keep their target text's exact double (no ×1000/1000 round trip).
+    p.target_mm = scale == 1000.0 ? targets.at(i).value : targets.at(i).value * scale / 1000.0;
     // Difference first, then scale: keeps the sub-nm digits of readings like -10.0000990190.
     p.deviation_um = (v.value - targets.at(i).value) * scale;
     p.source_line = v.line;

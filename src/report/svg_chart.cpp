@@ -37,6 +37,10 @@ bool SvgChartOptions::IsValid(std::string* why) const {
   if (width_px < 200 || width_px > 10000) return fail("width_px must be in 200..10000");
   if (height_px < 120 || height_px > 10000) return fail("height_px must be in 120..10000");
   if (target_tick_count < 2 || target_tick_count > 50) return fail("target_tick_count must be in 2..50");
+  for (const auto* v : {&x_min, &x_max, &y_min, &y_max})
+    if (*v && !std::isfinite(**v)) return fail("fixed axis limits must be finite");
+  if (x_min && x_max && !(*x_min < *x_max)) return fail("x_min must be below x_max");
+  if (y_min && y_max && !(*y_min < *y_max)) return fail("y_min must be below y_max");
   return true;
 }
 
@@ -134,25 +138,34 @@ std::string SvgChart::Render() const {
   if (!options_.title.empty())
     out += fmt::format("<text x=\"{}\" y=\"20\" text-anchor=\"middle\" font-size=\"14\" font-weight=\"bold\">{}</text>\n",
                        Num(w / 2), EscapeHtml(options_.title));
-  if (!std::isfinite(xmin) || !std::isfinite(ymin)) {
+  if (options_.x_min) xmin = *options_.x_min, xmax = std::max(xmax, xmin);
+  if (options_.x_max) xmax = *options_.x_max, xmin = std::min(xmin, xmax);
+  if (options_.y_min) ymin = *options_.y_min, ymax = std::max(ymax, ymin);
+  if (options_.y_max) ymax = *options_.y_max, ymin = std::min(ymin, ymax);
+  if (!std::isfinite(xmin) || !std::isfinite(ymin) || !std::isfinite(xmax) || !std::isfinite(ymax)) {
     out += fmt::format(
         "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#888\"/>"
         "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"#888\">no data</text>\n</svg>\n",
         Num(kLeft), Num(kTop), Num(pw), Num(ph), Num(kLeft + pw / 2), Num(kTop + ph / 2));
     return out;
   }
-  if (options_.y_includes_zero) ymin = std::min(ymin, 0.0), ymax = std::max(ymax, 0.0);
+  const bool fixed_x = options_.x_min || options_.x_max, fixed_y = options_.y_min || options_.y_max;
+  if (options_.y_includes_zero && !fixed_y) ymin = std::min(ymin, 0.0), ymax = std::max(ymax, 0.0);
   if (xmax == xmin) xmin -= 0.5, xmax += 0.5;
   if (ymax == ymin) ymin -= 0.5, ymax += 0.5;
-  // A little room at the ends so markers on the first/last target are not cut in half.
-  const double xpad = 0.02 * (xmax - xmin);
-  xmin -= xpad, xmax += xpad;
-  const double ypad = 0.06 * (ymax - ymin);
-  ymin -= ypad, ymax += ypad;
+  if (!fixed_x) {
+    // A little room at the ends so markers on the first/last target are not cut in half.
+    const double xpad = 0.02 * (xmax - xmin);
+    xmin -= xpad, xmax += xpad;
+  }
+  if (!fixed_y) {
+    const double ypad = 0.06 * (ymax - ymin);
+    ymin -= ypad, ymax += ypad;
+  }
   auto xticks = NiceTicks(xmin, xmax, options_.target_tick_count);
   auto yticks = NiceTicks(ymin, ymax, options_.target_tick_count);
   // Widen the y range to whole ticks so the frame ends on a labelled value.
-  if (yticks.size() >= 2) {
+  if (yticks.size() >= 2 && !fixed_y) {
     const double step = yticks[1] - yticks[0];
     if (yticks.front() > ymin) yticks.insert(yticks.begin(), yticks.front() - step);
     if (yticks.back() < ymax) yticks.push_back(yticks.back() + step);

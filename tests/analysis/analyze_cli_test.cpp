@@ -108,7 +108,7 @@ TEST(AnalyzeCli, LeadFromMetadataAndBadLead) {
   const auto f2 = WriteTemp("lead_meta_bad.csv", bad_csv);
   const auto bad2 = RunCli("analyze " + Q(f2));
   EXPECT_EQ(bad2.exit_code, 2);
-  EXPECT_NE(bad2.err.find("lead_mm"), std::string::npos) << bad2.err;
+  EXPECT_NE(bad2.err.find(f2 + ":2: field 'lead_mm'"), std::string::npos) << bad2.err;
   std::filesystem::remove(f);
   std::filesystem::remove(f2);
 }
@@ -168,4 +168,15 @@ TEST(AnalyzeCli, MissingFileIsBadInput) {
   const auto r = RunCli("analyze /nonexistent/trueaxis.csv");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("/nonexistent/trueaxis.csv"), std::string::npos) << r.err;
+}
+
+TEST(AnalyzeCli, BadCompareFileAndUnwritableReportAreReported) {
+  const auto bad = WriteTemp("bad_after.csv", std::string(kGoodHeader) + "1,+,0,x\n");
+  const auto r = RunCli("analyze " + Q(kExample) + " --compare " + Q(bad));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(bad + ":2: field 'deviation_um'"), std::string::npos) << r.err;
+  std::filesystem::remove(bad);
+  const auto r2 = RunCli("analyze " + Q(kExample) + " --report /nonexistent-dir/x.html");
+  EXPECT_NE(r2.exit_code, 0);
+  EXPECT_NE(r2.err.find("/nonexistent-dir/x.html"), std::string::npos) << r2.err;
 }

@@ -141,3 +141,23 @@ TEST(EscapeHtml, AllSpecialCharacters) {
   EXPECT_EQ(tr::EscapeHtml("<a href='x'>&\"</a>"), "&lt;a href=&#39;x&#39;&gt;&amp;&quot;&lt;/a&gt;");
   EXPECT_EQ(tr::EscapeHtml("µm ±2s"), "µm ±2s");
 }
+
+TEST(SvgChart, FixedLimitsOverrideTheDataRange) {
+  tr::SvgChartOptions o;
+  o.y_min = -10;
+  o.y_max = 10;
+  o.x_min = 0;
+  o.x_max = 100;
+  tr::SvgChart chart(o);
+  chart.AddLine("l", {0, 50}, {1, 2});
+  const auto svg = chart.Render();
+  EXPECT_NE(svg.find(">-10.0<"), std::string::npos);  // tick labels at the fixed limits (step 2.5)
+  EXPECT_NE(svg.find(">10.0<"), std::string::npos);
+  EXPECT_NE(svg.find(">100<"), std::string::npos);
+  tr::SvgChartOptions bad;
+  bad.y_min = 5;
+  bad.y_max = 1;
+  std::string why;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("y_min"), std::string::npos);
+}

@@ -14,6 +14,7 @@
 // NaN values are skipped (a line is broken there). Colours default to a
 // fixed palette by series index, so the same call order gives the same look.
 // All text is XML-escaped. Mismatched vector lengths throw std::invalid_argument.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,8 @@ struct SvgChartOptions {
   bool show_legend = true;
   bool y_includes_zero = true;  // deviation charts read better with 0 in view
   int target_tick_count = 8;    // approximate number of ticks per axis
+  // Fixed axis limits (data units); unset = fitted to the data. Data outside is clipped.
+  std::optional<double> x_min, x_max, y_min, y_max;
 
   bool IsValid(std::string* why) const;
 };
