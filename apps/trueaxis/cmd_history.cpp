@@ -29,6 +29,7 @@ struct HistoryOptions {
   std::string format;
   std::string out;
   std::size_t limit = 0;
+  std::string layout = "long";
 };
 
 std::vector<std::string> SplitList(const std::string& text) {
@@ -94,11 +95,17 @@ void RunQuery(const HistoryOptions& o) {
   HistoryDb db(o.db, HistoryDb::Mode::kReadOnly);
   std::size_t n = 0;
   auto more = [&] { return o.limit == 0 || n < o.limit; };
+  // Stops a row walk once --limit rows are printed (no need to scan the rest of a big database).
+  struct LimitReached {};
+  auto stop_if_done = [&] {
+    if (!more()) throw LimitReached{};
+  };
+  try {
   switch (table) {
     case HistoryTable::kTemperature:
       fmt::print("time_s,time_utc,channel,raw_c,filtered_c,status\n");
       db.ForEachTemperature(req.range, req.channels, [&](const TemperatureRow& r) {
-        if (!more()) return;
+        stop_if_done();
         ++n;
         fmt::print("{},{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), Csv(r.channel), Num(r.raw_c),
                    Num(r.filtered_c), Csv(r.status));
@@ -107,7 +114,7 @@ void RunQuery(const HistoryOptions& o) {
     case HistoryTable::kCompensation:
       fmt::print("time_s,time_utc,axis,position_mm,correction_um,state\n");
       db.ForEachCompensation(req.range, req.axes, [&](const CompensationRow& r) {
-        if (!more()) return;
+        stop_if_done();
         ++n;
         fmt::print("{},{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), Csv(r.axis), Num(r.position_mm),
                    Num(r.correction_um), Csv(r.state));
@@ -130,13 +137,18 @@ void RunQuery(const HistoryOptions& o) {
       }
       break;
   }
+  } catch (const LimitReached&) {
+  }
 }
 
 void RunExport(const HistoryOptions& o) {
   if (o.format != "csv" && o.format != "xlsx")
     throw InputError("command line", 0, "--format", fmt::format("'{}' is not csv or xlsx", o.format));
   const HistoryTable table = Table(o.table);
-  const ExportRequest req = MakeRequest(o, table);
+  ExportRequest req = MakeRequest(o, table);
+  if (o.layout != "long" && o.layout != "wide")
+    throw InputError("command line", 0, "--layout", fmt::format("'{}' is not long or wide", o.layout));
+  req.wide = o.layout == "wide";
   HistoryDb db(o.db, HistoryDb::Mode::kReadOnly);
   const ExportResult result = o.format == "csv" ? ExportCsv(db, table, req, o.out) : ExportXlsx(db, req, o.out);
   fmt::print("exported {} to {}\n", result.BriefReport(), o.out);
@@ -170,6 +182,8 @@ void Setup(CLI::App& app) {
   AddRangeOptions(export_cmd, *exp);
   export_cmd->add_option("--format", exp->format, "csv or xlsx")->required();
   export_cmd->add_option("--out", exp->out, "file to write")->required();
+  export_cmd->add_option("--layout", exp->layout,
+                         "temperature layout: long (a row per reading, default) or wide (a row per instant, a column per channel)");
   export_cmd->callback([exp] { RunExport(*exp); });
 }
 

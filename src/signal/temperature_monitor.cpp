@@ -102,6 +102,9 @@ bool TemperatureMonitor::AllUsable() const {
 ChannelStatus TemperatureMonitor::DetectInstant(Channel& ch, const hw::RawTemperature& raw, double time_s) {
   const FaultOptions& f = options_.faults;
   ChannelReading& r = ch.reading;
+  // Did the previous Update skip feeding this channel (a fault)? Only then can
+  // a long gap mean stale filter state; slow regular sampling is not a gap.
+  const bool missed_samples = !std::isnan(ch.last_fed_time_s) && ch.last_fed_time_s != r.time_s;
   r.time_s = time_s;
   r.raw_c = raw.temp_c;
   r.spike_rejected = false;
@@ -122,7 +125,7 @@ ChannelStatus TemperatureMonitor::DetectInstant(Channel& ch, const hw::RawTemper
   double dt = 0;
   if (!std::isnan(ch.last_fed_time_s)) {
     dt = time_s - ch.last_fed_time_s;
-    if (dt > f.reset_filter_after_s) {
+    if (missed_samples && dt > f.reset_filter_after_s) {
       ch.filter.Reset();
       ch.last_filtered_c = ChannelReading::kNaN;
       dt = 0;

@@ -43,6 +43,24 @@ CREATE INDEX alarm_by_time ON alarm(time_s);
 CREATE TABLE model_change(time_s REAL NOT NULL, sha256 TEXT NOT NULL, revision TEXT NOT NULL, note TEXT NOT NULL);
 INSERT INTO meta(key, value) VALUES ('application', 'trueaxis history'), ('time_unit', 'seconds since 1970-01-01T00:00:00Z');
 )sql",
+    // 1 -> 2: sensor calibrations against a reference sensor (seed 000 "自動標定");
+    // the newest row per sensor is the one in force.
+    R"sql(
+CREATE TABLE calibration(
+  time_s REAL NOT NULL,
+  sensor TEXT NOT NULL,
+  reference TEXT NOT NULL,
+  gain REAL NOT NULL,
+  offset_c REAL NOT NULL,
+  gain_fitted INTEGER NOT NULL,
+  points INTEGER NOT NULL,
+  reference_span_c REAL,
+  rms_residual_c REAL,
+  max_abs_residual_c REAL,
+  max_abs_error_before_c REAL,
+  session TEXT NOT NULL);
+CREATE INDEX calibration_by_sensor_time ON calibration(sensor, time_s);
+)sql",
 };
 static_assert(std::size(kMigrations) == HistoryDb::kSchemaVersion);
 
@@ -68,6 +86,8 @@ struct Statement {
 
 }  // namespace
 
+std::span<const char* const> HistoryDb::MigrationSteps() { return kMigrations; }
+
 std::string HistorySummary::BriefReport() const {
   auto line = [](const char* what, const TableSummary& t) {
     if (t.rows == 0) return fmt::format("  {:<14} 0 rows\n", what);
@@ -78,6 +98,7 @@ std::string HistorySummary::BriefReport() const {
   out += line("compensation", compensation);
   out += line("alarm", alarm);
   out += line("model_change", model_change);
+  out += line("calibration", calibration);
   for (const auto& [name, n] : readings_per_channel) out += fmt::format("    channel {:<16} {} readings\n", name, n);
   if (!axes.empty()) {
     out += "    axes:";
@@ -450,12 +471,77 @@ HistorySummary HistoryDb::Summary() const {
   s.compensation = table("compensation");
   s.alarm = table("alarm");
   s.model_change = table("model_change");
+  s.calibration = table("calibration");
   Statement st;
   st.s = Prepare(
       "SELECT c.name, (SELECT count(*) FROM temperature t WHERE t.channel_id = c.id) FROM channel c ORDER BY c.name");
   while (sqlite3_step(st.s) == SQLITE_ROW) s.readings_per_channel.emplace_back(ColumnText(st.s, 0), sqlite3_column_int64(st.s, 1));
   s.axes = Axes();
   return s;
+}
+
+}  // namespace trueaxis::store
+
+namespace trueaxis::store {
+
+void HistoryDb::InsertCalibration(double time_s, const signal::CalibrationSet& set) {
+  if (read_only_) throw std::logic_error(path_ + ": opened read-only");
+  Statement st;
+  st.s = Prepare(
+      "INSERT INTO calibration(time_s, sensor, reference, gain, offset_c, gain_fitted, points, reference_span_c, "
+      "rms_residual_c, max_abs_residual_c, max_abs_error_before_c, session) VALUES (?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11,?12)");
+  Exec("BEGIN IMMEDIATE");
+  try {
+    for (const auto& [sensor, fit] : set.sensors) {
+      sqlite3_bind_double(st.s, 1, time_s);
+      sqlite3_bind_text(st.s, 2, sensor.c_str(), -1, SQLITE_TRANSIENT);
+      sqlite3_bind_text(st.s, 3, set.reference.c_str(), -1, SQLITE_TRANSIENT);
+      sqlite3_bind_double(st.s, 4, fit.calibration.gain);
+      sqlite3_bind_double(st.s, 5, fit.calibration.offset_c);
+      sqlite3_bind_int(st.s, 6, fit.gain_fitted ? 1 : 0);
+      sqlite3_bind_int(st.s, 7, fit.points);
+      BindDouble(st.s, 8, fit.reference_span_c);
+      BindDouble(st.s, 9, fit.rms_residual_c);
+      BindDouble(st.s, 10, fit.max_abs_residual_c);
+      BindDouble(st.s, 11, fit.max_abs_error_before_c);
+      sqlite3_bind_text(st.s, 12, set.session.c_str(), -1, SQLITE_TRANSIENT);
+      const int rc = sqlite3_step(st.s);
+      sqlite3_reset(st.s);
+      if (rc != SQLITE_DONE) Fail("cannot store calibration");
+    }
+    Exec("COMMIT");
+  } catch (...) {
+    sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+signal::CalibrationSet HistoryDb::LatestCalibration() const {
+  // Newest row per sensor; ties (one session) broken by insertion order.
+  Statement st;
+  st.s = Prepare(
+      "SELECT sensor, reference, gain, offset_c, gain_fitted, points, reference_span_c, rms_residual_c, "
+      "max_abs_residual_c, max_abs_error_before_c, session, time_s FROM calibration c "
+      "WHERE rowid = (SELECT rowid FROM calibration d WHERE d.sensor = c.sensor ORDER BY time_s DESC, rowid DESC LIMIT 1) "
+      "ORDER BY time_s, sensor");
+  signal::CalibrationSet set;
+  int rc;
+  while ((rc = sqlite3_step(st.s)) == SQLITE_ROW) {
+    signal::CalibrationFit fit;
+    fit.calibration.gain = sqlite3_column_double(st.s, 2);
+    fit.calibration.offset_c = sqlite3_column_double(st.s, 3);
+    fit.gain_fitted = sqlite3_column_int(st.s, 4) != 0;
+    fit.points = sqlite3_column_int(st.s, 5);
+    fit.reference_span_c = ColumnDouble(st.s, 6);
+    fit.rms_residual_c = ColumnDouble(st.s, 7);
+    fit.max_abs_residual_c = ColumnDouble(st.s, 8);
+    fit.max_abs_error_before_c = ColumnDouble(st.s, 9);
+    set.sensors[ColumnText(st.s, 0)] = fit;
+    set.reference = ColumnText(st.s, 1);  // the newest row's reference wins
+    set.session = ColumnText(st.s, 10);
+  }
+  if (rc != SQLITE_DONE) Fail("calibration query failed");
+  return set;
 }
 
 }  // namespace trueaxis::store

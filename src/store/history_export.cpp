@@ -2,11 +2,14 @@
 
 #include <xlsxwriter.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <unordered_map>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -86,6 +89,42 @@ class AtomicOutput {
   bool committed_ = false;
 };
 
+// Groups the time-ordered readings by instant: one call per distinct time_s
+// with the filtered value and status of each channel (NaN / "" where a
+// channel has no reading then). Returns the number of readings seen.
+std::int64_t ForEachInstant(const HistoryDb& db, const ExportRequest& req, const std::vector<std::string>& channels,
+                            const std::function<void(double, const std::vector<double>&, const std::vector<std::string>&)>& fn) {
+  std::unordered_map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < channels.size(); ++i) index[channels[i]] = i;
+  std::vector<double> values(channels.size(), NAN);
+  std::vector<std::string> statuses(channels.size());
+  double current = NAN;
+  bool pending = false;
+  std::int64_t readings = 0;
+  auto emit = [&] {
+    if (!pending) return;
+    fn(current, values, statuses);
+    std::fill(values.begin(), values.end(), NAN);
+    std::fill(statuses.begin(), statuses.end(), std::string());
+    pending = false;
+  };
+  db.ForEachTemperature(req.range, req.channels, [&](const TemperatureRow& r) {
+    if (pending && r.time_s != current) emit();
+    current = r.time_s;
+    const std::size_t i = index.at(r.channel);
+    values[i] = r.filtered_c;
+    statuses[i] = r.status;
+    pending = true;
+    ++readings;
+  });
+  emit();
+  return readings;
+}
+
+std::vector<std::string> WideChannels(const HistoryDb& db, const ExportRequest& req) {
+  return req.channels.empty() ? db.Channels() : req.channels;
+}
+
 }  // namespace
 
 ExportResult ExportCsv(const HistoryDb& db, HistoryTable table, const ExportRequest& request, const std::string& out_path) {
@@ -94,6 +133,21 @@ ExportResult ExportCsv(const HistoryDb& db, HistoryTable table, const ExportRequ
   auto& out = file.stream();
   switch (table) {
     case HistoryTable::kTemperature:
+      if (request.wide) {
+        const auto channels = WideChannels(db, request);
+        db.QueryTemperatures(TimeRange{1, 0}, request.channels);  // unknown names fail before any output
+        out << "time_s,time_utc";
+        for (const auto& c : channels) out << ',' << CsvField(c + "_c");
+        for (const auto& c : channels) out << ',' << CsvField(c + "_status");
+        out << '\n';
+        result.temperature_rows = ForEachInstant(db, request, channels, [&](double t, const auto& values, const auto& statuses) {
+          out << FormatShortest(t) << ',' << FormatUtc(t);
+          for (double v : values) out << ',' << Num(v);
+          for (const auto& st : statuses) out << ',' << CsvField(st);
+          out << '\n';
+        });
+        break;
+      }
       out << "time_s,time_utc,channel,raw_c,filtered_c,status\n";
       db.ForEachTemperature(request.range, request.channels, [&](const TemperatureRow& r) {
         out << FormatShortest(r.time_s) << ',' << FormatUtc(r.time_s) << ',' << CsvField(r.channel) << ','
@@ -132,19 +186,18 @@ ExportResult ExportCsv(const HistoryDb& db, HistoryTable table, const ExportRequ
 
 namespace {
 
-constexpr lxw_row_t kExcelMaxRows = 1048576;
-
 // A sheet that continues on "<name>_2", "<name>_3", ... when Excel's row limit is reached.
 class SheetWriter {
  public:
   SheetWriter(lxw_workbook* wb, std::string name, std::vector<std::pair<std::string, double>> columns,
-              lxw_format* header, lxw_format* time_format)
-      : wb_(wb), name_(std::move(name)), columns_(std::move(columns)), header_(header), time_format_(time_format) {
+              lxw_format* header, lxw_format* time_format, lxw_row_t max_rows)
+      : wb_(wb), name_(std::move(name)), columns_(std::move(columns)), header_(header), time_format_(time_format),
+        max_rows_(std::clamp<lxw_row_t>(max_rows, 1, 1048575)) {
     NewSheet();
   }
   // Starts a row; returns the worksheet and the row index to write to.
   lxw_worksheet* Row(lxw_row_t* row) {
-    if (next_row_ >= kExcelMaxRows) NewSheet();
+    if (next_row_ > max_rows_) NewSheet();
     *row = next_row_++;
     return ws_;
   }
@@ -175,6 +228,7 @@ class SheetWriter {
   std::vector<std::pair<std::string, double>> columns_;
   lxw_format* header_;
   lxw_format* time_format_;
+  lxw_row_t max_rows_;
   lxw_worksheet* ws_ = nullptr;
   lxw_row_t next_row_ = 1;
   int part_ = 0;
@@ -200,9 +254,26 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
     lxw_format* time_format = workbook_add_format(wb);
     format_set_num_format(time_format, "yyyy-mm-dd hh:mm:ss.000");
 
-    SheetWriter temps(wb, "temperature",
+    if (request.wide) {
+      const auto channels = WideChannels(db, request);
+      std::vector<std::pair<std::string, double>> columns = {{"time_s", 16}, {"time_utc", 24}};
+      for (const auto& c : channels) columns.emplace_back(c + "_c", 12);
+      for (const auto& c : channels) columns.emplace_back(c + "_status", 14);
+      SheetWriter wide(wb, "temperature", columns, header, time_format, request.max_rows_per_sheet);
+      const auto n = static_cast<lxw_col_t>(channels.size());
+      result.temperature_rows = ForEachInstant(db, request, channels, [&](double t, const auto& values, const auto& statuses) {
+        lxw_row_t row;
+        auto* ws = wide.Row(&row);
+        wide.Time(ws, row, 0, t);
+        for (lxw_col_t i = 0; i < n; ++i) {
+          wide.Number(ws, row, 2 + i, values[i]);
+          if (!statuses[i].empty()) worksheet_write_string(ws, row, 2 + n + i, statuses[i].c_str(), nullptr);
+        }
+      });
+    }
+    SheetWriter temps(wb, request.wide ? "temperature_long" : "temperature",
                       {{"time_s", 16}, {"time_utc", 24}, {"channel", 16}, {"raw_c", 10}, {"filtered_c", 10}, {"status", 16}},
-                      header, time_format);
+                      header, time_format, request.max_rows_per_sheet);
     db.ForEachTemperature(request.range, request.channels, [&](const TemperatureRow& r) {
       lxw_row_t row;
       auto* ws = temps.Row(&row);
@@ -211,11 +282,11 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
       temps.Number(ws, row, 3, r.raw_c);
       temps.Number(ws, row, 4, r.filtered_c);
       worksheet_write_string(ws, row, 5, r.status.c_str(), nullptr);
-      ++result.temperature_rows;
+      if (!request.wide) ++result.temperature_rows;
     });
     SheetWriter comp(wb, "compensation",
                      {{"time_s", 16}, {"time_utc", 24}, {"axis", 8}, {"position_mm", 12}, {"correction_um", 14}, {"state", 12}},
-                     header, time_format);
+                     header, time_format, request.max_rows_per_sheet);
     db.ForEachCompensation(request.range, request.axes, [&](const CompensationRow& r) {
       lxw_row_t row;
       auto* ws = comp.Row(&row);
@@ -227,7 +298,7 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
       ++result.compensation_rows;
     });
     SheetWriter alarms(wb, "alarms", {{"time_s", 16}, {"time_utc", 24}, {"severity", 10}, {"source", 16}, {"message", 60}},
-                       header, time_format);
+                       header, time_format, request.max_rows_per_sheet);
     for (const auto& r : db.QueryAlarms(request.range)) {
       lxw_row_t row;
       auto* ws = alarms.Row(&row);
@@ -238,7 +309,7 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
       ++result.alarm_rows;
     }
     SheetWriter models(wb, "model_changes", {{"time_s", 16}, {"time_utc", 24}, {"sha256", 66}, {"revision", 16}, {"note", 40}},
-                       header, time_format);
+                       header, time_format, request.max_rows_per_sheet);
     for (const auto& r : db.QueryModelChanges(request.range)) {
       lxw_row_t row;
       auto* ws = models.Row(&row);

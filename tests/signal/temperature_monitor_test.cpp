@@ -261,6 +261,36 @@ TEST(TemperatureMonitor, UpdateAllocatesNothing) {
   EXPECT_EQ(mon.reading(7).status, ChannelStatus::kStuck);
 }
 
+TEST(TemperatureMonitor, SlowSamplingStillFilters) {
+  // 15 s per sample (a slow logger) is longer than reset_filter_after_s: the
+  // filter must keep its state between regular samples and still reject spikes.
+  Rig rig({"a"});
+  rig.dt = 15.0;
+  int i = 0;
+  rig.Run(60, [&](std::size_t, double) { return Ok(i++ == 40 ? 30.0 : 25.0); });
+  EXPECT_EQ(rig.mon.SpikeCount(0), 1u);
+  EXPECT_NEAR(rig.mon.reading(0).filtered_c, 25.0, 1e-9);
+  EXPECT_EQ(rig.mon.reading(0).status, ChannelStatus::kOk);
+}
+
+TEST(TemperatureMonitor, FilterRestartsAfterALongFault) {
+  Rig rig({"a"});
+  bool fault = false;
+  double value = 25.0;
+  auto gen = [&](std::size_t, double) { return fault ? RawTemperature{0, true} : Ok(value); };
+  rig.Run(100, gen);
+  fault = true;
+  rig.Run(200, gen);  // 20 s without a usable sample
+  fault = false;
+  value = 31.0;       // the part warmed up meanwhile
+  rig.Run(1, gen);
+  // Restarted: the first sample after the outage is taken as it is, not
+  // filtered against 20 s old state (which would also look like a rate fault).
+  EXPECT_DOUBLE_EQ(rig.mon.reading(0).filtered_c, 31.0);
+  rig.Run(30, gen);
+  EXPECT_EQ(rig.mon.reading(0).status, ChannelStatus::kOk);
+}
+
 TEST(TemperatureMonitor, RejectsBadConfiguration) {
   MonitorOptions o;
   o.neighbour_groups = {{"a", "nope"}};

@@ -8,6 +8,7 @@
 #include "cli_runner.hpp"
 #include "test_dir.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/store/history_writer.hpp"
 
@@ -89,6 +90,69 @@ TEST_F(HistoryExportTest, XlsxIsAValidWorkbookWithOneSheetPerTable) {
   EXPECT_NE(sheet1.find("<row r=\"121\""), std::string::npos);  // header + 120 readings
   EXPECT_EQ(sheet1.find("<row r=\"122\""), std::string::npos);
   EXPECT_FALSE(fs::exists(Path("h.xlsx.tmp")));
+}
+
+TEST_F(HistoryExportTest, WideLayoutHasOneRowPerInstantAndAColumnPerChannel) {
+  HistoryDb db(db_path_, HistoryDb::Mode::kReadOnly);
+  ExportRequest req;
+  req.wide = true;
+  req.range = {1795334400.0 + 1740, 1795334400.0 + 1800};  // 08:29 .. 08:30
+  const auto result = ExportCsv(db, HistoryTable::kTemperature, req, Path("w.csv"));
+  EXPECT_EQ(result.temperature_rows, 4);  // readings
+  const std::string csv = ReadTextFile(Path("w.csv"));
+  EXPECT_EQ(csv,
+            "time_s,time_utc,ambient_c,x_nut_c,ambient_status,x_nut_status\n"
+            "1795336140,2026-11-22T08:29:00.000Z,20," + FormatShortest(22 + 0.05 * 29 - 0.01) + ",ok,ok\n"
+            "1795336200,2026-11-22T08:30:00.000Z,20," + FormatShortest(22 + 0.05 * 30 - 0.01) + ",hardware_fault,ok\n");
+  req.channels = {"x_nut"};
+  ExportXlsx(db, req, Path("w.xlsx"));
+  const std::string workbook = Unzip(Path("w.xlsx"), "xl/workbook.xml");
+  EXPECT_NE(workbook.find("name=\"temperature\""), std::string::npos);
+  EXPECT_NE(workbook.find("name=\"temperature_long\""), std::string::npos);
+  const std::string sheet1 = Unzip(Path("w.xlsx"), "xl/worksheets/sheet1.xml");
+  EXPECT_NE(sheet1.find("x_nut_c"), std::string::npos);
+  EXPECT_EQ(sheet1.find("ambient_c"), std::string::npos);
+  EXPECT_NE(sheet1.find("<row r=\"3\""), std::string::npos);  // header + 2 instants
+  EXPECT_EQ(sheet1.find("<row r=\"4\""), std::string::npos);
+  auto r = testing::RunCli("history export --db " + db_path_ + " --layout wide --format csv --out " + Path("cli_w.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string cli = ReadTextFile(Path("cli_w.csv"));
+  EXPECT_EQ(std::count(cli.begin(), cli.end(), '\n'), 61);  // header + 60 instants
+  r = testing::RunCli("history export --db " + db_path_ + " --layout tall --format csv --out " + Path("x.csv"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+}
+
+TEST_F(HistoryExportTest, XlsxContinuesOnNextSheetAtTheRowLimit) {
+  HistoryDb db(db_path_, HistoryDb::Mode::kReadOnly);
+  ExportRequest req;
+  req.max_rows_per_sheet = 50;  // stands in for Excel's 1,048,575
+  const auto result = ExportXlsx(db, req, Path("split.xlsx"));
+  EXPECT_EQ(result.temperature_rows, 120);
+  const std::string workbook = Unzip(Path("split.xlsx"), "xl/workbook.xml");
+  for (const char* sheet : {"name=\"temperature\"", "name=\"temperature_2\"", "name=\"temperature_3\"",
+                            "name=\"compensation\"", "name=\"compensation_2\""})
+    EXPECT_NE(workbook.find(sheet), std::string::npos) << sheet;
+  EXPECT_EQ(workbook.find("name=\"temperature_4\""), std::string::npos);
+  EXPECT_EQ(workbook.find("name=\"compensation_3\""), std::string::npos);
+  // 50 + 50 + 20 rows: the third temperature sheet (sheet3.xml) ends at row 21.
+  const std::string third = Unzip(Path("split.xlsx"), "xl/worksheets/sheet3.xml");
+  EXPECT_NE(third.find("<row r=\"21\""), std::string::npos);
+  EXPECT_EQ(third.find("<row r=\"22\""), std::string::npos);
+}
+
+TEST_F(HistoryExportTest, ReaderWorksWhileTheWriterIsRunning) {
+  // The runtime keeps writing while an engineer exports: WAL lets both work.
+  HistoryWriter writer(db_path_);
+  for (int i = 0; i < 500; ++i) writer.PushTemperature(1795400000.0 + i, "x_nut", 30, 30, "ok");
+  writer.Flush();
+  auto r = testing::RunCli("history export --db " + db_path_ + " --from 1795400000 --format csv --out " + Path("live.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("500 temperature readings"), std::string::npos) << r.output;
+  for (int i = 0; i < 100; ++i) writer.PushTemperature(1795401000.0 + i, "x_nut", 31, 31, "ok");
+  writer.Flush();
+  HistoryDb reader(db_path_, HistoryDb::Mode::kReadOnly);
+  EXPECT_EQ(reader.QueryTemperatures({1795400000.0, 1e12}).size(), 600u);
+  EXPECT_EQ(writer.Stats().failed, 0u);
 }
 
 TEST_F(HistoryExportTest, XlsxWithUnknownChannelWritesNothing) {

@@ -32,10 +32,14 @@ struct FaultOptions {
   double range_hysteresis_c = 0.5;  // must come back inside by this much to clear
   double max_rate_c_per_s = 0.5;    // on the filtered value; machine structures move < 0.05 °C/s
   double stuck_window_s = 300.0;    // evaluation window for "stuck"
-  double stuck_band_c = 0.02;       // own raw span at or below this = no change beyond noise
+  // Own raw span at or below this = "no change". 0 = bit-identical readings
+  // only (a frozen register or hung module): real quiet sensors drift by
+  // hundredths over minutes (FL_THERMAL t6/t7 stay within 0.02 °C for 7 min
+  // while others warm 0.3 °C), so a non-zero band flags healthy channels.
+  double stuck_band_c = 0.0;
   double others_moving_c = 0.3;     // ... while another healthy channel's filtered value moved at least this much
   double max_disagreement_c = 3.0;  // from the median of its neighbour group
-  double reset_filter_after_s = 10.0;  // a channel unfed this long restarts its filter
+  double reset_filter_after_s = 10.0;  // a channel that missed samples (fault) for this long restarts its filter
   double stale_after_s = 2.0;       // MarkSourceFailed: no data this long -> no_data
   int confirm_samples = 3;
   int recover_samples = 20;

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "trueaxis/signal/calibration.hpp"
 #include "trueaxis/store/history_record.hpp"
 
 struct sqlite3;
@@ -65,7 +66,7 @@ struct TableSummary {
 struct HistorySummary {
   std::string path;
   int schema_version = 0;
-  TableSummary temperature, compensation, alarm, model_change;
+  TableSummary temperature, compensation, alarm, model_change, calibration;
   std::vector<std::pair<std::string, std::int64_t>> readings_per_channel;
   std::vector<std::string> axes;
   std::string BriefReport() const;
@@ -74,7 +75,9 @@ struct HistorySummary {
 class HistoryDb {
  public:
   enum class Mode { kReadOnly, kReadWrite };  // kReadWrite creates a missing file
-  static constexpr int kSchemaVersion = 1;
+  static constexpr int kSchemaVersion = 2;
+  // The SQL of each migration step (step i: schema i -> i + 1), for tests and tools.
+  static std::span<const char* const> MigrationSteps();
   static constexpr std::int32_t kApplicationId = 0x54415848;  // "TAXH"
 
   HistoryDb(const std::string& path, Mode mode);
@@ -104,6 +107,12 @@ class HistoryDb {
   std::vector<ModelChangeRow> QueryModelChanges(const TimeRange& range) const;
 
   HistorySummary Summary() const;
+
+  // Sensor calibrations (schema 2): stored synchronously (rare event), one
+  // transaction; LatestCalibration() gives the newest calibration per sensor,
+  // ready for TemperatureMonitor::SetCalibration().
+  void InsertCalibration(double time_s, const signal::CalibrationSet& set);
+  signal::CalibrationSet LatestCalibration() const;
 
  private:
   void Validate(Mode mode, bool fresh);

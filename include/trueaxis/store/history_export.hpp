@@ -21,6 +21,15 @@ struct ExportRequest {
   TimeRange range;
   std::vector<std::string> channels;  // temperature: empty = all
   std::vector<std::string> axes;      // compensation: empty = all
+  // xlsx: data rows per sheet before continuing on "<table>_2"; Excel's limit
+  // is 1,048,576 rows including the header. Lower only for tests.
+  std::uint32_t max_rows_per_sheet = 1048575;
+  // Temperature layout. Long (default): one row per reading,
+  // time_s,time_utc,channel,raw_c,filtered_c,status. Wide: one row per
+  // instant, time_s,time_utc,<ch>_c...,<ch>_status... with the filtered
+  // values (blank where a channel has no reading at that instant) — the
+  // shape a spreadsheet plots directly.
+  bool wide = false;
 };
 
 struct ExportResult {

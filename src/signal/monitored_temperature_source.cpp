@@ -1,0 +1,45 @@
+#include "trueaxis/signal/monitored_temperature_source.hpp"
+
+#include <chrono>
+#include <cmath>
+
+namespace trueaxis::signal {
+
+std::vector<std::string> MonitoredTemperatureSource::Names(const hw::TemperatureSource& s) {
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < s.ChannelCount(); ++i) names.push_back(s.ChannelName(i));
+  return names;
+}
+
+MonitoredTemperatureSource::MonitoredTemperatureSource(hw::TemperatureSource& inner, MonitorOptions options,
+                                                       std::function<double()> clock_s)
+    : inner_(inner), monitor_(Names(inner), std::move(options)), clock_s_(std::move(clock_s)), raw_(inner.ChannelCount()) {
+  if (!clock_s_) {
+    clock_s_ = [] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    };
+  }
+}
+
+bool MonitoredTemperatureSource::Read(std::span<hw::RawTemperature> out) {
+  const double now = clock_s_();
+  if (!inner_.Read(raw_)) {
+    monitor_.MarkSourceFailed(now);
+    return false;
+  }
+  monitor_.Update(now, raw_);
+  for (std::size_t i = 0; i < out.size() && i < monitor_.ChannelCount(); ++i) {
+    const ChannelReading& r = monitor_.reading(i);
+    if (r.usable()) {
+      out[i] = {r.filtered_c, false};
+    } else {
+      // Not usable: flag it, and carry the last good value (or the raw one if
+      // there never was a good value) so a consumer that only looks at the
+      // number sees nothing wild.
+      out[i] = {std::isnan(r.last_good_c) ? r.raw_c : r.last_good_c, true};
+    }
+  }
+  return true;
+}
+
+}  // namespace trueaxis::signal

@@ -1,0 +1,73 @@
+#include "trueaxis/signal/monitored_temperature_source.hpp"
+
+#include <gtest/gtest.h>
+
+#include "alloc_counter.hpp"
+#include "synthetic.hpp"
+
+namespace trueaxis::signal {
+namespace {
+
+// A scripted source: values set by the test, optional link failure.
+class ScriptedSource : public hw::TemperatureSource {
+ public:
+  std::vector<hw::RawTemperature> values = {{20.0, false}, {25.0, false}};
+  bool link_ok = true;
+  std::size_t ChannelCount() const override { return values.size(); }
+  std::string ChannelName(std::size_t c) const override { return c == 0 ? "ambient" : "x_nut"; }
+  bool Read(std::span<hw::RawTemperature> out) override {
+    if (!link_ok) return false;
+    for (std::size_t i = 0; i < values.size(); ++i) out[i] = values[i];
+    return true;
+  }
+};
+
+TEST(MonitoredTemperatureSource, DeliversFilteredCalibratedValuesAndFlagsFaults) {
+  ScriptedSource inner;
+  double now = 0;
+  MonitoredTemperatureSource source(inner, {}, [&now] { return now; });
+  ASSERT_EQ(source.ChannelCount(), 2u);
+  EXPECT_EQ(source.ChannelName(1), "x_nut");
+  source.monitor().SetCalibration(1, {1.0, -0.5});
+  std::vector<hw::RawTemperature> out(2);
+  testing::NoisySensor noise;
+  for (int i = 0; i < 600; ++i, now += 0.1) {
+    inner.values[1] = {noise.Sample(25.0), false};
+    ASSERT_TRUE(source.Read(out));
+  }
+  EXPECT_FALSE(out[1].hardware_fault);
+  EXPECT_NEAR(out[1].temp_c, 24.5, 0.1);  // calibrated and filtered
+  EXPECT_DOUBLE_EQ(out[0].temp_c, 20.0);
+  const double good = out[1].temp_c;
+  // Open sensor: flagged, and the number stays the last good one.
+  inner.values[1] = {500.0, false};
+  for (int i = 0; i < 5; ++i, now += 0.1) source.Read(out);
+  EXPECT_TRUE(out[1].hardware_fault);
+  EXPECT_NEAR(out[1].temp_c, good, 0.05);
+  EXPECT_EQ(source.monitor().reading(1).status, ChannelStatus::kOverRange);
+  // Link loss: Read() false, out untouched; after stale_after_s the monitor says no_data.
+  inner.link_ok = false;
+  const auto before = out;
+  EXPECT_FALSE(source.Read(out));
+  EXPECT_EQ(out[0].temp_c, before[0].temp_c);
+  now += 5;
+  EXPECT_FALSE(source.Read(out));
+  EXPECT_EQ(source.monitor().reading(0).status, ChannelStatus::kNoData);
+}
+
+TEST(MonitoredTemperatureSource, ReadAllocatesNothing) {
+  ScriptedSource inner;
+  double now = 0;
+  MonitoredTemperatureSource source(inner, {}, [&now] { return now; });
+  std::vector<hw::RawTemperature> out(2);
+  for (int i = 0; i < 10; ++i, now += 0.01) source.Read(out);
+  const long before = trueaxis::testing::AllocationCount();
+  for (int i = 0; i < 5000; ++i, now += 0.01) {
+    inner.link_ok = i % 100 != 0;
+    source.Read(out);
+  }
+  EXPECT_EQ(trueaxis::testing::AllocationCount() - before, 0);
+}
+
+}  // namespace
+}  // namespace trueaxis::signal
