@@ -24,6 +24,7 @@ std::string Lower(std::string s) {
 bool StartsWith(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
 
 // "coolant:flood" / "coolant-flood" / "coolant_flood" → "flood"; "" otherwise.
+// Only a known coolant name counts, so "coolant-03" (a sequence) is not misread.
 std::string CoolantFromLabel(const std::string& label) {
   const std::string l = Lower(label);
   for (const char* p : {"coolant:", "coolant-", "coolant_"})
@@ -31,7 +32,8 @@ std::string CoolantFromLabel(const std::string& label) {
       std::string rest = l.substr(std::string(p).size());
       // "coolant-flood-2" → "flood"
       const auto cut = rest.find_first_of("-_: ");
-      return cut == std::string::npos ? rest : rest.substr(0, cut);
+      rest = cut == std::string::npos ? rest : rest.substr(0, cut);
+      return ParseCoolantState(rest) ? rest : "";
     }
   return "";
 }
@@ -63,6 +65,10 @@ FitState MakeFitState(measure::Measurement m, const std::string& label_override,
   s.sha256 = sha256;
   s.label = label_override.empty() ? std::string(Trim(m.Meta("state").value_or(""))) : label_override;
   s.kind = KindFromLabel(s.label);
+  // Campaigns number repeated states ("warm", sequence 3): make the label unique for reports.
+  if (!s.label.empty())
+    if (auto seq = ParseInt(Trim(m.Meta("sequence").value_or(""))))
+      if (s.label.find_first_of("0123456789") == std::string::npos) s.label += fmt::format("-{:02}", *seq);
   s.axis = std::string(Trim(m.Meta("axis").value_or("")));
   std::string coolant = coolant_override;
   const char* field = "coolant";
@@ -71,6 +77,11 @@ FitState MakeFitState(measure::Measurement m, const std::string& label_override,
     coolant = CoolantFromLabel(s.label);
     field = "state";
   }
+  if (coolant.empty() && Lower(s.label).rfind("coolant", 0) == 0)
+    throw InputError(m.source, 0, "coolant",
+                     fmt::format("state '{}' is a coolant state but does not say which coolant; add '# coolant: flood' "
+                                 "(or mist/air)",
+                                 s.label));
   if (!coolant.empty()) {
     auto c = ParseCoolantState(Lower(coolant));
     if (!c)

@@ -1,6 +1,7 @@
 #include "trueaxis/model/model_fit.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -395,8 +396,21 @@ class AxisFitter {
     // Candidates: sensors in the cold state and in every thermal state.
     std::vector<std::string> candidates;
     const bool above_ambient = !amb.empty();
+    // "x_nut" belongs to axis X; a one-letter prefix other than this axis' marks another axis' sensor.
+    const std::string own_prefix = axis_name_.size() == 1 ? Lower(axis_name_) + "_" : "";
+    auto axis_prefixed = [](const std::string& n) {
+      return n.size() > 2 && n[1] == '_' && std::isalpha(static_cast<unsigned char>(n[0]));
+    };
+    bool per_axis_names = false;
+    for (const auto& n : cold_.sensor_names) per_axis_names = per_axis_names || (!own_prefix.empty() && Lower(n).rfind(own_prefix, 0) == 0);
+    std::vector<std::string> other_axis;
     for (const auto& n : cold_.sensor_names) {
       if (above_ambient && n == amb) continue;
+      if (o_.own_axis_sensors_only && per_axis_names && o_.key_sensors.empty() && axis_prefixed(n) &&
+          Lower(n).rfind(own_prefix, 0) != 0) {
+        other_axis.push_back(n);
+        continue;
+      }
       std::vector<std::string> missing;
       for (auto* s : thermal_)
         if (!s->measurement.SensorIndex(n)) missing.push_back(s->path);
@@ -424,6 +438,9 @@ class AxisFitter {
     }
     if (!o_.key_sensors.empty()) candidates = o_.key_sensors;
     sum.candidate_sensors = candidates;
+    if (!other_axis.empty())
+      sum.candidate_note = fmt::format("sensors of other axes are not candidates (own_axis_sensors_only): {}",
+                                       fmt::join(other_axis, ", "));
 
     std::vector<double> base;
     for (const auto& n : candidates) base.push_back(MeanOfSensor(cold_, n));
@@ -673,8 +690,9 @@ class AxisFitter {
     else if (keys.size() + 1 + (fit_rho ? 1 : 0) > max_params && keys.size() < candidates.size())
       reasons.push_back(fmt::format("stopped: {} states allow at most {} gain(s)", n_states, keys.size()));
     sum.key_selection_reason = fmt::format("forward stepwise selection by leave-one-state-out CV over {} states "
-                                           "from candidates {}: {}",
-                                           n_states, JoinNames(candidates), fmt::join(reasons, "; "));
+                                           "from candidates {}: {}{}",
+                                           n_states, JoinNames(candidates), fmt::join(reasons, "; "),
+                                           sum.candidate_note.empty() ? "" : "; " + sum.candidate_note);
   }
 
   void FitCoolant(const std::vector<ThermalPoint>& pts, const std::vector<std::size_t>& keys, double rho,

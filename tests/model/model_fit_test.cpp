@@ -291,3 +291,59 @@ TEST(FitOptions, IsValidExplainsWhatIsWrong) {
 
 }  // namespace
 }  // namespace trueaxis::model
+
+namespace trueaxis::model {
+namespace {
+
+TEST(ModelFit, SensorsOfOtherAxesAreNotCandidates) {
+  // y_nut heats exactly like the X error here (a common warm-up), but it is Y's sensor.
+  SyntheticMachine sm;
+  std::mt19937 rng(2);
+  std::vector<FitState> states;
+  for (const auto& s : sm.DefaultStates()) {
+    auto m = sm.Make(s, rng);
+    for (auto& n : m.sensor_names)
+      if (n == "nut") n = "x_nut";
+      else if (n == "bearing") n = "y_nut";  // pretend the bearing reading were the Y nut
+    states.push_back(MakeFitState(m));
+  }
+  auto res = FitCompositeModel(states, {});
+  const auto& s = res.summary.axes[0];
+  EXPECT_THAT(s.candidate_sensors, ::testing::Not(::testing::Contains("y_nut")));
+  EXPECT_THAT(s.candidate_sensors, ::testing::Contains("motor"));  // shared, not axis-named
+  EXPECT_THAT(s.key_selection_reason, ::testing::HasSubstr("y_nut"));
+  EXPECT_THAT(res.model.axes[0].key_sensors, ::testing::Contains("x_nut"));
+  FitOptions all;
+  all.own_axis_sensors_only = false;
+  EXPECT_THAT(FitCompositeModel(states, all).summary.axes[0].candidate_sensors, ::testing::Contains("y_nut"));
+}
+
+TEST(FitInput, CampaignSequencesMakeUniqueLabelsAndCoolantNeedsAName) {
+  measure::Measurement m;
+  m.source = "X_03_warm_02.csv";
+  m.metadata = {{"axis", "X"}, {"state", "warm"}, {"sequence", "2"}, {"coolant", "off"}};
+  auto s = MakeFitState(m);
+  EXPECT_EQ(s.label, "warm-02");
+  EXPECT_EQ(s.kind, StateKind::kHeated);
+  m.metadata = {{"axis", "X"}, {"state", "coolant"}, {"sequence", "3"}, {"coolant", "flood"}};
+  s = MakeFitState(m);
+  EXPECT_EQ(s.label, "coolant-03");
+  EXPECT_EQ(s.coolant, CoolantState::kFlood);
+  m.metadata = {{"axis", "X"}, {"state", "coolant-mist"}};
+  EXPECT_EQ(MakeFitState(m).coolant, CoolantState::kMist);
+  m.metadata = {{"axis", "X"}, {"state", "coolant"}};
+  EXPECT_THROW(MakeFitState(m), InputError);
+  m.metadata = {{"axis", "X"}, {"state", "heated"}, {"coolant", "lava"}};
+  try {
+    MakeFitState(m);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "coolant");
+  }
+  EXPECT_EQ(KindFromLabel("Cold"), StateKind::kCold);
+  EXPECT_EQ(KindFromLabel("ambient-24"), StateKind::kAmbient);
+  EXPECT_EQ(KindFromLabel(""), StateKind::kUnknown);
+}
+
+}  // namespace
+}  // namespace trueaxis::model

@@ -26,6 +26,12 @@ struct FitOptions {
   // Two candidates whose per-point rises correlate more than this are collinear:
   // only the better one can be chosen.
   double max_key_correlation = 0.98;
+  // Sensors named for another axis ("y_nut" while fitting X) are not candidates
+  // when the files name sensors per axis at all (some sensor starts with "x_"):
+  // a warm-up that heats every axis at once makes them correlate with this
+  // axis' error without causing it, and a different warm-up path would break
+  // that correlation. Shared sensors (ambient, bed, ...) stay candidates.
+  bool own_axis_sensors_only = true;
   // Fewer heated (or ambient) off-coolant states than this → geometric-only model with a warning.
   int min_thermal_states = 2;
 

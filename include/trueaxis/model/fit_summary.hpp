@@ -56,6 +56,7 @@ struct AxisFitSummary {
   std::array<DirectionFitStats, 2> directions;
   bool thermal_fitted = false;
   std::vector<std::string> candidate_sensors;
+  std::string candidate_note;             // e.g. which sensors of other axes were left out
   std::vector<std::string> key_sensors;
   std::string key_selection_reason;
   std::vector<SelectionStep> selection_steps;

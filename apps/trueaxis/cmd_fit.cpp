@@ -1,0 +1,147 @@
+// trueaxis fit --out model.json INPUTS… [--manifest DIR/manifest.json]
+//              [--geometric poly|table] [--max-degree N] [--report fit.html]
+//              [--previous old.json] [--keys nut,bearing] [--reference-mm P]
+//              [--rho R] [--ambient-sensor NAME] [--axis X] [--full]
+// Fits the composite geometric + thermal model (seed 000) per axis and per
+// direction from measurement files of several thermal states and writes the
+// model file (docs/model-file.md). With --previous the new model is the next
+// revision of that one: revision + 1, parent_sha256 and the lineage recorded.
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "command.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/text_file.hpp"
+#include "trueaxis/model/fit_report.hpp"
+#include "trueaxis/model/model_fit.hpp"
+#include "trueaxis/model/model_json.hpp"
+#include "trueaxis/model/sha256.hpp"
+
+namespace trueaxis::cli {
+namespace {
+
+struct FitCliOptions {
+  std::string out;
+  std::vector<std::string> inputs;
+  std::string manifest;
+  std::string geometric = "poly";
+  int max_degree = 8;
+  std::string report;
+  std::string previous;
+  std::vector<std::string> keys;
+  double reference_mm = std::numeric_limits<double>::quiet_NaN();
+  double rho = std::numeric_limits<double>::quiet_NaN();
+  std::string ambient_sensor;
+  std::string axis;
+  int max_keys = 3;
+  double max_key_correlation = 0.98;
+  bool full = false;
+};
+
+// How much the geometric part moved against the previous revision, per axis and direction.
+std::string CompareWithPrevious(const model::CompositeModel& prev, const model::CompositeModel& next) {
+  std::string out;
+  for (const auto& a : next.axes) {
+    const auto* p = prev.FindAxis(a.axis);
+    if (!p) {
+      out += fmt::format("  axis {}: new (not in the previous revision)\n", a.axis);
+      continue;
+    }
+    for (Direction d : {Direction::kForward, Direction::kReverse}) {
+      const auto& g = a.For(d).geometric;
+      const double lo = g.kind == model::GeometricError::Kind::kTable ? g.table_position_mm.front() : g.center_mm - g.half_span_mm;
+      const double hi = g.kind == model::GeometricError::Kind::kTable ? g.table_position_mm.back() : g.center_mm + g.half_span_mm;
+      double max_diff = 0;
+      for (int i = 0; i <= 200; ++i) {
+        const double x = lo + (hi - lo) * i / 200.0;
+        max_diff = std::max(max_diff, std::abs(g.Evaluate(x) - p->For(d).geometric.Evaluate(x)));
+      }
+      out += fmt::format("  axis {} {}: Er(x) changed by up to {:.3f} µm over {:.1f} … {:.1f} mm\n", a.axis,
+                         DirectionSymbol(d), max_diff, lo, hi);
+    }
+    if (a.key_sensors != p->key_sensors)
+      out += fmt::format("  axis {}: key sensors changed ({} → {})\n", a.axis, fmt::join(p->key_sensors, ","),
+                         fmt::join(a.key_sensors, ","));
+  }
+  return out;
+}
+
+void RunFit(const FitCliOptions& o) {
+  if (o.inputs.empty() && o.manifest.empty())
+    throw InputError("command line", 0, "INPUTS", "give measurement files and/or --manifest");
+  model::FitOptions fo;
+  if (o.geometric == "poly" || o.geometric == "polynomial") fo.geometric = model::FitOptions::Geometric::kPolynomial;
+  else if (o.geometric == "table") fo.geometric = model::FitOptions::Geometric::kTable;
+  else throw InputError("command line", 0, "--geometric", fmt::format("'{}' is not 'poly' or 'table'", o.geometric));
+  fo.max_degree = o.max_degree;
+  fo.key_sensors = o.keys;
+  fo.max_key_sensors = o.max_keys;
+  fo.max_key_correlation = o.max_key_correlation;
+  fo.reference_position_mm = o.reference_mm;
+  fo.rho_um_per_mm_per_c = o.rho;
+  fo.ambient_sensor = o.ambient_sensor;
+  fo.default_axis = o.axis;
+  std::string why;
+  if (!fo.IsValid(&why)) throw InputError("command line", 0, "options", why);
+
+  // Read the previous model first: a bad --previous must fail before any work.
+  std::unique_ptr<model::CompositeModel> prev;
+  std::string prev_sha;
+  if (!o.previous.empty()) {
+    prev = std::make_unique<model::CompositeModel>(model::ReadModelFile(o.previous));
+    prev_sha = model::Sha256OfFile(o.previous);
+  }
+
+  const auto states = model::LoadFitStates(o.inputs, o.manifest);
+  auto result = model::FitCompositeModel(states, fo);
+  auto& m = result.model;
+  if (prev) {
+    m.revision = prev->revision + 1;
+    m.parent_sha256 = prev_sha;
+    m.lineage = prev->lineage;
+    m.lineage.push_back({prev->revision, prev_sha, prev->created_utc});
+    if (m.machine.empty()) m.machine = prev->machine;
+  }
+  model::WriteModelFile(m, o.out);
+  if (!o.report.empty()) model::WriteFitReportHtml(result, states, o.report);
+
+  std::cout << (o.full ? result.summary.FullReport() : result.summary.BriefReport());
+  if (prev) std::cout << fmt::format("changes against revision {} ({}):\n{}", prev->revision, o.previous,
+                                     CompareWithPrevious(*prev, m));
+  std::cout << fmt::format("wrote {} (revision {}, {} axis/axes, {} source file(s), sha256 {})\n", o.out, m.revision,
+                           m.axes.size(), m.sources.size(), model::Sha256OfFile(o.out));
+  if (!o.report.empty()) std::cout << fmt::format("wrote {}\n", o.report);
+}
+
+void Setup(CLI::App& app) {
+  auto opts = std::make_shared<FitCliOptions>();
+  auto* cmd = app.add_subcommand("fit", "Fit the composite geometric + thermal error model (seed 000) per axis and direction");
+  cmd->add_option("--out", opts->out, "Model file to write (JSON, docs/model-file.md)")->required();
+  cmd->add_option("inputs", opts->inputs, "Measurement CSV files, one thermal state each ('# state:' metadata)");
+  cmd->add_option("--manifest", opts->manifest, "Campaign manifest.json listing files and their states");
+  cmd->add_option("--geometric", opts->geometric, "Geometric part: poly (degree chosen by CV) or table (seed 002)")
+      ->capture_default_str();
+  cmd->add_option("--max-degree", opts->max_degree, "Highest polynomial degree tried")->capture_default_str();
+  cmd->add_option("--report", opts->report, "Write an HTML fit report (measured vs model per state)");
+  cmd->add_option("--previous", opts->previous, "Model this fit replaces: revision+1, lineage recorded");
+  cmd->add_option("--keys", opts->keys, "Key sensors to use instead of selecting them (comma separated)")->delimiter(',');
+  cmd->add_option("--max-keys", opts->max_keys, "Most key sensors the selection may choose")->capture_default_str();
+  cmd->add_option("--max-key-correlation", opts->max_key_correlation,
+                  "Candidates whose rises correlate more than this with a chosen key are skipped")
+      ->capture_default_str();
+  cmd->add_option("--reference-mm", opts->reference_mm, "Reference point Px in mm (default: metadata or fitted)");
+  cmd->add_option("--rho", opts->rho, "ρ in µm/mm/°C (default: fitted, or −cte/1000 from metadata)");
+  cmd->add_option("--ambient-sensor", opts->ambient_sensor, "Ambient sensor name ('none' for no ambient term)");
+  cmd->add_option("--axis", opts->axis, "Axis for files without '# axis:' metadata");
+  cmd->add_flag("--full", opts->full, "Print the full fit report instead of the brief one");
+  cmd->callback([opts] { RunFit(*opts); });
+}
+
+CommandRegistrar reg("fit", Setup);
+
+}  // namespace
+}  // namespace trueaxis::cli

@@ -1,0 +1,199 @@
+// trueaxis predict --model model.json --axis X --position-mm P --direction +
+//                  [--temp nut=25.1,bearing=23.4] [--ambient-c T] [--coolant flood] [--json]
+// trueaxis predict --model model.json --measurement FILE.csv [--coolant flood] [--residual-out R.csv]
+//   (held-out check: every point predicted from its own temperatures; prints ISO 230-2 A
+//    of the measured error and of measured − predicted, and writes the residual file)
+// Prints the model's predicted error at one position and the correction the
+// runtime would apply (docs/sign-convention.md: error = actual − commanded,
+// correction = −error, added to the command).
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <memory>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "trueaxis/analysis/evaluation.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/number_text.hpp"
+#include "trueaxis/model/composite_model.hpp"
+#include "trueaxis/measure/measurement_csv.hpp"
+#include "trueaxis/model/model_fit.hpp"
+#include "trueaxis/model/model_json.hpp"
+
+namespace trueaxis::cli {
+namespace {
+
+struct PredictOptions {
+  std::string model;
+  std::string axis;
+  double position_mm = 0;
+  std::string direction;
+  std::vector<std::string> temps;
+  double ambient_c = std::numeric_limits<double>::quiet_NaN();
+  std::string coolant;  // empty: off (or the measurement file's own)
+  bool geometric_only = false;
+  bool json = false;
+  std::string measurement;
+  std::string residual_out;
+  bool position_given = false;
+};
+
+void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel& model) {
+  const auto m = measure::ReadMeasurementCsv(o.measurement);
+  std::string axis_name = o.axis.empty() ? std::string(Trim(m.Meta("axis").value_or(""))) : o.axis;
+  if (axis_name.empty())
+    throw InputError(o.measurement, 0, "axis", "no '# axis:' metadata line; pass --axis");
+  const auto* axis = model.FindAxis(axis_name);
+  if (!axis) throw InputError(o.model, 0, "--axis", fmt::format("the model has no axis '{}'", axis_name));
+  // Coolant: the option if given, else the file's '# coolant:' line, else off.
+  std::string coolant_name = o.coolant;
+  if (coolant_name.empty()) coolant_name = std::string(Trim(m.Meta("coolant").value_or("off")));
+  const auto coolant = ParseCoolantState(coolant_name);
+  if (!coolant) throw InputError(o.measurement, 0, "coolant", fmt::format("unknown coolant state '{}'", coolant_name));
+  for (const auto& k : axis->key_sensors)
+    if (!m.SensorIndex(k))
+      throw InputError(o.measurement, 0, fmt::format("t_{}_c", k),
+                       fmt::format("the model's key sensor '{}' is not in this file", k));
+  const auto residual = model::PredictionResidual(*axis, m, *coolant);
+  const auto before = analysis::Evaluate(m);
+  const auto after = analysis::Evaluate(residual);
+  double ss_m = 0, ss_r = 0;
+  for (std::size_t i = 0; i < m.points.size(); ++i)
+    ss_m += m.points[i].deviation_um * m.points[i].deviation_um,
+        ss_r += residual.points[i].deviation_um * residual.points[i].deviation_um;
+  const double n = static_cast<double>(m.points.size());
+  std::cout << fmt::format("{}: axis {}, coolant {}, {} points\n", o.measurement, axis_name, CoolantStateName(*coolant),
+                           m.points.size());
+  std::cout << fmt::format("  measured error        ISO 230-2 A {:>8.2f} µm   RMS {:>7.2f} µm\n", before.axis.A_um,
+                           std::sqrt(ss_m / n));
+  std::cout << fmt::format("  measured − predicted  ISO 230-2 A {:>8.2f} µm   RMS {:>7.2f} µm   (what would remain after "
+                           "compensation)\n",
+                           after.axis.A_um, std::sqrt(ss_r / n));
+  if (!o.residual_out.empty()) {
+    measure::WriteMeasurementCsv(residual, o.residual_out);
+    std::cout << fmt::format("wrote {} (deviation_um = measured − predicted)\n", o.residual_out);
+  }
+}
+
+void RunPredict(const PredictOptions& o) {
+  const auto model = model::ReadModelFile(o.model);
+  if (!o.measurement.empty()) return RunPredictMeasurement(o, model);
+  if (o.axis.empty()) throw InputError("command line", 0, "--axis", "required (or give --measurement)");
+  if (!o.position_given) throw InputError("command line", 0, "--position-mm", "required (or give --measurement)");
+  if (o.direction.empty()) throw InputError("command line", 0, "--direction", "required: + or -");
+  const auto* axis = model.FindAxis(o.axis);
+  if (!axis) {
+    std::vector<std::string> names;
+    for (const auto& a : model.axes) names.push_back(a.axis);
+    throw InputError(o.model, 0, "--axis", fmt::format("the model has no axis '{}' (it has {})", o.axis, fmt::join(names, ", ")));
+  }
+  const auto dir = ParseDirection(o.direction);
+  if (!dir) throw InputError("command line", 0, "--direction", fmt::format("'{}' is not + or -", o.direction));
+  if (!std::isfinite(o.position_mm)) throw InputError("command line", 0, "--position-mm", "must be a finite number");
+  const auto coolant = ParseCoolantState(o.coolant.empty() ? "off" : o.coolant);
+  if (!coolant) throw InputError("command line", 0, "--coolant", fmt::format("'{}' is not off, flood, mist or air", o.coolant));
+
+  std::map<std::string, double> given;
+  for (const auto& t : o.temps) {
+    const auto eq = t.find('=');
+    if (eq == std::string::npos)
+      throw InputError("command line", 0, "--temp", fmt::format("'{}' is not NAME=°C (e.g. nut=25.1)", t));
+    const std::string name(Trim(t.substr(0, eq)));
+    const auto v = ParseDouble(t.substr(eq + 1));
+    if (!v || !std::isfinite(*v))
+      throw InputError("command line", 0, "--temp", fmt::format("'{}': '{}' is not a temperature", name, t.substr(eq + 1)));
+    if (name.empty()) throw InputError("command line", 0, "--temp", fmt::format("'{}' has no sensor name", t));
+    bool known = false;
+    for (const auto& k : axis->key_sensors) known = known || k == name;
+    if (!known && name != axis->ambient_sensor)
+      throw InputError("command line", 0, "--temp",
+                       fmt::format("'{}' is not a key sensor of axis {} (key sensors: {})", name, o.axis,
+                                   axis->key_sensors.empty() ? std::string("none") : fmt::format("{}", fmt::join(axis->key_sensors, ", "))));
+    given[name] = *v;
+  }
+  std::vector<double> key_temps;
+  const bool use_thermal = !o.geometric_only;
+  for (const auto& k : axis->key_sensors) {
+    auto it = given.find(k);
+    if (it == given.end()) {
+      if (use_thermal)
+        throw InputError("command line", 0, "--temp",
+                         fmt::format("key sensor '{}' needs a temperature (--temp {}=…), or pass --geometric-only", k, k));
+      key_temps.push_back(std::numeric_limits<double>::quiet_NaN());
+    } else {
+      key_temps.push_back(it->second);
+    }
+  }
+  double ambient = o.ambient_c;
+  if (std::isnan(ambient) && !axis->ambient_sensor.empty())
+    if (auto it = given.find(axis->ambient_sensor); it != given.end()) ambient = it->second;
+
+  model::ThermalState st{key_temps, ambient, *coolant, use_thermal};
+  const auto p = model::Predict(*axis, o.position_mm, *dir, st);
+  const auto& g = axis->For(*dir).geometric;
+  const double lo = g.kind == model::GeometricError::Kind::kTable ? g.table_position_mm.front() : g.center_mm - g.half_span_mm;
+  const double hi = g.kind == model::GeometricError::Kind::kTable ? g.table_position_mm.back() : g.center_mm + g.half_span_mm;
+  const bool outside = o.position_mm < lo - 1e-9 || o.position_mm > hi + 1e-9;
+  const auto* gains = axis->For(*dir).GainsFor(*coolant);
+
+  if (o.json) {
+    nlohmann::json j{{"axis", o.axis},
+                     {"position_mm", o.position_mm},
+                     {"direction", std::string(1, DirectionSymbol(*dir))},
+                     {"coolant", std::string(CoolantStateName(*coolant))},
+                     {"geometric_um", p.geometric_um},
+                     {"thermal_um", p.thermal_um},
+                     {"ambient_um", p.ambient_um},
+                     {"tan_beta_um_per_mm", p.tan_beta_um_per_mm},
+                     {"error_um", p.total_um},
+                     {"correction_um", model::CorrectionUm(p)},
+                     {"outside_fitted_range", outside}};
+    std::cout << j.dump(2) << "\n";
+    return;
+  }
+  std::cout << fmt::format("axis {}, position {} mm, direction {} ({}), coolant {} (gains: {})\n", o.axis,
+                           FormatShortest(o.position_mm), DirectionSymbol(*dir),
+                           *dir == Direction::kForward ? "forward" : "reverse", CoolantStateName(*coolant),
+                           gains ? std::string(CoolantStateName(gains->coolant)) : std::string("none"));
+  std::cout << fmt::format("  geometric  Er(x)                  {:>10.3f} µm\n", p.geometric_um);
+  std::cout << fmt::format("  thermal    tanβ·(Px − P0)         {:>10.3f} µm   (tanβ = {:.6f} µm/mm, Px = {} mm)\n",
+                           p.thermal_um, p.tan_beta_um_per_mm, FormatShortest(axis->reference_position_mm));
+  std::cout << fmt::format("  ambient    ρ·ΔT_env·(Px − P0)     {:>10.3f} µm\n", p.ambient_um);
+  std::cout << fmt::format("  predicted error (actual − commanded) {:>8.3f} µm\n", p.total_um);
+  std::cout << fmt::format("  correction (added to the command)    {:>8.3f} µm\n", model::CorrectionUm(p));
+  if (outside)
+    std::cout << fmt::format("  warning: {} mm is outside the fitted range {} … {} mm (extrapolated)\n",
+                             FormatShortest(o.position_mm), FormatShortest(lo), FormatShortest(hi));
+  if (!use_thermal) std::cout << "  note: --geometric-only: thermal and ambient parts not applied\n";
+  else if (!axis->ambient_sensor.empty() && std::isnan(ambient))
+    std::cout << fmt::format("  note: no ambient temperature given (--ambient-c): no ambient adjustment\n");
+}
+
+void Setup(CLI::App& app) {
+  auto o = std::make_shared<PredictOptions>();
+  auto* cmd = app.add_subcommand("predict", "Predict the error and correction of one axis position from a model file");
+  cmd->add_option("--model", o->model, "Model file (trueaxis fit)")->required();
+  cmd->add_option("--axis", o->axis, "Axis name, e.g. X");
+  cmd->add_option_function<double>(
+      "--position-mm", [o](const double& v) { o->position_mm = v, o->position_given = true; },
+      "Commanded machine coordinate P0 in mm");
+  cmd->add_option("--direction", o->direction, "Direction of approach: + or -");
+  cmd->add_option("--measurement", o->measurement,
+                  "Predict every point of this measurement CSV (held-out check) instead of one position");
+  cmd->add_option("--residual-out", o->residual_out, "With --measurement: write measured − predicted as a CSV");
+  cmd->add_option("--temp", o->temps, "Key-sensor temperatures NAME=°C, comma separated")->delimiter(',');
+  cmd->add_option("--ambient-c", o->ambient_c, "Ambient temperature in °C (for the ρ term)");
+  cmd->add_option("--coolant", o->coolant, "Coolant state: off, flood, mist, air (default off, or the file's)");
+  cmd->add_flag("--geometric-only", o->geometric_only, "Geometric part only (no temperatures needed)");
+  cmd->add_flag("--json", o->json, "Print JSON instead of text");
+  cmd->callback([o] { RunPredict(*o); });
+}
+
+CommandRegistrar reg("predict", Setup);
+
+}  // namespace
+}  // namespace trueaxis::cli

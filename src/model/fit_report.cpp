@@ -1,0 +1,166 @@
+#include "trueaxis/model/fit_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "trueaxis/core/text_file.hpp"
+#include "trueaxis/report/html_page.hpp"
+#include "trueaxis/report/svg_chart.hpp"
+
+namespace trueaxis::model {
+namespace {
+
+std::string Num(double v, int decimals = 3) { return std::isfinite(v) ? fmt::format("{:.{}f}", v, decimals) : "–"; }
+
+// Mean measured deviation per target of one direction.
+void MeansOf(const measure::Measurement& m, Direction d, std::vector<double>& x, std::vector<double>& y) {
+  std::map<long long, std::pair<double, int>> acc;  // key: target in nm
+  std::map<long long, double> pos;
+  for (const auto& p : m.points) {
+    if (p.direction != d) continue;
+    const long long k = std::llround(p.target_mm * 1e6);
+    acc[k].first += p.deviation_um;
+    acc[k].second += 1;
+    pos[k] = p.target_mm;
+  }
+  for (const auto& [k, v] : acc) {
+    x.push_back(pos[k]);
+    y.push_back(v.first / v.second);
+  }
+}
+
+// The model's curve for a state: each target's prediction with the mean
+// temperatures of that target's points (what the runtime would have applied).
+void ModelCurve(const AxisModel& a, const FitState& s, Direction d, std::vector<double>& x, std::vector<double>& y) {
+  std::map<long long, std::pair<double, int>> acc;
+  std::map<long long, double> pos;
+  for (const auto& p : s.measurement.points) {
+    if (p.direction != d) continue;
+    const auto t = TemperaturesForPoint(a, s.measurement, p);
+    const double pred = Predict(a, p.target_mm, d, {t.key_temp_c, t.ambient_c, s.coolant, true}).total_um;
+    const long long k = std::llround(p.target_mm * 1e6);
+    acc[k].first += pred;
+    acc[k].second += 1;
+    pos[k] = p.target_mm;
+  }
+  for (const auto& [k, v] : acc) {
+    x.push_back(pos[k]);
+    y.push_back(v.first / v.second);
+  }
+}
+
+}  // namespace
+
+std::string RenderFitReportHtml(const FitResult& result, const std::vector<FitState>& states) {
+  const auto& m = result.model;
+  report::HtmlPage page(fmt::format("Composite error model fit{}", m.machine.empty() ? "" : " — " + m.machine));
+  page.AddNote("Values are errors (actual − commanded, µm); the correction is −error (docs/sign-convention.md). "
+               "Model: Er(x,T) = Er(x) + tanβ·(Px − P0) + ρ·ΔT_env·(Px − P0), tanβ = Σ k_i·ΔT_i, per direction.");
+  page.AddKeyValueTable({{"machine", m.machine.empty() ? "–" : m.machine},
+                         {"created (UTC)", m.created_utc},
+                         {"revision", std::to_string(m.revision)},
+                         {"parent sha256", m.parent_sha256.empty() ? "–" : m.parent_sha256},
+                         {"source files", std::to_string(m.sources.size())}});
+  report::HtmlTable src({"file", "state", "sha256"}, "Data the model came from");
+  for (const auto& s : m.sources) src.AddRow({s.path, s.state, s.sha256});
+  page.AddTable(src);
+
+  for (std::size_t ai = 0; ai < m.axes.size() && ai < result.summary.axes.size(); ++ai) {
+    const auto& a = m.axes[ai];
+    const auto& sum = result.summary.axes[ai];
+    page.AddHeading(fmt::format("Axis {}", a.axis), 2);
+    page.AddKeyValueTable(
+        {{"cold state", sum.cold_source},
+         {"reference point Px", fmt::format("{} mm ({})", Num(a.reference_position_mm, 2), sum.reference_source)},
+         {"ρ", fmt::format("{} µm/mm/°C ({})", Num(a.rho_um_per_mm_per_c, 6), sum.rho_source)},
+         {"key sensors", a.key_sensors.empty() ? "none (geometric only)" : fmt::format("{}", fmt::join(a.key_sensors, ", "))},
+         {"why these", sum.key_selection_reason},
+         {"thermal CV RMS", fmt::format("{} µm (without thermal term {} µm)", Num(sum.thermal_cv_rms_um),
+                                        Num(sum.no_thermal_cv_rms_um))}});
+
+    page.AddHeading("Geometric part Er(x)", 3);
+    for (int d = 0; d < 2; ++d) {
+      const auto& ds = sum.directions[d];
+      if (ds.kind == GeometricError::Kind::kPolynomial) {
+        report::HtmlTable t({"degree", "fit RMS (µm)", "leave-one-target-out CV RMS (µm)", "chosen"},
+                            fmt::format("{} direction: {}", d == 0 ? "forward (+)" : "reverse (−)", ds.degree.rule));
+        for (const auto& c : ds.degree.candidates)
+          t.AddRow({std::to_string(c.degree), Num(c.fit_rms_um), Num(c.cv_rms_um), c.degree == ds.degree.degree ? "✔" : ""});
+        page.AddTable(t);
+      } else {
+        page.AddParagraph(fmt::format("{} direction: sampled table of {} targets (seed 002), CV RMS {} µm",
+                                      d == 0 ? "forward" : "reverse", ds.targets, Num(ds.table_cv_rms_um)));
+      }
+    }
+    if (!sum.selection_steps.empty()) {
+      page.AddHeading("Key-sensor selection", 3);
+      report::HtmlTable t({"sensors", "leave-one-state-out CV RMS (µm)", "step"});
+      for (const auto& s : sum.selection_steps)
+        t.AddRow({s.keys.empty() ? "(none)" : fmt::format("{}", fmt::join(s.keys, ", ")), Num(s.cv_rms_um), s.note});
+      page.AddTable(t);
+      for (const auto& n : sum.coolant_notes) page.AddNote(n);
+    }
+    if (!a.key_sensors.empty()) {
+      std::vector<std::string> header{"coolant", "direction"};
+      for (const auto& k : a.key_sensors) header.push_back("k " + k + " (µm/mm/°C)");
+      report::HtmlTable t(header, "Gains (the coolant look-up table)");
+      for (int d = 0; d < 2; ++d)
+        for (const auto& g : a.directions[d].thermal) {
+          std::vector<std::string> row{std::string(CoolantStateName(g.coolant)), d == 0 ? "+" : "−"};
+          for (double k : g.k_um_per_mm_per_c) row.push_back(Num(k, 6));
+          t.AddRow(row);
+        }
+      page.AddTable(t);
+    }
+
+    page.AddHeading("States: measured vs model", 3);
+    report::HtmlTable st({"state", "kind", "coolant", "points", "uncorrected RMS", "uncorrected max", "residual RMS",
+                          "residual max", "tanβ + (µm/mm)", "tanβ − (µm/mm)"},
+                         "residual = measured − model at each point's own temperatures (µm)");
+    for (const auto& s : sum.states)
+      st.AddRow({s.label, StateKindName(s.kind), std::string(CoolantStateName(s.coolant)), std::to_string(s.points),
+                 Num(s.uncorrected_rms_um), Num(s.uncorrected_max_um), Num(s.residual_rms_um), Num(s.residual_max_um),
+                 Num(s.tan_beta_um_per_mm[0], 5), Num(s.tan_beta_um_per_mm[1], 5)});
+    page.AddTable(st);
+
+    for (const auto& s : states) {
+      const std::string axis = s.axis.empty() ? a.axis : s.axis;
+      if (axis != a.axis) continue;
+      report::SvgChartOptions co;
+      co.title = fmt::format("{} — {}", s.label.empty() ? s.path : s.label, s.path);
+      co.x_label = "target position (mm)";
+      co.y_label = "error (µm)";
+      report::SvgChart chart(co);
+      for (Direction d : {Direction::kForward, Direction::kReverse}) {
+        std::vector<double> mx, my, px, py;
+        MeansOf(s.measurement, d, mx, my);
+        ModelCurve(a, s, d, px, py);
+        const bool fwd = d == Direction::kForward;
+        report::SeriesStyle line;
+        line.color = fwd ? "#1f77b4" : "#d62728";
+        report::SeriesStyle dots = line;
+        dots.marker_radius_px = 3.5;
+        chart.AddPoints(fwd ? "measured + (mean)" : "measured − (mean)", mx, my, dots);
+        chart.AddLine(fwd ? "model +" : "model −", px, py, line);
+      }
+      page.AddChart(chart);
+    }
+  }
+  if (!result.summary.warnings.empty()) {
+    page.AddHeading("Warnings", 2);
+    for (const auto& w : result.summary.warnings) page.AddParagraph(w);
+  }
+  page.AddHeading("Full fit report", 2);
+  page.AddRawHtml("<pre>" + report::EscapeHtml(result.summary.FullReport()) + "</pre>");
+  return page.Render();
+}
+
+void WriteFitReportHtml(const FitResult& result, const std::vector<FitState>& states, const std::string& path) {
+  WriteTextFile(path, RenderFitReportHtml(result, states));
+}
+
+}  // namespace trueaxis::model

@@ -1,0 +1,233 @@
+// End-to-end tests of `trueaxis fit` and `trueaxis predict` through the real
+// binary (TRUEAXIS_CLI_PATH), including the bad inputs a user will make.
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "synthetic_machine.hpp"
+#include "trueaxis/core/text_file.hpp"
+#include "trueaxis/measure/measurement_csv.hpp"
+#include "trueaxis/model/model_fit.hpp"
+#include "trueaxis/model/model_json.hpp"
+#include "trueaxis/model/sha256.hpp"
+
+namespace trueaxis::model {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+struct Run {
+  int code;
+  std::string out;
+};
+
+Run Cli(const std::string& args) {
+  const std::string cmd = std::string(TRUEAXIS_CLI_PATH) + " " + args + " 2>&1";
+  FILE* f = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, f)) out.append(buf, n);
+  const int status = pclose(f);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+class CliFit : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / fs::path("trueaxis_cli_fit_" + std::to_string(::getpid()) + "_" +
+                                                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    testing::SyntheticMachine sm;
+    std::mt19937 rng(5);
+    for (const auto& s : sm.DefaultStates()) {
+      auto m = sm.Make(s, rng);
+      const std::string path = (dir_ / (s.label + ".csv")).string();
+      measure::WriteMeasurementCsv(m, path);
+      files_.push_back(path);
+    }
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string P(const std::string& name) const { return (dir_ / name).string(); }
+  std::string AllFiles() const {
+    std::string s;
+    for (const auto& f : files_) s += " " + f;
+    return s;
+  }
+  fs::path dir_;
+  std::vector<std::string> files_;
+};
+
+TEST_F(CliFit, FitWritesModelReportAndPredictUsesIt) {
+  auto r = Cli("fit --out " + P("m.json") + " --report " + P("fit.html") + AllFiles());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("keys"));
+  const auto m = ReadModelFile(P("m.json"));
+  ASSERT_EQ(m.axes.size(), 1u);
+  EXPECT_EQ(m.revision, 1);
+  EXPECT_EQ(m.sources.size(), 6u);
+  EXPECT_EQ(m.sources[0].sha256, Sha256OfFile(files_[0]));
+  const std::string html = ReadTextFile(P("fit.html"));
+  EXPECT_THAT(html, HasSubstr("<svg"));
+  EXPECT_THAT(html, HasSubstr("heated-4"));
+
+  auto p = Cli("predict --model " + P("m.json") +
+               " --axis X --position-mm 400 --direction + --temp nut=26,bearing=23,ambient=20 --json");
+  ASSERT_EQ(p.code, 0) << p.out;
+  auto j = nlohmann::json::parse(p.out);
+  // The library's prediction for the same state, and correction = −error.
+  const double temps[] = {26, 23};
+  std::vector<double> t;
+  for (const auto& k : m.axes[0].key_sensors) t.push_back(k == "nut" ? temps[0] : temps[1]);
+  auto lib = Predict(m.axes[0], 400, Direction::kForward, {t, 20.0, CoolantState::kOff, true});
+  EXPECT_NEAR(j["error_um"].get<double>(), lib.total_um, 1e-9);
+  EXPECT_NEAR(j["correction_um"].get<double>(), -lib.total_um, 1e-9);
+  auto text = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction - --temp nut=26,bearing=23");
+  ASSERT_EQ(text.code, 0) << text.out;
+  EXPECT_THAT(text.out, HasSubstr("correction (added to the command)"));
+}
+
+TEST_F(CliFit, PredictMeasurementReportsHeldOutResidual) {
+  ASSERT_EQ(Cli("fit --out " + P("m.json") + AllFiles()).code, 0);
+  // Another day of the same synthetic machine, not used in the fit.
+  testing::SyntheticMachine day2;
+  std::mt19937 rng(77);
+  auto m = day2.Make({"heated-x", 5.0, 2.2, 3.0, 1.5}, rng);
+  measure::WriteMeasurementCsv(m, P("day2.csv"));
+  auto r = Cli("predict --model " + P("m.json") + " --measurement " + P("day2.csv") + " --residual-out " + P("res.csv"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("measured − predicted  ISO 230-2 A"));
+  const auto res = measure::ReadMeasurementCsv(P("res.csv"));
+  const auto model = ReadModelFile(P("m.json"));
+  ASSERT_EQ(res.points.size(), m.points.size());
+  for (std::size_t i = 0; i < m.points.size(); i += 37) {
+    const auto t = TemperaturesForPoint(model.axes[0], m, m.points[i]);
+    const double pred = Predict(model.axes[0], m.points[i].target_mm, m.points[i].direction,
+                                {t.key_temp_c, t.ambient_c, CoolantState::kOff, true}).total_um;
+    EXPECT_NEAR(res.points[i].deviation_um, m.points[i].deviation_um - pred, 1e-6);
+  }
+  // A file without the model's key sensors is refused, naming the column.
+  m.sensor_names = {"ambient"};
+  for (auto& p : m.points) p.temperatures_c = {20};
+  measure::WriteMeasurementCsv(m, P("nokeys.csv"));
+  r = Cli("predict --model " + P("m.json") + " --measurement " + P("nokeys.csv"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("t_nut_c"));
+}
+
+TEST_F(CliFit, RefitRecordsRevisionParentAndLineage) {
+  ASSERT_EQ(Cli("fit --out " + P("m1.json") + AllFiles()).code, 0);
+  auto r2 = Cli("fit --out " + P("m2.json") + " --previous " + P("m1.json") + AllFiles());
+  ASSERT_EQ(r2.code, 0) << r2.out;
+  EXPECT_THAT(r2.out, HasSubstr("changes against revision 1"));
+  ASSERT_EQ(Cli("fit --out " + P("m3.json") + " --previous " + P("m2.json") + AllFiles()).code, 0);
+  const auto m3 = ReadModelFile(P("m3.json"));
+  EXPECT_EQ(m3.revision, 3);
+  EXPECT_EQ(m3.parent_sha256, Sha256OfFile(P("m2.json")));
+  ASSERT_EQ(m3.lineage.size(), 2u);
+  EXPECT_EQ(m3.lineage[0].revision, 1);
+  EXPECT_EQ(m3.lineage[0].sha256, Sha256OfFile(P("m1.json")));
+  EXPECT_EQ(m3.lineage[1].revision, 2);
+}
+
+TEST_F(CliFit, ManifestListsFilesWithTheirStates) {
+  // States from the manifest only: strip the '# state:' lines from the files.
+  nlohmann::json man = {{"files", nlohmann::json::array()}};
+  for (const auto& f : files_) {
+    auto m = measure::ReadMeasurementCsv(f);
+    const std::string state = *m.Meta("state");
+    std::erase_if(m.metadata, [](const auto& kv) { return kv.first == "state"; });
+    measure::WriteMeasurementCsv(m, f);
+    man["files"].push_back({{"path", fs::path(f).filename().string()}, {"state", state}});
+  }
+  WriteTextFile(P("manifest.json"), man.dump(2));
+  auto r = Cli("fit --out " + P("m.json") + " --manifest " + P("manifest.json") + " --full");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("cold state: " + P("cold.csv")));
+  EXPECT_THAT(r.out, ::testing::Not(HasSubstr("no file is marked")));
+}
+
+TEST_F(CliFit, BadInputsExitWithFileLineField) {
+  // Degenerate positions in the cold file.
+  auto m = measure::ReadMeasurementCsv(files_[0]);
+  for (auto& p : m.points) p.target_mm = 50;
+  measure::WriteMeasurementCsv(m, P("flat.csv"));
+  auto r = Cli("fit --out " + P("x.json") + " " + P("flat.csv"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr(P("flat.csv") + ":"));
+  EXPECT_THAT(r.out, HasSubstr("target_mm"));
+  EXPECT_FALSE(fs::exists(P("x.json")));
+
+  // A heated state with no temperature columns.
+  auto h = measure::ReadMeasurementCsv(files_[2]);
+  h.sensor_names.clear();
+  for (auto& p : h.points) p.temperatures_c.clear();
+  measure::WriteMeasurementCsv(h, files_[2]);
+  r = Cli("fit --out " + P("x.json") + AllFiles());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("heated-2.csv"));
+  EXPECT_THAT(r.out, HasSubstr("no temperature columns"));
+
+  // Options.
+  r = Cli("fit --out " + P("x.json") + " --geometric spline " + files_[0]);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("--geometric"));
+  r = Cli("fit --out " + P("x.json") + " --max-degree 0 " + files_[0]);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("max_degree"));
+  r = Cli("fit --out " + P("x.json"));
+  EXPECT_EQ(r.code, 2);
+
+  // Manifest: not JSON (line named), and a listed file that does not exist.
+  WriteTextFile(P("bad.json"), "{\n  \"files\": [\n    \"cold.csv\",,\n  ]\n}\n");
+  r = Cli("fit --out " + P("x.json") + " --manifest " + P("bad.json"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr(P("bad.json") + ":3:"));
+  WriteTextFile(P("missing.json"), R"({"files": [{"path": "nope.csv", "state": "cold"}]})");
+  r = Cli("fit --out " + P("x.json") + " --manifest " + P("missing.json"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("nope.csv"));
+
+  // A previous model that is not a model.
+  WriteTextFile(P("prev.json"), R"({"format": "something-else"})");
+  r = Cli("fit --out " + P("x.json") + " --previous " + P("prev.json") + " " + files_[0]);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("format"));
+  EXPECT_FALSE(fs::exists(P("x.json")));
+}
+
+TEST_F(CliFit, PredictRejectsMissingOrUnknownInputs) {
+  ASSERT_EQ(Cli("fit --out " + P("m.json") + AllFiles()).code, 0);
+  const std::string base = "predict --model " + P("m.json") + " --position-mm 100 ";
+  auto r = Cli(base + "--axis X --direction + --temp nut=25");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("bearing"));
+  r = Cli(base + "--axis Q --direction + --geometric-only");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("no axis 'Q'"));
+  r = Cli(base + "--axis X --direction up --geometric-only");
+  EXPECT_EQ(r.code, 0) << r.out;  // "up" is a documented spelling of forward
+  r = Cli(base + "--axis X --direction sideways --geometric-only");
+  EXPECT_EQ(r.code, 2);
+  r = Cli(base + "--axis X --direction + --temp nut=hot,bearing=22");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("'hot'"));
+  r = Cli(base + "--axis X --direction + --temp spindle=30 --geometric-only");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("not a key sensor"));
+  r = Cli(base + "--axis X --direction + --coolant lava --geometric-only");
+  EXPECT_EQ(r.code, 2);
+  r = Cli(base + "--axis X --direction - --geometric-only");
+  EXPECT_EQ(r.code, 0) << r.out;
+}
+
+}  // namespace
+}  // namespace trueaxis::model
