@@ -82,8 +82,9 @@ double LaserInterferometer::ReadMm(VirtualMachine& vm) {
   return zero_commanded_mm_ + nm * 1e-6;
 }
 
-measure::Measurement LaserInterferometer::Measure(VirtualMachine& vm,
+measure::Measurement LaserInterferometer::Measure(VirtualMachine& vm, int runs,
                                                   const std::vector<std::pair<std::string, std::string>>& extra_metadata) {
+  if (runs < 1 || runs > 20) throw std::invalid_argument("laser: runs must be 1–20");
   if (axis_ < 0) throw std::logic_error("laser: Setup() first");
   const std::size_t axis = static_cast<std::size_t>(axis_);
   const auto targets = Targets(vm, axis);
@@ -104,7 +105,7 @@ measure::Measurement LaserInterferometer::Measure(VirtualMachine& vm,
   m.SetMeta("reference_mm", FormatShortest(ad.reference_mm));
   m.SetMeta("laser_zero_mm", FormatShortest(zero_commanded_mm_));
   m.SetMeta("coolant", std::string(CoolantStateName(vm.coolant())));
-  m.SetMeta("runs", std::to_string(o_.runs));
+  m.SetMeta("runs", std::to_string(runs));
   m.SetMeta("feed_mm_min", FormatShortest(o_.feed_mm_min));
   m.SetMeta("dwell_s", FormatShortest(o_.dwell_s));
   m.SetMeta("overrun_mm", FormatShortest(o_.overrun_mm));
@@ -128,10 +129,12 @@ measure::Measurement LaserInterferometer::Measure(VirtualMachine& vm,
     p.time_s = std::round((vm.TimeS() - t0) * 10.0) / 10.0;
     hw::TemperatureSource& ts = vm;
     ts.Read(raw);
-    for (const auto& r : raw) p.temperatures_c.push_back(r.hardware_fault ? std::numeric_limits<double>::quiet_NaN() : r.temp_c);
+    // Rounded to 0.1 mK: below every converter's step, and the file stays readable.
+    for (const auto& r : raw)
+      p.temperatures_c.push_back(r.hardware_fault ? std::numeric_limits<double>::quiet_NaN() : std::round(r.temp_c * 1e4) / 1e4);
     m.points.push_back(std::move(p));
   };
-  for (int run = 1; run <= o_.runs; ++run) {
+  for (int run = 1; run <= runs; ++run) {
     vm.MoveTo(axis, targets.front() - o_.overrun_mm, o_.feed_mm_min);
     for (double t : targets) record(run, Direction::kForward, t);
     vm.MoveTo(axis, targets.back() + o_.overrun_mm, o_.feed_mm_min);

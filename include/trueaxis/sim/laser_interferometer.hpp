@@ -57,7 +57,12 @@ class LaserInterferometer {
   // Runs the full bidirectional test; metadata: axis, machine, date, seed,
   // lead, cte, fixed end, laser settings plus `extra_metadata`.
   measure::Measurement Measure(VirtualMachine& vm,
-                               const std::vector<std::pair<std::string, std::string>>& extra_metadata = {});
+                               const std::vector<std::pair<std::string, std::string>>& extra_metadata = {}) {
+    return Measure(vm, o_.runs, extra_metadata);
+  }
+  // Same with another number of runs.
+  measure::Measurement Measure(VirtualMachine& vm, int runs,
+                               const std::vector<std::pair<std::string, std::string>>& extra_metadata);
 
  private:
   LaserOptions o_;

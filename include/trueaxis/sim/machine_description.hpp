@@ -43,9 +43,9 @@ struct DriveThermalDescription {
   double motor_heat_w = 30;            // motor copper/iron losses at the reference feed
   double motor_idle_heat_w = 4;        // holding current at standstill
   double screw_convection_w_per_m2_k = 12;  // screw surface to air (under the covers)
-  double nut_capacity_j_per_k = 1500;       // nut + nut housing
+  double nut_capacity_j_per_k = 6000;       // nut, nut housing and the saddle around it
   double nut_to_screw_w_per_k = 3.0;        // through the balls, into the screw under the nut
-  double nut_to_ambient_w_per_k = 1.2;      // nut housing to table and air
+  double nut_to_ambient_w_per_k = 1.5;      // nut housing to table and air
   double bearing_capacity_j_per_k = 2500;   // each bearing seat
   double bearing_to_screw_w_per_k = 2.0;
   double bearing_to_bed_w_per_k = 1.5;

@@ -1,0 +1,75 @@
+// trueaxis sim campaign --machine FILE --out DIR [--seed N] [--axes X,Y,Z]
+// Runs a calibration campaign on the virtual machine (docs/campaign.md).
+#include <cstdio>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "command.hpp"
+#include "sim_command.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/sim/campaign.hpp"
+
+namespace {
+
+struct Options {
+  std::string machine;
+  std::string out;
+  std::uint64_t seed = 1;
+  std::vector<std::string> axes;
+  int runs = 5;
+  int warm_runs = 3;
+  double spacing_mm = 25;
+  int max_warm = 12;
+  std::vector<int> ambient_days = {60, 150};
+  bool no_coolant = false;
+  bool material_compensation = false;
+  bool quiet = false;
+};
+
+void Run(const Options& o) {
+  auto machine = trueaxis::sim::ReadMachineFile(o.machine);
+  trueaxis::sim::CampaignOptions c;
+  c.out_dir = o.out;
+  c.seed = o.seed;
+  c.axes = o.axes;
+  c.laser.runs = o.runs;
+  c.warm_runs = o.warm_runs;
+  c.laser.spacing_mm = o.spacing_mm;
+  c.laser.material_compensation = o.material_compensation;
+  c.max_warm_measurements = o.max_warm;
+  c.ambient_day_offsets = o.ambient_days;
+  c.coolant_session = !o.no_coolant;
+  if (!o.quiet) c.progress = [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
+  std::string why;
+  if (!c.IsValid(&why)) throw trueaxis::InputError("command line", why);
+  for (const auto& a : o.axes)
+    if (machine.AxisIndex(a) < 0) throw trueaxis::InputError(o.machine, 0, "--axes", "the machine has no axis '" + a + "'");
+  const auto summary = trueaxis::sim::RunCampaign(machine, c);
+  fmt::print(stderr, "{}\n", summary.BriefReport());
+  fmt::print("{}\n", o.out);
+}
+
+void Setup(CLI::App& app) {
+  auto opts = std::make_shared<Options>();
+  CLI::App* cmd = trueaxis::cli::SimCommand(app)->add_subcommand(
+      "campaign", "Run a calibration campaign (cold, warm-up, other days, coolant) on the virtual machine");
+  cmd->add_option("--machine", opts->machine, "Machine description (TOML, docs/machine-file.md)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--out", opts->out, "Output directory (measurement files, temperature_log.csv, manifest.json)")->required();
+  cmd->add_option("--seed", opts->seed, "Run seed (noise, homing, weather); same seed, same files")->capture_default_str();
+  cmd->add_option("--axes", opts->axes, "Axes to measure, e.g. X,Y (default: all)")->delimiter(',');
+  cmd->add_option("--runs", opts->runs, "Laser runs per measurement (ISO 230-2: 5)")->capture_default_str()->check(CLI::Range(1, 20));
+  cmd->add_option("--warm-runs", opts->warm_runs, "Runs of the warm-up and coolant measurements")->capture_default_str()->check(CLI::Range(2, 20));
+  cmd->add_option("--spacing-mm", opts->spacing_mm, "Nominal target spacing")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--max-warm", opts->max_warm, "At most this many warm-up measurements per axis")->capture_default_str()->check(CLI::Range(1, 100));
+  cmd->add_option("--ambient-days", opts->ambient_days, "Days after the cold day for the other-ambient measurements")
+      ->delimiter(',')->capture_default_str();
+  cmd->add_flag("--no-coolant", opts->no_coolant, "Skip the coolant session");
+  cmd->add_flag("--material-compensation", opts->material_compensation, "Laser material compensation on (CTE 11.5)");
+  cmd->add_flag("--quiet", opts->quiet, "No progress on stderr");
+  cmd->callback([opts] { Run(*opts); });
+}
+
+trueaxis::cli::CommandRegistrar reg("sim_campaign", Setup);
+
+}  // namespace

@@ -1,0 +1,64 @@
+#pragma once
+// Campaign: what a calibration engineer does on one machine (seed 000 §2),
+// axis after axis: a cold-state measurement in the morning; a warm-up with
+// all axes reciprocating at 2000–4000 mm/min, measuring the axis each time its
+// nut sensor has risen another 0.5 °C, until thermal saturation; cold
+// measurements on other days (other ambient); a warm-up with coolant on.
+// Writes the measurement files, temperature_log.csv and manifest.json
+// (docs/campaign.md).
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "trueaxis/sim/laser_interferometer.hpp"
+#include "trueaxis/sim/machine_description.hpp"
+
+namespace trueaxis::sim {
+
+struct CampaignOptions {
+  std::string out_dir;
+  std::uint64_t seed = 1;
+  std::vector<std::string> axes;        // empty: every axis of the machine
+  LaserOptions laser;                   // cold and ambient measurements (5 runs)
+  int warm_runs = 3;                    // runs of the warm-up / coolant measurements: shorter, so the
+                                        //   warm-up is interrupted less (seed 000 allows 3–5)
+  double warmup_feed_low_mm_min = 2000;   // strokes alternate between low and high feed
+  double warmup_feed_high_mm_min = 4000;
+  double nut_step_c = 0.5;                // measure each time the nut rose this much more
+  int max_warm_measurements = 12;      // the last one is kept for saturation
+  double max_warmup_hours = 5;            // give up waiting for saturation after this
+  double saturation_window_min = 30;      // saturated when the nut rose less than
+  double saturation_rise_c = 0.15;        //   this much within the window
+  std::vector<int> ambient_day_offsets = {60, 150};  // days after the cold day, afternoon
+  double ambient_hour = 14;
+  bool coolant_session = true;
+  CoolantState coolant_state = CoolantState::kFlood;
+  int max_coolant_measurements = 4;
+  double log_interval_s = 30;
+  std::function<void(const std::string&)> progress;  // one line per event (stderr in the CLI)
+
+  bool IsValid(std::string* why) const;
+};
+
+struct CampaignFile {
+  std::string file;       // relative to out_dir
+  std::string axis;
+  std::string state;      // cold | warm | ambient | coolant
+  std::string coolant;    // off | flood | mist | air
+  int sequence = 0;       // 1-based within (axis, state)
+  double start_time_s = 0, end_time_s = 0;
+  std::string start_date;
+  double nut_rise_c = 0;  // nut sensor vs the axis' cold measurement
+};
+
+struct CampaignSummary {
+  std::vector<CampaignFile> files;
+  double machine_time_s = 0;
+  double wall_time_s = 0;
+  std::string BriefReport() const;
+};
+
+CampaignSummary RunCampaign(const MachineDescription& machine, const CampaignOptions& options);
+
+}  // namespace trueaxis::sim

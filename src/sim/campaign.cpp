@@ -1,0 +1,334 @@
+#include "trueaxis/sim/campaign.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <filesystem>
+#include <map>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/text_file.hpp"
+#include "trueaxis/measure/measurement_csv.hpp"
+#include "trueaxis/sim/virtual_machine.hpp"
+
+namespace trueaxis::sim {
+
+bool CampaignOptions::IsValid(std::string* why) const {
+  auto fail = [why](const std::string& w) {
+    if (why) *why = w;
+    return false;
+  };
+  if (out_dir.empty()) return fail("out_dir is empty");
+  if (!laser.IsValid(why)) return false;
+  if (!(warmup_feed_low_mm_min > 0 && warmup_feed_high_mm_min > 0)) return fail("warm-up feeds must be positive");
+  if (!(nut_step_c > 0)) return fail("nut_step_c must be positive");
+  if (warm_runs < 2 || warm_runs > 20) return fail("warm_runs must be 2–20");
+  if (max_warm_measurements < 1 || max_warm_measurements > 100) return fail("max_warm_measurements must be 1–100");
+  if (max_coolant_measurements < 0 || max_coolant_measurements > 100) return fail("max_coolant_measurements must be 0–100");
+  if (!(max_warmup_hours > 0 && max_warmup_hours <= 48)) return fail("max_warmup_hours must be in (0, 48]");
+  if (!(saturation_window_min > 0) || !(saturation_rise_c > 0)) return fail("saturation window and rise must be positive");
+  for (int d : ambient_day_offsets)
+    if (d < 1 || d > 3650) return fail("ambient_day_offsets must be 1–3650 days");
+  if (!(ambient_hour >= 0 && ambient_hour < 24)) return fail("ambient_hour must be in [0, 24)");
+  if (!(log_interval_s > 0)) return fail("log_interval_s must be positive");
+  return true;
+}
+
+std::string CampaignSummary::BriefReport() const {
+  std::map<std::string, int> by_state;
+  for (const auto& f : files) ++by_state[f.state];
+  std::string s = fmt::format("{} measurement files (", files.size());
+  bool first = true;
+  for (const auto& [k, v] : by_state) {
+    s += fmt::format("{}{} {}", first ? "" : ", ", v, k);
+    first = false;
+  }
+  s += fmt::format("), {:.1f} h of machine time in {:.2f} s", machine_time_s / 3600.0, wall_time_s);
+  return s;
+}
+
+namespace {
+
+std::string Lower(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string Fixed(double v, int digits) {
+  if (!std::isfinite(v)) return "";
+  const double scale = std::pow(10.0, digits);
+  return FormatShortest(std::round(v * scale) / scale);
+}
+
+class Campaign {
+ public:
+  Campaign(const MachineDescription& machine, const CampaignOptions& o)
+      : o_(o), vm_(machine, o.seed), laser_(o.laser, o.seed * 7919 + 17) {
+    // (warm measurements use o.warm_runs; see MeasureAndWrite)
+    for (std::size_t i = 0; i < vm_.ChannelCount(); ++i) sensor_names_.push_back(vm_.ChannelName(i));
+    if (o.axes.empty()) {
+      for (std::size_t i = 0; i < vm_.AxisCount(); ++i) axes_.push_back(i);
+    } else {
+      for (const auto& name : o.axes) {
+        const int i = machine.AxisIndex(name);
+        if (i < 0) throw InputError("--axes", 0, name, "the machine has no axis '" + name + "'");
+        if (std::find(axes_.begin(), axes_.end(), static_cast<std::size_t>(i)) == axes_.end()) axes_.push_back(i);
+      }
+    }
+    midnight_unix_ = std::floor(vm_.UnixTimeS() / 86400.0) * 86400.0;
+    log_ = "time_s,date,coolant";
+    for (std::size_t i = 0; i < vm_.AxisCount(); ++i) log_ += "," + Lower(vm_.AxisName(i)) + "_mm";
+    for (const auto& s : sensor_names_) log_ += ",t_" + s + "_c";
+    log_ += "\n";
+  }
+
+  CampaignSummary Run() {
+    const auto wall0 = std::chrono::steady_clock::now();
+    std::filesystem::create_directories(o_.out_dir);
+    for (std::size_t k = 0; k < axes_.size(); ++k) ColdAndWarm(axes_[k], static_cast<int>(k));
+    int last_day = static_cast<int>(axes_.size()) - 1;
+    for (int offset : o_.ambient_day_offsets) {
+      GoTo(offset, o_.ambient_hour);
+      for (std::size_t a : axes_) {
+        StartSession();
+        Setup(a);
+        MeasureAndWrite(a, "ambient");
+        EndSession();
+      }
+      last_day = std::max(last_day, offset);
+    }
+    if (o_.coolant_session && o_.max_coolant_measurements > 0) {
+      for (std::size_t k = 0; k < axes_.size(); ++k) {
+        GoTo(last_day + 1 + static_cast<int>(k), 7.0);
+        StartSession();
+        vm_.SetCoolant(o_.coolant_state);
+        Setup(axes_[k]);
+        const double nut0 = MeanColumn(MeasureAndWrite(axes_[k], "coolant"), NutSensor(axes_[k]));
+        WarmUp(axes_[k], nut0, "coolant", o_.max_coolant_measurements - 1);
+        EndSession();
+      }
+    }
+    WriteTextFile((std::filesystem::path(o_.out_dir) / "temperature_log.csv").string(), log_);
+    WriteManifest();
+    summary_.machine_time_s = vm_.TimeS();
+    summary_.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    return summary_;
+  }
+
+ private:
+  void Progress(const std::string& line) {
+    if (o_.progress) o_.progress(fmt::format("[{} t={:.2f} h] {}", vm_.IsoTime(), vm_.TimeS() / 3600.0, line));
+  }
+
+  // Day `day` after the start date at `hour`; if that is past, the next day.
+  void GoTo(int day, double hour) {
+    double t = midnight_unix_ + day * 86400.0 + hour * 3600.0 - vm_.UnixTimeS() + vm_.TimeS();
+    while (t < vm_.TimeS() - 1e-6) t += 86400.0;
+    EndSession();
+    vm_.IdleUntil(t);
+  }
+
+  void StartSession() {
+    vm_.SetLogger(o_.log_interval_s, [this](const VirtualMachine& vm) { LogRow(vm); });
+  }
+  void EndSession() { vm_.SetLogger(0, nullptr); }
+
+  void LogRow(const VirtualMachine& vm) {
+    std::string row = Fixed(vm.TimeS(), 1) + "," + vm.IsoTime() + "," + std::string(CoolantStateName(vm.coolant()));
+    for (std::size_t i = 0; i < vm.AxisCount(); ++i) row += "," + Fixed(vm.CommandedMm(i), 3);
+    for (std::size_t i = 0; i < vm.SensorCount(); ++i) {
+      const auto r = vm.sensor(i).Latest();
+      row += "," + (r.hardware_fault ? std::string() : Fixed(r.temp_c, 4));
+    }
+    log_ += row + "\n";
+  }
+
+  std::string NutSensor(std::size_t axis) const { return Lower(vm_.AxisName(axis)) + "_nut"; }
+
+  // Nut temperature as the engineer watches it: the sensor if there is one
+  // (mean of the last minute), else the thermal node.
+  double NutNow(std::size_t axis) {
+    const int i = vm_.SensorIndex(NutSensor(axis));
+    const auto r = i >= 0 ? vm_.sensor(i).Latest() : hw::RawTemperature{};
+    if (i < 0 || r.hardware_fault) return vm_.NodeTemperatureC(NutSensor(axis));
+    return r.temp_c;
+  }
+
+  void Setup(std::size_t axis) {
+    laser_.Setup(vm_, axis, vm_.description().axes[axis].reference_mm);
+  }
+
+  static double MeanColumn(const measure::Measurement& m, const std::string& sensor) {
+    const auto idx = m.SensorIndex(sensor);
+    if (!idx) return std::numeric_limits<double>::quiet_NaN();
+    double sum = 0;
+    int n = 0;
+    for (const auto& p : m.points)
+      if (!std::isnan(p.temperatures_c[*idx])) {
+        sum += p.temperatures_c[*idx];
+        ++n;
+      }
+    return n ? sum / n : std::numeric_limits<double>::quiet_NaN();
+  }
+
+  measure::Measurement MeasureAndWrite(std::size_t axis, const std::string& state) {
+    const std::string axis_name = vm_.AxisName(axis);
+    const int seq = ++sequence_[axis_name + "/" + state];
+    const int file_no = ++file_count_[axis_name];
+    const std::string file = fmt::format("{}_{:02}_{}{}.csv", axis_name, file_no, state,
+                                         state == "cold" ? std::string() : fmt::format("_{:02}", seq));
+    Progress(fmt::format("measuring {} ({} #{}, coolant {})", axis_name, state, seq, CoolantStateName(vm_.coolant())));
+    for (std::size_t i = 0; i < vm_.AxisCount(); ++i) vm_.CommandStop(i);
+    CampaignFile f;
+    f.file = file;
+    f.axis = axis_name;
+    f.state = state;
+    f.coolant = std::string(CoolantStateName(vm_.coolant()));
+    f.sequence = seq;
+    f.start_time_s = vm_.TimeS();
+    f.start_date = vm_.IsoTime();
+    const bool short_test = state == "warm" || (state == "coolant" && seq > 1);
+    auto m = laser_.Measure(vm_, short_test ? o_.warm_runs : o_.laser.runs,
+                            {{"state", state},
+                                  {"sequence", std::to_string(seq)},
+                                  {"campaign_time_s", Fixed(vm_.TimeS(), 1)}});
+    f.end_time_s = vm_.TimeS();
+    const double nut = MeanColumn(m, NutSensor(axis));
+    if (state == "cold" || !cold_nut_.count(axis_name)) cold_nut_[axis_name] = nut;
+    f.nut_rise_c = nut - cold_nut_[axis_name];
+    m.SetMeta("nut_rise_c", Fixed(f.nut_rise_c, 3));
+    measure::WriteMeasurementCsv(m, (std::filesystem::path(o_.out_dir) / file).string());
+    std::map<std::string, double> means;
+    for (const auto& s : sensor_names_) means[s] = MeanColumn(m, s);
+    means_.push_back(means);
+    summary_.files.push_back(f);
+    Progress(fmt::format("wrote {} (nut {:+.2f} °C vs cold, {:.0f} s)", file, f.nut_rise_c, f.end_time_s - f.start_time_s));
+    return m;
+  }
+
+  void StartWarmUpMotion() {
+    // Seed 000: X, Y, Z together at 2000–4000 mm/min; strokes alternate the two feeds.
+    for (std::size_t i = 0; i < vm_.AxisCount(); ++i) {
+      const double travel = vm_.description().axes[i].travel_mm;
+      const double margin = std::min(10.0, travel * 0.02);
+      vm_.CommandReciprocate(i, margin, travel - margin, o_.warmup_feed_low_mm_min, 1.0, o_.warmup_feed_high_mm_min);
+    }
+  }
+
+  // Warm-up with a measurement each time the nut rose another nut_step_c
+  // above `nut0`, until saturation, the time cap or `max_measurements`.
+  void WarmUp(std::size_t axis, double nut0, const std::string& state, int max_measurements) {
+    if (max_measurements <= 0) return;
+    const double chunk_s = 10;
+    const std::size_t window = static_cast<std::size_t>(o_.saturation_window_min * 60 / chunk_s);
+    std::deque<double> history;  // nut readings every chunk of warm-up time
+    std::deque<double> minute;   // last minute, to average the sensor noise
+    double next = o_.nut_step_c;
+    double warm_s = 0;
+    int taken = 0;
+    StartWarmUpMotion();
+    Progress(fmt::format("warm-up ({} coolant), nut start {:.2f} °C", CoolantStateName(vm_.coolant()), nut0));
+    // Threshold measurements up to max_measurements − 1; the last one is
+    // always kept for the saturated state (or the time cap).
+    while (true) {
+      vm_.Advance(chunk_s);
+      warm_s += chunk_s;
+      minute.push_back(NutNow(axis));
+      if (minute.size() > 6) minute.pop_front();
+      double nut = 0;
+      for (double v : minute) nut += v;
+      nut /= static_cast<double>(minute.size());
+      history.push_back(nut);
+      if (history.size() > window + 1) history.pop_front();
+      const double rise = nut - nut0;
+      const bool saturated = history.size() > window && history.back() - history.front() < o_.saturation_rise_c;
+      const bool timeout = warm_s >= o_.max_warmup_hours * 3600;
+      if (saturated || timeout) {
+        Progress(saturated ? "thermal saturation reached" : "warm-up time cap reached");
+        MeasureAndWrite(axis, state);
+        ++taken;
+        break;
+      }
+      if (rise >= next && taken + 1 < max_measurements) {
+        MeasureAndWrite(axis, state);
+        ++taken;
+        next = (std::floor(rise / o_.nut_step_c) + 1) * o_.nut_step_c;
+        StartWarmUpMotion();
+        history.clear();  // the measurement interrupted the warm-up: judge saturation afresh
+        minute.clear();
+      }
+    }
+    for (std::size_t i = 0; i < vm_.AxisCount(); ++i) vm_.CommandStop(i);
+  }
+
+  void ColdAndWarm(std::size_t axis, int k) {
+    GoTo(k, 7.0);
+    StartSession();
+    Setup(axis);
+    const auto cold = MeasureAndWrite(axis, "cold");
+    WarmUp(axis, MeanColumn(cold, NutSensor(axis)), "warm", o_.max_warm_measurements);
+    EndSession();
+  }
+
+  void WriteManifest() {
+    nlohmann::ordered_json j;
+    j["format"] = "trueaxis-sim-campaign";
+    j["version"] = 1;
+    j["machine"] = vm_.description().name;
+    j["machine_file"] = vm_.description().source;
+    j["seed"] = o_.seed;
+    j["start_date"] = vm_.description().start_iso;
+    j["sensors"] = sensor_names_;
+    j["temperature_log"] = "temperature_log.csv";
+    auto& files = j["measurements"] = nlohmann::ordered_json::array();
+    for (std::size_t i = 0; i < summary_.files.size(); ++i) {
+      const auto& f = summary_.files[i];
+      nlohmann::ordered_json e;
+      e["file"] = f.file;
+      e["axis"] = f.axis;
+      e["state"] = f.state;
+      e["coolant"] = f.coolant;
+      e["sequence"] = f.sequence;
+      e["start_date"] = f.start_date;
+      e["start_time_s"] = std::round(f.start_time_s * 10) / 10;
+      e["end_time_s"] = std::round(f.end_time_s * 10) / 10;
+      e["nut_rise_c"] = std::round(f.nut_rise_c * 1000) / 1000;
+      auto& mt = e["mean_temperatures_c"] = nlohmann::ordered_json::object();
+      for (const auto& s : sensor_names_) {
+        const double v = means_[i].at(s);
+        if (std::isfinite(v)) mt[s] = std::round(v * 1000) / 1000;
+        else mt[s] = nullptr;
+      }
+      files.push_back(e);
+    }
+    WriteTextFile((std::filesystem::path(o_.out_dir) / "manifest.json").string(), j.dump(2) + "\n");
+  }
+
+  CampaignOptions o_;
+  VirtualMachine vm_;
+  LaserInterferometer laser_;
+  std::vector<std::size_t> axes_;
+  std::vector<std::string> sensor_names_;
+  double midnight_unix_ = 0;
+  std::string log_;
+  std::map<std::string, int> sequence_, file_count_;
+  std::map<std::string, double> cold_nut_;
+  std::vector<std::map<std::string, double>> means_;
+  CampaignSummary summary_;
+};
+
+}  // namespace
+
+CampaignSummary RunCampaign(const MachineDescription& machine, const CampaignOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument("campaign options: " + why);
+  Campaign c(machine, options);
+  return c.Run();
+}
+
+}  // namespace trueaxis::sim

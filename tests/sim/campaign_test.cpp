@@ -1,0 +1,183 @@
+// Laser interferometer and campaign: procedure, files, determinism, CLI.
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "sim_test_util.hpp"
+#include "trueaxis/core/text_file.hpp"
+#include "trueaxis/measure/measurement_csv.hpp"
+#include "trueaxis/sim/campaign.hpp"
+
+namespace trueaxis::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path TempDir(const std::string& name) {
+  fs::path p = fs::temp_directory_path() / ("trueaxis_sim_test_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  return p;
+}
+
+TEST(Laser, MeasuresLikeIso2302) {
+  VirtualMachine vm(testing::TestMachine(), 1);
+  LaserOptions o;
+  o.runs = 3;
+  o.spacing_mm = 100;
+  LaserInterferometer laser(o, 1);
+  laser.Setup(vm, 0, 0);
+  const double t0 = vm.TimeS();
+  const auto m = laser.Measure(vm, {{"state", "cold"}});
+  const auto targets = laser.Targets(vm, 0);
+  EXPECT_DOUBLE_EQ(targets.front(), 5);    // overrun room at the ends
+  EXPECT_DOUBLE_EQ(targets.back(), 595);
+  EXPECT_EQ(targets.size(), 7u);           // 590 mm / ~100 mm
+  ASSERT_EQ(m.points.size(), 3u * 2 * targets.size());
+  EXPECT_NO_THROW(measure::ValidateForEvaluation(m));
+  EXPECT_EQ(m.sensor_names.size(), vm.ChannelCount());
+  EXPECT_EQ(m.Meta("axis").value_or(""), "X");
+  EXPECT_EQ(m.Meta("state").value_or(""), "cold");
+  EXPECT_EQ(m.Meta("lead_mm").value_or(""), "10");
+  // Time passes: each point costs the move plus the dwell.
+  EXPECT_GT(vm.TimeS() - t0, 3 * 2 * 7 * o.dwell_s);
+  EXPECT_GT(*m.points.back().time_s, *m.points.front().time_s);
+  // Resolution 1 nm: deviations are on a 0.001 µm grid.
+  for (const auto& p : m.points) EXPECT_NEAR(p.deviation_um * 1000, std::round(p.deviation_um * 1000), 1e-6);
+  // Reversal at each target ≈ backlash (6 µm) ± flank part.
+  double fwd = 0, rev = 0;
+  for (const auto& p : m.points) (p.direction == Direction::kForward ? fwd : rev) += p.deviation_um;
+  EXPECT_NEAR((rev - fwd) / (3 * 7), 6, 1.5);
+}
+
+TEST(Laser, RepeatedReadingsScatterByTheInstrumentNoise) {
+  VirtualMachine vm(testing::TestMachine(), 2);
+  LaserOptions o;
+  o.noise_nm = 200;
+  LaserInterferometer laser(o, 9);
+  laser.Setup(vm, 0, 0);
+  vm.MoveTo(0, 300, 2000);
+  double sum = 0, sum2 = 0;
+  const int n = 400;
+  for (int i = 0; i < n; ++i) {
+    const double v = laser.ReadMm(vm) * 1e6;  // nm
+    sum += v;
+    sum2 += v * v;
+  }
+  const double sd = std::sqrt(sum2 / n - (sum / n) * (sum / n));
+  EXPECT_NEAR(sd, 200, 30);
+}
+
+CampaignOptions ShortCampaign(const fs::path& dir, std::uint64_t seed) {
+  CampaignOptions c;
+  c.out_dir = dir.string();
+  c.seed = seed;
+  c.axes = {"X"};
+  c.laser.runs = 2;
+  c.warm_runs = 2;
+  c.laser.spacing_mm = 150;
+  c.laser.dwell_s = 2;
+  c.max_warm_measurements = 3;
+  c.max_warmup_hours = 2;
+  c.ambient_day_offsets = {30};
+  c.max_coolant_measurements = 2;
+  return c;
+}
+
+TEST(Campaign, WritesFilesTemperatureLogAndManifest) {
+  const auto dir = TempDir("campaign");
+  const auto summary = RunCampaign(testing::TestMachine(), ShortCampaign(dir, 1));
+  ASSERT_GE(summary.files.size(), 1u + 2 + 1 + 1);
+  std::set<std::string> states;
+  for (const auto& f : summary.files) states.insert(f.state);
+  EXPECT_EQ(states, (std::set<std::string>{"cold", "warm", "ambient", "coolant"}));
+  const auto manifest = nlohmann::json::parse(ReadTextFile((dir / "manifest.json").string()));
+  ASSERT_EQ(manifest["measurements"].size(), summary.files.size());
+  double last_warm_rise = 0;
+  for (const auto& e : manifest["measurements"]) {
+    const auto path = dir / e["file"].get<std::string>();
+    ASSERT_TRUE(fs::exists(path)) << path;
+    const auto m = measure::ReadMeasurementCsv(path.string());
+    EXPECT_NO_THROW(measure::ValidateForEvaluation(m));
+    EXPECT_EQ(m.Meta("state").value_or(""), e["state"].get<std::string>());
+    EXPECT_EQ(m.Meta("coolant").value_or(""), e["coolant"].get<std::string>());
+    EXPECT_TRUE(e["mean_temperatures_c"].contains("x_nut"));
+    if (e["state"] == "warm") last_warm_rise = e["nut_rise_c"].get<double>();
+    if (e["state"] == "coolant") {
+      EXPECT_EQ(e["coolant"], "flood");
+    }
+  }
+  // The warm-up really warmed the nut by at least one 0.5 °C step.
+  EXPECT_GT(last_warm_rise, 0.5);
+  const std::string log = ReadTextFile((dir / "temperature_log.csv").string());
+  EXPECT_EQ(log.rfind("time_s,date,coolant,x_mm,y_mm,t_x_nut_c", 0), 0u);
+  EXPECT_GT(std::count(log.begin(), log.end(), '\n'), 100);
+  fs::remove_all(dir);
+}
+
+std::map<std::string, std::string> ReadAll(const fs::path& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::directory_iterator(dir)) out[e.path().filename().string()] = ReadTextFile(e.path().string());
+  return out;
+}
+
+TEST(Campaign, SameSeedSameBytesOtherSeedOtherData) {
+  const auto a = TempDir("seed_a"), b = TempDir("seed_b"), c = TempDir("seed_c");
+  auto oa = ShortCampaign(a, 42), ob = ShortCampaign(b, 42), oc = ShortCampaign(c, 43);
+  for (auto* o : {&oa, &ob, &oc}) {
+    o->coolant_session = false;
+    o->ambient_day_offsets = {};
+  }
+  RunCampaign(testing::TestMachine(), oa);
+  RunCampaign(testing::TestMachine(), ob);
+  RunCampaign(testing::TestMachine(), oc);
+  const auto fa = ReadAll(a), fb = ReadAll(b), fc = ReadAll(c);
+  EXPECT_EQ(fa, fb);
+  ASSERT_TRUE(fa.count("X_01_cold.csv"));
+  ASSERT_TRUE(fc.count("X_01_cold.csv"));
+  EXPECT_NE(fa.at("X_01_cold.csv"), fc.at("X_01_cold.csv"));
+  for (const auto& d : {a, b, c}) fs::remove_all(d);
+}
+
+int RunCli(const std::string& args, std::string* err) {
+  const auto errfile = TempDir("cli_err");
+  const std::string cmd = std::string(TRUEAXIS_CLI_PATH) + " " + args + " >/dev/null 2>" + errfile.string();
+  const int rc = std::system(cmd.c_str());
+  *err = fs::exists(errfile) ? ReadTextFile(errfile.string()) : "";
+  fs::remove_all(errfile);
+  return WEXITSTATUS(rc);
+}
+
+TEST(Campaign, CliRunsAndRejectsBadMachineFile) {
+  const auto dir = TempDir("cli");
+  fs::create_directories(dir);
+  const auto machine = dir / "m.toml";
+  WriteTextFile(machine.string(), testing::TestMachineToml());
+  std::string err;
+  EXPECT_EQ(RunCli("sim campaign --machine " + machine.string() + " --out " + (dir / "out").string() +
+                       " --axes Y --runs 2 --warm-runs 2 --spacing-mm 200 --max-warm 1 --ambient-days 5 --no-coolant",
+                   &err),
+            0)
+      << err;
+  EXPECT_TRUE(fs::exists(dir / "out" / "manifest.json"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "Y_01_cold.csv"));
+  EXPECT_NE(err.find("measuring Y"), std::string::npos);  // progress on stderr
+
+  const auto bad = dir / "bad.toml";
+  WriteTextFile(bad.string(), testing::TestMachineToml() + "backlsh_um = 3\n");
+  EXPECT_EQ(RunCli("sim campaign --machine " + bad.string() + " --out " + (dir / "out2").string(), &err), 2);
+  EXPECT_NE(err.find("bad.toml:"), std::string::npos) << err;
+  EXPECT_NE(err.find("backlsh_um"), std::string::npos) << err;
+
+  EXPECT_EQ(RunCli("sim campaign --machine " + machine.string() + " --out " + (dir / "out3").string() + " --axes Q", &err), 2);
+  EXPECT_NE(err.find("'Q'"), std::string::npos) << err;
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace trueaxis::sim
