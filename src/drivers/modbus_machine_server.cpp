@@ -63,12 +63,13 @@ bool ModbusMachineServerOptions::IsValid(std::string* why) const {
   if (!(machine_period_s > 0 && machine_period_s <= 10)) return fail("machine_period_s must be in (0, 10] s");
   if (!(max_abs_compensation_um > 0 && max_abs_compensation_um <= 1e6)) return fail("max_abs_compensation_um must be in (0, 1e6] µm");
   if (max_clients < 1 || max_clients > 512) return fail("max_clients must be in 1..512");
+  if (!(idle_timeout_s >= 0)) return fail("idle_timeout_s must be >= 0 (0 = never)");
   return true;
 }
 
 std::string ModbusMachineServerStats::BriefReport() const {
-  return fmt::format("{} requests ({} exceptions), {} clients now, {} connections ({} refused), {} machine exchanges, {} compensation writes",
-                     requests, exceptions, clients, connections, refused_connections, exchanges, compensation_writes);
+  return fmt::format("{} requests ({} exceptions), {} clients now, {} connections ({} refused, {} dropped idle), {} machine exchanges, {} compensation writes",
+                     requests, exceptions, clients, connections, refused_connections, idle_disconnects, exchanges, compensation_writes);
 }
 
 struct ModbusMachineServer::Impl {
@@ -298,6 +299,7 @@ struct ModbusMachineServer::Impl {
     int fd = -1;
     std::uint8_t buf[MODBUS_TCP_MAX_ADU_LENGTH];
     std::size_t len = 0;
+    Clock::time_point last_activity{};
   };
 
   void CloseClient(std::size_t i) {
@@ -313,6 +315,7 @@ struct ModbusMachineServer::Impl {
     if (n == 0) return false;  // closed by the peer
     if (n < 0) return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR;
     c.len += static_cast<std::size_t>(n);
+    c.last_activity = Clock::now();
     constexpr std::size_t kMbap = 7;  // transaction id, protocol id, length, unit id
     while (c.len >= kMbap) {
       const int protocol = U16(c.buf + 2);
@@ -339,13 +342,14 @@ struct ModbusMachineServer::Impl {
         FD_SET(c->fd, &rd);
         maxfd = std::max(maxfd, c->fd);
       }
-      const int n = select(maxfd + 1, &rd, nullptr, nullptr, nullptr);
+      timeval tick{0, 250000};  // wake now and then to drop idle connections
+      const int n = select(maxfd + 1, &rd, nullptr, nullptr, &tick);
       if (n < 0) {
         if (errno == EINTR) continue;
         break;
       }
-      if (FD_ISSET(wake_pipe[0], &rd)) break;  // Stop()
-      if (FD_ISSET(listen_fd, &rd)) {
+      if (n > 0 && FD_ISSET(wake_pipe[0], &rd)) break;  // Stop()
+      if (n > 0 && FD_ISSET(listen_fd, &rd)) {
         const int fd = accept4(listen_fd, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
         if (fd >= 0) {
           std::lock_guard<std::mutex> lock(mu);
@@ -357,14 +361,23 @@ struct ModbusMachineServer::Impl {
             setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
             auto c = std::make_unique<Client>();
             c->fd = fd;
+            c->last_activity = Clock::now();
             clients.push_back(std::move(c));
             ++stats.connections;
             stats.clients = static_cast<int>(clients.size());
           }
         }
       }
+      const auto now = Clock::now();
+      const auto idle_limit = std::chrono::duration<double>(opt.idle_timeout_s);
       for (std::size_t i = clients.size(); i-- > 0;) {
-        if (FD_ISSET(clients[i]->fd, &rd) && !ServeClient(*clients[i])) CloseClient(i);
+        if (n > 0 && FD_ISSET(clients[i]->fd, &rd) && !ServeClient(*clients[i])) {
+          CloseClient(i);
+        } else if (opt.idle_timeout_s > 0 && now - clients[i]->last_activity > idle_limit) {
+          CloseClient(i);  // silent too long: free the slot (a dead peer never says goodbye)
+          std::lock_guard<std::mutex> lock(mu);
+          ++stats.idle_disconnects;
+        }
       }
     }
     for (const auto& c : clients) close(c->fd);

@@ -417,6 +417,33 @@ TEST_F(ServerClientTest, ServerStopsWithClientsConnected) {
   server->Stop();  // idempotent
 }
 
+TEST(ModbusMachineServer, ConnectionsBeyondMaxClientsAreRefusedAndIdleOnesDropped) {
+  FakeCnc cnc({"X"});
+  ModbusMachineServerOptions o;
+  o.max_clients = 2;
+  o.idle_timeout_s = 0.5;
+  std::string error;
+  auto server = StartServer(&cnc, nullptr, o, &error);
+  ASSERT_NE(server, nullptr) << error;
+  ModbusCncLinkOptions lo;
+  lo.endpoint.port = server->options().port;
+  lo.endpoint.reconnect_interval_s = 0.05;
+  lo.axis_names = {"X"};
+  ModbusCncLink a(lo), b(lo), c(lo);
+  std::vector<hw::AxisState> axes(1);
+  hw::CncState state;
+  ASSERT_TRUE(a.Read(axes, state)) << a.last_error();
+  ASSERT_TRUE(b.Read(axes, state)) << b.last_error();
+  EXPECT_FALSE(c.Read(axes, state));  // third connection: closed at once
+  EXPECT_TRUE(WaitFor([&] { return server->Stats().refused_connections >= 1; }));
+  // a and b fall silent; after the idle timeout their slots are free again.
+  ASSERT_TRUE(WaitFor([&] { return server->Stats().idle_disconnects >= 2; }, 5.0));
+  EXPECT_EQ(server->Stats().clients, 0);
+  ASSERT_TRUE(WaitFor([&] { return c.Read(axes, state); }, 3.0)) << c.last_error();
+  // A dropped client notices on its next call and reconnects by itself.
+  ASSERT_TRUE(WaitFor([&] { return a.Read(axes, state); }, 3.0)) << a.last_error();
+}
+
 TEST(ModbusMachineServer, BadOptionsAndBusyPortsAreReported) {
   FakeCnc cnc({"X"});
   ModbusMachineServerOptions o;

@@ -41,6 +41,7 @@ struct ModbusMachineServerOptions {
   double max_abs_compensation_um = 1000.0;  // larger writes are refused with ILLEGAL DATA VALUE
   bool initial_enable = true;               // PMC enable register at start
   int max_clients = 16;                     // further connections are closed at once
+  double idle_timeout_s = 60.0;             // a connection silent this long is closed (0 = never)
 
   bool IsValid(std::string* why) const;
 };
@@ -49,7 +50,8 @@ struct ModbusMachineServerStats {
   std::uint64_t requests = 0;          // requests answered (normal or exception)
   std::uint64_t exceptions = 0;        // of which exception responses
   std::uint64_t connections = 0;       // connections accepted
-  std::uint64_t refused_connections = 0;
+  std::uint64_t refused_connections = 0;  // beyond max_clients
+  std::uint64_t idle_disconnects = 0;     // closed after idle_timeout_s of silence
   std::uint64_t exchanges = 0;         // machine exchanges (= heartbeat)
   std::uint64_t compensation_writes = 0;  // vectors forwarded to CncLink::WriteCompensation
   int clients = 0;                     // connected now
