@@ -148,6 +148,36 @@ TEST(SimServe, CompensationWrittenByPymodbusMovesTheVirtualTable) {
   EXPECT_GE(final["compensation_writes"].get<int>(), 3);
 }
 
+TEST(ModbusProbe, ReadsTheServedMachineAsTheRuntimeWould) {
+  std::mt19937 rng(std::random_device{}());
+  std::unique_ptr<ServeProcess> serve;
+  std::string port;
+  for (int attempt = 0; attempt < 10 && !serve; ++attempt) {
+    port = std::to_string(std::uniform_int_distribution<int>(20000, 59999)(rng));
+    auto p = std::make_unique<ServeProcess>();
+    ASSERT_TRUE(p->Start("--machine " + kMachine + " --port " + port + " --duration-s 3 --status-interval-s 0 --json --coolant flood"));
+    if (WaitFor([&] { return !p->Last("listening").is_null() || p->Done(); }, 20.0) && !p->Last("listening").is_null())
+      serve = std::move(p);
+  }
+  ASSERT_NE(serve, nullptr) << "sim serve never listened";
+  int status = -1;
+  std::string out = RunCommand(kCli + " modbus probe --port " + port + " --axes X,Y,Z --rtd-units 2,3", &status);
+  EXPECT_EQ(status, 0) << out;
+  EXPECT_NE(out.find("coolant flood, compensation enabled"), std::string::npos) << out;
+  EXPECT_NE(out.find("  Z "), std::string::npos) << out;
+  // 11 sensors: 7 on unit 2, 4 on unit 3 (the channel-enable mask says so).
+  EXPECT_NE(out.find("u2.ch6"), std::string::npos) << out;
+  EXPECT_NE(out.find("u3.ch3"), std::string::npos) << out;
+  EXPECT_EQ(out.find("u3.ch4"), std::string::npos) << out;
+  out = RunCommand(kCli + " modbus probe --port " + port + " --axes X,Y", &status);
+  EXPECT_EQ(status, 2) << out;
+  EXPECT_NE(out.find("--axes"), std::string::npos) << out;
+  EXPECT_EQ(serve->Finish(), 0);
+  out = RunCommand(kCli + " modbus probe --port " + port, &status);  // nobody there any more
+  EXPECT_EQ(status, 1) << out;
+  EXPECT_NE(out.find("refused"), std::string::npos) << out;
+}
+
 TEST(SimServe, BadOptionsAreReportedWithTheFieldAndExitCode2) {
   int status = -1;
   std::string out = RunCommand(kCli + " sim serve --machine " + kMachine + " --time-scale 0", &status);
