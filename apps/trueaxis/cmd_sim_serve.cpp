@@ -46,6 +46,8 @@ struct ServeOptions {
   int pmc_unit = 1;
   int first_rtd_unit = 2;
   double machine_period_s = 0.005;
+  double watchdog_s = 0;
+  double watchdog_ramp_um_per_s = 10;
 };
 
 // What the status lines show; filled on the machine thread (the only thread
@@ -111,6 +113,8 @@ void RunServe(const ServeOptions& o) {
   so.first_rtd_unit_id = o.first_rtd_unit;
   so.max_abs_compensation_um = o.max_compensation_um;
   so.machine_period_s = o.machine_period_s;
+  so.watchdog_s = o.watchdog_s;
+  so.watchdog_ramp_um_per_s = o.watchdog_ramp_um_per_s;
   std::string why;
   if (!so.IsValid(&why)) throw InputError("command line", why);
 
@@ -233,6 +237,10 @@ void Setup(CLI::App& app) {
   cmd->add_option("--status-interval-s", opts->status_interval_s, "Wall seconds between status lines (0: none)")->capture_default_str();
   cmd->add_flag("--json", opts->json, "Status lines as JSON objects (one per line)");
   cmd->add_option("--max-compensation-um", opts->max_compensation_um, "Terminal refuses compensation beyond this")->capture_default_str();
+  cmd->add_option("--watchdog-s", opts->watchdog_s,
+                  "Ramp the compensation to 0 when no client has written for this long (0: hold the last value)")
+      ->capture_default_str();
+  cmd->add_option("--watchdog-ramp-um-per-s", opts->watchdog_ramp_um_per_s, "Rate of that ramp")->capture_default_str();
   cmd->add_option("--pmc-unit", opts->pmc_unit, "Unit id of the PMC window")->capture_default_str();
   cmd->add_option("--first-rtd-unit", opts->first_rtd_unit, "Unit id of the first ADAM-6015 (7 sensors each)")->capture_default_str();
   cmd->callback([opts] { RunServe(*opts); });
