@@ -63,12 +63,15 @@ bool ModbusMachineServerOptions::IsValid(std::string* why) const {
   if (!(machine_period_s > 0 && machine_period_s <= 10)) return fail("machine_period_s must be in (0, 10] s");
   if (!(max_abs_compensation_um > 0 && max_abs_compensation_um <= 1e6)) return fail("max_abs_compensation_um must be in (0, 1e6] µm");
   if (max_clients < 1 || max_clients > 512) return fail("max_clients must be in 1..512");
+  if (!(idle_timeout_s >= 0)) return fail("idle_timeout_s must be >= 0 (0 = never)");
+  if (!(watchdog_s >= 0)) return fail("watchdog_s must be >= 0 (0 = off: hold the last compensation)");
+  if (!(watchdog_ramp_um_per_s > 0)) return fail("watchdog_ramp_um_per_s must be > 0");
   return true;
 }
 
 std::string ModbusMachineServerStats::BriefReport() const {
-  return fmt::format("{} requests ({} exceptions), {} clients now, {} connections ({} refused), {} machine exchanges, {} compensation writes",
-                     requests, exceptions, clients, connections, refused_connections, exchanges, compensation_writes);
+  return fmt::format("{} requests ({} exceptions), {} clients now, {} connections ({} refused, {} dropped idle), {} machine exchanges, {} compensation writes",
+                     requests, exceptions, clients, connections, refused_connections, idle_disconnects, exchanges, compensation_writes);
 }
 
 struct ModbusMachineServer::Impl {
@@ -89,7 +92,8 @@ struct ModbusMachineServer::Impl {
   std::vector<modbus_mapping_t*> rtd_maps;
   std::vector<const adam6015::RtdRange*> channel_range;  // per channel
   std::vector<bool> history_valid;                       // per channel: max/min hold a reading
-  bool compensation_dirty = true;  // forward at the first exchange (zeros unless written before)
+  bool compensation_dirty = false;  // a client wrote new compensation registers (wakes the machine thread)
+  Clock::time_point last_client_write{};  // of any PMC holding register (watchdog)
   bool temperatures_online = false;
   std::uint32_t heartbeat = 0;
   ModbusMachineServerStats stats;
@@ -99,6 +103,7 @@ struct ModbusMachineServer::Impl {
   std::vector<hw::RawTemperature> raw;
   std::vector<double> pending_um;
   std::vector<double> applied_um;
+  bool retry_write = false;  // the CNC refused the last vector: try again next period (no busy loop)
   Clock::time_point last_read_ok{};
   bool ever_read_ok = false;
 
@@ -230,6 +235,7 @@ struct ModbusMachineServer::Impl {
     if (module < 0) {
       if (fc == MODBUS_FC_WRITE_SINGLE_REGISTER || fc == MODBUS_FC_WRITE_MULTIPLE_REGISTERS) {
         compensation_dirty = true;
+        last_client_write = Clock::now();
         wake_machine.notify_one();
       }
       return;
@@ -298,6 +304,7 @@ struct ModbusMachineServer::Impl {
     int fd = -1;
     std::uint8_t buf[MODBUS_TCP_MAX_ADU_LENGTH];
     std::size_t len = 0;
+    Clock::time_point last_activity{};
   };
 
   void CloseClient(std::size_t i) {
@@ -313,6 +320,7 @@ struct ModbusMachineServer::Impl {
     if (n == 0) return false;  // closed by the peer
     if (n < 0) return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR;
     c.len += static_cast<std::size_t>(n);
+    c.last_activity = Clock::now();
     constexpr std::size_t kMbap = 7;  // transaction id, protocol id, length, unit id
     while (c.len >= kMbap) {
       const int protocol = U16(c.buf + 2);
@@ -339,13 +347,14 @@ struct ModbusMachineServer::Impl {
         FD_SET(c->fd, &rd);
         maxfd = std::max(maxfd, c->fd);
       }
-      const int n = select(maxfd + 1, &rd, nullptr, nullptr, nullptr);
+      timeval tick{0, 250000};  // wake now and then to drop idle connections
+      const int n = select(maxfd + 1, &rd, nullptr, nullptr, &tick);
       if (n < 0) {
         if (errno == EINTR) continue;
         break;
       }
-      if (FD_ISSET(wake_pipe[0], &rd)) break;  // Stop()
-      if (FD_ISSET(listen_fd, &rd)) {
+      if (n > 0 && FD_ISSET(wake_pipe[0], &rd)) break;  // Stop()
+      if (n > 0 && FD_ISSET(listen_fd, &rd)) {
         const int fd = accept4(listen_fd, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
         if (fd >= 0) {
           std::lock_guard<std::mutex> lock(mu);
@@ -357,14 +366,23 @@ struct ModbusMachineServer::Impl {
             setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
             auto c = std::make_unique<Client>();
             c->fd = fd;
+            c->last_activity = Clock::now();
             clients.push_back(std::move(c));
             ++stats.connections;
             stats.clients = static_cast<int>(clients.size());
           }
         }
       }
+      const auto now = Clock::now();
+      const auto idle_limit = std::chrono::duration<double>(opt.idle_timeout_s);
       for (std::size_t i = clients.size(); i-- > 0;) {
-        if (FD_ISSET(clients[i]->fd, &rd) && !ServeClient(*clients[i])) CloseClient(i);
+        if (n > 0 && FD_ISSET(clients[i]->fd, &rd) && !ServeClient(*clients[i])) {
+          CloseClient(i);
+        } else if (opt.idle_timeout_s > 0 && now - clients[i]->last_activity > idle_limit) {
+          CloseClient(i);  // silent too long: free the slot (a dead peer never says goodbye)
+          std::lock_guard<std::mutex> lock(mu);
+          ++stats.idle_disconnects;
+        }
       }
     }
     for (const auto& c : clients) close(c->fd);
@@ -390,7 +408,8 @@ struct ModbusMachineServer::Impl {
       ++stats.exchanges;
       if (pmc_map) PublishPmc(read_ok, temps_ok, state, now);
       if (temps) PublishTemperatures(temps_ok);
-      if (pmc_map && compensation_dirty) {
+      if (pmc_map && WatchdogRamp(elapsed_s, now)) compensation_dirty = true;
+      if (pmc_map && (compensation_dirty || retry_write)) {
         for (std::size_t a = 0; a < axis_count; ++a)
           pending_um[a] = CountsToMicrometres(JoinInt32(pmc_map->tab_registers + pmc::CompensationRegister(a)));
         compensation_dirty = false;
@@ -413,8 +432,34 @@ struct ModbusMachineServer::Impl {
       }
     } else {
       status &= static_cast<std::uint16_t>(~pmc::kStatusLastWriteOk);
-      compensation_dirty = true;  // try again next exchange
     }
+    retry_write = !ok;  // next period, not at once: a CNC that refuses must not be hammered
+  }
+
+  // Watchdog (mu held): when no client has written for watchdog_s, ramp the
+  // compensation registers towards 0 at watchdog_ramp_um_per_s, so a
+  // compensator that dies or loses its link cannot leave a stale offset on the
+  // machine, and the machine never sees a jump. True when it changed a value.
+  bool WatchdogRamp(double elapsed_s, Clock::time_point now) {
+    std::uint16_t& status = pmc_map->tab_input_registers[pmc::kIrStatus];
+    status &= static_cast<std::uint16_t>(~pmc::kStatusWatchdogRamping);
+    if (opt.watchdog_s <= 0) return false;
+    if (std::chrono::duration<double>(now - last_client_write).count() <= opt.watchdog_s) return false;
+    const double step_counts = std::max(1.0, std::round(opt.watchdog_ramp_um_per_s * elapsed_s / kLengthQuantumUm));
+    bool changed = false;
+    for (std::size_t a = 0; a < axis_count; ++a) {
+      std::uint16_t* r = pmc_map->tab_registers + pmc::CompensationRegister(a);
+      const std::int32_t c = JoinInt32(r);
+      if (c == 0) continue;
+      const auto step = static_cast<std::int32_t>(std::min<double>(step_counts, std::abs(static_cast<double>(c))));
+      SplitInt32(c > 0 ? c - step : c + step, r);
+      changed = true;
+    }
+    if (changed) {
+      status |= pmc::kStatusWatchdogRamping;
+      ++stats.watchdog_steps;
+    }
+    return changed;
   }
 
   void PublishPmc(bool read_ok, bool temps_ok, const hw::CncState& state, Clock::time_point now) {
@@ -556,7 +601,9 @@ bool ModbusMachineServer::Start(std::string* error) {
   s.raw.assign(s.channel_count, {});
   s.pending_um.assign(s.axis_count, 0.0);
   s.applied_um.assign(s.axis_count, 0.0);
-  s.compensation_dirty = s.cnc != nullptr;
+  s.compensation_dirty = false;  // nothing is forwarded before a client writes: no jump at start-up
+  s.retry_write = false;
+  s.last_client_write = Clock::now();
   s.temperatures_online = false;
   s.heartbeat = 0;
   s.ever_read_ok = false;

@@ -33,8 +33,10 @@ class FakeCnc : public hw::CncLink {
   }
   bool WriteCompensation(std::span<const double> c) override {
     std::lock_guard<std::mutex> lock(mu_);
+    ++attempts_;
     if (!write_ok_) return false;
     comp_.assign(c.begin(), c.end());
+    history_.push_back(comp_);
     ++writes_;
     return true;
   }
@@ -48,6 +50,8 @@ class FakeCnc : public hw::CncLink {
   }
   std::vector<double> Compensation() const { std::lock_guard<std::mutex> l(mu_); return comp_; }
   int Writes() const { std::lock_guard<std::mutex> l(mu_); return writes_; }
+  int WriteAttempts() const { std::lock_guard<std::mutex> l(mu_); return attempts_; }
+  std::vector<std::vector<double>> History() const { std::lock_guard<std::mutex> l(mu_); return history_; }
   int Reads() const { std::lock_guard<std::mutex> l(mu_); return reads_; }
 
  private:
@@ -58,7 +62,8 @@ class FakeCnc : public hw::CncLink {
   hw::CncState state_;
   std::vector<double> comp_;
   bool read_ok_ = true, write_ok_ = true, hang_ = false;
-  int writes_ = 0, reads_ = 0;
+  int writes_ = 0, reads_ = 0, attempts_ = 0;
+  std::vector<std::vector<double>> history_;
 };
 
 class FakeTemperatures : public hw::TemperatureSource {

@@ -417,6 +417,98 @@ TEST_F(ServerClientTest, ServerStopsWithClientsConnected) {
   server->Stop();  // idempotent
 }
 
+TEST(ModbusMachineServer, ConnectionsBeyondMaxClientsAreRefusedAndIdleOnesDropped) {
+  FakeCnc cnc({"X"});
+  ModbusMachineServerOptions o;
+  o.max_clients = 2;
+  o.idle_timeout_s = 0.5;
+  std::string error;
+  auto server = StartServer(&cnc, nullptr, o, &error);
+  ASSERT_NE(server, nullptr) << error;
+  ModbusCncLinkOptions lo;
+  lo.endpoint.port = server->options().port;
+  lo.endpoint.reconnect_interval_s = 0.05;
+  lo.axis_names = {"X"};
+  ModbusCncLink a(lo), b(lo), c(lo);
+  std::vector<hw::AxisState> axes(1);
+  hw::CncState state;
+  ASSERT_TRUE(a.Read(axes, state)) << a.last_error();
+  ASSERT_TRUE(b.Read(axes, state)) << b.last_error();
+  EXPECT_FALSE(c.Read(axes, state));  // third connection: closed at once
+  EXPECT_TRUE(WaitFor([&] { return server->Stats().refused_connections >= 1; }));
+  // a and b fall silent; after the idle timeout their slots are free again.
+  ASSERT_TRUE(WaitFor([&] { return server->Stats().idle_disconnects >= 2; }, 5.0));
+  EXPECT_EQ(server->Stats().clients, 0);
+  ASSERT_TRUE(WaitFor([&] { return c.Read(axes, state); }, 3.0)) << c.last_error();
+  // A dropped client notices on its next call and reconnects by itself.
+  ASSERT_TRUE(WaitFor([&] { return a.Read(axes, state); }, 3.0)) << a.last_error();
+}
+
+TEST(ModbusMachineServer, NothingIsWrittenToTheCncBeforeAClientWrites) {
+  FakeCnc cnc({"X", "Y"});
+  std::string error;
+  auto server = StartServer(&cnc, nullptr, {}, &error);
+  ASSERT_NE(server, nullptr) << error;
+  ASSERT_TRUE(WaitFor([&] { return server->Stats().exchanges > 20; }));
+  EXPECT_EQ(cnc.WriteAttempts(), 0);  // a restarted terminal must not zero a CNC's offsets (a jump)
+}
+
+TEST(ModbusMachineServer, ARefusingCncIsRetriedEachPeriodNotHammered) {
+  FakeCnc cnc({"X"});
+  ModbusMachineServerOptions o;
+  o.machine_period_s = 0.01;
+  std::string error;
+  auto server = StartServer(&cnc, nullptr, o, &error);
+  ASSERT_NE(server, nullptr) << error;
+  cnc.SetWriteOk(false);
+  ModbusCncLinkOptions lo;
+  lo.endpoint.port = server->options().port;
+  lo.axis_names = {"X"};
+  ModbusCncLink link(lo);
+  ASSERT_TRUE(link.WriteCompensation(std::vector<double>{4.0}));  // the terminal accepted it
+  std::vector<hw::AxisState> axes(1);
+  hw::CncState state;
+  ASSERT_TRUE(WaitFor([&] { return cnc.WriteAttempts() >= 3; }));
+  const auto exchanges0 = server->Stats().exchanges;
+  const int attempts0 = cnc.WriteAttempts();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const auto exchanges = server->Stats().exchanges - exchanges0;
+  // At most one attempt per machine exchange (a busy loop would make thousands).
+  EXPECT_LE(static_cast<std::uint64_t>(cnc.WriteAttempts() - attempts0), exchanges + 1);
+  cnc.SetWriteOk(true);
+  ASSERT_TRUE(WaitFor([&] { return cnc.Writes() == 1; }));
+  EXPECT_EQ(cnc.Compensation()[0], 4.0);
+}
+
+TEST(ModbusMachineServer, WatchdogRampsAStaleCompensationToZeroWithoutAJump) {
+  FakeCnc cnc({"X", "Y"});
+  ModbusMachineServerOptions o;
+  o.watchdog_s = 0.2;
+  o.watchdog_ramp_um_per_s = 100.0;
+  std::string error;
+  auto server = StartServer(&cnc, nullptr, o, &error);
+  ASSERT_NE(server, nullptr) << error;
+  ModbusCncLinkOptions lo;
+  lo.endpoint.port = server->options().port;
+  lo.axis_names = {"X", "Y"};
+  ModbusCncLink link(lo);
+  ASSERT_TRUE(link.WriteCompensation(std::vector<double>{50.0, -30.0}));
+  ASSERT_TRUE(WaitFor([&] { return cnc.Compensation()[0] == 50.0; }));
+  // The compensator falls silent: after 0.2 s the terminal ramps both axes to 0.
+  ASSERT_TRUE(WaitFor([&] {
+    auto c = cnc.Compensation();
+    return c[0] == 0.0 && c[1] == 0.0;
+  }, 5.0));
+  const auto history = cnc.History();
+  ASSERT_GT(history.size(), 5u);  // many small steps, not one
+  for (std::size_t i = 1; i < history.size(); ++i)
+    for (std::size_t a = 0; a < 2; ++a) EXPECT_LE(std::abs(history[i][a] - history[i - 1][a]), 20.0) << i;
+  EXPECT_GT(server->Stats().watchdog_steps, 5u);
+  // A live compensator takes over again at once.
+  ASSERT_TRUE(link.WriteCompensation(std::vector<double>{5.0, 5.0}));
+  ASSERT_TRUE(WaitFor([&] { return cnc.Compensation()[1] == 5.0; }));
+}
+
 TEST(ModbusMachineServer, BadOptionsAndBusyPortsAreReported) {
   FakeCnc cnc({"X"});
   ModbusMachineServerOptions o;

@@ -41,6 +41,12 @@ struct ModbusMachineServerOptions {
   double max_abs_compensation_um = 1000.0;  // larger writes are refused with ILLEGAL DATA VALUE
   bool initial_enable = true;               // PMC enable register at start
   int max_clients = 16;                     // further connections are closed at once
+  double idle_timeout_s = 60.0;             // a connection silent this long is closed (0 = never)
+  // Link-loss behaviour on the machine side: with watchdog_s > 0, when no
+  // client has written a PMC holding register for that long, the compensation
+  // ramps to 0 at watchdog_ramp_um_per_s (never a jump). 0 = hold the last value.
+  double watchdog_s = 0.0;
+  double watchdog_ramp_um_per_s = 10.0;
 
   bool IsValid(std::string* why) const;
 };
@@ -49,9 +55,11 @@ struct ModbusMachineServerStats {
   std::uint64_t requests = 0;          // requests answered (normal or exception)
   std::uint64_t exceptions = 0;        // of which exception responses
   std::uint64_t connections = 0;       // connections accepted
-  std::uint64_t refused_connections = 0;
+  std::uint64_t refused_connections = 0;  // beyond max_clients
+  std::uint64_t idle_disconnects = 0;     // closed after idle_timeout_s of silence
   std::uint64_t exchanges = 0;         // machine exchanges (= heartbeat)
   std::uint64_t compensation_writes = 0;  // vectors forwarded to CncLink::WriteCompensation
+  std::uint64_t watchdog_steps = 0;       // exchanges in which the watchdog ramped the compensation
   int clients = 0;                     // connected now
   std::string BriefReport() const;
 };

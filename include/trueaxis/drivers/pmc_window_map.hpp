@@ -45,6 +45,7 @@ inline constexpr std::uint16_t kStatusCompensationEnabled = 1u << 0;  // effecti
 inline constexpr std::uint16_t kStatusMachineReadOk = 1u << 1;        // last CncLink::Read succeeded
 inline constexpr std::uint16_t kStatusLastWriteOk = 1u << 2;          // last WriteCompensation succeeded
 inline constexpr std::uint16_t kStatusTemperatureReadOk = 1u << 3;    // last TemperatureSource::Read succeeded
+inline constexpr std::uint16_t kStatusWatchdogRamping = 1u << 4;      // no client write for watchdog_s: ramping to 0
 
 // ---- Holding registers (FC 03 read, FC 06/16 write): the compensator's inputs ----
 inline constexpr int kHrEnable = 0;            // PMC enable bit, 0/1 (anded with the CNC's own enable)
