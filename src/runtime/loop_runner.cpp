@@ -56,6 +56,7 @@ void LoopRunner::ThreadMain() {
   const auto t0 = Clock::now();
   auto deadline = t0;
   while (!stop_.load(std::memory_order_relaxed)) {
+    if (plant_advance_) plant_advance_(options_.period_s);
     const auto start = Clock::now();
     const double now_s = std::chrono::duration<double>(start - t0).count();
     const CycleStatus& status = compensator_.RunCycle(link_, source_, now_s);

@@ -51,7 +51,11 @@ class LoopRunner {
   LoopRunner(const LoopRunner&) = delete;
   LoopRunner& operator=(const LoopRunner&) = delete;
 
-  // Real-time mode.
+  // Real-time mode. `SetPlantAdvance` (before Start) installs a hook called
+  // on the loop thread before each cycle with the period, e.g. to move an
+  // in-process virtual machine on in step with the loop (no lock needed: only
+  // the loop thread touches it).
+  void SetPlantAdvance(std::function<void(double dt_s)> advance) { plant_advance_ = std::move(advance); }
   void Start();
   void Stop();  // idempotent; joins
   bool Running() const { return running_.load(); }
@@ -77,6 +81,7 @@ class LoopRunner {
   hw::TemperatureSource& source_;
   LoopOptions options_;
   CycleObserver* observer_;
+  std::function<void(double)> plant_advance_;
   std::thread thread_;
   std::atomic<bool> running_{false};
   std::atomic<bool> stop_{false};
