@@ -15,7 +15,7 @@ namespace {
 
 struct Options {
   trueaxis::demo::DemoOptions demo;
-  double period_ms = 10;
+  double period_ms = 0;  // 0: 10 ms in process, 100 ms over MODBUS
   bool quiet = false;
 };
 
@@ -28,7 +28,7 @@ std::string DefaultMachine() {
 
 void Run(Options& o) {
   if (o.demo.machine_file.empty()) o.demo.machine_file = DefaultMachine();
-  o.demo.period_s = o.period_ms / 1000.0;
+  o.demo.period_s = (o.period_ms > 0 ? o.period_ms : (o.demo.modbus ? 100 : 10)) / 1000.0;
   if (!std::filesystem::exists(o.demo.machine_file))
     throw trueaxis::InputError(o.demo.machine_file, 0, "--machine", "machine file not found");
   if (!o.quiet) o.demo.progress = [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
@@ -51,7 +51,11 @@ void Setup(CLI::App& app) {
   cmd->add_option("--machine", opts->demo.machine_file, "Machine description (default examples/machines/vmc850.toml)");
   cmd->add_option("--axes", opts->demo.axes, "Axes to calibrate and measure, e.g. X,Y (default: all; --fast: the first)")
       ->delimiter(',');
-  cmd->add_option("--period-ms", opts->period_ms, "Compensation cycle in ms of machine time")->capture_default_str();
+  cmd->add_option("--period-ms", opts->period_ms, "Compensation cycle in ms of machine time (default 10; 100 with --modbus)");
+  cmd->add_flag("--modbus", opts->demo.modbus,
+                "Run the working day over MODBUS TCP on 127.0.0.1: the virtual machine behind the PMC-window/ADAM-6015 "
+                "terminal, the compensator on the MODBUS clients (slower: real round trips every cycle)");
+  cmd->add_option("--modbus-port", opts->demo.modbus_port, "Port of that terminal (default: first free from 15020)");
   cmd->add_option("--geometric", opts->demo.geometric,
                   "Er(x) model: auto (polynomial or table by cross-validation), polynomial (seed 000), table (seed 002)")
       ->check(CLI::IsMember({"auto", "polynomial", "table"}))

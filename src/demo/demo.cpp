@@ -5,10 +5,15 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <mutex>
+#include <thread>
 
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/drivers/modbus_cnc_link.hpp"
+#include "trueaxis/drivers/modbus_machine_server.hpp"
+#include "trueaxis/drivers/modbus_temperature_source.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
 #include "trueaxis/model/fit_input.hpp"
 #include "trueaxis/model/model_fit.hpp"
@@ -118,6 +123,33 @@ class DayObserver : public runtime::CycleObserver {
   std::uint32_t alarms_ = 0, last_alarms_ = 0;
 };
 
+// The virtual machine as the MODBUS terminal sees it: every call under the
+// mutex the demo thread holds while it drives the machine (names are immutable).
+class LockedMachine : public hw::CncLink, public hw::TemperatureSource {
+ public:
+  LockedMachine(sim::VirtualMachine& vm, std::mutex& mu) : vm_(vm), mu_(mu) {}
+  std::size_t AxisCount() const override { return vm_.AxisCount(); }
+  std::string AxisName(std::size_t i) const override { return vm_.AxisName(i); }
+  bool Read(std::span<hw::AxisState> axes, hw::CncState& m) override {
+    std::lock_guard<std::mutex> lock(mu_);
+    return static_cast<hw::CncLink&>(vm_).Read(axes, m);
+  }
+  bool WriteCompensation(std::span<const double> c) override {
+    std::lock_guard<std::mutex> lock(mu_);
+    return vm_.WriteCompensation(c);
+  }
+  std::size_t ChannelCount() const override { return vm_.ChannelCount(); }
+  std::string ChannelName(std::size_t i) const override { return vm_.ChannelName(i); }
+  bool Read(std::span<hw::RawTemperature> out) override {
+    std::lock_guard<std::mutex> lock(mu_);
+    return static_cast<hw::TemperatureSource&>(vm_).Read(out);
+  }
+
+ private:
+  sim::VirtualMachine& vm_;
+  std::mutex& mu_;
+};
+
 class WorkingDay {
  public:
   WorkingDay(const sim::MachineDescription& md, const DemoOptions& o, const sim::LaserOptions& laser,
@@ -139,10 +171,18 @@ class WorkingDay {
       a.enabled = am != nullptr;
       interfaces.push_back(a);
     }
-    comp_ = runtime::Compensator::ForHardware(o.compensator, vm_, vm_, interfaces);
+    hw::CncLink* link = &vm_;
+    hw::TemperatureSource* source = &vm_;
+    result_.interface_used = "in-process CncLink / TemperatureSource (sim::VirtualMachine)";
+    if (o.modbus) {
+      StartModbus();
+      link = cnc_client_.get();
+      source = temp_client_.get();
+    }
+    comp_ = runtime::Compensator::ForHardware(o.compensator, *link, *source, interfaces);
     if (writer) history_ = std::make_unique<runtime::HistoryLogger>(*writer, all_axes_, result_.channel_names);
     observer_ = std::make_unique<DayObserver>(vm_, result_, history_.get());
-    runner_ = std::make_unique<runtime::LoopRunner>(*comp_, vm_, vm_, runtime::LoopOptions{o.period_s}, observer_.get());
+    runner_ = std::make_unique<runtime::LoopRunner>(*comp_, *link, *source, runtime::LoopOptions{o.period_s}, observer_.get());
     advance_ = [this](double dt) { vm_.Advance(dt); };
     comp_->PublishModel(std::move(model), model_label);
   }
@@ -174,14 +214,78 @@ class WorkingDay {
     result_.alarms_seen = observer_->alarms();
   }
 
+  ~WorkingDay() {
+    if (vm_lock_.owns_lock()) vm_lock_.unlock();
+    if (server_) server_->Stop();
+  }
+
   double MachineTimeS() const { return vm_.TimeS(); }
 
  private:
+  void StartModbus() {
+    locked_ = std::make_unique<LockedMachine>(vm_, vm_mutex_);
+    drivers::ModbusMachineServerOptions so;
+    so.machine_period_s = 0.0002;
+    std::string error;
+    int port = o_.modbus_port;
+    for (int attempt = 0; attempt < 50; ++attempt) {
+      so.port = o_.modbus_port ? o_.modbus_port : 15020 + attempt;
+      server_ = std::make_unique<drivers::ModbusMachineServer>(locked_.get(), locked_.get(), so);
+      if (server_->Start(&error)) {
+        port = so.port;
+        break;
+      }
+      server_.reset();
+      if (o_.modbus_port) break;
+    }
+    if (!server_) throw std::runtime_error("demo: cannot start the MODBUS terminal on 127.0.0.1: " + error);
+    drivers::ModbusEndpoint ep;
+    ep.host = "127.0.0.1";
+    ep.port = port;
+    ep.response_timeout_s = 0.5;
+    drivers::ModbusCncLinkOptions co;
+    co.endpoint = ep;
+    co.axis_names = all_axes_;
+    co.stale_after_s = 2.0;
+    cnc_client_ = std::make_unique<drivers::ModbusCncLink>(co);
+    drivers::ModbusTemperatureSourceOptions to;
+    to.endpoint = ep;
+    to.channel_names = result_.channel_names;
+    to.unit_ids.clear();
+    for (std::size_t k = 0; k * 7 < to.channel_names.size(); ++k) to.unit_ids.push_back(so.first_rtd_unit_id + static_cast<int>(k));
+    temp_client_ = std::make_unique<drivers::ModbusTemperatureSource>(to);
+    cnc_client_->Connect();
+    temp_client_->Connect();
+    result_.interface_used = fmt::format("MODBUS TCP 127.0.0.1:{} (PMC window unit {}, {} ADAM-6015 modules)", port,
+                                         so.pmc_unit_id, to.unit_ids.size());
+    // From here on the demo thread holds the machine except while a cycle
+    // talks to the terminal (whose machine thread then reads and writes it).
+    vm_lock_ = std::unique_lock<std::mutex>(vm_mutex_);
+  }
+
+  // `n` compensation cycles, the machine advancing one period before each.
+  void Cycles(std::uint64_t n) {
+    if (!o_.modbus) {
+      runner_->StepSimulated(n, advance_);
+      return;
+    }
+    for (std::uint64_t i = 0; i < n; ++i) {
+      vm_.Advance(o_.period_s);
+      vm_lock_.unlock();
+      // Lockstep: let the terminal's machine thread take (at least) one full
+      // exchange with the advanced machine before the cycle reads the window.
+      const auto e0 = server_->Stats().exchanges;
+      while (server_->Stats().exchanges < e0 + 2) std::this_thread::yield();
+      runner_->StepSimulated(1, nullptr);
+      vm_lock_.lock();
+    }
+  }
+
   void Progress(const std::string& s) {
     if (o_.progress) o_.progress(fmt::format("[demo {} t={:.2f} h] {}", vm_.IsoTime(), vm_.TimeS() / 3600.0, s));
   }
   void Step(double seconds) {
-    runner_->StepSimulated(static_cast<std::uint64_t>(std::llround(seconds / o_.period_s)), advance_);
+    Cycles(static_cast<std::uint64_t>(std::llround(seconds / o_.period_s)));
   }
   // The machine stands switched off until t_s; the compensator's clock jumps with it.
   void IdleUntil(double t_s) {
@@ -194,7 +298,7 @@ class WorkingDay {
   }
   void MoveAndWait(std::size_t axis, double target_mm, double feed_mm_min) {
     vm_.CommandMove(axis, target_mm, feed_mm_min);
-    for (int guard = 0; vm_.IsMoving(axis) && guard < 10'000'000; ++guard) runner_->StepSimulated(1, advance_);
+    for (int guard = 0; vm_.IsMoving(axis) && guard < 10'000'000; ++guard) Cycles(1);
   }
   void SetCompensation(bool on) {
     comp_->SetEnabled(on);
@@ -202,7 +306,7 @@ class WorkingDay {
     const auto& so = o_.compensator.shaper;
     const double ramp_s = (so.max_correction_um / so.max_step_um + 10) * o_.period_s;
     for (double waited = 0; waited < ramp_s; waited += o_.period_s) {
-      runner_->StepSimulated(1, advance_);
+      Cycles(1);
       if (!on) {
         bool zero = true;
         for (const auto& a : comp_->LastStatus().axes) zero = zero && a.output_um == 0;
@@ -315,6 +419,13 @@ class WorkingDay {
   std::unique_ptr<runtime::LoopRunner> runner_;
   std::function<void(double)> advance_;
   std::map<std::string, double> cold_nut_;
+  // MODBUS mode
+  std::mutex vm_mutex_;
+  std::unique_lock<std::mutex> vm_lock_;
+  std::unique_ptr<LockedMachine> locked_;
+  std::unique_ptr<drivers::ModbusMachineServer> server_;
+  std::unique_ptr<drivers::ModbusCncLink> cnc_client_;
+  std::unique_ptr<drivers::ModbusTemperatureSource> temp_client_;
 };
 
 }  // namespace

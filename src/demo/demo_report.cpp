@@ -98,6 +98,7 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
       {"working day", fmt::format("run seed {}, {} days after the campaign start; another day at +{} days", o.seed + 1000,
                                   o.day_offset, o.other_day_offset)},
       {"compensation cycle", fmt::format("{:.0f} ms of machine time (simulated-time loop)", o.period_s * 1000)},
+      {"interface", r.interface_used},
       {"output limits", fmt::format("|correction| ≤ {} µm, change ≤ {} µm per cycle, quantum δ = 1 µm, hysteresis {} δ",
                                     so.max_correction_um, so.max_step_um, so.hysteresis)},
       {"sensor fault policy", fmt::format("hold last good {} s, then geometric part only", o.compensator.sensor.hold_last_good_s)},

@@ -34,6 +34,12 @@ struct DemoOptions {
   // Er(x): "auto" picks the seed-000 polynomial or the seed-002 table by
   // cross-validation per axis; "polynomial" / "table" force one.
   std::string geometric = "auto";
+  // The working day over MODBUS TCP on 127.0.0.1: the virtual machine behind
+  // a ModbusMachineServer (PMC window + ADAM-6015 modules, docs/protocols.md),
+  // the compensator on ModbusCncLink / ModbusTemperatureSource. Each cycle is a
+  // few real TCP round trips, so use a longer period (the CLI defaults to 100 ms).
+  bool modbus = false;
+  int modbus_port = 0;             // 0: the first free port from 15020 up
   int day_offset = 30;             // the working day: days after the campaign's first day
   int other_day_offset = 250;      // "another day"
   std::function<void(const std::string&)> progress;  // one line per step (stderr in the CLI)
@@ -74,6 +80,7 @@ struct DemoResult {
   double machine_time_h = 0;
   double wall_s = 0, campaign_wall_s = 0, fit_wall_s = 0, day_wall_s = 0;
   std::uint32_t alarms_seen = 0;
+  std::string interface_used;      // "in-process CncLink" or "MODBUS TCP 127.0.0.1:<port>"
   std::vector<std::string> alarm_log;  // "<date> <alarms>" at each change
   std::string BriefReport() const;  // the before/after table as text
 };
