@@ -160,6 +160,7 @@ void ReadThermal(TableReader& r, DriveThermalDescription& t) {
   r.Double("motor_to_ambient_w_per_k", t.motor_to_ambient_w_per_k, 0, 1e4);
   r.Double("motor_to_bearing_w_per_k", t.motor_to_bearing_w_per_k, 0, 1e4);
   r.Int("screw_segments", t.screw_segments, 4, 400);
+  r.Double("nut_length_mm", t.nut_length_mm, 0, 1000);
   r.RejectUnknown();
 }
 

@@ -61,19 +61,41 @@ struct VirtualMachine::Axis {
   int Segment(double u) const {
     return std::clamp(static_cast<int>(std::floor(u / seg_len_mm)), 0, static_cast<int>(seg.size()) - 1);
   }
-  // Spreads `dt` of nut presence over the segments passed between motor positions m0 and m1.
+  // Spreads `dt` of nut presence over the segments its contact length
+  // covered while moving (at constant speed) between motor positions m0 and
+  // m1. Exact time average of the overlap of [u − L/2, u + L/2] with each
+  // segment, so it adds up the same however the motion is sliced.
   void AddPath(double m0, double m1, double dt) {
     if (dt <= 0) return;
     double u0 = U(m0), u1 = U(m1);
     if (u0 > u1) std::swap(u0, u1);
     const double len = u1 - u0;
-    if (len < 1e-9) {
-      occupancy_s[Segment(u0)] += dt;
+    const double h = d.thermal.nut_length_mm / 2;
+    if (h <= 0) {  // point contact
+      if (len < 1e-9) {
+        occupancy_s[Segment(u0)] += dt;
+        return;
+      }
+      for (int i = Segment(u0); i <= Segment(u1); ++i) {
+        const double a = std::max(u0, i * seg_len_mm), b = std::min(u1, (i + 1) * seg_len_mm);
+        if (b > a) occupancy_s[i] += dt * (b - a) / len;
+      }
       return;
     }
-    for (int i = Segment(u0); i <= Segment(u1); ++i) {
-      const double a = std::max(u0, i * seg_len_mm), b = std::min(u1, (i + 1) * seg_len_mm);
-      if (b > a) occupancy_s[i] += dt * (b - a) / len;
+    auto ramp = [](double x) { return x > 0 ? x : 0.0; };
+    auto ramp_integral = [](double x) { return x > 0 ? 0.5 * x * x : 0.0; };
+    for (int i = Segment(u0 - h); i <= Segment(u1 + h); ++i) {
+      const double a = i * seg_len_mm, b = (i + 1) * seg_len_mm;
+      double w;
+      if (len < 1e-9) {
+        w = ramp(u0 + h - a) - ramp(u0 + h - b) - ramp(u0 - h - a) + ramp(u0 - h - b);
+      } else {
+        auto F = [&](double u) {
+          return ramp_integral(u + h - a) - ramp_integral(u + h - b) - ramp_integral(u - h - a) + ramp_integral(u - h - b);
+        };
+        w = (F(u1) - F(u0)) / len;
+      }
+      if (w > 0) occupancy_s[i] += dt * w / (2 * h);
     }
   }
 };

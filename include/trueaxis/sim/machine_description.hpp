@@ -56,6 +56,7 @@ struct DriveThermalDescription {
   double motor_to_ambient_w_per_k = 1.8;
   double motor_to_bearing_w_per_k = 0.6;    // through flange and coupling into the fixed-end seat
   int screw_segments = 24;                  // lumped segments along the screw
+  double nut_length_mm = 100;               // the nut touches the screw over this length
 };
 
 struct AxisDescription {
