@@ -30,7 +30,15 @@ std::optional<double> ParseTimeText(std::string_view text) {
   if (text.empty()) return std::nullopt;
   if (auto v = ParseDouble(text); v && std::isfinite(*v)) return v;
   std::string s(text);
-  if (!s.empty() && (s.back() == 'Z' || s.back() == 'z')) s.pop_back();
+  double zone_offset_s = 0;  // "+08:00" means the clock time is 8 h ahead of UTC
+  if (!s.empty() && (s.back() == 'Z' || s.back() == 'z')) {
+    s.pop_back();
+  } else if (s.size() > 16 && (s[s.size() - 6] == '+' || s[s.size() - 6] == '-') && s[s.size() - 3] == ':') {
+    int zh = 0, zm = 0;
+    if (std::sscanf(s.c_str() + s.size() - 5, "%2d:%2d", &zh, &zm) != 2 || zh > 14 || zm > 59) return std::nullopt;
+    zone_offset_s = (s[s.size() - 6] == '+' ? 1 : -1) * (zh * 3600.0 + zm * 60.0);
+    s.resize(s.size() - 6);
+  }
   int year = 0, mon = 0, day = 0, hour = 0, min = 0;
   double sec = 0;
   int consumed = 0;
@@ -63,7 +71,7 @@ std::optional<double> ParseTimeText(std::string_view text) {
   std::tm check{};
   gmtime_r(&t, &check);
   if (check.tm_mday != day || check.tm_mon != mon - 1) return std::nullopt;
-  return static_cast<double>(t) + sec;
+  return static_cast<double>(t) + sec - zone_offset_s;
 }
 
 }  // namespace trueaxis::store

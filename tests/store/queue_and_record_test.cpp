@@ -91,6 +91,9 @@ TEST(TimeText, FormatsAndParsesUtc) {
   EXPECT_EQ(ParseTimeText("2026-11-22T18:45"), 1795373100.0);
   EXPECT_EQ(ParseTimeText("2026-11-22"), 1795305600.0);
   EXPECT_EQ(ParseTimeText(" -3 "), -3.0);
+  EXPECT_EQ(ParseTimeText("2026-11-23T02:45:07.25+08:00"), 1795373107.25);  // Beijing time
+  EXPECT_EQ(ParseTimeText("2026-11-22T13:45:07-05:00"), 1795373107.0);
+  EXPECT_FALSE(ParseTimeText("2026-11-22T13:45:07+25:00"));
   EXPECT_FALSE(ParseTimeText("yesterday"));
   EXPECT_FALSE(ParseTimeText("2026-02-31"));
   EXPECT_FALSE(ParseTimeText("2026-13-01"));

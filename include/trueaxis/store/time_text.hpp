@@ -10,7 +10,8 @@ namespace trueaxis::store {
 // "2026-11-22T18:45:07.250Z" (milliseconds, always UTC).
 std::string FormatUtc(double time_s);
 // Accepts a number of seconds ("1795459507.25", "-3", "0"), or ISO 8601 UTC:
-// "2026-11-22", "2026-11-22T18:45", "2026-11-22T18:45:07", "2026-11-22 18:45:07.5Z".
+// "2026-11-22", "2026-11-22T18:45", "2026-11-22T18:45:07", "2026-11-22 18:45:07.5Z",
+// or with a zone offset: "2026-11-23T02:45:07+08:00" (the same instant as 18:45:07Z).
 std::optional<double> ParseTimeText(std::string_view text);
 
 }  // namespace trueaxis::store
