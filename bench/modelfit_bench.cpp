@@ -62,6 +62,19 @@ const Campaigns& GetCampaigns() {
 
 double IsoA(const measure::Measurement& m) { return analysis::Evaluate(m).axis.A_um; }
 
+// The seed's "均值处理": every point carries its file's mean temperatures instead of its own.
+measure::Measurement WithMeanTemperatures(measure::Measurement m) {
+  const std::size_t n = m.sensor_names.size();
+  std::vector<double> sum(n, 0);
+  std::vector<int> cnt(n, 0);
+  for (const auto& p : m.points)
+    for (std::size_t i = 0; i < n && i < p.temperatures_c.size(); ++i)
+      if (std::isfinite(p.temperatures_c[i])) sum[i] += p.temperatures_c[i], ++cnt[i];
+  for (auto& p : m.points)
+    for (std::size_t i = 0; i < n && i < p.temperatures_c.size(); ++i) p.temperatures_c[i] = cnt[i] ? sum[i] / cnt[i] : NAN;
+  return m;
+}
+
 void HeldOutStudy(bool markdown) {
   const auto& c = GetCampaigns();
   struct Variant {
@@ -70,13 +83,17 @@ void HeldOutStudy(bool markdown) {
   };
   std::vector<Variant> variants(3);
   variants[0].name = "polynomial";
+  variants[0].o.geometric = model::FitOptions::Geometric::kPolynomial;
   variants[1].name = "table";
   variants[1].o.geometric = model::FitOptions::Geometric::kTable;
-  variants[2].name = "table, collinearity limit 0.999";
-  variants[2].o.geometric = model::FitOptions::Geometric::kTable;
-  variants[2].o.max_key_correlation = 0.999;
+  variants[2].name = "auto";
+  variants[2].o.geometric = model::FitOptions::Geometric::kAuto;
   std::vector<model::FitResult> fits;
   for (auto& v : variants) fits.push_back(model::FitCompositeModel(c.a, v.o));
+  // Fourth: auto, fitted and predicted with each file's mean temperatures.
+  std::vector<model::FitState> a_mean = c.a;
+  for (auto& st : a_mean) st.measurement = WithMeanTemperatures(st.measurement);
+  const auto fit_mean = model::FitCompositeModel(a_mean, {});
 
   for (std::size_t ai = 0; ai < fits[0].model.axes.size(); ++ai) {
     const auto& axis_name = fits[0].model.axes[ai].axis;
@@ -85,15 +102,16 @@ void HeldOutStudy(bool markdown) {
     for (std::size_t vi = 0; vi < fits.size(); ++vi) {
       const auto& s = fits[vi].summary.axes[ai];
       const auto& a = fits[vi].model.axes[ai];
-      std::cout << fmt::format("- {}: keys {}, Px {:.1f} mm, ρ {:.5f} µm/mm/°C, thermal LOSO CV {:.2f} µm "
+      std::cout << fmt::format("- {} [{} | {}]: keys {}, Px {:.1f} mm, ρ {:.5f} µm/mm/°C, thermal LOSO CV {:.2f} µm "
                                "(without: {:.2f} µm), geometric CV {:.2f}/{:.2f} µm (+/−)\n",
-                               variants[vi].name, fmt::join(a.key_sensors, "+"), a.reference_position_mm,
+                               variants[vi].name, s.directions[0].choice, s.directions[1].choice,
+                               fmt::join(a.key_sensors, "+"), a.reference_position_mm,
                                a.rho_um_per_mm_per_c, s.thermal_cv_rms_um, s.no_thermal_cv_rms_um,
                                s.directions[0].geometric_cv_rms_um, s.directions[1].geometric_cv_rms_um);
     }
     std::cout << "\n| held-out state (B) | coolant | nut rise °C | ambient Δ °C | A uncorrected µm | A residual poly µm "
-                 "| A residual table µm | A residual table, 0.999 µm | max(R↑,R↓) µm |\n|---|---|---|---|---|---|---|---|---|\n";
-    double sum_u = 0, sum_p = 0, sum_t = 0, sum_t2 = 0;
+                 "| A residual table µm | A residual auto µm | A residual auto, state-mean temps µm | max(R↑,R↓) µm |\n|---|---|---|---|---|---|---|---|---|---|\n";
+    double sum_u = 0, sum_p = 0, sum_t = 0, sum_t2 = 0, sum_m = 0;
     int n = 0;
     for (const auto& st : c.b) {
       if (st.axis != axis_name) continue;
@@ -102,16 +120,20 @@ void HeldOutStudy(bool markdown) {
       const double a_p = IsoA(model::PredictionResidual(fits[0].model.axes[ai], m, st.coolant));
       const double a_t = IsoA(model::PredictionResidual(fits[1].model.axes[ai], m, st.coolant));
       const double a_t2 = IsoA(model::PredictionResidual(fits[2].model.axes[ai], m, st.coolant));
+      const double a_m = IsoA(model::PredictionResidual(fit_mean.model.axes[ai], WithMeanTemperatures(m), st.coolant));
       const auto t = model::TemperaturesForPoint(fits[0].model.axes[ai], m, m.points.front());
       const double amb_delta = std::isnan(t.ambient_c) ? NAN : t.ambient_c - fits[0].model.axes[ai].ambient_baseline_c;
-      std::cout << fmt::format("| {} | {} | {} | {:.2f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n", st.label,
+      std::cout << fmt::format("| {} | {} | {} | {:.2f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n", st.label,
                                CoolantStateName(st.coolant), m.Meta("nut_rise_c").value_or("?"), amb_delta,
-                               ev.axis.A_um, a_p, a_t, a_t2, std::max(ev.axis.R_up_um, ev.axis.R_down_um));
-      sum_u += ev.axis.A_um, sum_p += a_p, sum_t += a_t, sum_t2 += a_t2, ++n;
+                               ev.axis.A_um, a_p, a_t, a_t2, a_m, std::max(ev.axis.R_up_um, ev.axis.R_down_um));
+      sum_u += ev.axis.A_um, sum_p += a_p, sum_t += a_t, sum_t2 += a_t2, sum_m += a_m, ++n;
     }
     if (n)
-      std::cout << fmt::format("| **mean of {} states** | | | | **{:.1f}** | **{:.1f}** | **{:.1f}** | **{:.1f}** | |\n", n,
-                               sum_u / n, sum_p / n, sum_t / n, sum_t2 / n);
+      std::cout << fmt::format("| **mean of {} states** | | | | **{:.1f}** | **{:.1f}** | **{:.1f}** | **{:.1f}** | **{:.1f}** | |\n",
+                               n, sum_u / n, sum_p / n, sum_t / n, sum_t2 / n, sum_m / n);
+    const auto& sm = fit_mean.summary.axes[ai];
+    std::cout << fmt::format("\nstate-mean variant: keys {}, thermal LOSO CV {:.2f} µm\n",
+                             fmt::join(fit_mean.model.axes[ai].key_sensors, "+"), sm.thermal_cv_rms_um);
   }
   (void)markdown;
 }

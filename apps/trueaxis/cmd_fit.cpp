@@ -1,6 +1,6 @@
 // trueaxis fit --out model.json INPUTS… [--manifest DIR/manifest.json]
-//              [--geometric poly|table] [--max-degree N] [--report fit.html]
-//              [--previous old.json] [--keys nut,bearing] [--reference-mm P]
+//              [--geometric auto|poly|table] [--max-degree N] [--report fit.html]
+//              [--previous old.json [--add-to-previous]] [--keys nut,bearing] [--reference-mm P]
 //              [--rho R] [--ambient-sensor NAME] [--axis X] [--full]
 // Fits the composite geometric + thermal model (seed 000) per axis and per
 // direction from measurement files of several thermal states and writes the
@@ -28,7 +28,7 @@ struct FitCliOptions {
   std::string out;
   std::vector<std::string> inputs;
   std::string manifest;
-  std::string geometric = "poly";
+  std::string geometric = "auto";
   int max_degree = 8;
   std::string report;
   std::string previous;
@@ -39,6 +39,7 @@ struct FitCliOptions {
   std::string axis;
   int max_keys = 3;
   double max_key_correlation = 0.98;
+  bool reuse_sources = false;
   bool full = false;
 };
 
@@ -71,12 +72,15 @@ std::string CompareWithPrevious(const model::CompositeModel& prev, const model::
 }
 
 void RunFit(const FitCliOptions& o) {
-  if (o.inputs.empty() && o.manifest.empty())
+  if (o.inputs.empty() && o.manifest.empty() && !o.reuse_sources)
     throw InputError("command line", 0, "INPUTS", "give measurement files and/or --manifest");
+  if (o.reuse_sources && o.previous.empty())
+    throw InputError("command line", 0, "--add-to-previous", "needs --previous MODEL");
   model::FitOptions fo;
   if (o.geometric == "poly" || o.geometric == "polynomial") fo.geometric = model::FitOptions::Geometric::kPolynomial;
   else if (o.geometric == "table") fo.geometric = model::FitOptions::Geometric::kTable;
-  else throw InputError("command line", 0, "--geometric", fmt::format("'{}' is not 'poly' or 'table'", o.geometric));
+  else if (o.geometric == "auto") fo.geometric = model::FitOptions::Geometric::kAuto;
+  else throw InputError("command line", 0, "--geometric", fmt::format("'{}' is not 'poly', 'table' or 'auto'", o.geometric));
   fo.max_degree = o.max_degree;
   fo.key_sensors = o.keys;
   fo.max_key_sensors = o.max_keys;
@@ -96,7 +100,18 @@ void RunFit(const FitCliOptions& o) {
     prev_sha = model::Sha256OfFile(o.previous);
   }
 
-  const auto states = model::LoadFitStates(o.inputs, o.manifest);
+  std::vector<model::FitState> states;
+  if (o.reuse_sources) {
+    states = model::LoadPreviousSources(*prev, o.previous);
+    // A file given again on the command line is not counted twice.
+    for (auto& s : model::LoadFitStates(o.inputs, o.manifest)) {
+      bool dup = false;
+      for (const auto& old : states) dup = dup || old.sha256 == s.sha256;
+      if (!dup) states.push_back(std::move(s));
+    }
+  } else {
+    states = model::LoadFitStates(o.inputs, o.manifest);
+  }
   auto result = model::FitCompositeModel(states, fo);
   auto& m = result.model;
   if (prev) {
@@ -123,7 +138,7 @@ void Setup(CLI::App& app) {
   cmd->add_option("--out", opts->out, "Model file to write (JSON, docs/model-file.md)")->required();
   cmd->add_option("inputs", opts->inputs, "Measurement CSV files, one thermal state each ('# state:' metadata)");
   cmd->add_option("--manifest", opts->manifest, "Campaign manifest.json listing files and their states");
-  cmd->add_option("--geometric", opts->geometric, "Geometric part: poly (degree chosen by CV) or table (seed 002)")
+  cmd->add_option("--geometric", opts->geometric, "Geometric part: poly (degree chosen by CV), table (seed 002), or auto (table when the polynomial leaves a systematic pattern)")
       ->capture_default_str();
   cmd->add_option("--max-degree", opts->max_degree, "Highest polynomial degree tried")->capture_default_str();
   cmd->add_option("--report", opts->report, "Write an HTML fit report (measured vs model per state)");
@@ -137,6 +152,8 @@ void Setup(CLI::App& app) {
   cmd->add_option("--rho", opts->rho, "ρ in µm/mm/°C (default: fitted, or −cte/1000 from metadata)");
   cmd->add_option("--ambient-sensor", opts->ambient_sensor, "Ambient sensor name ('none' for no ambient term)");
   cmd->add_option("--axis", opts->axis, "Axis for files without '# axis:' metadata");
+  cmd->add_flag("--add-to-previous", opts->reuse_sources,
+                "Re-fit on the previous model's source files (hash-checked) plus the new INPUTS");
   cmd->add_flag("--full", opts->full, "Print the full fit report instead of the brief one");
   cmd->callback([opts] { RunFit(*opts); });
 }

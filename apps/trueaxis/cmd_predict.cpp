@@ -160,8 +160,8 @@ void RunPredict(const PredictOptions& o) {
                            *dir == Direction::kForward ? "forward" : "reverse", CoolantStateName(*coolant),
                            gains ? std::string(CoolantStateName(gains->coolant)) : std::string("none"));
   std::cout << fmt::format("  geometric  Er(x)                  {:>10.3f} µm\n", p.geometric_um);
-  std::cout << fmt::format("  thermal    tanβ·(Px − P0)         {:>10.3f} µm   (tanβ = {:.6f} µm/mm, Px = {} mm)\n",
-                           p.thermal_um, p.tan_beta_um_per_mm, FormatShortest(axis->reference_position_mm));
+  std::cout << fmt::format("  thermal    tanβ·(Px − P0)         {:>10.3f} µm   (tanβ = {:.6f} µm/mm, Px = {:.3f} mm)\n",
+                           p.thermal_um, p.tan_beta_um_per_mm, axis->reference_position_mm);
   std::cout << fmt::format("  ambient    ρ·ΔT_env·(Px − P0)     {:>10.3f} µm\n", p.ambient_um);
   std::cout << fmt::format("  predicted error (actual − commanded) {:>8.3f} µm\n", p.total_um);
   std::cout << fmt::format("  correction (added to the command)    {:>8.3f} µm\n", model::CorrectionUm(p));

@@ -11,6 +11,7 @@
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
+#include "trueaxis/model/composite_model.hpp"
 #include "trueaxis/model/sha256.hpp"
 
 namespace trueaxis::model {
@@ -157,6 +158,27 @@ std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, c
       if (const std::string axis = str("axis"); !axis.empty()) s.axis = axis;
       out.push_back(std::move(s));
     }
+  }
+  return out;
+}
+
+std::vector<FitState> LoadPreviousSources(const CompositeModel& previous, const std::string& model_path) {
+  std::vector<FitState> out;
+  for (std::size_t i = 0; i < previous.sources.size(); ++i) {
+    const auto& src = previous.sources[i];
+    if (!std::filesystem::exists(src.path))
+      throw InputError(model_path, 0, fmt::format("sources[{}].path", i),
+                       fmt::format("'{}' (a source of the previous fit) no longer exists", src.path));
+    const std::string bytes = ReadTextFile(src.path);
+    const std::string sha = Sha256Hex(bytes);
+    if (!src.sha256.empty() && sha != src.sha256)
+      throw InputError(src.path, 0, "sha256",
+                       fmt::format("the file changed since the previous fit (recorded {}…, now {}…); re-fit from the "
+                                   "files explicitly if the change is intended",
+                                   src.sha256.substr(0, 12), sha.substr(0, 12)));
+    FitState s = MakeFitState(measure::ParseMeasurementCsv(bytes, src.path), src.state, src.coolant, sha);
+    if (!src.axis.empty()) s.axis = src.axis;
+    out.push_back(std::move(s));
   }
   return out;
 }

@@ -65,9 +65,6 @@ std::string RenderFitReportHtml(const FitResult& result, const std::vector<FitSt
                          {"revision", std::to_string(m.revision)},
                          {"parent sha256", m.parent_sha256.empty() ? "–" : m.parent_sha256},
                          {"source files", std::to_string(m.sources.size())}});
-  report::HtmlTable src({"file", "state", "sha256"}, "Data the model came from");
-  for (const auto& s : m.sources) src.AddRow({s.path, s.state, s.sha256});
-  page.AddTable(src);
 
   for (std::size_t ai = 0; ai < m.axes.size() && ai < result.summary.axes.size(); ++ai) {
     const auto& a = m.axes[ai];
@@ -85,13 +82,16 @@ std::string RenderFitReportHtml(const FitResult& result, const std::vector<FitSt
     page.AddHeading("Geometric part Er(x)", 3);
     for (int d = 0; d < 2; ++d) {
       const auto& ds = sum.directions[d];
-      if (ds.kind == GeometricError::Kind::kPolynomial) {
+      page.AddParagraph(fmt::format("{} direction: {}", d == 0 ? "forward (+)" : "reverse (−)", ds.choice));
+      if (!ds.degree.candidates.empty()) {
         report::HtmlTable t({"degree", "fit RMS (µm)", "leave-one-target-out CV RMS (µm)", "chosen"},
                             fmt::format("{} direction: {}", d == 0 ? "forward (+)" : "reverse (−)", ds.degree.rule));
         for (const auto& c : ds.degree.candidates)
-          t.AddRow({std::to_string(c.degree), Num(c.fit_rms_um), Num(c.cv_rms_um), c.degree == ds.degree.degree ? "✔" : ""});
+          t.AddRow({std::to_string(c.degree), Num(c.fit_rms_um), Num(c.cv_rms_um),
+                    c.degree == ds.degree.degree && ds.kind == GeometricError::Kind::kPolynomial ? "✔" : ""});
         page.AddTable(t);
-      } else {
+      }
+      if (ds.kind == GeometricError::Kind::kTable) {
         page.AddParagraph(fmt::format("{} direction: sampled table of {} targets (seed 002), CV RMS {} µm",
                                       d == 0 ? "forward" : "reverse", ds.targets, Num(ds.table_cv_rms_um)));
       }
@@ -154,6 +154,10 @@ std::string RenderFitReportHtml(const FitResult& result, const std::vector<FitSt
     page.AddHeading("Warnings", 2);
     for (const auto& w : result.summary.warnings) page.AddParagraph(w);
   }
+  page.AddHeading("Data the model came from", 2);
+  report::HtmlTable src({"file", "state", "sha256 (first 16 hex; full in the model file)"});
+  for (const auto& s : m.sources) src.AddRow({s.path, s.state, s.sha256.substr(0, 16)});
+  page.AddTable(src);
   page.AddHeading("Full fit report", 2);
   page.AddRawHtml("<pre>" + report::EscapeHtml(result.summary.FullReport()) + "</pre>");
   return page.Render();

@@ -61,11 +61,12 @@ std::string FitSummary::FullReport() const {
       out += fmt::format("Er(x) {}: {} targets, {} run(s), {}; fit RMS {} µm, LOTO CV {} µm, table CV {} µm\n",
                          d == 0 ? "forward (+)" : "reverse (−)", ds.targets, ds.runs, KindText(ds.kind),
                          Num(ds.geometric_fit_rms_um), Num(ds.geometric_cv_rms_um), Num(ds.table_cv_rms_um));
-      if (ds.kind == GeometricError::Kind::kPolynomial) {
+      out += fmt::format("  {}\n", ds.choice);
+      if (!ds.degree.candidates.empty()) {
         out += "  degree  fit RMS µm  CV RMS µm\n";
         for (const auto& c : ds.degree.candidates)
           out += fmt::format("  {:>6}  {:>10}  {:>9}{}\n", c.degree, Num(c.fit_rms_um), Num(c.cv_rms_um),
-                             c.degree == ds.degree.degree ? "  ← chosen" : "");
+                             c.degree == ds.degree.degree && ds.kind == GeometricError::Kind::kPolynomial ? "  ← chosen" : "");
         out += fmt::format("  rule: {}\n", ds.degree.rule);
       }
     }
@@ -113,7 +114,8 @@ nlohmann::json FitSummary::ToJson() const {
               {"fit_rms_um", JsonNum(d.geometric_fit_rms_um)},
               {"cv_rms_um", JsonNum(d.geometric_cv_rms_um)},
               {"table_cv_rms_um", JsonNum(d.table_cv_rms_um)}};
-      if (d.kind == GeometricError::Kind::kPolynomial) {
+      dj["choice"] = d.choice;
+      if (!d.degree.candidates.empty()) {
         dj["degree"] = d.degree.degree;
         dj["degree_candidates"] = cands;
         dj["noise_um"] = JsonNum(d.degree.noise_um);

@@ -313,14 +313,8 @@ class AxisFitter {
       GeometricError& g = model_.directions[di].geometric;
       g.center_mm = 0.5 * (tm.x.front() + tm.x.back());
       g.half_span_mm = 0.5 * (tm.x.back() - tm.x.front());
-      if (o_.geometric == FitOptions::Geometric::kTable) {
-        g.kind = GeometricError::Kind::kTable;
-        g.table_position_mm = tm.x;
-        g.table_error_um = tm.mean;
-        ds.kind = g.kind;
-        ds.geometric_fit_rms_um = 0;
-        ds.geometric_cv_rms_um = ds.table_cv_rms_um;
-      } else {
+      bool table = o_.geometric == FitOptions::Geometric::kTable;
+      if (!table) {
         g.kind = GeometricError::Kind::kPolynomial;
         ds.degree = SelectPolynomialDegree(tm.x, tm.mean, g.center_mm, g.half_span_mm, o_.max_degree, tm.noise_um);
         std::vector<double> u;
@@ -329,6 +323,31 @@ class AxisFitter {
         for (const auto& c : ds.degree.candidates)
           if (c.degree == ds.degree.degree) ds.geometric_fit_rms_um = c.fit_rms_um, ds.geometric_cv_rms_um = c.cv_rms_um;
         ds.kind = g.kind;
+        ds.choice = "polynomial (asked for)";
+        if (o_.geometric == FitOptions::Geometric::kAuto) {
+          const bool systematic =
+              std::isfinite(tm.noise_um) && ds.geometric_fit_rms_um > o_.auto_systematic_factor * tm.noise_um;
+          const bool table_ok = std::isfinite(ds.table_cv_rms_um) && std::isfinite(ds.geometric_cv_rms_um) &&
+                                ds.table_cv_rms_um <= o_.auto_table_cv_ratio * ds.geometric_cv_rms_um;
+          table = systematic && table_ok;
+          ds.choice = fmt::format(
+              "auto → {}: polynomial fit RMS {:.3f} µm {} {:.0f}× the noise of the means ({}), table LOTO CV {:.3f} "
+              "vs polynomial {:.3f} µm",
+              table ? "table" : "polynomial", ds.geometric_fit_rms_um, systematic ? ">" : "≤",
+              o_.auto_systematic_factor, std::isfinite(tm.noise_um) ? fmt::format("{:.3f} µm", tm.noise_um) : "unknown",
+              ds.table_cv_rms_um, ds.geometric_cv_rms_um);
+        }
+      } else {
+        ds.choice = "table (asked for)";
+      }
+      if (table) {
+        g.kind = GeometricError::Kind::kTable;
+        g.coefficients_um.clear();
+        g.table_position_mm = tm.x;
+        g.table_error_um = tm.mean;
+        ds.kind = g.kind;
+        ds.geometric_fit_rms_um = 0;
+        ds.geometric_cv_rms_um = ds.table_cv_rms_um;
       }
       if (tm.runs < 2) Warn(fmt::format("direction '{}': one cold run only, so the run-to-run scatter is unknown",
                                         DirectionSymbol(d)));
@@ -420,6 +439,15 @@ class AxisFitter {
       }
       if (!std::isfinite(MeanOfSensor(cold_, n))) {
         Warn(fmt::format("sensor '{}' has no reading in the cold state: not a key-sensor candidate", n));
+        continue;
+      }
+      // A column that is there but never read (a broken channel) is as good as missing: its CV
+      // would be computed on fewer points and look better than it is.
+      std::vector<std::string> unread;
+      for (auto* s : thermal_)
+        if (!std::isfinite(MeanOfSensor(s->measurement, n))) unread.push_back(s->path);
+      if (!unread.empty()) {
+        Warn(fmt::format("sensor '{}' has no reading in {}: not a key-sensor candidate", n, fmt::join(unread, ", ")));
         continue;
       }
       candidates.push_back(n);
@@ -632,6 +660,9 @@ class AxisFitter {
     } else if (!thermal_.empty() && sum.key_selection_reason.empty()) {
       sum.key_selection_reason = "no thermal part fitted";
     }
+    // No key sensor (none present everywhere, or none helped) does not stop ρ: the other-ambient
+    // states still determine it on their own.
+    if (fit_rho && !sum.thermal_fitted) rho = joint_rho({});
     model_.rho_um_per_mm_per_c = rho;
     sum.rho_um_per_mm_per_c = rho;
     sum.rho_source = rho_source;
@@ -850,7 +881,9 @@ FitResult FitCompositeModel(const std::vector<FitState>& states, const FitOption
   for (const auto& s : states) {
     if (res.model.machine.empty())
       if (auto mm = s.measurement.Meta("machine")) res.model.machine = *mm;
-    res.model.sources.push_back({s.path, s.sha256, s.label.empty() ? std::string(StateKindName(s.kind)) : s.label});
+    res.model.sources.push_back({s.path, s.sha256, s.label.empty() ? std::string(StateKindName(s.kind)) : s.label,
+                                 std::string(CoolantStateName(s.coolant)),
+                                 s.axis.empty() ? options.default_axis : s.axis});
   }
   for (const auto& axis : order) {
     AxisFitSummary sum;

@@ -155,7 +155,12 @@ nlohmann::json ModelToJson(const CompositeModel& model) {
     axes.push_back(std::move(ja));
   }
   json sources = json::array();
-  for (const auto& s : model.sources) sources.push_back({{"path", s.path}, {"sha256", s.sha256}, {"state", s.state}});
+  for (const auto& s : model.sources) {
+    json js{{"path", s.path}, {"sha256", s.sha256}, {"state", s.state}};
+    if (!s.coolant.empty()) js["coolant"] = s.coolant;
+    if (!s.axis.empty()) js["axis"] = s.axis;
+    sources.push_back(std::move(js));
+  }
   json lineage = json::array();
   for (const auto& l : model.lineage)
     lineage.push_back({{"revision", l.revision}, {"sha256", l.sha256}, {"created_utc", l.created_utc}});
@@ -192,7 +197,8 @@ CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& sourc
     if (!s.is_array()) r.Fail("sources", "expected an array");
     for (std::size_t i = 0; i < s.size(); ++i) {
       const std::string p = fmt::format("sources[{}]", i);
-      m.sources.push_back({r.String(s[i], p, "path"), r.StringOr(s[i], p, "sha256", ""), r.StringOr(s[i], p, "state", "")});
+      m.sources.push_back({r.String(s[i], p, "path"), r.StringOr(s[i], p, "sha256", ""), r.StringOr(s[i], p, "state", ""),
+                           r.StringOr(s[i], p, "coolant", ""), r.StringOr(s[i], p, "axis", "")});
     }
   }
   if (doc.contains("lineage")) {

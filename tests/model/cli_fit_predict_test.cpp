@@ -138,6 +138,34 @@ TEST_F(CliFit, RefitRecordsRevisionParentAndLineage) {
   EXPECT_EQ(m3.lineage[1].revision, 2);
 }
 
+TEST_F(CliFit, AddToPreviousRefitsOnOldSourcesPlusNewOnes) {
+  // First fit without the last heated state, then add it.
+  std::string first;
+  for (const auto& f : files_)
+    if (f.find("heated-4") == std::string::npos) first += " " + f;
+  ASSERT_EQ(Cli("fit --out " + P("m1.json") + first).code, 0);
+  auto r = Cli("fit --out " + P("m2.json") + " --previous " + P("m1.json") + " --add-to-previous " + P("heated-4.csv") +
+               " " + files_[0]);  // cold given again: not counted twice
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto m2 = ReadModelFile(P("m2.json"));
+  EXPECT_EQ(m2.revision, 2);
+  EXPECT_EQ(m2.sources.size(), 6u);
+  EXPECT_EQ(m2.sources.back().state, "heated-4");
+  EXPECT_EQ(m2.sources.front().state, "cold");
+  EXPECT_EQ(m2.sources.front().coolant, "off");
+  // A source that changed since the previous fit is refused, naming it.
+  auto cold = measure::ReadMeasurementCsv(files_[0]);
+  cold.points[0].deviation_um += 1;
+  measure::WriteMeasurementCsv(cold, files_[0]);
+  r = Cli("fit --out " + P("m3.json") + " --previous " + P("m2.json") + " --add-to-previous");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr(files_[0]));
+  EXPECT_THAT(r.out, HasSubstr("changed since the previous fit"));
+  r = Cli("fit --out " + P("m3.json") + " --add-to-previous " + files_[1]);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("--previous"));
+}
+
 TEST_F(CliFit, ManifestListsFilesWithTheirStates) {
   // States from the manifest only: strip the '# state:' lines from the files.
   nlohmann::json man = {{"files", nlohmann::json::array()}};

@@ -57,7 +57,9 @@ TEST(PolynomialFit, TwoTargetsGiveALine) {
 TEST(ModelFit, RecoversGeometricPartPerDirection) {
   SyntheticMachine sm;
   auto states = sm.MakeStates({{"cold", 0, 0, 0, 0}});
-  auto res = FitCompositeModel(states, {});
+  FitOptions poly;
+  poly.geometric = FitOptions::Geometric::kPolynomial;
+  auto res = FitCompositeModel(states, poly);
   ASSERT_EQ(res.model.axes.size(), 1u);
   const auto& a = res.model.axes[0];
   for (int d = 0; d < 2; ++d) {
@@ -88,6 +90,28 @@ TEST(ModelFit, TableAlternativeHoldsTheColdMeans) {
     EXPECT_NEAR(g.table_error_um[i], sm.Geometric(g.table_position_mm[i], true), 1e-9);
 }
 
+TEST(ModelFit, AutoKeepsThePolynomialForASmoothErrorAndTakesTheTableForARepeatablePattern) {
+  SyntheticMachine smooth;
+  auto res = FitCompositeModel(smooth.MakeStates({{"cold", 0, 0, 0, 0}}), {});  // auto is the default
+  EXPECT_EQ(res.model.axes[0].directions[0].geometric.kind, GeometricError::Kind::kPolynomial)
+      << res.summary.axes[0].directions[0].choice;
+  EXPECT_THAT(res.summary.axes[0].directions[0].choice, HasSubstr("auto → polynomial"));
+  // Add a repeatable 2.5 µm wave of 125 mm period (a screw's random pitch part): four periods over
+  // the travel, far above the 0.1 µm run-to-run noise; no polynomial of degree ≤ 8 follows it, while
+  // interpolating between the 25 mm targets still does better than the polynomial.
+  std::mt19937 rng(4);
+  auto m = smooth.Make({"cold", 0, 0, 0, 0}, rng);
+  for (auto& p : m.points) p.deviation_um += 2.5 * std::sin(2 * M_PI * p.target_mm / 125.0);
+  res = FitCompositeModel({MakeFitState(m)}, {});
+  EXPECT_EQ(res.model.axes[0].directions[0].geometric.kind, GeometricError::Kind::kTable)
+      << res.summary.axes[0].directions[0].choice;
+  EXPECT_THAT(res.summary.axes[0].directions[0].choice, HasSubstr("auto → table"));
+  FitOptions poly;
+  poly.geometric = FitOptions::Geometric::kPolynomial;
+  EXPECT_EQ(FitCompositeModel({MakeFitState(m)}, poly).model.axes[0].directions[0].geometric.kind,
+            GeometricError::Kind::kPolynomial);
+}
+
 TEST(ModelFit, SelectsNutAndBearingRecoversGainsPxAndRho) {
   SyntheticMachine sm;
   sm.px_mm = 40;  // pivot not at a measured target: must be fitted
@@ -116,6 +140,25 @@ TEST(ModelFit, SelectsNutAndBearingRecoversGainsPxAndRho) {
   EXPECT_LT(s.thermal_cv_rms_um, 0.3);
   EXPECT_GT(s.no_thermal_cv_rms_um, 3.0);
   for (const auto& st : s.states) EXPECT_LT(st.residual_rms_um, 0.3) << st.label;
+}
+
+TEST(ModelFit, RhoIsFittedFromAmbientStatesEvenWithoutKeySensors) {
+  // Only an ambient sensor: no key-sensor candidate, but two soaks at other room temperatures.
+  SyntheticMachine sm;
+  std::mt19937 rng(8);
+  std::vector<FitState> states;
+  for (const SyntheticMachine::State& st : std::vector<SyntheticMachine::State>{
+           {"cold", 0, 0, 0, 0}, {"ambient-23", 0, 0, 0, 3.0}, {"ambient-26", 0, 0, 0, 6.0}}) {
+    auto m = sm.Make(st, rng);
+    m.sensor_names = {"ambient"};
+    for (auto& p : m.points) p.temperatures_c = {p.temperatures_c.back()};
+    states.push_back(MakeFitState(m));
+  }
+  auto res = FitCompositeModel(states, {});
+  EXPECT_FALSE(res.summary.axes[0].thermal_fitted);
+  EXPECT_NEAR(res.model.axes[0].rho_um_per_mm_per_c, sm.rho, 0.0005) << res.summary.FullReport();
+  EXPECT_THAT(res.summary.axes[0].rho_source, HasSubstr("fitted"));
+  for (const auto& s : res.summary.axes[0].states) EXPECT_LT(s.residual_rms_um, 0.3) << s.label;
 }
 
 TEST(ModelFit, CollinearSensorIsNotChosenTwice) {
@@ -178,6 +221,18 @@ TEST(ModelFit, SensorMissingInOneFileIsExcludedWithWarning) {
     EXPECT_EQ(e.source(), "heated-2.csv");
     EXPECT_EQ(e.field(), "t_motor_c");
   }
+}
+
+TEST(ModelFit, SensorNeverReadInOneStateIsNotACandidate) {
+  SyntheticMachine sm;
+  auto states = sm.MakeStates(sm.DefaultStates());
+  auto& m = states[3].measurement;  // heated-3
+  const auto idx = *m.SensorIndex("motor");
+  for (auto& p : m.points) p.temperatures_c[idx] = NAN;
+  auto res = FitCompositeModel(states, {});
+  EXPECT_THAT(res.summary.axes[0].candidate_sensors, ::testing::Not(::testing::Contains("motor")));
+  EXPECT_THAT(res.summary.warnings, ::testing::Contains(HasSubstr("'motor' has no reading in heated-3.csv")));
+  EXPECT_THAT(res.model.axes[0].key_sensors, ::testing::UnorderedElementsAre("nut", "bearing"));
 }
 
 TEST(ModelFit, HeatedStateWithoutTemperaturesIsAnInputError) {
@@ -343,6 +398,55 @@ TEST(FitInput, CampaignSequencesMakeUniqueLabelsAndCoolantNeedsAName) {
   EXPECT_EQ(KindFromLabel("Cold"), StateKind::kCold);
   EXPECT_EQ(KindFromLabel("ambient-24"), StateKind::kAmbient);
   EXPECT_EQ(KindFromLabel(""), StateKind::kUnknown);
+}
+
+}  // namespace
+}  // namespace trueaxis::model
+
+namespace trueaxis::model {
+namespace {
+
+TEST(CompositeModelAboveAmbient, KeyRiseIsMeasuredAboveTheRoomAndFallsBackWithoutIt) {
+  AxisModel a;
+  a.axis = "X";
+  a.reference_position_mm = 0;
+  a.key_sensors = {"nut"};
+  a.baseline_temp_c = {20};
+  a.ambient_sensor = "ambient";
+  a.ambient_baseline_c = 20;
+  a.rho_um_per_mm_per_c = -0.01;
+  a.key_rise_above_ambient = true;
+  for (auto& d : a.directions) {
+    d.geometric.coefficients_um = {0};
+    d.thermal = {{CoolantState::kOff, {-0.005}, 0}};
+  }
+  const double soak[] = {23};  // the whole machine at a 3 °C warmer room: no rise above ambient
+  auto p = Predict(a, 100, Direction::kForward, {soak, 23.0, CoolantState::kOff, true});
+  EXPECT_DOUBLE_EQ(p.thermal_um, 0);
+  EXPECT_NEAR(p.ambient_um, -0.01 * 3 * (0 - 100), 1e-12);
+  const double hot[] = {25};  // nut 2 °C above a 3 °C warmer room
+  p = Predict(a, 100, Direction::kForward, {hot, 23.0, CoolantState::kOff, true});
+  EXPECT_NEAR(p.tan_beta_um_per_mm, -0.005 * 2, 1e-12);
+  // No ambient reading: the plain rise (5 °C) and no ambient term.
+  p = Predict(a, 100, Direction::kForward, {hot, NAN, CoolantState::kOff, true});
+  EXPECT_NEAR(p.tan_beta_um_per_mm, -0.005 * 5, 1e-12);
+  EXPECT_DOUBLE_EQ(p.ambient_um, 0);
+  // JSON: the mode round-trips and a bad value is named.
+  CompositeModel m;
+  m.axes = {a};
+  auto j = ModelToJson(m);
+  EXPECT_EQ(j["axes"][0]["key_temperature_rise"], "above_ambient");
+  EXPECT_TRUE(ModelFromJson(j, "mem").axes[0].key_rise_above_ambient);
+  j["axes"][0]["key_temperature_rise"] = "sideways";
+  try {
+    ModelFromJson(j, "mem");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "axes[0].key_temperature_rise");
+  }
+  j["axes"][0]["key_temperature_rise"] = "above_ambient";
+  j["axes"][0].erase("ambient_sensor");
+  EXPECT_THROW(ModelFromJson(j, "mem"), InputError);
 }
 
 }  // namespace

@@ -91,6 +91,8 @@ struct SourceRecord {
   std::string path;
   std::string sha256;
   std::string state;  // "cold", "warm", "ambient", "coolant:flood", ...
+  std::string coolant;  // coolant state during the measurement ("off", "flood", ...; "" unknown)
+  std::string axis;     // axis the file measured ("" unknown)
 };
 
 struct CompositeModel {

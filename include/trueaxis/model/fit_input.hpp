@@ -50,4 +50,13 @@ FitState MakeFitState(measure::Measurement m, const std::string& label_override 
 // Throws InputError naming the file/line/field for any bad input.
 std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, const std::string& manifest_path);
 
+// The measurement files a previous model was fitted on (its `sources`), for a
+// re-fit that adds new measurements: each file is read again from its
+// recorded path (relative paths from the current directory) and must still
+// have its recorded SHA-256; its recorded state/coolant/axis are kept.
+// InputError(model_path, 0, "sources[i].path") when a file is gone,
+// InputError(file, 0, "sha256") when it changed since that fit.
+struct CompositeModel;
+std::vector<FitState> LoadPreviousSources(const CompositeModel& previous, const std::string& model_path);
+
 }  // namespace trueaxis::model

@@ -8,8 +8,15 @@
 namespace trueaxis::model {
 
 struct FitOptions {
-  enum class Geometric { kPolynomial, kTable };
-  Geometric geometric = Geometric::kPolynomial;  // seed 000 polynomial, or seed 002 sampled table
+  // kPolynomial: seed 000's polynomial (degree by CV); kTable: seed 002's sampled table;
+  // kAuto: the polynomial unless its residuals at the targets are systematic — fit RMS above
+  // auto_systematic_factor × the noise of the target means (a repeatable pattern a smooth
+  // curve cannot follow, e.g. the screw's lead harmonics) — and the table interpolates no
+  // worse (table LOTO CV ≤ auto_table_cv_ratio × the polynomial's). Decided per direction.
+  enum class Geometric { kPolynomial, kTable, kAuto };
+  Geometric geometric = Geometric::kAuto;
+  double auto_systematic_factor = 3.0;
+  double auto_table_cv_ratio = 1.25;
   int max_degree = 8;                            // highest polynomial degree tried (capped at targets − 2)
 
   // Reference point Px (where the thermal error is zero: the screw's fixed

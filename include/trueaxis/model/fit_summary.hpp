@@ -44,7 +44,8 @@ struct DirectionFitStats {
   GeometricError::Kind kind = GeometricError::Kind::kPolynomial;
   std::size_t targets = 0;
   int runs = 0;
-  DegreeSelection degree;          // polynomial: the candidates and the rule
+  DegreeSelection degree;          // polynomial: the candidates and the rule (also computed before an auto → table)
+  std::string choice;              // polynomial or table, and why
   double geometric_fit_rms_um = kNaN;  // fit of the cold target means
   double geometric_cv_rms_um = kNaN;   // leave-one-target-out
   double table_cv_rms_um = kNaN;       // the seed-002 table's CV, for comparison
