@@ -2,6 +2,7 @@
 // Runs a calibration campaign on the virtual machine (docs/campaign.md).
 #include <cstdio>
 #include <memory>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -21,6 +22,7 @@ struct Options {
   int warm_runs = 3;
   double spacing_mm = 25;
   int max_warm = 12;
+  int cooldown = 2;
   std::vector<int> ambient_days = {60, 150};
   bool no_coolant = false;
   bool material_compensation = false;
@@ -38,6 +40,7 @@ void Run(const Options& o) {
   c.laser.spacing_mm = o.spacing_mm;
   c.laser.material_compensation = o.material_compensation;
   c.max_warm_measurements = o.max_warm;
+  c.cooldown_measurements = o.cooldown;
   c.ambient_day_offsets = o.ambient_days;
   c.coolant_session = !o.no_coolant;
   if (!o.quiet) c.progress = [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
@@ -45,7 +48,14 @@ void Run(const Options& o) {
   if (!c.IsValid(&why)) throw trueaxis::InputError("command line", why);
   for (const auto& a : o.axes)
     if (machine.AxisIndex(a) < 0) throw trueaxis::InputError(o.machine, 0, "--axes", "the machine has no axis '" + a + "'");
-  const auto summary = trueaxis::sim::RunCampaign(machine, c);
+  trueaxis::sim::CampaignSummary summary;
+  try {
+    summary = trueaxis::sim::RunCampaign(machine, c);
+  } catch (const std::invalid_argument& e) {
+    // The machine and the options do not fit together (e.g. targets plus
+    // overrun longer than an axis' travel): bad input, not a crash.
+    throw trueaxis::InputError(o.machine, e.what());
+  }
   fmt::print(stderr, "{}\n", summary.BriefReport());
   fmt::print("{}\n", o.out);
 }
@@ -62,6 +72,7 @@ void Setup(CLI::App& app) {
   cmd->add_option("--warm-runs", opts->warm_runs, "Runs of the warm-up and coolant measurements")->capture_default_str()->check(CLI::Range(2, 20));
   cmd->add_option("--spacing-mm", opts->spacing_mm, "Nominal target spacing")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--max-warm", opts->max_warm, "At most this many warm-up measurements per axis")->capture_default_str()->check(CLI::Range(1, 100));
+  cmd->add_option("--cooldown", opts->cooldown, "Cool-down measurements after saturation (0: none)")->capture_default_str()->check(CLI::Range(0, 20));
   cmd->add_option("--ambient-days", opts->ambient_days, "Days after the cold day for the other-ambient measurements")
       ->delimiter(',')->capture_default_str();
   cmd->add_flag("--no-coolant", opts->no_coolant, "Skip the coolant session");

@@ -27,6 +27,8 @@ bool CampaignOptions::IsValid(std::string* why) const {
   if (!laser.IsValid(why)) return false;
   if (!(warmup_feed_low_mm_min > 0 && warmup_feed_high_mm_min > 0)) return fail("warm-up feeds must be positive");
   if (!(nut_step_c > 0)) return fail("nut_step_c must be positive");
+  if (cooldown_measurements < 0 || cooldown_measurements > 20) return fail("cooldown_measurements must be 0–20");
+  if (!(cooldown_step_c > 0) || !(max_cooldown_hours > 0)) return fail("cooldown step and time cap must be positive");
   if (warm_runs < 2 || warm_runs > 20) return fail("warm_runs must be 2–20");
   if (max_warm_measurements < 1 || max_warm_measurements > 100) return fail("max_warm_measurements must be 1–100");
   if (max_coolant_measurements < 0 || max_coolant_measurements > 100) return fail("max_coolant_measurements must be 0–100");
@@ -192,7 +194,7 @@ class Campaign {
     f.sequence = seq;
     f.start_time_s = vm_.TimeS();
     f.start_date = vm_.IsoTime();
-    const bool short_test = state == "warm" || (state == "coolant" && seq > 1);
+    const bool short_test = state == "warm" || state == "cooldown" || (state == "coolant" && seq > 1);
     auto m = laser_.Measure(vm_, short_test ? o_.warm_runs : o_.laser.runs,
                             {{"state", state},
                                   {"sequence", std::to_string(seq)},
@@ -266,12 +268,38 @@ class Campaign {
     for (std::size_t i = 0; i < vm_.AxisCount(); ++i) vm_.CommandStop(i);
   }
 
+  void CoolDown(std::size_t axis) {
+    if (o_.cooldown_measurements <= 0) return;
+    for (std::size_t i = 0; i < vm_.AxisCount(); ++i) vm_.CommandStop(i);
+    Progress("cool-down: axes stopped");
+    double ref = NutNow(axis);
+    double waited = 0;
+    std::deque<double> minute;
+    for (int taken = 0; taken < o_.cooldown_measurements && waited < o_.max_cooldown_hours * 3600;) {
+      vm_.Advance(10);
+      waited += 10;
+      minute.push_back(NutNow(axis));
+      if (minute.size() > 6) minute.pop_front();
+      double nut = 0;
+      for (double v : minute) nut += v;
+      nut /= static_cast<double>(minute.size());
+      if (ref - nut >= o_.cooldown_step_c) {
+        MeasureAndWrite(axis, "cooldown");
+        ++taken;
+        for (std::size_t i = 0; i < vm_.AxisCount(); ++i) vm_.CommandStop(i);
+        ref = nut;  // the test's own motion warmed it a little: count from before it
+        minute.clear();
+      }
+    }
+  }
+
   void ColdAndWarm(std::size_t axis, int k) {
     GoTo(k, 7.0);
     StartSession();
     Setup(axis);
     const auto cold = MeasureAndWrite(axis, "cold");
     WarmUp(axis, MeanColumn(cold, NutSensor(axis)), "warm", o_.max_warm_measurements);
+    CoolDown(axis);
     EndSession();
   }
 

@@ -148,6 +148,7 @@ void ReadThermal(TableReader& r, DriveThermalDescription& t) {
   r.Double("motor_heat_w", t.motor_heat_w, 0, 1e4);
   r.Double("motor_idle_heat_w", t.motor_idle_heat_w, 0, 1e4);
   r.Double("screw_convection_w_per_m2_k", t.screw_convection_w_per_m2_k, 0, 1e4);
+  r.Double("screw_convection_rotating_w_per_m2_k", t.screw_convection_rotating_w_per_m2_k, 0, 1e4);
   r.Double("nut_capacity_j_per_k", t.nut_capacity_j_per_k, 1, kBig);
   r.Double("nut_to_screw_w_per_k", t.nut_to_screw_w_per_k, 0, 1e4);
   r.Double("nut_to_ambient_w_per_k", t.nut_to_ambient_w_per_k, 0, 1e4);
@@ -159,6 +160,7 @@ void ReadThermal(TableReader& r, DriveThermalDescription& t) {
   r.Double("motor_to_ambient_w_per_k", t.motor_to_ambient_w_per_k, 0, 1e4);
   r.Double("motor_to_bearing_w_per_k", t.motor_to_bearing_w_per_k, 0, 1e4);
   r.Int("screw_segments", t.screw_segments, 4, 400);
+  r.Double("nut_length_mm", t.nut_length_mm, 0, 1000);
   r.RejectUnknown();
 }
 

@@ -35,7 +35,7 @@ struct VirtualMachine::Axis {
   int away = 1;  // +1: growth pushes towards + (fixed end at min)
   // thermal nodes and edges
   std::size_t nut = 0, bearing = 0, floating = 0, motor = 0;
-  std::vector<std::size_t> seg, nut_seg_edge, seg_cool_edge;
+  std::vector<std::size_t> seg, nut_seg_edge, seg_cool_edge, seg_air_edge;
   std::size_t nut_cool_edge = 0;
   double seg_area_m2 = 0;
   // motion
@@ -61,19 +61,41 @@ struct VirtualMachine::Axis {
   int Segment(double u) const {
     return std::clamp(static_cast<int>(std::floor(u / seg_len_mm)), 0, static_cast<int>(seg.size()) - 1);
   }
-  // Spreads `dt` of nut presence over the segments passed between motor positions m0 and m1.
+  // Spreads `dt` of nut presence over the segments its contact length
+  // covered while moving (at constant speed) between motor positions m0 and
+  // m1. Exact time average of the overlap of [u − L/2, u + L/2] with each
+  // segment, so it adds up the same however the motion is sliced.
   void AddPath(double m0, double m1, double dt) {
     if (dt <= 0) return;
     double u0 = U(m0), u1 = U(m1);
     if (u0 > u1) std::swap(u0, u1);
     const double len = u1 - u0;
-    if (len < 1e-9) {
-      occupancy_s[Segment(u0)] += dt;
+    const double h = d.thermal.nut_length_mm / 2;
+    if (h <= 0) {  // point contact
+      if (len < 1e-9) {
+        occupancy_s[Segment(u0)] += dt;
+        return;
+      }
+      for (int i = Segment(u0); i <= Segment(u1); ++i) {
+        const double a = std::max(u0, i * seg_len_mm), b = std::min(u1, (i + 1) * seg_len_mm);
+        if (b > a) occupancy_s[i] += dt * (b - a) / len;
+      }
       return;
     }
-    for (int i = Segment(u0); i <= Segment(u1); ++i) {
-      const double a = std::max(u0, i * seg_len_mm), b = std::min(u1, (i + 1) * seg_len_mm);
-      if (b > a) occupancy_s[i] += dt * (b - a) / len;
+    auto ramp = [](double x) { return x > 0 ? x : 0.0; };
+    auto ramp_integral = [](double x) { return x > 0 ? 0.5 * x * x : 0.0; };
+    for (int i = Segment(u0 - h); i <= Segment(u1 + h); ++i) {
+      const double a = i * seg_len_mm, b = (i + 1) * seg_len_mm;
+      double w;
+      if (len < 1e-9) {
+        w = ramp(u0 + h - a) - ramp(u0 + h - b) - ramp(u0 - h - a) + ramp(u0 - h - b);
+      } else {
+        auto F = [&](double u) {
+          return ramp_integral(u + h - a) - ramp_integral(u + h - b) - ramp_integral(u - h - a) + ramp_integral(u - h - b);
+        };
+        w = (F(u1) - F(u0)) / len;
+      }
+      if (w > 0) occupancy_s[i] += dt * w / (2 * h);
     }
   }
 };
@@ -104,7 +126,8 @@ VirtualMachine::VirtualMachine(MachineDescription description, std::uint64_t see
     for (int i = 0; i < n; ++i)
       a->seg.push_back(net_.AddNode(fmt::format("{}_screw_{:02}", p, i), kSteelDensity * kSteelHeat * area * ds_m, t_amb));
     for (int i = 0; i + 1 < n; ++i) net_.AddEdge(a->seg[i], a->seg[i + 1], kSteelConductivity * area / ds_m);
-    for (int i = 0; i < n; ++i) net_.AddEdge(a->seg[i], ambient_node_, th.screw_convection_w_per_m2_k * a->seg_area_m2);
+    for (int i = 0; i < n; ++i)
+      a->seg_air_edge.push_back(net_.AddEdge(a->seg[i], ambient_node_, th.screw_convection_w_per_m2_k * a->seg_area_m2));
     a->nut = net_.AddNode(p + "_nut", th.nut_capacity_j_per_k, t_amb);
     a->bearing = net_.AddNode(p + "_bearing", th.bearing_capacity_j_per_k, t_amb);
     a->floating = net_.AddNode(p + "_floating_bearing", th.bearing_capacity_j_per_k, t_amb);
@@ -177,21 +200,35 @@ void VirtualMachine::SetLogger(double interval_s, std::function<void(const Virtu
   next_log_s_ = t_s_;
 }
 
+void VirtualMachine::SetController(double interval_s, std::function<void(VirtualMachine&)> controller) {
+  control_interval_s_ = interval_s;
+  controller_ = std::move(controller);
+  next_control_s_ = t_s_;
+}
+
 void VirtualMachine::Advance(double dt_s) {
   if (!(dt_s > 0)) return;
   const double t_end = t_s_ + dt_s;
   while (t_s_ < t_end - 1e-9) {
-    const double t_next = std::min(t_end, next_grid_s_);
-    AdvanceMotion(t_next - t_s_);
-    t_s_ = t_next;
+    // Events: thermal grid steps and, independently, the controller's own
+    // period (a compensator may run much faster than the thermal step).
+    double t_next = std::min(t_end, next_grid_s_);
+    const bool control = controller_ && control_interval_s_ > 0;
+    if (control) t_next = std::min(t_next, next_control_s_);
+    if (t_next > t_s_) AdvanceMotion(t_next - t_s_);
+    t_s_ = std::max(t_s_, t_next);
     if (t_s_ >= next_grid_s_ - 1e-9) {
-      t_s_ = next_grid_s_;
+      t_s_ = std::max(t_s_, next_grid_s_);
       ThermalStep(step_s_);
       next_grid_s_ += step_s_;
       if (logger_ && log_interval_s_ > 0 && t_s_ >= next_log_s_ - 1e-9) {
         logger_(*this);
         next_log_s_ += log_interval_s_ * std::max(1.0, std::floor((t_s_ - next_log_s_) / log_interval_s_ + 1));
       }
+    }
+    if (control && controller_ && t_s_ >= next_control_s_ - 1e-9) {
+      next_control_s_ += control_interval_s_ * std::max(1.0, std::floor((t_s_ - next_control_s_) / control_interval_s_ + 1));
+      controller_(*this);
     }
   }
   t_s_ = std::max(t_s_, t_end);
@@ -248,7 +285,9 @@ void VirtualMachine::AdvanceMotion(double dt) {
       const double feed = move || a.recip_dir > 0 ? a.feed : a.return_feed;
       const double v = feed / 60.0;
       const double dist = target - a.cmd_mm;
-      if (std::abs(dist) < 1e-12) {
+      if (std::abs(dist) < 1e-9) {  // within a picometre: arrived (absorbs rounding of t = d/v)
+        a.cmd_mm = target;
+        UpdatePlay(a);
         if (move) {
           a.mode = Axis::Mode::kIdle;
         } else {
@@ -268,6 +307,15 @@ void VirtualMachine::AdvanceMotion(double dt) {
       a.dist_mm += std::abs(m1 - m0);
       a.speed_now = feed;
       left -= tt;
+      if (tt >= t_need) {  // arrived: settle now so Read() never shows a stale "moving"
+        a.speed_now = 0;
+        if (move) {
+          a.mode = Axis::Mode::kIdle;
+        } else {
+          a.recip_dir = -a.recip_dir;
+          a.pause_left_s = (a.hi - a.lo) / v * (1 - a.duty) / a.duty;
+        }
+      }
     }
   }
 }
@@ -286,12 +334,17 @@ void VirtualMachine::ThermalStep(double h) {
     net_.SetHeat(a.bearing, th.fixed_bearing_heat_w * f);
     net_.SetHeat(a.floating, th.floating_bearing_heat_w * f);
     net_.SetHeat(a.motor, th.motor_idle_heat_w + th.motor_heat_w * f);
+    // A spinning screw loses heat faster than a still one: cooling after a
+    // warm-up is slower than the heating suggests.
+    const double h_air = th.screw_convection_w_per_m2_k +
+                         (feed > 0 ? th.screw_convection_rotating_w_per_m2_k * std::pow(feed / th.reference_feed_mm_min, 0.6) : 0.0);
     double occ_total = 0;
     for (double o : a.occupancy_s) occ_total += o;
     for (std::size_t i = 0; i < a.seg.size(); ++i) {
       const double share = occ_total > 0 ? a.occupancy_s[i] / occ_total : 0.0;
       net_.SetConductance(a.nut_seg_edge[i], th.nut_to_screw_w_per_k * share);
       net_.SetConductance(a.seg_cool_edge[i], cool.screw_w_per_m2_k * a.seg_area_m2);
+      net_.SetConductance(a.seg_air_edge[i], h_air * a.seg_area_m2);
       a.occupancy_s[i] = 0;
     }
     net_.SetConductance(a.nut_cool_edge, cool.nut_w_per_k);
@@ -448,10 +501,10 @@ bool VirtualMachine::WriteCompensation(std::span<const double> correction_um) {
   if (!compensation_enabled_) return true;
   for (std::size_t i = 0; i < axes_.size(); ++i) {
     axes_[i]->correction_um = correction_um[i];
-    const double before = axes_[i]->last_motor_mm;
+    // The servo direction the CNC reports stays that of the programmed
+    // motion: a compensation that flipped it would make a direction-dependent
+    // compensator chase its own output.
     UpdatePlay(*axes_[i]);
-    const double delta = axes_[i]->last_motor_mm - before;
-    if (delta != 0) axes_[i]->servo_dir = delta > 0 ? 1 : -1;
   }
   return true;
 }

@@ -95,7 +95,7 @@ TEST(Campaign, WritesFilesTemperatureLogAndManifest) {
   ASSERT_GE(summary.files.size(), 1u + 2 + 1 + 1);
   std::set<std::string> states;
   for (const auto& f : summary.files) states.insert(f.state);
-  EXPECT_EQ(states, (std::set<std::string>{"cold", "warm", "ambient", "coolant"}));
+  EXPECT_EQ(states, (std::set<std::string>{"cold", "warm", "cooldown", "ambient", "coolant"}));
   const auto manifest = nlohmann::json::parse(ReadTextFile((dir / "manifest.json").string()));
   ASSERT_EQ(manifest["measurements"].size(), summary.files.size());
   double last_warm_rise = 0;
@@ -108,6 +108,9 @@ TEST(Campaign, WritesFilesTemperatureLogAndManifest) {
     EXPECT_EQ(m.Meta("coolant").value_or(""), e["coolant"].get<std::string>());
     EXPECT_TRUE(e["mean_temperatures_c"].contains("x_nut"));
     if (e["state"] == "warm") last_warm_rise = e["nut_rise_c"].get<double>();
+    if (e["state"] == "cooldown") {
+      EXPECT_LT(e["nut_rise_c"].get<double>(), last_warm_rise);  // cooler than the saturated state
+    }
     if (e["state"] == "coolant") {
       EXPECT_EQ(e["coolant"], "flood");
     }
@@ -160,7 +163,7 @@ TEST(Campaign, CliRunsAndRejectsBadMachineFile) {
   WriteTextFile(machine.string(), testing::TestMachineToml());
   std::string err;
   EXPECT_EQ(RunCli("sim campaign --machine " + machine.string() + " --out " + (dir / "out").string() +
-                       " --axes Y --runs 2 --warm-runs 2 --spacing-mm 200 --max-warm 1 --ambient-days 5 --no-coolant",
+                       " --axes Y --runs 2 --warm-runs 2 --spacing-mm 200 --max-warm 1 --cooldown 0 --ambient-days 5 --no-coolant",
                    &err),
             0)
       << err;
@@ -173,6 +176,11 @@ TEST(Campaign, CliRunsAndRejectsBadMachineFile) {
   EXPECT_EQ(RunCli("sim campaign --machine " + bad.string() + " --out " + (dir / "out2").string(), &err), 2);
   EXPECT_NE(err.find("bad.toml:"), std::string::npos) << err;
   EXPECT_NE(err.find("backlsh_um"), std::string::npos) << err;
+
+  const auto tiny = dir / "tiny.toml";
+  WriteTextFile(tiny.string(), "[[axis]]\nname = \"X\"\ntravel_mm = 8\nlead_mm = 5\n");
+  EXPECT_EQ(RunCli("sim campaign --machine " + tiny.string() + " --out " + (dir / "out4").string(), &err), 2);
+  EXPECT_NE(err.find("do not fit the travel"), std::string::npos) << err;
 
   EXPECT_EQ(RunCli("sim campaign --machine " + machine.string() + " --out " + (dir / "out3").string() + " --axes Q", &err), 2);
   EXPECT_NE(err.find("'Q'"), std::string::npos) << err;

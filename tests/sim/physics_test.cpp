@@ -1,5 +1,6 @@
 // Physics a metrologist would check on the virtual machine.
 #include <cmath>
+#include <map>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -134,9 +135,15 @@ TEST(Physics, CompensationThroughCncLinkMovesTheTable) {
   hw::CncState ms;
   ASSERT_TRUE(cnc.Read(st, ms));
   EXPECT_DOUBLE_EQ(st[0].position_mm, 300);  // the CNC still reports the commanded position
+  EXPECT_EQ(st[0].servo_direction, 1);
+  EXPECT_FALSE(st[0].moving);
+  EXPECT_EQ(ms.coolant, CoolantState::kOff);
+  EXPECT_TRUE(ms.compensation_enabled);
   // A correction against the last motion first takes up the 6 µm of play.
   const double back[2] = {0, 0};
   ASSERT_TRUE(cnc.WriteCompensation(back));
+  ASSERT_TRUE(cnc.Read(st, ms));
+  EXPECT_EQ(st[0].servo_direction, 1);  // programmed direction, not the compensation's
   // Now resting on the other flank: the shift is the reversal at 300 mm.
   const double reversal = vm.ErrorAtUm(0, 300, -1) - vm.ErrorAtUm(0, 300, +1);
   EXPECT_NEAR(reversal, 6.0, 2.0);
@@ -153,6 +160,108 @@ TEST(Physics, CompensationThroughCncLinkMovesTheTable) {
   vm.SetCompensationEnabled(true);
   const double nan[2] = {std::nan(""), 0};
   EXPECT_FALSE(cnc.WriteCompensation(nan));
+}
+
+TEST(Physics, NonBlockingMotionReportsDirectionAndMoving) {
+  VirtualMachine vm(TestMachine(), 8);
+  hw::AxisState st[2];
+  hw::CncState ms;
+  vm.CommandMove(0, 100, 6000);  // 100 mm/s: 1 s
+  vm.Advance(0.5);
+  ASSERT_TRUE(vm.Read(st, ms));
+  EXPECT_TRUE(st[0].moving);
+  EXPECT_EQ(st[0].servo_direction, 1);
+  EXPECT_NEAR(st[0].position_mm, 50, 1e-9);
+  vm.Advance(0.5);
+  ASSERT_TRUE(vm.Read(st, ms));
+  EXPECT_FALSE(st[0].moving);
+  EXPECT_NEAR(st[0].position_mm, 100, 1e-9);
+  for (double x : {123.456789, 17.0, 599.999}) {  // blocking moves end at rest, exactly on target
+    vm.MoveTo(0, x, 1234.5);
+    ASSERT_TRUE(vm.Read(st, ms));
+    EXPECT_FALSE(st[0].moving);
+    EXPECT_FALSE(vm.IsMoving(0));
+    EXPECT_DOUBLE_EQ(st[0].position_mm, x);
+  }
+  vm.CommandMove(0, 20, 6000);
+  vm.Advance(0.2);
+  ASSERT_TRUE(vm.Read(st, ms));
+  EXPECT_EQ(st[0].servo_direction, -1);
+  vm.SetCoolant(CoolantState::kMist);
+  ASSERT_TRUE(vm.Read(st, ms));
+  EXPECT_EQ(ms.coolant, CoolantState::kMist);
+  EXPECT_THROW(vm.CommandMove(0, 700, 1000), std::invalid_argument);  // beyond the travel
+  // Machining duty cycle: moving half of the time.
+  vm.CommandReciprocate(0, 100, 400, 3000, 0.5);
+  int moving = 0;
+  for (int i = 0; i < 600; ++i) {
+    vm.Advance(1);
+    ASSERT_TRUE(vm.Read(st, ms));
+    moving += st[0].moving;
+  }
+  EXPECT_NEAR(moving / 600.0, 0.5, 0.1);
+}
+
+TEST(Physics, LaserSeesACompensationAppliedInTheLoop) {
+  // An oracle compensator (it knows the true error) writes through CncLink
+  // every second while the laser test runs: the laser must see a flat axis,
+  // where without it the same test shows tens of µm.
+  auto range_of_means = [](const measure::Measurement& m) {
+    std::map<std::pair<double, int>, std::pair<double, int>> acc;
+    for (const auto& p : m.points) {
+      auto& a = acc[{p.target_mm, DirectionSign(p.direction)}];
+      a.first += p.deviation_um;
+      a.second += 1;
+    }
+    double lo = 1e9, hi = -1e9;
+    for (const auto& [k, a] : acc) {
+      lo = std::min(lo, a.first / a.second);
+      hi = std::max(hi, a.first / a.second);
+    }
+    return hi - lo;
+  };
+  auto run = [&](bool compensate) {
+    VirtualMachine vm(TestMachine(), 12);
+    vm.CommandReciprocate(0, 0, 600, 4000);  // warm first: geometric + thermal error
+    vm.Advance(3600);
+    vm.CommandStop(0);
+    if (compensate)
+      vm.SetController(0.02, [](VirtualMachine& m) {  // 50 Hz, like a PMC-window compensator
+        hw::AxisState st[2];
+        hw::CncState cs;
+        if (!m.Read(st, cs)) return;
+        double corr[2];
+        for (int i = 0; i < 2; ++i)
+          corr[i] = -m.ErrorAtUm(i, st[i].position_mm, st[i].servo_direction == 0 ? 1 : st[i].servo_direction);
+        m.WriteCompensation(corr);
+      });
+    LaserOptions o;
+    o.runs = 2;
+    o.spacing_mm = 50;
+    LaserInterferometer laser(o, 1);
+    laser.Setup(vm, 0, 0);
+    return range_of_means(laser.Measure(vm));
+  };
+  const double plain = run(false), compensated = run(true);
+  EXPECT_GT(plain, 20.0);
+  EXPECT_LT(compensated, 1.5);
+}
+
+TEST(Physics, CoarseThermalStepStaysStableAndClose) {
+  // The network sub-steps below its stability limit, so even a 30 s step
+  // (twice the limit of the screw segments) neither blows up nor drifts far.
+  auto nut_after = [](const std::string& step) {
+    auto toml = testing::TestMachineToml();
+    toml.replace(toml.find("start = "), 0, "thermal_step_s = " + step + "\n");
+    VirtualMachine vm(ParseMachineToml(toml, "t.toml"), 1);
+    vm.CommandReciprocate(0, 0, 600, 3000);
+    vm.Advance(2 * 3600);
+    return std::make_pair(vm.NodeTemperatureC("x_nut"), vm.ThermalGrowthUm(0, 600));
+  };
+  const auto fine = nut_after("1.0"), coarse = nut_after("30");
+  EXPECT_NEAR(coarse.first, fine.first, 0.2);
+  EXPECT_NEAR(coarse.second, fine.second, 1.0);
+  EXPECT_TRUE(std::isfinite(coarse.first));
 }
 
 TEST(Physics, AdvanceSlicingDoesNotChangeResults) {

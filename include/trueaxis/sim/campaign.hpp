@@ -30,6 +30,12 @@ struct CampaignOptions {
   double max_warmup_hours = 5;            // give up waiting for saturation after this
   double saturation_window_min = 30;      // saturated when the nut rose less than
   double saturation_rise_c = 0.15;        //   this much within the window
+  // Cool-down after saturation: axes stopped, a measurement each time the nut
+  // sensor fell another cooldown_step_c (nut and screw now cool at different
+  // rates: data a warm-up-only model has never seen).
+  int cooldown_measurements = 2;
+  double cooldown_step_c = 1.5;
+  double max_cooldown_hours = 3;
   std::vector<int> ambient_day_offsets = {60, 150};  // days after the cold day, afternoon
   double ambient_hour = 14;
   bool coolant_session = true;
@@ -44,7 +50,7 @@ struct CampaignOptions {
 struct CampaignFile {
   std::string file;       // relative to out_dir
   std::string axis;
-  std::string state;      // cold | warm | ambient | coolant
+  std::string state;      // cold | warm | cooldown | ambient | coolant
   std::string coolant;    // off | flood | mist | air
   int sequence = 0;       // 1-based within (axis, state)
   double start_time_s = 0, end_time_s = 0;

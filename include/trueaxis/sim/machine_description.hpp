@@ -42,7 +42,9 @@ struct DriveThermalDescription {
   double floating_bearing_heat_w = 4;  // support bearing at the floating end
   double motor_heat_w = 30;            // motor copper/iron losses at the reference feed
   double motor_idle_heat_w = 4;        // holding current at standstill
-  double screw_convection_w_per_m2_k = 12;  // screw surface to air (under the covers)
+  double screw_convection_w_per_m2_k = 8;   // screw surface to still air (under the covers)
+  double screw_convection_rotating_w_per_m2_k = 10;  // extra at the reference feed (a spinning screw
+                                                     //   stirs the air), scales with (feed/reference)^0.6
   double nut_capacity_j_per_k = 6000;       // nut, nut housing and the saddle around it
   double nut_to_screw_w_per_k = 3.0;        // through the balls, into the screw under the nut
   double nut_to_ambient_w_per_k = 1.5;      // nut housing to table and air
@@ -54,6 +56,7 @@ struct DriveThermalDescription {
   double motor_to_ambient_w_per_k = 1.8;
   double motor_to_bearing_w_per_k = 0.6;    // through flange and coupling into the fixed-end seat
   int screw_segments = 24;                  // lumped segments along the screw
+  double nut_length_mm = 100;               // the nut touches the screw over this length
 };
 
 struct AxisDescription {

@@ -60,6 +60,15 @@ class VirtualMachine : public hw::CncLink, public hw::TemperatureSource {
   void IdleUntil(double t_s);
   // Called every `interval_s` of machine time during Advance (on the grid).
   void SetLogger(double interval_s, std::function<void(const VirtualMachine&)> logger);
+  // An in-the-loop controller, called every `interval_s` of machine time
+  // during Advance (its own schedule, independent of the thermal step), with
+  // write access: a runtime compensator reads CncLink/TemperatureSource and
+  // writes compensation here, so it stays active while a laser test or a
+  // warm-up runs. nullptr removes it. Note the physics: a correction that
+  // changes against the direction of the last motion while the axis stands
+  // still first takes up the backlash, as on a real drive — update often
+  // enough that corrections change while the axis moves.
+  void SetController(double interval_s, std::function<void(VirtualMachine&)> controller);
 
   // ---- motion programs (non-blocking: they run while time advances) ----
   void CommandMove(std::size_t axis, double target_mm, double feed_mm_min);
@@ -152,6 +161,8 @@ class VirtualMachine : public hw::CncLink, public hw::TemperatureSource {
   bool link_fault_ = false;
   double log_interval_s_ = 0, next_log_s_ = 0;
   std::function<void(const VirtualMachine&)> logger_;
+  double control_interval_s_ = 0, next_control_s_ = 0;
+  std::function<void(VirtualMachine&)> controller_;
 };
 
 }  // namespace trueaxis::sim

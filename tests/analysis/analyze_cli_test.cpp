@@ -1,0 +1,171 @@
+// `trueaxis analyze` end to end: real files, JSON contract, report, and every
+// bad input of issue 2 (exit code 2, message naming file, line and field).
+#include <filesystem>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "test_util.hpp"
+
+using trueaxis::testing::RunCli;
+using trueaxis::testing::WriteTemp;
+
+namespace {
+
+const std::string kShared = TRUEAXIS_SHARED_DATA_DIR;
+const std::string kFatSat = kShared + "/ecmc/fat_sat_test.dat";
+const std::string kMcu = kShared + "/ecmc/mcu1025_fat_sat.dat";
+const std::string kExample = std::string(TRUEAXIS_SOURCE_DIR) + "/examples/measurements/x_axis_cold.csv";
+
+const char* kGoodHeader = "run,direction,target_mm,deviation_um\n";
+
+std::string Q(const std::string& s) { return "'" + s + "'"; }
+
+}  // namespace
+
+TEST(AnalyzeCli, JsonHasEveryContractKey) {
+  for (const auto& file : {kFatSat, kMcu, kExample}) {
+    const auto r = RunCli("analyze " + Q(file) + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    for (const char* key : {"A_um", "A_up_um", "A_down_um", "B_um", "B_mean_um", "E_um", "E_up_um", "E_down_um",
+                            "M_um", "R_um", "R_up_um", "R_down_um", "P_um", "Pa_um", "Ps_max_um", "Ps_mean_um",
+                            "U_max_um", "U_mean_um"}) {
+      ASSERT_TRUE(j.contains(key)) << key;
+      EXPECT_TRUE(j[key].is_number()) << key;
+      EXPECT_GE(j[key].get<double>(), key == std::string("B_mean_um") ? -1e9 : 0.0) << key;
+    }
+    EXPECT_EQ(j["standard"], "ISO 230-2:2014");
+    EXPECT_EQ(j["per_target"].size(), j["positions"].get<std::size_t>());
+    EXPECT_GE(j["runs"].get<int>(), 2);
+    EXPECT_FALSE(j.contains("decomposition"));
+  }
+}
+
+TEST(AnalyzeCli, EcmcNumbersMatchTheLibrary) {
+  const auto j = nlohmann::json::parse(RunCli("analyze " + Q(kMcu) + " --json").out);
+  EXPECT_EQ(j["positions"], 5);
+  EXPECT_EQ(j["runs"], 5);
+  EXPECT_NEAR(j["A_um"].get<double>(), 204.76, 0.02);
+  EXPECT_NEAR(j["M_um"].get<double>(), 48.09, 0.02);
+}
+
+TEST(AnalyzeCli, StandardsChangeTheCoverageFactor) {
+  const auto j14 = nlohmann::json::parse(RunCli("analyze " + Q(kExample) + " --json").out);
+  const auto j88 = nlohmann::json::parse(RunCli("analyze " + Q(kExample) + " --json --standard 'ISO 230-2:1988'").out);
+  EXPECT_EQ(j88["standard"], "ISO 230-2:1988");
+  EXPECT_NEAR(j88["R_up_um"].get<double>(), 1.5 * j14["R_up_um"].get<double>(), 1e-9);
+  const auto jis = nlohmann::json::parse(RunCli("analyze " + Q(kExample) + " --json --standard 'JIS B 6192'").out);
+  EXPECT_EQ(jis["standard"], "ISO 230-2:1997");
+  EXPECT_EQ(jis["standard_requested"], "JIS B 6192");
+  const auto bad = RunCli("analyze " + Q(kExample) + " --standard 'ISO 9999'");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("standard"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("ISO 230-2:2014"), std::string::npos) << bad.err;
+}
+
+TEST(AnalyzeCli, TextTableDecompositionCompareAndReport) {
+  const auto html = (std::filesystem::temp_directory_path() / "trueaxis_analyze_cli_test.html").string();
+  std::filesystem::remove(html);
+  const auto r = RunCli("analyze " + Q(kFatSat) + " --lead-mm 5 --compare " + Q(kMcu) + " --report " + Q(html));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("bidirectional accuracy"), std::string::npos);
+  EXPECT_NE(r.out.find("aliased"), std::string::npos);  // 5.12 mm targets vs 5 mm lead
+  EXPECT_NE(r.out.find("Comparison with"), std::string::npos);
+  ASSERT_TRUE(std::filesystem::exists(html));
+  const auto page = trueaxis::testing::Slurp(html);
+  EXPECT_NE(page.find("<svg"), std::string::npos);
+  EXPECT_NE(page.find("After: forward and reverse mean deviation"), std::string::npos);
+  EXPECT_NE(page.find("decomposition"), std::string::npos);
+  EXPECT_EQ(page.find("<script"), std::string::npos);
+  std::filesystem::remove(html);
+
+  const auto j = nlohmann::json::parse(
+      RunCli("analyze " + Q(kFatSat) + " --json --lead-mm 5 --compare " + Q(kMcu)).out);
+  ASSERT_TRUE(j.contains("decomposition"));
+  EXPECT_FALSE(j["decomposition"]["periodic_fitted"].get<bool>());
+  ASSERT_TRUE(j.contains("compare"));
+  EXPECT_NEAR(j["compare"]["change_um"]["A_um"].get<double>(),
+              j["compare"]["after"]["A_um"].get<double>() - j["A_um"].get<double>(), 1e-9);
+}
+
+TEST(AnalyzeCli, LeadFromMetadataAndBadLead) {
+  std::string csv = "# axis: X\n# lead_mm: 10\n" + std::string(kGoodHeader);
+  for (int run = 1; run <= 3; ++run)
+    for (int t = 0; t <= 40; t += 4)
+      csv += std::to_string(run) + ",+," + std::to_string(t) + "," + std::to_string(0.1 * t + 0.01 * run) + "\n" +
+             std::to_string(run) + ",-," + std::to_string(t) + "," + std::to_string(0.1 * t + 1 - 0.01 * run) + "\n";
+  const auto f = WriteTemp("lead_meta.csv", csv);
+  const auto j = nlohmann::json::parse(RunCli("analyze " + Q(f) + " --json").out);
+  ASSERT_TRUE(j.contains("decomposition"));
+  EXPECT_EQ(j["decomposition"]["lead_mm"], 10.0);
+  EXPECT_TRUE(j["decomposition"]["harmonics"][0]["resolved"].get<bool>());  // 4 mm gaps < 5 mm
+  const auto bad = RunCli("analyze " + Q(f) + " --lead-mm -3");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("lead_mm"), std::string::npos) << bad.err;
+  std::string bad_csv = csv;
+  bad_csv.replace(bad_csv.find("lead_mm: 10"), 11, "lead_mm: ten");
+  const auto f2 = WriteTemp("lead_meta_bad.csv", bad_csv);
+  const auto bad2 = RunCli("analyze " + Q(f2));
+  EXPECT_EQ(bad2.exit_code, 2);
+  EXPECT_NE(bad2.err.find("lead_mm"), std::string::npos) << bad2.err;
+  std::filesystem::remove(f);
+  std::filesystem::remove(f2);
+}
+
+struct BadInput {
+  const char* name;
+  std::string content;
+  int line;            // expected line in the message (0: no line expected)
+  const char* field;   // expected field in the message
+};
+
+class AnalyzeBadInput : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(AnalyzeBadInput, ExitsTwoNamingFileLineField) {
+  const auto& p = GetParam();
+  const auto f = WriteTemp(std::string("bad_") + p.name, p.content);
+  const auto r = RunCli("analyze " + Q(f));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find(f), std::string::npos) << r.err;
+  if (p.line > 0) EXPECT_NE(r.err.find(f + ":" + std::to_string(p.line) + ":"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(p.field), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  std::filesystem::remove(f);
+}
+
+namespace {
+std::string TwoRuns() {
+  return "1,+,0,1\n1,-,0,2\n1,+,10,1\n1,-,10,2\n2,+,0,1.1\n2,-,0,2.1\n2,+,10,1.1\n2,-,10,2.1\n";
+}
+}  // namespace
+
+INSTANTIATE_TEST_SUITE_P(
+    Issue2, AnalyzeBadInput,
+    ::testing::Values(
+        BadInput{"missing_column.csv", "run,direction,target_mm\n1,+,0\n", 1, "deviation_um"},
+        BadInput{"non_numeric.csv", std::string(kGoodHeader) + "1,+,0,abc\n", 2, "deviation_um"},
+        BadInput{"unknown_direction.csv", std::string(kGoodHeader) + "1,up-ish,0,1\n", 2, "direction"},
+        BadInput{"duplicate.csv", std::string(kGoodHeader) + TwoRuns() + "2,+,10,5\n", 10, "target_mm"},
+        BadInput{"one_direction.csv", std::string(kGoodHeader) + TwoRuns() + "1,+,20,1\n2,+,20,1\n", 10, "direction"},
+        BadInput{"one_run.csv", std::string(kGoodHeader) + "1,+,0,1\n1,-,0,2\n", 2, "run"},
+        BadInput{"empty.csv", "", 0, "header"},
+        BadInput{"comments_only.csv", "# axis: X\n", 0, "header"},
+        BadInput{"bad_ecmc_value.dat", "UNIT=mm\nTGT_DATA[1]=0\nREF_DATA_FWD[1,1]=0.x1\n", 3, "REF_DATA_FWD[1,1]"},
+        BadInput{"bad_ecmc_unit.dat", "UNIT=furlong\nTGT_DATA[1]=0\n", 1, "UNIT"},
+        BadInput{"ecmc_missing_target.dat", "TGT_DATA[1]=0\nREF_DATA_FWD[1,1]=0\nREF_DATA_BWD[2,1]=0\n", 3,
+                 "REF_DATA_BWD[2,1]"},
+        BadInput{"ecmc_one_cycle.dat", "TGT_DATA[1]=0\nREF_DATA_FWD[1,1]=0\nREF_DATA_BWD[1,1]=0\n", 2, "run"},
+        BadInput{"ecmc_empty.dat", "", 0, "TGT_DATA"}),
+    [](const auto& info) {
+      std::string n = info.param.name;
+      for (auto& c : n)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      return n;
+    });
+
+TEST(AnalyzeCli, MissingFileIsBadInput) {
+  const auto r = RunCli("analyze /nonexistent/trueaxis.csv");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("/nonexistent/trueaxis.csv"), std::string::npos) << r.err;
+}
