@@ -41,6 +41,15 @@ ModbusConnection::~ModbusConnection() {
   }
 }
 
+// Formats the message only when it differs from the last one, so a fault that
+// repeats every cycle (a module that stays down) does not allocate every cycle.
+void ModbusConnection::NoteError(const char* what, int err) {
+  if (what == last_what_ && err == last_errno_ && !last_error_.empty()) return;
+  last_what_ = what;
+  last_errno_ = err;
+  last_error_ = fmt::format("{}:{}: {}: {}", endpoint_.host, endpoint_.port, what, modbus_strerror(err));
+}
+
 void ModbusConnection::Close() {
   if (ctx_ && connected_) modbus_close(ctx_);
   connected_ = false;
@@ -49,10 +58,7 @@ void ModbusConnection::Close() {
 void ModbusConnection::Fault(const char* what) {
   const int err = errno;
   ++faults_;
-  if (connected_ || last_error_.empty() || what) {
-    // Formatting allocates; only on the (rare) fault path.
-    last_error_ = fmt::format("{}:{}: {}: {}", endpoint_.host, endpoint_.port, what ? what : "fault", modbus_strerror(err));
-  }
+  NoteError(what ? what : "fault", err);
   Close();
   next_attempt_ = std::chrono::steady_clock::now() +
                   std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(endpoint_.reconnect_interval_s));
@@ -81,7 +87,7 @@ bool ModbusConnection::Check(int rc, int expected, const char* what) {
     // The device answered with a MODBUS exception: the link itself is fine,
     // so keep the connection; the request failed all the same.
     ++faults_;
-    last_error_ = fmt::format("{}:{}: {}: {}", endpoint_.host, endpoint_.port, what, modbus_strerror(err));
+    NoteError(what, err);
     return false;
   }
   Fault(what);

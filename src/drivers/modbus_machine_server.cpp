@@ -277,10 +277,14 @@ struct ModbusMachineServer::Impl {
     std::lock_guard<std::mutex> lock(mu);
     ++stats.requests;
     const int fc = pdu[0];
+    const bool supported = (fc >= 1 && fc <= 6) || fc == 15 || fc == 16;
     const int min_pdu = (fc >= 1 && fc <= 6) ? 5 : (fc == 15 || fc == 16) ? 6 : 1;
-    if (pdu_len < min_pdu) {  // libmodbus would read past the frame
+    // Refuse here what libmodbus would refuse itself: its own refusal of an
+    // unknown function sleeps for the response timeout and flushes the
+    // socket, on the network thread. A short PDU it would read past.
+    if (!supported || pdu_len < min_pdu) {
       ++stats.exceptions;
-      modbus_reply_exception(ctx, req, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+      modbus_reply_exception(ctx, req, supported ? MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE : MODBUS_EXCEPTION_ILLEGAL_FUNCTION);
       return;
     }
     int module = -1;
@@ -612,6 +616,10 @@ bool ModbusMachineServer::Start(std::string* error) {
   if (s.ctx) modbus_free(s.ctx);
   s.ctx = modbus_new_tcp(options_.bind_address.c_str(), options_.port);
   if (!s.ctx) return fail(fmt::format("modbus_new_tcp: {}", modbus_strerror(errno)));
+  // libmodbus sleeps for the response timeout before answering some bad
+  // requests (e.g. a quantity of 0) and then flushes the socket; on a server
+  // that sleep would stall every client, so keep it at 1 µs.
+  modbus_set_response_timeout(s.ctx, 0, 1);
   s.listen_fd = modbus_tcp_listen(s.ctx, 16);
   if (s.listen_fd < 0)
     return fail(fmt::format("cannot listen on {}:{}: {}", options_.bind_address, options_.port, modbus_strerror(errno)));

@@ -79,6 +79,19 @@ TEST(NoAllocation, ClientsReadAndWriteWithoutAllocatingOnceConnected) {
   g_counting = false;
   EXPECT_EQ(ok, 600);
   EXPECT_EQ(g_allocations, 0);
+
+  // A module that stays down fails every cycle; after the first failure
+  // (which formats the message) the repeats allocate nothing either.
+  temps.SetOk(false);
+  ASSERT_TRUE(testing::WaitFor([&] { return !source.Read(t); }));
+  g_allocations = 0;
+  g_counting = true;
+  int failed = 0;
+  for (int i = 0; i < 50; ++i) failed += !source.Read(t);
+  g_counting = false;
+  EXPECT_EQ(failed, 50);
+  EXPECT_EQ(g_allocations, 0);
+  EXPECT_NE(source.last_error().find("Target device failed to respond"), std::string::npos) << source.last_error();
 }
 
 }  // namespace

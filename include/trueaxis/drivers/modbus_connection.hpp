@@ -52,11 +52,14 @@ class ModbusConnection {
 
  private:
   bool Check(int rc, int expected, const char* what);
+  void NoteError(const char* what, int err);
   ModbusEndpoint endpoint_;
   _modbus* ctx_ = nullptr;
   bool connected_ = false;
   std::chrono::steady_clock::time_point next_attempt_{};
   std::string last_error_;
+  const char* last_what_ = nullptr;  // static strings only
+  int last_errno_ = 0;
   std::uint64_t faults_ = 0;
   std::uint64_t connects_ = 0;
 };
