@@ -187,11 +187,13 @@ class WorkingDay {
     comp_->PublishModel(std::move(model), model_label);
   }
 
-  void Run(const std::vector<std::string>& axes) {
+  // `model_loaded(unix_s)` is told when the day starts with the model in force.
+  void Run(const std::vector<std::string>& axes, const std::function<void(double)>& model_loaded) {
     const bool fast = o_.fast;  // fast: fewer states measured (the machine time is cheap)
     // The working day starts at 07:00, `day_offset` days after the campaign's first day.
     IdleUntil(o_.day_offset * 86400.0);
     observer_->SetDayStart(vm_.TimeS(), false);
+    if (model_loaded) model_loaded(vm_.UnixTimeS());
     Progress(fmt::format("working day {}: machine cold, compensator running every {:.0f} ms", vm_.IsoTime(), o_.period_s * 1000));
     Step(60);
     MeasureState("cold", axes);
@@ -526,8 +528,9 @@ DemoResult RunDemo(const DemoOptions& o) {
     store::HistoryWriter writer(result.history_path);
     sim::LaserOptions laser = c.laser;
     WorkingDay day(md, o, laser, std::make_shared<const model::CompositeModel>(fit.model), result.model_path, result, &writer);
-    writer.PushModelChange(0, model_sha, std::to_string(fit.model.revision), "demo: fitted from " + result.campaign_dir);
-    day.Run(axes);
+    day.Run(axes, [&](double unix_s) {
+      writer.PushModelChange(unix_s, model_sha, std::to_string(fit.model.revision), "demo: fitted from " + result.campaign_dir);
+    });
     result.machine_time_h = day.MachineTimeS() / 3600.0;
     writer.Close();
   }
