@@ -24,6 +24,8 @@
 #include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/runtime/history_logger.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
+#include "trueaxis/runtime/monitored_temperature_source.hpp"
+#include "trueaxis/signal/calibration.hpp"
 #include "trueaxis/runtime/run_config.hpp"
 #include "trueaxis/sim/machine_description.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
@@ -145,6 +147,25 @@ void Run(const Options& o) {
     bool found = false;
     for (std::size_t i = 0; i < m.link->AxisCount(); ++i) found = found || m.link->AxisName(i) == a.axis;
     if (!found) throw InputError(c.source, 0, "axis.name", fmt::format("the machine has no axis '{}'", a.axis));
+  }
+  // Seed 000's temperature signal processing in front of the compensator (optional).
+  std::unique_ptr<runtime::MonitoredTemperatureSource> monitored;
+  if (c.signal_processing) {
+    std::function<double()> clock;
+    if (m.vm) {
+      const sim::VirtualMachine* vm = m.vm.get();
+      clock = [vm] { return vm->TimeS(); };  // machine time: rates are judged in the machine's seconds
+    } else {
+      const auto t0 = std::chrono::steady_clock::now();
+      clock = [t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    }
+    monitored = std::make_unique<runtime::MonitoredTemperatureSource>(*m.source, signal::MonitorOptions{}, clock);
+    if (!c.calibration_file.empty()) {
+      const auto unknown = monitored->monitor().SetCalibration(signal::ReadCalibrationFile(c.calibration_file));
+      for (const auto& name : unknown)
+        fmt::print(stderr, "warning: calibration for '{}' matches no channel of the machine\n", name);
+    }
+    m.source = monitored.get();
   }
   auto comp = runtime::Compensator::ForHardware(c.compensator, *m.link, *m.source, c.axes);
   comp->PublishModel(LoadModel(c.model_file), c.model_file);  // InputError (exit 2) on a model that does not fit

@@ -238,6 +238,14 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
       c.axes.push_back(a);
     }
   }
+  if (const toml::table* t = r.Table("signal")) {
+    Reader m(*t, source, "signal");
+    m.Bool("enabled", c.signal_processing);
+    if (m.String("calibration", c.calibration_file)) c.calibration_file = Resolve(base, c.calibration_file);
+    m.RejectUnknown();
+    if (!c.calibration_file.empty() && !c.signal_processing)
+      m.Fail("calibration", t->get("calibration"), "needs enabled = true (calibration is applied by the signal processing)");
+  }
   if (const toml::table* t = r.Table("history")) {
     Reader m(*t, source, "history");
     if (m.String("db", c.history_db)) c.history_db = Resolve(base, c.history_db);

@@ -90,6 +90,25 @@ TEST(RunCli, VirtualMachineInProcessLogsCorrectionsToHistoryAndCsv) {
   EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 5);
 }
 
+TEST(RunCli, WithSignalProcessingInFront) {
+  TempDir dir("trueaxis_run_signal");
+  WriteXModel(dir.path / "model.json");
+  std::ofstream(dir.path / "run.toml") << "[machine]\nkind = \"virtual\"\nfile = \"" << kMachine
+                                       << "\"\ntime_scale = 60\n[model]\nfile = \"model.json\"\n"
+                                          "[[axis]]\nname = \"Y\"\nenabled = false\n[[axis]]\nname = \"Z\"\nenabled = false\n"
+                                          "[signal]\nenabled = true\n[history]\ndb = \"h.sqlite\"\nrecord_interval_s = 0.1\n";
+  const std::string cmd = kCli + " run --config " + (dir.path / "run.toml").string() + " --duration-s 1.5 > " +
+                          (dir.path / "out.txt").string() + " 2> " + (dir.path / "err.txt").string();
+  ASSERT_EQ(RunShell(cmd), 0) << Slurp(dir.path / "err.txt");
+  store::HistoryDb db((dir.path / "h.sqlite").string(), store::HistoryDb::Mode::kReadOnly);
+  const auto rows = db.QueryCompensation({}, {"X"});
+  ASSERT_GT(rows.size(), 5u);
+  double max_abs = 0;
+  for (const auto& r : rows) max_abs = std::max(max_abs, std::fabs(r.correction_um));
+  EXPECT_GT(max_abs, 5) << Slurp(dir.path / "err.txt");
+  EXPECT_EQ(Slurp(dir.path / "err.txt").find("sensor_"), std::string::npos) << Slurp(dir.path / "err.txt");
+}
+
 TEST(RunCli, BadConfigAndUnfittingModelAreInputErrors) {
   TempDir dir("trueaxis_run_bad");
   WriteXModel(dir.path / "model.json", "x_screw_middle");  // no such channel on the machine

@@ -14,6 +14,7 @@
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
+#include "trueaxis/runtime/monitored_temperature_source.hpp"
 
 namespace {
 std::atomic<bool> g_counting{false};
@@ -100,6 +101,26 @@ TEST(NoAllocation, ManyCyclesWithFaultsSwapsAndTogglesAllocateNothing) {
   EXPECT_EQ(g_allocations.load(), 0);
   EXPECT_EQ(g_frees.load(), 0);
   EXPECT_NE(comp->LastStatus().model_id, 1u);  // the swap did happen
+}
+
+TEST(NoAllocation, SignalProcessingInFrontOfTheCompensatorAllocatesNothing) {
+  FakeCnc cnc({"X"});
+  FakeTemps raw({"ambient", "nut", "bearing"}, 20.0);
+  double now = 0;
+  MonitoredTemperatureSource temps(raw, signal::MonitorOptions{}, [&] { return now; });
+  auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
+  comp->PublishModel(TestModel(1.0, {"X"}), "a");
+  for (int c = 0; c < 100; ++c) comp->RunCycle(cnc, temps, now += 0.01);
+  g_allocations = 0;
+  g_counting = true;
+  for (int c = 0; c < 50000; ++c) {
+    raw.values[1].temp_c = 20 + (c % 5000) * 1e-3 + ((c % 997) == 0 ? 9 : 0);
+    raw.values[2].hardware_fault = (c % 10000) > 9000;
+    raw.fail = (c % 7000) == 1;
+    comp->RunCycle(cnc, temps, now += 0.01);
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
 }
 
 TEST(NoAllocation, RealTimeLoopThreadAllocatesNothingOnceRunning) {

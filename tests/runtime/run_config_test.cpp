@@ -53,6 +53,10 @@ reference_position_mm = 10
 name = "Z"
 enabled = false
 
+[signal]
+enabled = true
+calibration = "cal.json"
+
 [history]
 db = "out/history.sqlite"
 record_interval_s = 0.5
@@ -86,6 +90,8 @@ TEST(RunConfig, ParsesEveryField) {
   EXPECT_FALSE(c.axes[1].enabled);
   EXPECT_TRUE(std::isnan(c.axes[1].reference_position_mm));
   EXPECT_EQ(c.history_db, "/etc/trueaxis/run/out/history.sqlite");
+  EXPECT_TRUE(c.signal_processing);
+  EXPECT_EQ(c.calibration_file, "/etc/trueaxis/run/cal.json");
 }
 
 TEST(RunConfig, MinimalModbusConfigGetsDefaults) {
@@ -123,6 +129,7 @@ TEST(RunConfig, BadInputNamesLineAndField) {
   ExpectError("[machine]\nkind = \"modbus\"\n", 1, "model", "missing");
   ExpectError("[machine]\nkind = \"modbus\"\n[model]\nfile = \"m.json\"\nextra = 1\n", 5, "model.extra", "unknown key");
   ExpectError("[machine\nkind = 1\n", 1, "", "");
+  ExpectError(head + "[signal]\ncalibration = \"c.json\"\n", 6, "signal.calibration", "enabled = true");
 }
 
 }  // namespace

@@ -48,6 +48,10 @@ struct RunConfig {
   double duration_s = 0;        // 0: until SIGINT/SIGTERM
   CompensatorOptions compensator;
   std::vector<AxisInterface> axes;
+  // Seed 000's temperature signal processing in front of the compensator
+  // (MonitoredTemperatureSource: calibration, filtering, fault status).
+  bool signal_processing = false;
+  std::string calibration_file;  // signal::CalibrationSet JSON (trueaxis calibrate), "" = none
   std::string history_db;       // SQLite history store ("" = none)
   std::string log_csv;          // CSV log of decimated cycles ("" = none)
   double record_interval_s = 1.0;  // how often a cycle is logged (alarm changes always are)
