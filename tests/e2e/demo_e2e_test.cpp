@@ -4,6 +4,7 @@
 // day runs on another run seed and another date than the calibration, so
 // every state below is held out from the fit.
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -30,13 +31,16 @@ class DemoE2E : public ::testing::Test {
   static void SetUpTestSuite() {
     DemoOptions o;
     o.machine_file = std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850.toml";
-    o.out_dir = (fs::temp_directory_path() / "trueaxis_demo_e2e").string();
+    // per process: ctest runs each case in its own process, possibly in parallel
+    o.out_dir = (fs::temp_directory_path() / ("trueaxis_demo_e2e_" + std::to_string(getpid()))).string();
     fs::remove_all(o.out_dir);
     o.fast = true;
     o.seed = 3;
     result_ = new DemoResult(RunDemo(o));
   }
   static void TearDownTestSuite() {
+    std::error_code ec;
+    if (result_) fs::remove_all(result_->out_dir, ec);
     delete result_;
     result_ = nullptr;
   }
@@ -93,7 +97,7 @@ TEST_F(DemoE2E, WritesReportModelMeasurementsAndHistory) {
 }
 
 TEST(DemoCli, FastDemoExitsZeroAndNamesTheReport) {
-  const fs::path out = fs::temp_directory_path() / "trueaxis_demo_cli";
+  const fs::path out = fs::temp_directory_path() / ("trueaxis_demo_cli_" + std::to_string(getpid()));
   fs::remove_all(out);
   const std::string cmd = std::string(TRUEAXIS_CLI_PATH) + " demo --fast --quiet --seed 5 --machine " + TRUEAXIS_SOURCE_DIR +
                           "/examples/machines/vmc850.toml --out " + out.string() + " > " + (out.string() + ".txt");
@@ -102,6 +106,8 @@ TEST(DemoCli, FastDemoExitsZeroAndNamesTheReport) {
   text << std::ifstream(out.string() + ".txt").rdbuf();
   EXPECT_NE(text.str().find("report: " + (out / "report.html").string()), std::string::npos);
   EXPECT_TRUE(fs::exists(out / "report.html"));
+  fs::remove_all(out);
+  fs::remove(out.string() + ".txt");
 }
 
 TEST(DemoCli, BadMachineFileIsAnInputError) {
