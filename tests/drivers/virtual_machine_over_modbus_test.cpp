@@ -91,6 +91,7 @@ TEST(VirtualMachineOverModbus, CompensationWrittenOverTheWireMovesTheTable) {
 
   ModbusCncLinkOptions lo;
   lo.endpoint.port = so.port;
+  lo.endpoint.response_timeout_s = 1.0;  // shared, loaded build machine
   lo.axis_names = {"X", "Y"};
   ModbusCncLink link(lo);
   std::vector<hw::AxisState> axes(2);
@@ -118,6 +119,7 @@ TEST(VirtualMachineOverModbus, CompensationWrittenOverTheWireMovesTheTable) {
   // The machine's sensors arrive as ADAM-6015 channels.
   ModbusTemperatureSourceOptions to;
   to.endpoint.port = so.port;
+  to.endpoint.response_timeout_s = 1.0;
   to.channel_names = channel_names;
   to.unit_ids.clear();
   for (std::size_t k = 0; k < server->RtdModuleCount(); ++k) to.unit_ids.push_back(so.first_rtd_unit_id + static_cast<int>(k));
