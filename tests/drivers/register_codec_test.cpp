@@ -71,6 +71,11 @@ TEST(AdamScaling, TypeCodesOfTheAdam6015RtdRanges) {
   ASSERT_NE(pt1000, nullptr);
   EXPECT_EQ(pt1000->min_c, -40.0);
   EXPECT_EQ(pt1000->max_c, 160.0);
+  const auto* pt100_fw5 = FindRtdRange(0x03A4);  // the same range in the 16-bit codes of firmware >= 5
+  ASSERT_NE(pt100_fw5, nullptr);
+  EXPECT_EQ(pt100_fw5->min_c, -50.0);
+  EXPECT_EQ(pt100_fw5->max_c, 150.0);
+  EXPECT_EQ(FindRtdRange(0x03A2)->min_c, -200.0);
   EXPECT_EQ(FindRtdRange(0x1F), nullptr);
   EXPECT_EQ(FindRtdRange(0x2E), nullptr);
   EXPECT_EQ(FindRtdRange(0x0000), nullptr);

@@ -8,15 +8,44 @@
 #include <cmath>
 #include <mutex>
 
-#include "../sim/sim_test_util.hpp"
 #include "fake_machine.hpp"
 #include "trueaxis/drivers/modbus_cnc_link.hpp"
 #include "trueaxis/drivers/modbus_machine_server.hpp"
 #include "trueaxis/drivers/modbus_temperature_source.hpp"
+#include "trueaxis/sim/machine_description.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
 
 namespace trueaxis::drivers {
 namespace {
+
+// A quiet two-axis machine (docs/machine-file.md): no weather, so an idle
+// second changes nothing but what the test writes.
+const char* kMachineToml = R"(
+[machine]
+name = "modbus-test"
+serial_seed = 7
+start = 2026-03-02T07:00:00
+
+[ambient]
+mean_c = 20.0
+seasonal_amplitude_c = 0
+daily_amplitude_c = 0
+weather_amplitude_c = 0
+
+[[axis]]
+name = "X"
+travel_mm = 600
+lead_mm = 10
+fixed_end = "min"
+backlash_um = 6
+
+[[axis]]
+name = "Y"
+travel_mm = 400
+lead_mm = 12
+fixed_end = "max"
+backlash_um = 3
+)";
 
 struct Snapshot {
   double actual_mm[2] = {0, 0};
@@ -26,7 +55,7 @@ struct Snapshot {
 };
 
 TEST(VirtualMachineOverModbus, CompensationWrittenOverTheWireMovesTheTable) {
-  sim::VirtualMachine vm(sim::testing::TestMachine(), 11);
+  sim::VirtualMachine vm(sim::ParseMachineToml(kMachineToml, "modbus-test.toml"), 11);
   std::vector<std::string> channel_names;
   for (std::size_t c = 0; c < vm.ChannelCount(); ++c) channel_names.push_back(vm.ChannelName(c));
   ASSERT_GE(channel_names.size(), 4u);
@@ -62,6 +91,7 @@ TEST(VirtualMachineOverModbus, CompensationWrittenOverTheWireMovesTheTable) {
 
   ModbusCncLinkOptions lo;
   lo.endpoint.port = so.port;
+  lo.endpoint.response_timeout_s = 1.0;  // shared, loaded build machine
   lo.axis_names = {"X", "Y"};
   ModbusCncLink link(lo);
   std::vector<hw::AxisState> axes(2);
@@ -89,6 +119,7 @@ TEST(VirtualMachineOverModbus, CompensationWrittenOverTheWireMovesTheTable) {
   // The machine's sensors arrive as ADAM-6015 channels.
   ModbusTemperatureSourceOptions to;
   to.endpoint.port = so.port;
+  to.endpoint.response_timeout_s = 1.0;
   to.channel_names = channel_names;
   to.unit_ids.clear();
   for (std::size_t k = 0; k < server->RtdModuleCount(); ++k) to.unit_ids.push_back(so.first_rtd_unit_id + static_cast<int>(k));

@@ -42,8 +42,10 @@ struct RtdRange {
   double max_c;
 };
 
-// Type codes 0x20..0x2D (IEC: α = 0.00385, JIS: α = 0.00391).
-inline constexpr std::array<RtdRange, 14> kRtdRanges = {{
+// Type codes 0x20..0x2D (IEC: α = 0.00385, JIS: α = 0.00391) of the original
+// firmware (shared with the ADAM-4015), and the 16-bit codes of the ADAM-6000
+// manual edition 9 (firmware >= 5) for the ranges they could be checked for.
+inline constexpr std::array<RtdRange, 20> kRtdRanges = {{
     {0x20, "Pt100 (IEC) -50~150 C", -50.0, 150.0},
     {0x21, "Pt100 (IEC) 0~100 C", 0.0, 100.0},
     {0x22, "Pt100 (IEC) 0~200 C", 0.0, 200.0},
@@ -58,6 +60,12 @@ inline constexpr std::array<RtdRange, 14> kRtdRanges = {{
     {0x2B, "BALCO500 -30~120 C", -30.0, 120.0},
     {0x2C, "Ni604 -80~100 C", -80.0, 100.0},
     {0x2D, "Ni604 0~100 C", 0.0, 100.0},
+    {0x03A4, "Pt100 (385) -50~150 C", -50.0, 150.0},
+    {0x03A5, "Pt100 (385) 0~100 C", 0.0, 100.0},
+    {0x03A6, "Pt100 (385) 0~200 C", 0.0, 200.0},
+    {0x03A7, "Pt100 (385) 0~400 C", 0.0, 400.0},
+    {0x03A2, "Pt100 (385) -200~200 C", -200.0, 200.0},
+    {0x03C4, "Pt100 (392) -50~150 C", -50.0, 150.0},
 }};
 inline constexpr std::uint16_t kDefaultRangeCode = 0x20;  // Pt100 -50~150 °C: 0.0031 °C per count
 
