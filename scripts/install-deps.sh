@@ -9,7 +9,7 @@ PACKAGES=(
   libfmt-dev libspdlog-dev libcpp-httplib-dev libsodium-dev libsqlite3-dev
   libxlsxwriter-dev libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
-  mbpoll python3-pymodbus sqlite3 curl
+  mbpoll python3-pymodbus python3-serial-asyncio sqlite3 curl
 )
 
 missing=()

@@ -1,0 +1,278 @@
+// trueaxis run --config FILE.toml [--duration-s S] [--quiet]
+// Runs the real-time compensator against the configured machine — the
+// virtual machine in process, or a CNC terminal and RTD modules over MODBUS
+// TCP — until SIGINT/SIGTERM or the duration, logging to the history
+// database and/or a CSV file (docs/runtime.md).
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "command.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/drivers/modbus_cnc_link.hpp"
+#include "trueaxis/drivers/modbus_temperature_source.hpp"
+#include "trueaxis/model/model_json.hpp"
+#include "trueaxis/model/sha256.hpp"
+#include "trueaxis/runtime/compensator.hpp"
+#include "trueaxis/runtime/cycle_recorder.hpp"
+#include "trueaxis/runtime/history_logger.hpp"
+#include "trueaxis/runtime/loop_runner.hpp"
+#include "trueaxis/runtime/monitored_temperature_source.hpp"
+#include "trueaxis/signal/calibration.hpp"
+#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/sim/machine_description.hpp"
+#include "trueaxis/sim/virtual_machine.hpp"
+#include "trueaxis/store/history_writer.hpp"
+
+namespace {
+
+using namespace trueaxis;
+namespace fs = std::filesystem;
+
+std::atomic<bool> g_stop{false};
+extern "C" void RunCommandOnStopSignal(int) { g_stop.store(true); }
+
+struct Options {
+  std::string config;
+  double duration_s = -1;  // <0: from the config
+  double status_interval_s = 5;
+  bool quiet = false;
+};
+
+// The hardware behind the loop; owns whichever implementation the config names.
+struct Machine {
+  std::unique_ptr<sim::VirtualMachine> vm;
+  std::unique_ptr<drivers::ModbusCncLink> cnc;
+  std::unique_ptr<drivers::ModbusTemperatureSource> temps;
+  hw::CncLink* link = nullptr;
+  hw::TemperatureSource* source = nullptr;
+  std::function<void(double)> advance;  // in-process machine: moved on by the loop thread
+  std::string description;
+};
+
+Machine OpenMachine(const runtime::RunConfig& c) {
+  Machine m;
+  if (c.machine == runtime::MachineKind::kVirtual) {
+    const auto& v = c.virtual_machine;
+    m.vm = std::make_unique<sim::VirtualMachine>(sim::ReadMachineFile(v.machine_file), v.seed);
+    sim::VirtualMachine* vm = m.vm.get();
+    if (v.reciprocate) {
+      for (std::size_t i = 0; i < vm->AxisCount(); ++i) {
+        const double travel = vm->description().axes[i].travel_mm;
+        vm->CommandReciprocate(i, 0.1 * travel, 0.9 * travel, v.feed_mm_min, v.duty);
+      }
+    }
+    vm->SetCoolant(v.coolant);
+    const double scale = v.time_scale;
+    m.advance = [vm, scale](double dt) { vm->Advance(dt * scale); };
+    m.link = vm;
+    m.source = vm;
+    m.description = fmt::format("virtual machine {} ({}, seed {}, time ×{})", vm->description().name, v.machine_file,
+                                v.seed, v.time_scale);
+    return m;
+  }
+  const auto& b = c.modbus;
+  if (b.channel_names.empty())
+    throw InputError(c.source, 0, "machine.channels", "kind = \"modbus\" needs the RTD channel names in module order");
+  drivers::ModbusEndpoint ep;
+  ep.host = b.host;
+  ep.port = b.port;
+  ep.response_timeout_s = b.response_timeout_s;
+  drivers::ModbusCncLinkOptions co;
+  co.endpoint = ep;
+  co.unit_id = b.cnc_unit_id;
+  co.axis_names = b.axis_names;
+  drivers::ModbusTemperatureSourceOptions to;
+  to.endpoint = ep;
+  to.channel_names = b.channel_names;
+  to.unit_ids.clear();
+  for (std::size_t k = 0; k * 7 < b.channel_names.size(); ++k) to.unit_ids.push_back(b.first_rtd_unit_id + static_cast<int>(k));
+  std::string why;
+  if (!co.IsValid(&why)) throw InputError(c.source, 0, "machine", why);
+  if (!to.IsValid(&why)) throw InputError(c.source, 0, "machine", why);
+  m.cnc = std::make_unique<drivers::ModbusCncLink>(co);
+  m.temps = std::make_unique<drivers::ModbusTemperatureSource>(to);
+  if (!m.cnc->Connect())
+    fmt::print(stderr, "warning: CNC terminal {}:{} not reachable yet ({}); the loop keeps trying\n", b.host, b.port,
+               m.cnc->last_error());
+  if (!m.temps->Connect())
+    fmt::print(stderr, "warning: RTD modules at {}:{} not reachable yet ({}); the loop keeps trying\n", b.host, b.port,
+               m.temps->last_error());
+  m.link = m.cnc.get();
+  m.source = m.temps.get();
+  m.description = fmt::format("MODBUS TCP {}:{} (PMC unit {}, RTD units from {})", b.host, b.port, b.cnc_unit_id,
+                              b.first_rtd_unit_id);
+  return m;
+}
+
+// A decimated CSV log of the loop: time, alarms, per axis position/correction, per channel value.
+class CsvLog {
+ public:
+  CsvLog(const std::string& path, const runtime::Compensator& comp) : out_(path) {
+    if (!out_) throw InputError(path, 0, "history.csv", "cannot open for writing");
+    out_ << "time_s,alarms";
+    for (const auto& a : comp.axes()) out_ << "," << a.axis << "_position_mm," << a.axis << "_correction_um";
+    for (const auto& ch : comp.channel_names()) out_ << ",t_" << ch << "_c";
+    out_ << "\n";
+  }
+  void Write(const runtime::CycleRecord& r) {
+    out_ << fmt::format("{:.3f},{}", r.time_s, runtime::AlarmNames(r.alarms));
+    for (std::size_t i = 0; i < r.axis_count; ++i)
+      out_ << fmt::format(",{:.4f},{:.3f}", r.axes[i].cnc_position_mm, r.axes[i].output_um);
+    for (std::size_t i = 0; i < r.channel_count; ++i) out_ << fmt::format(",{:.3f}", r.temp_c[i]);
+    out_ << "\n";
+  }
+  void Flush() { out_.flush(); }
+
+ private:
+  std::ofstream out_;
+};
+
+std::shared_ptr<const model::CompositeModel> LoadModel(const std::string& path) {
+  return std::make_shared<const model::CompositeModel>(model::ReadModelFile(path));
+}
+
+void Run(const Options& o) {
+  runtime::RunConfig c = runtime::ReadRunConfig(o.config);
+  if (o.duration_s >= 0) c.duration_s = o.duration_s;
+  Machine m = OpenMachine(c);
+  for (const auto& a : c.axes) {
+    bool found = false;
+    for (std::size_t i = 0; i < m.link->AxisCount(); ++i) found = found || m.link->AxisName(i) == a.axis;
+    if (!found) throw InputError(c.source, 0, "axis.name", fmt::format("the machine has no axis '{}'", a.axis));
+  }
+  // Seed 000's temperature signal processing in front of the compensator (optional).
+  std::unique_ptr<runtime::MonitoredTemperatureSource> monitored;
+  if (c.signal_processing) {
+    std::function<double()> clock;
+    if (m.vm) {
+      const sim::VirtualMachine* vm = m.vm.get();
+      clock = [vm] { return vm->TimeS(); };  // machine time: rates are judged in the machine's seconds
+    } else {
+      const auto t0 = std::chrono::steady_clock::now();
+      clock = [t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    }
+    monitored = std::make_unique<runtime::MonitoredTemperatureSource>(*m.source, signal::MonitorOptions{}, clock);
+    if (!c.calibration_file.empty()) {
+      const auto unknown = monitored->monitor().SetCalibration(signal::ReadCalibrationFile(c.calibration_file));
+      for (const auto& name : unknown)
+        fmt::print(stderr, "warning: calibration for '{}' matches no channel of the machine\n", name);
+    }
+    m.source = monitored.get();
+  }
+  auto comp = runtime::Compensator::ForHardware(c.compensator, *m.link, *m.source, c.axes);
+  comp->PublishModel(LoadModel(c.model_file), c.model_file);  // InputError (exit 2) on a model that does not fit
+  std::error_code ec;
+  auto model_mtime = fs::last_write_time(c.model_file, ec);
+
+  const auto every = static_cast<std::uint64_t>(std::max(1.0, std::round(c.record_interval_s / c.period_s)));
+  runtime::CycleRecorder recorder(8192, every);
+  runtime::LoopRunner runner(*comp, *m.link, *m.source, runtime::LoopOptions{c.period_s}, &recorder);
+  if (m.advance) runner.SetPlantAdvance(m.advance);
+
+  const double unix0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  std::unique_ptr<store::HistoryWriter> writer;
+  std::unique_ptr<runtime::HistoryLogger> history;
+  std::vector<std::string> axis_names;
+  for (const auto& a : comp->axes()) axis_names.push_back(a.axis);
+  if (!c.history_db.empty()) {
+    if (fs::path(c.history_db).has_parent_path()) fs::create_directories(fs::path(c.history_db).parent_path());
+    writer = std::make_unique<store::HistoryWriter>(c.history_db);
+    history = std::make_unique<runtime::HistoryLogger>(*writer, axis_names, comp->channel_names(), unix0);
+    history->LogModelChange(0, model::Sha256OfFile(c.model_file), "loaded", c.model_file);
+  }
+  std::unique_ptr<CsvLog> csv;
+  if (!c.log_csv.empty()) {
+    if (fs::path(c.log_csv).has_parent_path()) fs::create_directories(fs::path(c.log_csv).parent_path());
+    csv = std::make_unique<CsvLog>(c.log_csv, *comp);
+  }
+
+  g_stop = false;
+  std::signal(SIGINT, RunCommandOnStopSignal);
+  std::signal(SIGTERM, RunCommandOnStopSignal);
+  if (!o.quiet)
+    fmt::print(stderr, "trueaxis run: {} | model {} | cycle {} ms | {}\n", m.description, c.model_file, c.period_s * 1000,
+               c.duration_s > 0 ? fmt::format("for {} s", c.duration_s) : std::string("until SIGINT/SIGTERM"));
+  runner.Start();
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  auto next_status = t0 + std::chrono::duration<double>(o.status_interval_s);
+  auto next_housekeeping = t0;
+  runtime::CycleRecord rec;
+  std::uint32_t last_alarms = 0;
+  bool have_record = false;
+  auto drain = [&] {
+    while (recorder.Pop(rec)) {
+      have_record = true;
+      if (history) history->Log(rec);
+      if (csv) csv->Write(rec);
+      if (rec.alarms != last_alarms && !o.quiet)
+        fmt::print(stderr, "[{:.2f} s] alarms: {}\n", rec.time_s, rec.alarms ? runtime::AlarmNames(rec.alarms) : "cleared");
+      last_alarms = rec.alarms;
+    }
+  };
+  while (!g_stop.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    drain();
+    const auto now = Clock::now();
+    const double elapsed = std::chrono::duration<double>(now - t0).count();
+    if (now >= next_housekeeping) {
+      next_housekeeping = now + std::chrono::seconds(1);
+      comp->CollectRetired();
+      if (c.model_reload) {
+        auto t = fs::last_write_time(c.model_file, ec);
+        if (!ec && t != model_mtime) {
+          model_mtime = t;
+          try {
+            comp->PublishModel(LoadModel(c.model_file), c.model_file);
+            if (history) history->LogModelChange(elapsed, model::Sha256OfFile(c.model_file), "reloaded", c.model_file);
+            if (!o.quiet) fmt::print(stderr, "[{:.2f} s] model reloaded from {} (ramping to it)\n", elapsed, c.model_file);
+          } catch (const std::exception& e) {
+            fmt::print(stderr, "[{:.2f} s] model NOT reloaded, keeping the running one: {}\n", elapsed, e.what());
+          }
+        }
+      }
+    }
+    if (!o.quiet && now >= next_status && have_record) {
+      next_status = now + std::chrono::duration<double>(o.status_interval_s);
+      std::string line = fmt::format("[{:.1f} s] {} |", elapsed, runner.Stats().BriefReport());
+      for (std::size_t i = 0; i < rec.axis_count; ++i)
+        line += fmt::format(" {} {:.3f} mm → {:+.1f} µm", axis_names[i], rec.axes[i].cnc_position_mm, rec.axes[i].output_um);
+      fmt::print(stderr, "{}\n", line);
+    }
+    if (c.duration_s > 0 && elapsed >= c.duration_s) break;
+  }
+  runner.Stop();
+  drain();
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  if (csv) csv->Flush();
+  const auto stats = runner.Stats();
+  fmt::print("{}\n", stats.BriefReport());
+  if (recorder.Dropped()) fmt::print("log records dropped (consumer too slow): {}\n", recorder.Dropped());
+  if (writer) {
+    writer->Close();
+    fmt::print("history: {} ({})\n", c.history_db, writer->Stats().BriefReport());
+  }
+}
+
+void Setup(CLI::App& app) {
+  auto opts = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("run", "Run the real-time compensator against a configured machine (virtual or MODBUS TCP)");
+  cmd->add_option("--config", opts->config, "Run configuration (TOML, docs/runtime.md)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--duration-s", opts->duration_s, "Stop after this many seconds (default: the config's, else until SIGINT/SIGTERM)");
+  cmd->add_option("--status-s", opts->status_interval_s, "Status line interval on stderr")->capture_default_str();
+  cmd->add_flag("--quiet", opts->quiet, "No progress on stderr");
+  cmd->callback([opts] { Run(*opts); });
+}
+
+trueaxis::cli::CommandRegistrar reg("run", Setup);
+
+}  // namespace

@@ -1,0 +1,67 @@
+// Cost of one compensation cycle (read temperatures + CNC through in-process
+// fakes, condition, predict per axis, shape, write), reported per axis:
+//   ./build/bench/bench_runtime --benchmark_min_time=0.5
+// The counter per_axis = CPU time of one cycle / axes (shown with an SI prefix, e.g. 60n = 60 ns).
+#include <cmath>
+
+#include <benchmark/benchmark.h>
+
+#include "../tests/runtime/fakes.hpp"
+#include "trueaxis/runtime/compensator.hpp"
+
+namespace {
+using namespace trueaxis;
+using namespace trueaxis::runtime;
+
+// range(0): axes; range(1): 0 = degree-2 polynomial Er(x), 1 = 35-point table (seed 002).
+void BM_CompensationCycle(benchmark::State& state) {
+  const int n_axes = static_cast<int>(state.range(0));
+  const bool table = state.range(1) != 0;
+  std::vector<std::string> names;
+  for (int i = 0; i < n_axes; ++i) names.push_back(std::string(1, static_cast<char>('A' + i)));
+  testing::FakeCnc cnc(names);
+  testing::FakeTemps temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0);
+  auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
+  auto model = std::make_shared<model::CompositeModel>(*testing::TestModel(1.0, names));
+  if (table) {
+    for (auto& a : model->axes)
+      for (auto& d : a.directions) {
+        d.geometric.kind = model::GeometricError::Kind::kTable;
+        d.geometric.table_position_mm.clear();
+        d.geometric.table_error_um.clear();
+        for (int i = 0; i < 35; ++i) {
+          d.geometric.table_position_mm.push_back(5 + 24.5 * i);
+          d.geometric.table_error_um.push_back(3 * std::sin(i * 0.7));
+        }
+      }
+  }
+  comp->PublishModel(model, "bench");
+  double t = 0, x = 0;
+  for (auto _ : state) {
+    x = x > 500 ? 0 : x + 0.37;
+    for (int i = 0; i < n_axes; ++i) cnc.axes[static_cast<std::size_t>(i)] = {x + i, (i % 2) ? -1 : 1, true};
+    temps.values[1].temp_c = 25 + 1e-4 * x;
+    const auto& s = comp->RunCycle(cnc, temps, t += 0.01);
+    benchmark::DoNotOptimize(s.axes[0].output_um);
+  }
+  state.counters["per_axis"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * n_axes, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_CompensationCycle)->ArgsProduct({{1, 3, 5, 8}, {0, 1}})->ArgNames({"axes", "table"});
+
+void BM_ModelSwapPickup(benchmark::State& state) {
+  // Publish (off-loop bind) + the cycle that picks it up.
+  testing::FakeCnc cnc({"X", "Y", "Z"});
+  testing::FakeTemps temps({"ambient", "nut", "bearing"}, 22.0);
+  auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
+  auto m = testing::TestModel(1.0, {"X", "Y", "Z"});
+  double t = 0;
+  for (auto _ : state) {
+    comp->PublishModel(m, "bench");
+    benchmark::DoNotOptimize(comp->RunCycle(cnc, temps, t += 0.01).model_id);
+  }
+}
+BENCHMARK(BM_ModelSwapPickup);
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,90 @@
+#pragma once
+// The end-to-end demonstration (issue 5, README's first command):
+//
+//  1. calibration campaign on the virtual machine with the virtual laser
+//     (sim::RunCampaign: cold, warm-up steps, other days, coolant);
+//  2. automatic fit of the composite model (model::FitCompositeModel);
+//  3. a simulated working day on a NEW run of the same machine (other run
+//     seed, other date, so every state is held out from the fit): cold start,
+//     machining duty, ambient drift, coolant on and off — with the
+//     compensator in its loop over the machine's CncLink/TemperatureSource,
+//     one cycle per period of simulated time; at each state the virtual laser
+//     measures every axis with compensation on and off;
+//  4. ISO 230-2 evaluation of every measurement and one HTML report.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "trueaxis/analysis/evaluation.hpp"
+#include "trueaxis/measure/measurement.hpp"
+#include "trueaxis/runtime/compensator_options.hpp"
+#include "trueaxis/runtime/loop_runner.hpp"
+
+namespace trueaxis::demo {
+
+struct DemoOptions {
+  std::string machine_file;        // sim machine TOML
+  std::string out_dir = "out/demo";
+  std::uint64_t seed = 1;
+  bool fast = false;               // fewer axes/runs/targets: for tests and quick looks
+  std::vector<std::string> axes;   // empty: every axis (fast: the first)
+  double period_s = 0.010;         // compensation cycle, simulated time
+  runtime::CompensatorOptions compensator;  // defaults: ±100 µm, 1 µm per cycle
+  // Er(x): "auto" picks the seed-000 polynomial or the seed-002 table by
+  // cross-validation per axis; "polynomial" / "table" force one.
+  std::string geometric = "auto";
+  // The working day over MODBUS TCP on 127.0.0.1: the virtual machine behind
+  // a ModbusMachineServer (PMC window + ADAM-6015 modules, docs/protocols.md),
+  // the compensator on ModbusCncLink / ModbusTemperatureSource. Each cycle is a
+  // few real TCP round trips, so use a longer period (the CLI defaults to 100 ms).
+  bool modbus = false;
+  int modbus_port = 0;             // 0: the first free port from 15020 up
+  int day_offset = 30;             // the working day: days after the campaign's first day
+  int other_day_offset = 250;      // "another day"
+  std::function<void(const std::string&)> progress;  // one line per step (stderr in the CLI)
+
+  bool IsValid(std::string* why) const;
+};
+
+// One thermal state of the day, one axis: the same laser test with
+// compensation off and on, back to back.
+struct StateResult {
+  std::string state;               // "cold", "warm", "warm+coolant", "other day"
+  std::string axis;
+  std::string date;                // simulated date/time at the start
+  double nut_rise_c = 0;           // nut sensor vs the day's cold measurement
+  double ambient_c = 0;
+  measure::Measurement off, on;
+  analysis::Evaluation eval_off, eval_on;
+  double Factor() const { return eval_on.axis.A_um > 0 ? eval_off.axis.A_um / eval_on.axis.A_um : 0; }
+};
+
+struct DaySample {                 // the day, one sample per minute of machine time
+  double time_h = 0;
+  std::vector<double> temp_c;      // parallel to DemoResult::channel_names
+  std::vector<double> correction_um;  // parallel to axes
+  CoolantState coolant = CoolantState::kOff;
+  std::uint32_t alarms = 0;
+  bool other_day = false;
+};
+
+struct DemoResult {
+  std::string out_dir, report_path, model_path, campaign_dir, history_path;
+  std::vector<std::string> axes, channel_names;  // measured axes; temperature channels
+  std::vector<std::string> machine_axes;         // every axis of the machine (DaySample::correction_um)
+  std::vector<StateResult> states;
+  std::vector<DaySample> day;
+  std::string fit_brief;
+  runtime::LoopStats loop_stats;
+  double machine_time_h = 0;
+  double wall_s = 0, campaign_wall_s = 0, fit_wall_s = 0, day_wall_s = 0;
+  std::uint32_t alarms_seen = 0;
+  std::string interface_used;      // "in-process CncLink" or "MODBUS TCP 127.0.0.1:<port>"
+  std::vector<std::string> alarm_log;  // "<date> <alarms>" at each change
+  std::string BriefReport() const;  // the before/after table as text
+};
+
+DemoResult RunDemo(const DemoOptions& options);
+
+}  // namespace trueaxis::demo

@@ -1,0 +1,60 @@
+#pragma once
+// Options of the real-time compensator (docs/runtime.md). Ceres-like: every
+// field has a safe default; IsValid() explains what is wrong.
+#include <map>
+#include <string>
+
+#include "trueaxis/runtime/output_shaper.hpp"
+
+namespace trueaxis::runtime {
+
+// What to do once a key sensor has been faulty for longer than the hold time.
+enum class SensorFallback {
+  kGeometricOnly,  // drop the thermal part (and the ambient part): correction = −Er(x)
+  kZero,           // ramp the whole correction of the affected axis to zero
+};
+
+// What to do while the CNC link cannot be read.
+enum class LinkLossPolicy {
+  kHold,        // keep the last value written (the CNC keeps applying it)
+  kRampToZero,  // ramp towards zero; takes effect on the writes that still get through
+};
+
+struct SensorFaultPolicy {
+  // Plausible range; outside it a reading is a fault (open/short RTD reads far outside).
+  double min_valid_c = -20;
+  double max_valid_c = 120;
+  // Implausible rate of change, °C per second since the last good reading
+  // (plus `rate_allowance_c` for noise); 0 disables the check.
+  double max_rate_c_per_s = 2.0;
+  double rate_allowance_c = 0.5;
+  // A faulty channel keeps its last good value this long, then counts as lost.
+  double hold_last_good_s = 60;
+  SensorFallback fallback = SensorFallback::kGeometricOnly;
+
+  bool IsValid(std::string* why) const;
+};
+
+struct CompensatorOptions {
+  OutputShaperOptions shaper;
+  SensorFaultPolicy sensor;
+  LinkLossPolicy link_loss = LinkLossPolicy::kHold;
+  // After a link loss, this many consecutive good reads before the
+  // correction follows the model again (from where the CNC was left, ramped).
+  int link_recovery_cycles = 3;
+  // Ramp to zero while the CNC reports its compensation input disabled, so
+  // that enabling it on the CNC never applies a stale value at once.
+  bool follow_cnc_enable = true;
+  // Take the servo direction only while the CNC reports the axis moving (a
+  // commanded motion). At standstill the compensation output itself moves the
+  // motor by a few µm and a CNC reports that as a direction; following it would
+  // flip between the forward and reverse models (a limit cycle of the reversal
+  // value). Set false for a CNC that never reports `moving`.
+  bool direction_only_while_moving = true;
+  // Model sensor name → temperature channel name (absent: same name).
+  std::map<std::string, std::string> channel_map;
+
+  bool IsValid(std::string* why) const;
+};
+
+}  // namespace trueaxis::runtime

@@ -1,0 +1,36 @@
+#pragma once
+// HistoryLogger: turns the CycleRecords the loop hands over (CycleRecorder)
+// into history-database entries (store::HistoryWriter): every channel's value
+// and health, every axis's position and correction, each alarm raised or
+// cleared, and model changes. Runs on a non-real-time thread (it allocates
+// strings); the writer's own thread does the disk work.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "trueaxis/runtime/cycle_recorder.hpp"
+#include "trueaxis/store/history_writer.hpp"
+
+namespace trueaxis::runtime {
+
+class HistoryLogger {
+ public:
+  // `time_offset_s` is added to the loop's time (e.g. the Unix time the loop started).
+  HistoryLogger(store::HistoryWriter& writer, std::vector<std::string> axis_names,
+                std::vector<std::string> channel_names, double time_offset_s = 0);
+  void Log(const CycleRecord& record);
+  // A model was published (label, revision, sha).
+  void LogModelChange(double time_s, const std::string& sha256, const std::string& revision, const std::string& note);
+  std::uint64_t records() const { return records_; }
+
+ private:
+  store::HistoryWriter& writer_;
+  std::vector<std::string> axis_names_, channel_names_;
+  double offset_s_;
+  std::uint32_t last_alarms_ = 0;
+  std::uint64_t records_ = 0;
+};
+
+const char* ChannelHealthName(ChannelHealth h);
+
+}  // namespace trueaxis::runtime

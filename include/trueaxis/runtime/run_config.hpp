@@ -1,0 +1,63 @@
+#pragma once
+// RunConfig: the TOML file of `trueaxis run --config FILE` (docs/runtime.md).
+// Relative paths in it are resolved against the config file's folder.
+// Every error is an InputError naming the file, line and key; unknown keys
+// are errors too (a typo must not silently fall back to a default).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "trueaxis/core/coolant.hpp"
+#include "trueaxis/runtime/axis_interface.hpp"
+#include "trueaxis/runtime/compensator_options.hpp"
+
+namespace trueaxis::runtime {
+
+enum class MachineKind { kVirtual, kModbus };
+
+struct VirtualMachineConfig {
+  std::string machine_file;     // sim machine TOML (examples/machines/*.toml)
+  std::uint64_t seed = 1;
+  double time_scale = 1.0;      // machine seconds per wall-clock second (>1: faster than real time)
+  // What the virtual machine does while compensated: every axis reciprocates
+  // over its travel at feed with this duty; coolant state.
+  bool reciprocate = true;
+  double feed_mm_min = 3000;
+  double duty = 0.6;
+  CoolantState coolant = CoolantState::kOff;
+};
+
+struct ModbusConfig {
+  std::string host = "127.0.0.1";
+  int port = 1502;
+  int cnc_unit_id = 1;          // the PMC window
+  int first_rtd_unit_id = 2;    // ADAM-6015 style RTD modules, 7 channels each
+  std::vector<std::string> axis_names = {"X", "Y", "Z"};
+  std::vector<std::string> channel_names;  // names of the RTD channels in module order
+  double response_timeout_s = 0.1;
+};
+
+struct RunConfig {
+  std::string source;           // the config file path
+  MachineKind machine = MachineKind::kVirtual;
+  VirtualMachineConfig virtual_machine;
+  ModbusConfig modbus;
+  std::string model_file;
+  bool model_reload = true;     // watch the model file and swap a changed model in without stopping
+  double period_s = 0.010;
+  double duration_s = 0;        // 0: until SIGINT/SIGTERM
+  CompensatorOptions compensator;
+  std::vector<AxisInterface> axes;
+  // Seed 000's temperature signal processing in front of the compensator
+  // (MonitoredTemperatureSource: calibration, filtering, fault status).
+  bool signal_processing = false;
+  std::string calibration_file;  // signal::CalibrationSet JSON (trueaxis calibrate), "" = none
+  std::string history_db;       // SQLite history store ("" = none)
+  std::string log_csv;          // CSV log of decimated cycles ("" = none)
+  double record_interval_s = 1.0;  // how often a cycle is logged (alarm changes always are)
+};
+
+RunConfig ParseRunConfig(const std::string& text, const std::string& source);
+RunConfig ReadRunConfig(const std::string& path);
+
+}  // namespace trueaxis::runtime

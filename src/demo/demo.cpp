@@ -1,0 +1,548 @@
+#include "trueaxis/demo/demo.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/drivers/modbus_cnc_link.hpp"
+#include "trueaxis/drivers/modbus_machine_server.hpp"
+#include "trueaxis/drivers/modbus_temperature_source.hpp"
+#include "trueaxis/measure/measurement_csv.hpp"
+#include "trueaxis/model/fit_input.hpp"
+#include "trueaxis/model/model_fit.hpp"
+#include "trueaxis/model/model_json.hpp"
+#include "trueaxis/model/sha256.hpp"
+#include "trueaxis/runtime/compensator.hpp"
+#include "trueaxis/runtime/cycle_recorder.hpp"
+#include "trueaxis/runtime/history_logger.hpp"
+#include "trueaxis/sim/campaign.hpp"
+#include "trueaxis/sim/laser_interferometer.hpp"
+#include "trueaxis/sim/machine_description.hpp"
+#include "trueaxis/sim/virtual_machine.hpp"
+#include "trueaxis/store/history_writer.hpp"
+#include "demo_report.hpp"
+
+namespace trueaxis::demo {
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+bool DemoOptions::IsValid(std::string* why) const {
+  auto fail = [&](std::string m) {
+    if (why) *why = std::move(m);
+    return false;
+  };
+  if (machine_file.empty()) return fail("machine_file is empty");
+  if (out_dir.empty()) return fail("out_dir is empty");
+  if (!(period_s >= 0.001 && period_s <= 1)) return fail(fmt::format("period_s must be in [0.001, 1] s, got {}", period_s));
+  if (geometric != "auto" && geometric != "polynomial" && geometric != "table")
+    return fail("geometric must be auto, polynomial or table, got '" + geometric + "'");
+  if (day_offset < 1 || other_day_offset <= day_offset)
+    return fail("day_offset must be >= 1 and other_day_offset > day_offset");
+  return compensator.IsValid(why);
+}
+
+std::string DemoResult::BriefReport() const {
+  std::string s = fmt::format("{:<14} {:<4} {:>10} {:>12} {:>12} {:>8}\n", "state", "axis", "nut rise", "A off (µm)",
+                              "A on (µm)", "factor");
+  for (const auto& r : states)
+    s += fmt::format("{:<14} {:<4} {:>+8.2f} °C {:>12.2f} {:>12.2f} {:>7.1f}×\n", r.state, r.axis, r.nut_rise_c,
+                     r.eval_off.axis.A_um, r.eval_on.axis.A_um, r.Factor());
+  s += fmt::format("loop: {}; machine time {:.1f} h; wall {:.1f} s (campaign {:.1f} s, fit {:.1f} s, day {:.1f} s)\n",
+                   loop_stats.BriefReport(), machine_time_h, wall_s, campaign_wall_s, fit_wall_s, day_wall_s);
+  return s;
+}
+
+namespace {
+
+std::string Lower(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+double MeanSensor(const measure::Measurement& m, const std::string& name) {
+  const auto idx = m.SensorIndex(name);
+  if (!idx) return std::nan("");
+  double sum = 0;
+  int n = 0;
+  for (const auto& p : m.points)
+    if (std::isfinite(p.temperatures_c[*idx])) {
+      sum += p.temperatures_c[*idx];
+      ++n;
+    }
+  return n ? sum / n : std::nan("");
+}
+
+// Samples the day once per minute of machine time, and writes the history database.
+class DayObserver : public runtime::CycleObserver {
+ public:
+  DayObserver(sim::VirtualMachine& vm, DemoResult& result, runtime::HistoryLogger* history)
+      : vm_(vm), result_(result), history_(history) {}
+  void OnCycle(const runtime::CycleStatus& s) override {
+    alarms_ |= s.alarms;
+    if (s.alarms != last_alarms_ && result_.alarm_log.size() < 200)
+      result_.alarm_log.push_back(fmt::format("{} {}", vm_.IsoTime(), s.alarms ? runtime::AlarmNames(s.alarms) : "cleared"));
+    last_alarms_ = s.alarms;
+    const double t = vm_.TimeS();
+    if (t < next_sample_s_) return;
+    next_sample_s_ = t + 60;
+    DaySample d;
+    d.time_h = (vm_.TimeS() - day_start_s_) / 3600.0;
+    for (const auto& c : s.channels) d.temp_c.push_back(c.value_c);
+    for (const auto& a : s.axes) d.correction_um.push_back(a.output_um);
+    d.coolant = s.coolant;
+    d.alarms = s.alarms;
+    d.other_day = other_day_;
+    result_.day.push_back(std::move(d));
+    if (history_) {
+      runtime::FillRecord(s, record_);
+      record_.time_s = vm_.UnixTimeS();
+      history_->Log(record_);
+    }
+  }
+  void SetDayStart(double t_s, bool other_day) {
+    day_start_s_ = t_s;
+    next_sample_s_ = 0;
+    other_day_ = other_day;
+  }
+  std::uint32_t alarms() const { return alarms_; }
+
+ private:
+  sim::VirtualMachine& vm_;
+  DemoResult& result_;
+  runtime::HistoryLogger* history_;
+  runtime::CycleRecord record_;
+  double day_start_s_ = 0, next_sample_s_ = 0;
+  bool other_day_ = false;
+  std::uint32_t alarms_ = 0, last_alarms_ = 0;
+};
+
+// The virtual machine as the MODBUS terminal sees it: every call under the
+// mutex the demo thread holds while it drives the machine (names are immutable).
+class LockedMachine : public hw::CncLink, public hw::TemperatureSource {
+ public:
+  LockedMachine(sim::VirtualMachine& vm, std::mutex& mu) : vm_(vm), mu_(mu) {}
+  std::size_t AxisCount() const override { return vm_.AxisCount(); }
+  std::string AxisName(std::size_t i) const override { return vm_.AxisName(i); }
+  bool Read(std::span<hw::AxisState> axes, hw::CncState& m) override {
+    std::lock_guard<std::mutex> lock(mu_);
+    return static_cast<hw::CncLink&>(vm_).Read(axes, m);
+  }
+  bool WriteCompensation(std::span<const double> c) override {
+    std::lock_guard<std::mutex> lock(mu_);
+    return vm_.WriteCompensation(c);
+  }
+  std::size_t ChannelCount() const override { return vm_.ChannelCount(); }
+  std::string ChannelName(std::size_t i) const override { return vm_.ChannelName(i); }
+  bool Read(std::span<hw::RawTemperature> out) override {
+    std::lock_guard<std::mutex> lock(mu_);
+    return static_cast<hw::TemperatureSource&>(vm_).Read(out);
+  }
+
+ private:
+  sim::VirtualMachine& vm_;
+  std::mutex& mu_;
+};
+
+class WorkingDay {
+ public:
+  WorkingDay(const sim::MachineDescription& md, const DemoOptions& o, const sim::LaserOptions& laser,
+             std::shared_ptr<const model::CompositeModel> model, const std::string& model_label, DemoResult& result,
+             store::HistoryWriter* writer)
+      : o_(o),
+        result_(result),
+        vm_(md, o.seed + 1000),  // another run of the same machine: the day is held out from the fit
+        laser_(laser, o.seed * 7919 + 4242) {
+    for (std::size_t i = 0; i < vm_.ChannelCount(); ++i) result_.channel_names.push_back(vm_.ChannelName(i));
+    for (std::size_t i = 0; i < vm_.AxisCount(); ++i) all_axes_.push_back(vm_.AxisName(i));
+    result_.machine_axes = all_axes_;
+    // Axes without a model (not calibrated in this run) stay switched off.
+    std::vector<runtime::AxisInterface> interfaces;
+    for (const auto& name : all_axes_) {
+      runtime::AxisInterface a;
+      a.axis = name;
+      const auto* am = model->FindAxis(name);
+      a.enabled = am != nullptr;
+      interfaces.push_back(a);
+    }
+    hw::CncLink* link = &vm_;
+    hw::TemperatureSource* source = &vm_;
+    result_.interface_used = "in-process CncLink / TemperatureSource (sim::VirtualMachine)";
+    if (o.modbus) {
+      StartModbus();
+      link = cnc_client_.get();
+      source = temp_client_.get();
+    }
+    comp_ = runtime::Compensator::ForHardware(o.compensator, *link, *source, interfaces);
+    if (writer) history_ = std::make_unique<runtime::HistoryLogger>(*writer, all_axes_, result_.channel_names);
+    observer_ = std::make_unique<DayObserver>(vm_, result_, history_.get());
+    runner_ = std::make_unique<runtime::LoopRunner>(*comp_, *link, *source, runtime::LoopOptions{o.period_s}, observer_.get());
+    advance_ = [this](double dt) { vm_.Advance(dt); };
+    comp_->PublishModel(std::move(model), model_label);
+  }
+
+  // `model_loaded(unix_s)` is told when the day starts with the model in force.
+  void Run(const std::vector<std::string>& axes, const std::function<void(double)>& model_loaded) {
+    const bool fast = o_.fast;  // fast: fewer states measured (the machine time is cheap)
+    // The working day starts at 07:00, `day_offset` days after the campaign's first day.
+    IdleUntil(o_.day_offset * 86400.0);
+    observer_->SetDayStart(vm_.TimeS(), false);
+    if (model_loaded) model_loaded(vm_.UnixTimeS());
+    Progress(fmt::format("working day {}: machine cold, compensator running every {:.0f} ms", vm_.IsoTime(), o_.period_s * 1000));
+    Step(60);
+    MeasureState("cold", axes);
+    Machining(3.0, CoolantState::kOff);
+    MeasureState("warm", axes);
+    Machining(2.5, CoolantState::kFlood);
+    MeasureState("warm+coolant", axes);
+    Machining(1.5, CoolantState::kOff);
+    if (!fast) MeasureState("afternoon", axes);
+    StopAll();
+    vm_.SetCoolant(CoolantState::kOff);
+    // Another day: the machine soaked at another season's air, mid-morning.
+    const double day_h = (vm_.TimeS() - o_.day_offset * 86400.0) / 3600.0;
+    IdleUntil(o_.other_day_offset * 86400.0 + 3 * 3600.0);
+    observer_->SetDayStart(vm_.TimeS() - day_h * 3600.0 - 3600.0, true);  // plotted after a 1 h gap
+    Progress(fmt::format("another day {}: machine soaked at {:.1f} °C air", vm_.IsoTime(), vm_.AmbientC()));
+    Step(60);
+    MeasureState("other day", axes);
+    result_.loop_stats = runner_->Stats();
+    result_.alarms_seen = observer_->alarms();
+  }
+
+  ~WorkingDay() {
+    if (vm_lock_.owns_lock()) vm_lock_.unlock();
+    if (server_) server_->Stop();
+  }
+
+  double MachineTimeS() const { return vm_.TimeS(); }
+
+ private:
+  void StartModbus() {
+    locked_ = std::make_unique<LockedMachine>(vm_, vm_mutex_);
+    drivers::ModbusMachineServerOptions so;
+    so.machine_period_s = 0.0002;
+    std::string error;
+    int port = o_.modbus_port;
+    for (int attempt = 0; attempt < 50; ++attempt) {
+      so.port = o_.modbus_port ? o_.modbus_port : 15020 + attempt;
+      server_ = std::make_unique<drivers::ModbusMachineServer>(locked_.get(), locked_.get(), so);
+      if (server_->Start(&error)) {
+        port = so.port;
+        break;
+      }
+      server_.reset();
+      if (o_.modbus_port) break;
+    }
+    if (!server_) throw std::runtime_error("demo: cannot start the MODBUS terminal on 127.0.0.1: " + error);
+    drivers::ModbusEndpoint ep;
+    ep.host = "127.0.0.1";
+    ep.port = port;
+    ep.response_timeout_s = 0.5;
+    drivers::ModbusCncLinkOptions co;
+    co.endpoint = ep;
+    co.axis_names = all_axes_;
+    co.stale_after_s = 2.0;
+    cnc_client_ = std::make_unique<drivers::ModbusCncLink>(co);
+    drivers::ModbusTemperatureSourceOptions to;
+    to.endpoint = ep;
+    to.channel_names = result_.channel_names;
+    to.unit_ids.clear();
+    for (std::size_t k = 0; k * 7 < to.channel_names.size(); ++k) to.unit_ids.push_back(so.first_rtd_unit_id + static_cast<int>(k));
+    temp_client_ = std::make_unique<drivers::ModbusTemperatureSource>(to);
+    cnc_client_->Connect();
+    temp_client_->Connect();
+    result_.interface_used = fmt::format("MODBUS TCP 127.0.0.1:{} (PMC window unit {}, {} ADAM-6015 modules)", port,
+                                         so.pmc_unit_id, to.unit_ids.size());
+    // From here on the demo thread holds the machine except while a cycle
+    // talks to the terminal (whose machine thread then reads and writes it).
+    vm_lock_ = std::unique_lock<std::mutex>(vm_mutex_);
+  }
+
+  // `n` compensation cycles, the machine advancing one period before each.
+  void Cycles(std::uint64_t n) {
+    if (!o_.modbus) {
+      runner_->StepSimulated(n, advance_);
+      return;
+    }
+    for (std::uint64_t i = 0; i < n; ++i) {
+      vm_.Advance(o_.period_s);
+      vm_lock_.unlock();
+      // Lockstep: let the terminal's machine thread take (at least) one full
+      // exchange with the advanced machine before the cycle reads the window.
+      const auto e0 = server_->Stats().exchanges;
+      while (server_->Stats().exchanges < e0 + 2) std::this_thread::yield();
+      runner_->StepSimulated(1, nullptr);
+      vm_lock_.lock();
+    }
+  }
+
+  void Progress(const std::string& s) {
+    if (o_.progress) o_.progress(fmt::format("[demo {} t={:.2f} h] {}", vm_.IsoTime(), vm_.TimeS() / 3600.0, s));
+  }
+  void Step(double seconds) {
+    Cycles(static_cast<std::uint64_t>(std::llround(seconds / o_.period_s)));
+  }
+  // The machine stands switched off until t_s; the compensator's clock jumps with it.
+  void IdleUntil(double t_s) {
+    const double before = vm_.TimeS();
+    vm_.IdleUntil(t_s);
+    runner_->PauseSimulated(vm_.TimeS() - before);
+  }
+  void StopAll() {
+    for (std::size_t i = 0; i < vm_.AxisCount(); ++i) vm_.CommandStop(i);
+  }
+  void MoveAndWait(std::size_t axis, double target_mm, double feed_mm_min) {
+    vm_.CommandMove(axis, target_mm, feed_mm_min);
+    for (int guard = 0; vm_.IsMoving(axis) && guard < 10'000'000; ++guard) Cycles(1);
+  }
+  void SetCompensation(bool on) {
+    comp_->SetEnabled(on);
+    // Wait for the ramp (at most max_correction / max_step cycles, plus margin).
+    const auto& so = o_.compensator.shaper;
+    const double ramp_s = (so.max_correction_um / so.max_step_um + 10) * o_.period_s;
+    for (double waited = 0; waited < ramp_s; waited += o_.period_s) {
+      Cycles(1);
+      if (!on) {
+        bool zero = true;
+        for (const auto& a : comp_->LastStatus().axes) zero = zero && a.output_um == 0;
+        if (zero) break;
+      }
+    }
+  }
+  void Machining(double hours, CoolantState coolant) {
+    vm_.SetCoolant(coolant);
+    Progress(fmt::format("machining {:.1f} h, coolant {}", hours, CoolantStateName(coolant)));
+    for (std::size_t i = 0; i < vm_.AxisCount(); ++i) {
+      const double travel = vm_.description().axes[i].travel_mm;
+      vm_.CommandReciprocate(i, 0.1 * travel, 0.9 * travel, 3000, 0.7, 4000);
+    }
+    for (double h = 0; h < hours - 1e-9; h += 0.5) Step(std::min(0.5, hours - h) * 3600);
+    StopAll();
+  }
+
+  // The laser test of seed 000 §5 / ISO 230-2, with the compensator cycling
+  // throughout (moves and dwells advance the machine one period per cycle).
+  measure::Measurement Measure(std::size_t axis, const std::string& state, bool compensated) {
+    const auto& lo = laser_.options();
+    // Zero the laser at the reference point with the compensator cycling: the
+    // correction in force at the zero must be the one for that position
+    // (LaserInterferometer::Setup's own short moves then keep it).
+    const double datum = vm_.description().axes[axis].reference_mm;
+    MoveAndWait(axis, std::max(0.0, datum - std::max(lo.overrun_mm, 1.0)), lo.feed_mm_min);
+    MoveAndWait(axis, datum, lo.feed_mm_min);
+    Step(lo.dwell_s);
+    laser_.Setup(vm_, axis, datum);
+    const int runs = lo.runs;
+    const auto targets = laser_.Targets(vm_, axis);
+    measure::Measurement m;
+    m.source = fmt::format("{}_{}_{}", vm_.AxisName(axis), state, compensated ? "on" : "off");
+    m.has_time = true;
+    m.sensor_names = result_.channel_names;
+    m.SetMeta("axis", vm_.AxisName(axis));
+    m.SetMeta("machine", vm_.description().name);
+    m.SetMeta("date", vm_.IsoTime());
+    m.SetMeta("state", state);
+    m.SetMeta("compensation", compensated ? "on" : "off");
+    m.SetMeta("coolant", std::string(CoolantStateName(vm_.coolant())));
+    m.SetMeta("instrument", "trueaxis virtual laser interferometer (demo, compensator in the loop)");
+    const double t0 = vm_.TimeS();
+    std::vector<hw::RawTemperature> raw(vm_.ChannelCount());
+    auto record = [&](int run, Direction dir, double target) {
+      MoveAndWait(axis, target, lo.feed_mm_min);
+      Step(lo.dwell_s);
+      measure::MeasurementPoint p;
+      p.run = run;
+      p.direction = dir;
+      p.target_mm = target;
+      p.deviation_um = std::round((laser_.ReadMm(vm_) - target) * 1e6) / 1000.0;
+      p.time_s = std::round((vm_.TimeS() - t0) * 10.0) / 10.0;
+      static_cast<hw::TemperatureSource&>(vm_).Read(raw);
+      for (const auto& r : raw) p.temperatures_c.push_back(r.hardware_fault ? std::nan("") : r.temp_c);
+      m.points.push_back(std::move(p));
+    };
+    for (int run = 1; run <= runs; ++run) {
+      MoveAndWait(axis, targets.front() - lo.overrun_mm, lo.feed_mm_min);
+      for (double t : targets) record(run, Direction::kForward, t);
+      MoveAndWait(axis, targets.back() + lo.overrun_mm, lo.feed_mm_min);
+      for (auto it = targets.rbegin(); it != targets.rend(); ++it) record(run, Direction::kReverse, *it);
+    }
+    return m;
+  }
+
+  void MeasureState(const std::string& state, const std::vector<std::string>& axes) {
+    StopAll();
+    for (const auto& name : axes) {
+      const std::size_t axis = static_cast<std::size_t>(vm_.description().AxisIndex(name));
+      StateResult r;
+      r.state = state;
+      r.axis = name;
+      r.date = vm_.IsoTime();
+      r.ambient_c = vm_.AmbientC();
+      // Compensated first, then uncompensated: the machine cools a little
+      // during the tests, so the uncompensated one sees the smaller thermal
+      // error — the comparison is conservative.
+      SetCompensation(true);
+      r.on = Measure(axis, state, true);
+      SetCompensation(false);
+      r.off = Measure(axis, state, false);
+      SetCompensation(true);
+      r.eval_on = analysis::Evaluate(r.on);
+      r.eval_off = analysis::Evaluate(r.off);
+      const std::string nut = Lower(name) + "_nut";
+      const double nut_now = MeanSensor(r.off, nut);
+      if (state == "cold") cold_nut_[name] = nut_now;
+      r.nut_rise_c = cold_nut_.count(name) ? nut_now - cold_nut_[name] : 0;
+      const std::string stem = fmt::format("{}_{}", name, Lower(state));
+      std::string file_stem;
+      for (char c : stem) file_stem += (std::isalnum(static_cast<unsigned char>(c)) || c == '_') ? c : '_';
+      measure::WriteMeasurementCsv(r.on, (fs::path(result_.out_dir) / "day" / (file_stem + "_on.csv")).string());
+      measure::WriteMeasurementCsv(r.off, (fs::path(result_.out_dir) / "day" / (file_stem + "_off.csv")).string());
+      Progress(fmt::format("{} {}: A = {:.2f} µm uncompensated → {:.2f} µm compensated ({:.1f}×)", state, name,
+                           r.eval_off.axis.A_um, r.eval_on.axis.A_um, r.Factor()));
+      result_.states.push_back(std::move(r));
+    }
+  }
+
+  const DemoOptions& o_;
+  DemoResult& result_;
+  sim::VirtualMachine vm_;
+  sim::LaserInterferometer laser_;
+  std::vector<std::string> all_axes_;
+  std::unique_ptr<runtime::Compensator> comp_;
+  std::unique_ptr<runtime::HistoryLogger> history_;
+  std::unique_ptr<DayObserver> observer_;
+  std::unique_ptr<runtime::LoopRunner> runner_;
+  std::function<void(double)> advance_;
+  std::map<std::string, double> cold_nut_;
+  // MODBUS mode
+  std::mutex vm_mutex_;
+  std::unique_lock<std::mutex> vm_lock_;
+  std::unique_ptr<LockedMachine> locked_;
+  std::unique_ptr<drivers::ModbusMachineServer> server_;
+  std::unique_ptr<drivers::ModbusCncLink> cnc_client_;
+  std::unique_ptr<drivers::ModbusTemperatureSource> temp_client_;
+};
+
+}  // namespace
+
+DemoResult RunDemo(const DemoOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why)) throw std::invalid_argument("demo options: " + why);
+  const auto wall0 = Clock::now();
+  auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+  auto progress = [&](const std::string& s) {
+    if (o.progress) o.progress(s);
+  };
+  DemoResult result;
+  result.out_dir = o.out_dir;
+  result.campaign_dir = (fs::path(o.out_dir) / "campaign").string();
+  fs::create_directories(fs::path(o.out_dir) / "day");
+  const sim::MachineDescription md = sim::ReadMachineFile(o.machine_file);
+
+  std::vector<std::string> axes = o.axes;
+  if (axes.empty()) {
+    for (const auto& a : md.axes) {
+      axes.push_back(a.name);
+      if (o.fast) break;
+    }
+  }
+  for (const auto& a : axes)
+    if (md.AxisIndex(a) < 0) throw InputError(o.machine_file, 0, "axes", fmt::format("the machine has no axis '{}'", a));
+  result.axes = axes;
+
+  // 1. Calibration campaign.
+  sim::CampaignOptions c;
+  c.out_dir = result.campaign_dir;
+  c.seed = o.seed;
+  c.axes = axes;
+  if (o.fast) {
+    c.laser.runs = 3;
+    c.warm_runs = 2;
+    c.max_warm_measurements = 6;
+    c.max_coolant_measurements = 3;
+  }
+  c.progress = [&](const std::string& line) { progress("[campaign] " + line); };
+  progress(fmt::format("[demo] 1/4 calibration campaign on {} (axes {}) → {}", md.name, fmt::join(axes, ","), c.out_dir));
+  const auto t_campaign = Clock::now();
+  const auto campaign = sim::RunCampaign(md, c);
+  result.campaign_wall_s = since(t_campaign);
+  progress("[demo] " + campaign.BriefReport());
+
+  // 2. Fit.
+  progress("[demo] 2/4 fitting the composite model (per axis and direction)");
+  const auto t_fit = Clock::now();
+  const auto states = model::LoadFitStates({}, (fs::path(result.campaign_dir) / "manifest.json").string());
+  // One fit per axis with the seed's key points, tanβ = k1·ΔT_nut + k2·ΔT_bearing,
+  // when the machine has those sensors (the automatic selection otherwise).
+  model::FitResult fit;
+  for (const auto& axis : axes) {
+    std::vector<model::FitState> axis_states;
+    for (const auto& st : states)
+      if (st.axis == axis) axis_states.push_back(st);
+    model::FitOptions fo;
+    const std::string nut = Lower(axis) + "_nut", bearing = Lower(axis) + "_bearing";
+    const auto& sensors = axis_states.front().measurement.sensor_names;
+    if (std::find(sensors.begin(), sensors.end(), nut) != sensors.end() &&
+        std::find(sensors.begin(), sensors.end(), bearing) != sensors.end())
+      fo.key_sensors = {nut, bearing};
+    if (o.geometric == "table") fo.geometric = model::FitOptions::Geometric::kTable;
+    model::FitResult one = model::FitCompositeModel(axis_states, fo);
+    // Er(x): the seed-000 polynomial, unless the seed-002 table (linear
+    // interpolation between the measured targets) cross-validates better over
+    // both directions — a screw's short-wavelength error is not a polynomial.
+    const auto& ds = one.summary.axes.front().directions;
+    if (o.geometric == "auto" &&
+        ds[0].table_cv_rms_um + ds[1].table_cv_rms_um < ds[0].geometric_cv_rms_um + ds[1].geometric_cv_rms_um) {
+      fo.geometric = model::FitOptions::Geometric::kTable;
+      one = model::FitCompositeModel(axis_states, fo);
+    }
+    for (auto& a : one.model.axes) fit.model.axes.push_back(std::move(a));
+    for (auto& src : one.model.sources) fit.model.sources.push_back(std::move(src));
+    for (auto& a : one.summary.axes) fit.summary.axes.push_back(std::move(a));
+    for (auto& w : one.summary.warnings) fit.summary.warnings.push_back(axis + ": " + w);
+    fit.model.fit_summary[axis] = one.model.fit_summary;
+  }
+  fit.model.machine = md.name;
+  fit.model.generator = "trueaxis 0.1.0 demo";
+  result.model_path = (fs::path(o.out_dir) / "model.json").string();
+  model::WriteModelFile(fit.model, result.model_path);
+  result.fit_wall_s = since(t_fit);
+  result.fit_brief = fit.summary.BriefReport();
+  progress("[demo] " + result.fit_brief);
+  const std::string model_sha = model::Sha256OfFile(result.model_path);
+
+  // 3. The working day with the compensator in the loop.
+  progress("[demo] 3/4 simulated working day with the compensator in its loop");
+  const auto t_day = Clock::now();
+  result.history_path = (fs::path(o.out_dir) / "history.sqlite").string();
+  std::error_code ec;
+  for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(result.history_path + suffix, ec);
+  {
+    store::HistoryWriter writer(result.history_path);
+    sim::LaserOptions laser = c.laser;
+    WorkingDay day(md, o, laser, std::make_shared<const model::CompositeModel>(fit.model), result.model_path, result, &writer);
+    day.Run(axes, [&](double unix_s) {
+      writer.PushModelChange(unix_s, model_sha, std::to_string(fit.model.revision), "demo: fitted from " + result.campaign_dir);
+    });
+    result.machine_time_h = day.MachineTimeS() / 3600.0;
+    writer.Close();
+  }
+  result.day_wall_s = since(t_day);
+
+  // 4. Report.
+  progress("[demo] 4/4 writing the report");
+  result.report_path = (fs::path(o.out_dir) / "report.html").string();
+  result.wall_s = since(wall0);
+  WriteDemoReport(result, o, fit, md);
+  progress("[demo] report: " + result.report_path);
+  return result;
+}
+
+}  // namespace trueaxis::demo

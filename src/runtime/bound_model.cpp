@@ -1,0 +1,69 @@
+#include "trueaxis/runtime/bound_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "trueaxis/core/input_error.hpp"
+
+namespace trueaxis::runtime {
+namespace {
+
+int FindChannel(const std::string& sensor, const std::vector<std::string>& channel_names,
+                const std::map<std::string, std::string>& channel_map) {
+  auto it = channel_map.find(sensor);
+  const std::string& wanted = it == channel_map.end() ? sensor : it->second;
+  auto pos = std::find(channel_names.begin(), channel_names.end(), wanted);
+  return pos == channel_names.end() ? -1 : static_cast<int>(pos - channel_names.begin());
+}
+
+std::string Known(const std::vector<std::string>& names) {
+  return names.empty() ? "(none)" : fmt::format("{}", fmt::join(names, ", "));
+}
+
+}  // namespace
+
+std::unique_ptr<BoundModel> BindModel(std::shared_ptr<const model::CompositeModel> model, const std::string& label,
+                                      const std::vector<AxisInterface>& axes,
+                                      const std::vector<std::string>& channel_names,
+                                      const std::map<std::string, std::string>& channel_map) {
+  if (!model) throw InputError(label, "no model");
+  auto bound = std::make_unique<BoundModel>();
+  bound->source = model;
+  bound->label = label;
+  bound->axes.resize(axes.size());
+  for (std::size_t i = 0; i < axes.size(); ++i) {
+    const model::AxisModel* am = model->FindAxis(axes[i].axis);
+    if (!am) continue;
+    BoundAxis& b = bound->axes[i];
+    b.has_model = true;
+    b.model = *am;
+    if (!std::isnan(axes[i].reference_position_mm)) b.model.reference_position_mm = axes[i].reference_position_mm;
+    const std::string field = fmt::format("axes[{}].key_sensors", am->axis);
+    if (am->key_sensors.size() > kMaxKeySensors)
+      throw InputError(label, 0, field, fmt::format("{} key sensors, at most {} supported", am->key_sensors.size(), kMaxKeySensors));
+    if (am->baseline_temp_c.size() < am->key_sensors.size())
+      throw InputError(label, 0, fmt::format("axes[{}].baseline_temp_c", am->axis),
+                       fmt::format("{} baselines for {} key sensors", am->baseline_temp_c.size(), am->key_sensors.size()));
+    for (const auto& sensor : am->key_sensors) {
+      const int ch = FindChannel(sensor, channel_names, channel_map);
+      if (ch < 0)
+        throw InputError(label, 0, field,
+                         fmt::format("key sensor '{}' maps to no temperature channel (channels: {}; map it with [channels] in the run config)",
+                                     sensor, Known(channel_names)));
+      b.key_channel.push_back(ch);
+    }
+    if (!am->ambient_sensor.empty()) {
+      b.ambient_channel = FindChannel(am->ambient_sensor, channel_names, channel_map);
+      if (b.ambient_channel < 0)
+        throw InputError(label, 0, fmt::format("axes[{}].ambient_sensor", am->axis),
+                         fmt::format("ambient sensor '{}' maps to no temperature channel (channels: {})", am->ambient_sensor,
+                                     Known(channel_names)));
+    }
+  }
+  return bound;
+}
+
+}  // namespace trueaxis::runtime

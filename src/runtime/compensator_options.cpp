@@ -1,0 +1,31 @@
+#include "trueaxis/runtime/compensator_options.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace trueaxis::runtime {
+
+bool SensorFaultPolicy::IsValid(std::string* why) const {
+  auto fail = [&](std::string m) {
+    if (why) *why = std::move(m);
+    return false;
+  };
+  if (!(min_valid_c < max_valid_c)) return fail(fmt::format("min_valid_c ({}) must be < max_valid_c ({})", min_valid_c, max_valid_c));
+  if (!(max_rate_c_per_s >= 0)) return fail("max_rate_c_per_s must be >= 0 (0 disables)");
+  if (!(rate_allowance_c >= 0)) return fail("rate_allowance_c must be >= 0");
+  if (!(hold_last_good_s >= 0) || !std::isfinite(hold_last_good_s)) return fail("hold_last_good_s must be >= 0");
+  return true;
+}
+
+bool CompensatorOptions::IsValid(std::string* why) const {
+  if (!shaper.IsValid(why)) return false;
+  if (!sensor.IsValid(why)) return false;
+  if (link_recovery_cycles < 1) {
+    if (why) *why = "link_recovery_cycles must be >= 1";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace trueaxis::runtime

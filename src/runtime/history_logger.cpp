@@ -1,0 +1,42 @@
+#include "trueaxis/runtime/history_logger.hpp"
+
+#include <fmt/format.h>
+
+namespace trueaxis::runtime {
+
+const char* ChannelHealthName(ChannelHealth h) {
+  switch (h) {
+    case ChannelHealth::kOk: return "ok";
+    case ChannelHealth::kHeld: return "held";
+    case ChannelHealth::kLost: return "lost";
+  }
+  return "?";
+}
+
+HistoryLogger::HistoryLogger(store::HistoryWriter& writer, std::vector<std::string> axis_names,
+                             std::vector<std::string> channel_names, double time_offset_s)
+    : writer_(writer), axis_names_(std::move(axis_names)), channel_names_(std::move(channel_names)), offset_s_(time_offset_s) {}
+
+void HistoryLogger::Log(const CycleRecord& r) {
+  const double t = r.time_s + offset_s_;
+  for (std::size_t i = 0; i < r.channel_count && i < channel_names_.size(); ++i)
+    writer_.PushTemperature(t, channel_names_[i], r.temp_c[i], r.temp_c[i], ChannelHealthName(r.health[i]));
+  for (std::size_t i = 0; i < r.axis_count && i < axis_names_.size(); ++i) {
+    const AxisRecord& a = r.axes[i];
+    const char* state = !r.link_read_ok ? "link_lost" : !a.enabled ? "disabled" : a.thermal_used ? "full" : "geometric";
+    writer_.PushCompensation(t, axis_names_[i], a.cnc_position_mm, a.output_um, state);
+  }
+  const std::uint32_t raised = r.alarms & ~last_alarms_;
+  const std::uint32_t cleared = last_alarms_ & ~r.alarms;
+  if (raised) writer_.PushAlarm(t, "warning", "compensator", "raised: " + AlarmNames(raised));
+  if (cleared) writer_.PushAlarm(t, "info", "compensator", "cleared: " + AlarmNames(cleared));
+  last_alarms_ = r.alarms;
+  ++records_;
+}
+
+void HistoryLogger::LogModelChange(double time_s, const std::string& sha256, const std::string& revision,
+                                   const std::string& note) {
+  writer_.PushModelChange(time_s + offset_s_, sha256, revision, note);
+}
+
+}  // namespace trueaxis::runtime

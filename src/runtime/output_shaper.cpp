@@ -1,0 +1,47 @@
+#include "trueaxis/runtime/output_shaper.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace trueaxis::runtime {
+
+bool OutputShaperOptions::IsValid(std::string* why) const {
+  auto fail = [&](std::string m) {
+    if (why) *why = std::move(m);
+    return false;
+  };
+  if (!(max_correction_um >= 0) || !std::isfinite(max_correction_um))
+    return fail(fmt::format("max_correction_um must be >= 0, got {}", max_correction_um));
+  if (!(max_step_um > 0) || !std::isfinite(max_step_um))
+    return fail(fmt::format("max_step_um must be > 0, got {}", max_step_um));
+  if (!(hysteresis >= 0 && hysteresis <= 0.5))
+    return fail(fmt::format("hysteresis must be in [0, 0.5] quanta, got {}", hysteresis));
+  return true;
+}
+
+OutputShaperState ShapeOutput(const OutputShaperState& state, double desired_um, double quantum_um,
+                              const OutputShaperOptions& o) {
+  OutputShaperState next = state;
+  if (std::isnan(desired_um)) return next;  // hold
+  // 1. bound (also maps ±inf to the bound)
+  const double bounded = std::clamp(desired_um, -o.max_correction_um, o.max_correction_um);
+  // 2. rate limit the unquantised value
+  next.ramp_um = state.ramp_um + std::clamp(bounded - state.ramp_um, -o.max_step_um, o.max_step_um);
+  // 3. quantise with hysteresis: keep the count while within ±(0.5 + h) quanta
+  const double in_counts = next.ramp_um / quantum_um;
+  std::int64_t target = state.counts;
+  if (std::fabs(in_counts - static_cast<double>(state.counts)) > 0.5 + o.hysteresis)
+    target = static_cast<std::int64_t>(std::llround(in_counts));
+  // 4. never more than the step (at least one count) per cycle, never beyond the bound
+  const auto max_counts_step =
+      std::max<std::int64_t>(1, static_cast<std::int64_t>(std::floor(o.max_step_um / quantum_um + 1e-9)));
+  const auto bound_counts = static_cast<std::int64_t>(std::floor(o.max_correction_um / quantum_um + 1e-9));
+  target = std::clamp(target, state.counts - max_counts_step, state.counts + max_counts_step);
+  target = std::clamp(target, -bound_counts, bound_counts);
+  next.counts = target;
+  return next;
+}
+
+}  // namespace trueaxis::runtime

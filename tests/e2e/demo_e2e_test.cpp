@@ -1,0 +1,122 @@
+// End-to-end: a reduced demo (one axis, 3 runs per laser test) through the
+// same code as `trueaxis demo`: campaign on the virtual machine → fit → a
+// held-out working day with the compensator in its loop → ISO 230-2. The
+// day runs on another run seed and another date than the calibration, so
+// every state below is held out from the fit.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "trueaxis/demo/demo.hpp"
+#include "trueaxis/store/history_db.hpp"
+
+namespace trueaxis::demo {
+namespace {
+namespace fs = std::filesystem;
+
+const StateResult* Find(const DemoResult& r, const std::string& state) {
+  for (const auto& s : r.states)
+    if (s.state == state) return &s;
+  return nullptr;
+}
+
+class DemoE2E : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    DemoOptions o;
+    o.machine_file = std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850.toml";
+    // per process: ctest runs each case in its own process, possibly in parallel
+    o.out_dir = (fs::temp_directory_path() / ("trueaxis_demo_e2e_" + std::to_string(getpid()))).string();
+    fs::remove_all(o.out_dir);
+    o.fast = true;
+    o.seed = 3;
+    result_ = new DemoResult(RunDemo(o));
+  }
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    if (result_) fs::remove_all(result_->out_dir, ec);
+    delete result_;
+    result_ = nullptr;
+  }
+  static DemoResult* result_;
+};
+DemoResult* DemoE2E::result_ = nullptr;
+
+TEST_F(DemoE2E, CompensationReducesPositioningAccuracyAByALargeFactorInHeldOutStates) {
+  const DemoResult& r = *result_;
+  std::cerr << r.BriefReport();
+  const StateResult* cold = Find(r, "cold");
+  const StateResult* warm = Find(r, "warm");
+  const StateResult* other = Find(r, "other day");
+  ASSERT_TRUE(cold && warm && other);
+  // The uncompensated machine is really off (pitch error + thermal growth), so a factor means something.
+  EXPECT_GT(cold->eval_off.axis.A_um, 20);
+  EXPECT_GT(warm->eval_off.axis.A_um, 25);
+  EXPECT_GT(warm->nut_rise_c, 3);  // the warm state is really warm
+  EXPECT_GT(cold->Factor(), 3) << "cold: " << cold->eval_off.axis.A_um << " → " << cold->eval_on.axis.A_um;
+  EXPECT_GT(other->Factor(), 3) << "other day: " << other->eval_off.axis.A_um << " → " << other->eval_on.axis.A_um;
+  EXPECT_GT(warm->Factor(), 2) << "warm: " << warm->eval_off.axis.A_um << " → " << warm->eval_on.axis.A_um;
+  for (const auto& s : r.states) EXPECT_LT(s.eval_on.axis.A_um, s.eval_off.axis.A_um) << s.state;
+  // Reversal value: the direction models remove most of the backlash.
+  EXPECT_LT(cold->eval_on.axis.B_um, 0.5 * cold->eval_off.axis.B_um);
+}
+
+TEST_F(DemoE2E, CompensatorRanEveryCycleWithoutAlarms) {
+  const DemoResult& r = *result_;
+  EXPECT_GT(r.loop_stats.cycles, 1'000'000u);  // a working day at 10 ms
+  EXPECT_EQ(r.alarms_seen, 0u);
+  ASSERT_FALSE(r.day.empty());
+  // The correction follows the machine's heat: it moves by tens of µm over the day.
+  double lo = 1e9, hi = -1e9;
+  for (const auto& d : r.day) {
+    lo = std::min(lo, d.correction_um[0]);
+    hi = std::max(hi, d.correction_um[0]);
+  }
+  EXPECT_GT(hi - lo, 20);
+}
+
+TEST_F(DemoE2E, WritesReportModelMeasurementsAndHistory) {
+  const DemoResult& r = *result_;
+  ASSERT_TRUE(fs::exists(r.report_path));
+  std::stringstream html;
+  html << std::ifstream(r.report_path).rdbuf();
+  EXPECT_NE(html.str().find("A off"), std::string::npos);
+  EXPECT_NE(html.str().find("<svg"), std::string::npos);
+  EXPECT_TRUE(fs::exists(r.model_path));
+  EXPECT_TRUE(fs::exists(fs::path(r.out_dir) / "day" / "X_warm_on.csv"));
+  EXPECT_TRUE(fs::exists(fs::path(r.campaign_dir) / "manifest.json"));
+  store::HistoryDb db(r.history_path, store::HistoryDb::Mode::kReadOnly);
+  EXPECT_FALSE(db.QueryCompensation({}, {"X"}).empty());
+  EXPECT_EQ(db.QueryModelChanges({}).size(), 1u);
+}
+
+TEST(DemoCli, FastDemoExitsZeroAndNamesTheReport) {
+  const fs::path out = fs::temp_directory_path() / ("trueaxis_demo_cli_" + std::to_string(getpid()));
+  fs::remove_all(out);
+  const std::string cmd = std::string(TRUEAXIS_CLI_PATH) + " demo --fast --quiet --seed 5 --machine " + TRUEAXIS_SOURCE_DIR +
+                          "/examples/machines/vmc850.toml --out " + out.string() + " > " + (out.string() + ".txt");
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::stringstream text;
+  text << std::ifstream(out.string() + ".txt").rdbuf();
+  EXPECT_NE(text.str().find("report: " + (out / "report.html").string()), std::string::npos);
+  EXPECT_TRUE(fs::exists(out / "report.html"));
+  fs::remove_all(out);
+  fs::remove(out.string() + ".txt");
+}
+
+TEST(DemoCli, BadMachineFileIsAnInputError) {
+  const std::string cmd = std::string(TRUEAXIS_CLI_PATH) + " demo --fast --quiet --machine /nonexistent.toml --out " +
+                          (fs::temp_directory_path() / "trueaxis_demo_bad").string() + " 2>/dev/null";
+  const int rc = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(rc));
+  EXPECT_EQ(WEXITSTATUS(rc), 2);
+}
+
+}  // namespace
+}  // namespace trueaxis::demo

@@ -1,0 +1,179 @@
+// `trueaxis run` end to end: the compensator loop against the virtual
+// machine in process and against `trueaxis sim serve` over MODBUS TCP on
+// 127.0.0.1 (an independent process), logging into the history database.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "trueaxis/model/composite_model.hpp"
+#include "trueaxis/model/model_json.hpp"
+#include "trueaxis/store/history_db.hpp"
+
+namespace trueaxis {
+namespace {
+namespace fs = std::filesystem;
+
+const std::string kCli = TRUEAXIS_CLI_PATH;
+const std::string kMachine = std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850.toml";
+
+// A model for the example machine's X axis with its real sensor names.
+void WriteXModel(const fs::path& path, const std::string& nut_sensor = "x_nut") {
+  model::CompositeModel m;
+  m.machine = "VMC-850";
+  model::AxisModel a;
+  a.axis = "X";
+  a.reference_position_mm = 0;
+  a.key_sensors = {nut_sensor, "x_bearing"};
+  a.baseline_temp_c = {18, 18};
+  a.ambient_sensor = "ambient";
+  a.ambient_baseline_c = 18;
+  a.rho_um_per_mm_per_c = -0.0115;
+  for (auto& d : a.directions) {
+    d.geometric.center_mm = 425;
+    d.geometric.half_span_mm = 425;
+    d.geometric.coefficients_um = {-20, -15};
+    d.thermal = {{CoolantState::kOff, {-0.01, -0.002}, 0}};
+  }
+  m.axes.push_back(a);
+  model::WriteModelFile(m, path.string());
+}
+
+struct TempDir {
+  explicit TempDir(const std::string& name) : path(fs::temp_directory_path() / (name + std::to_string(getpid()))) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  fs::path path;
+};
+
+int RunShell(const std::string& cmd) {
+  const int rc = std::system(cmd.c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+std::string Slurp(const fs::path& p) {
+  std::stringstream s;
+  s << std::ifstream(p).rdbuf();
+  return s.str();
+}
+
+TEST(RunCli, VirtualMachineInProcessLogsCorrectionsToHistoryAndCsv) {
+  TempDir dir("trueaxis_run_virtual");
+  WriteXModel(dir.path / "model.json");
+  std::ofstream(dir.path / "run.toml") << "[machine]\nkind = \"virtual\"\nfile = \"" << kMachine
+                                       << "\"\ntime_scale = 60\n[model]\nfile = \"model.json\"\n"
+                                          "[[axis]]\nname = \"Y\"\nenabled = false\n[[axis]]\nname = \"Z\"\nenabled = false\n"
+                                          "[history]\ndb = \"h.sqlite\"\ncsv = \"cycles.csv\"\nrecord_interval_s = 0.1\n";
+  const std::string cmd = kCli + " run --config " + (dir.path / "run.toml").string() + " --duration-s 1.5 > " +
+                          (dir.path / "out.txt").string() + " 2> " + (dir.path / "err.txt").string();
+  ASSERT_EQ(RunShell(cmd), 0) << Slurp(dir.path / "err.txt");
+  EXPECT_NE(Slurp(dir.path / "out.txt").find("cycles"), std::string::npos);
+  store::HistoryDb db((dir.path / "h.sqlite").string(), store::HistoryDb::Mode::kReadOnly);
+  const auto rows = db.QueryCompensation({}, {"X"});
+  ASSERT_GT(rows.size(), 5u);
+  double max_abs = 0;
+  for (const auto& r : rows) max_abs = std::max(max_abs, std::fabs(r.correction_um));
+  EXPECT_GT(max_abs, 5);  // the model asks for tens of µm along X
+  EXPECT_EQ(db.QueryModelChanges({}).size(), 1u);
+  EXPECT_FALSE(db.QueryTemperatures({}, {"x_nut"}).empty());
+  const std::string csv = Slurp(dir.path / "cycles.csv");
+  EXPECT_EQ(csv.rfind("time_s,alarms,X_position_mm,X_correction_um", 0), 0u);
+  EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 5);
+}
+
+TEST(RunCli, WithSignalProcessingInFront) {
+  TempDir dir("trueaxis_run_signal");
+  WriteXModel(dir.path / "model.json");
+  std::ofstream(dir.path / "run.toml") << "[machine]\nkind = \"virtual\"\nfile = \"" << kMachine
+                                       << "\"\ntime_scale = 60\n[model]\nfile = \"model.json\"\n"
+                                          "[[axis]]\nname = \"Y\"\nenabled = false\n[[axis]]\nname = \"Z\"\nenabled = false\n"
+                                          "[signal]\nenabled = true\n[history]\ndb = \"h.sqlite\"\nrecord_interval_s = 0.1\n";
+  const std::string cmd = kCli + " run --config " + (dir.path / "run.toml").string() + " --duration-s 1.5 > " +
+                          (dir.path / "out.txt").string() + " 2> " + (dir.path / "err.txt").string();
+  ASSERT_EQ(RunShell(cmd), 0) << Slurp(dir.path / "err.txt");
+  store::HistoryDb db((dir.path / "h.sqlite").string(), store::HistoryDb::Mode::kReadOnly);
+  const auto rows = db.QueryCompensation({}, {"X"});
+  ASSERT_GT(rows.size(), 5u);
+  double max_abs = 0;
+  for (const auto& r : rows) max_abs = std::max(max_abs, std::fabs(r.correction_um));
+  EXPECT_GT(max_abs, 5) << Slurp(dir.path / "err.txt");
+  EXPECT_EQ(Slurp(dir.path / "err.txt").find("sensor_"), std::string::npos) << Slurp(dir.path / "err.txt");
+}
+
+TEST(RunCli, BadConfigAndUnfittingModelAreInputErrors) {
+  TempDir dir("trueaxis_run_bad");
+  WriteXModel(dir.path / "model.json", "x_screw_middle");  // no such channel on the machine
+  std::ofstream(dir.path / "typo.toml") << "[machine]\nkind = \"virtual\"\nfile = \"" << kMachine
+                                        << "\"\n[model]\nfile = \"model.json\"\n[limits]\nmax_stp_um = 1\n";
+  const std::string typo = kCli + " run --config " + (dir.path / "typo.toml").string() + " 2> " + (dir.path / "e1.txt").string();
+  EXPECT_EQ(RunShell(typo), 2);
+  EXPECT_NE(Slurp(dir.path / "e1.txt").find("typo.toml:7: field 'limits.max_stp_um': unknown key"), std::string::npos)
+      << Slurp(dir.path / "e1.txt");
+
+  std::ofstream(dir.path / "run.toml") << "[machine]\nkind = \"virtual\"\nfile = \"" << kMachine
+                                       << "\"\n[model]\nfile = \"model.json\"\n";
+  const std::string unfit = kCli + " run --config " + (dir.path / "run.toml").string() + " --duration-s 1 2> " +
+                            (dir.path / "e2.txt").string();
+  EXPECT_EQ(RunShell(unfit), 2);
+  EXPECT_NE(Slurp(dir.path / "e2.txt").find("x_screw_middle"), std::string::npos) << Slurp(dir.path / "e2.txt");
+}
+
+// A port unlikely to be taken (derived from the pid, so parallel test runs differ).
+int FreePort() {
+  return 20000 + static_cast<int>(getpid() % 20000);
+}
+
+TEST(RunCli, OverModbusTcpAgainstSimServe) {
+  TempDir dir("trueaxis_run_modbus");
+  WriteXModel(dir.path / "model.json");
+  const int port = FreePort();
+  // The terminal: an independent process that stops by itself.
+  const std::string serve = kCli + " sim serve --machine " + kMachine + " --port " + std::to_string(port) +
+                            " --time-scale 60 --duration-s 6 --status-interval-s 0 > " +
+                            (dir.path / "serve.txt").string() + " 2>&1 &";
+  ASSERT_EQ(RunShell(serve), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  std::ofstream(dir.path / "run.toml")
+      << "[machine]\nkind = \"modbus\"\nport = " << port
+      << "\naxes = [\"X\", \"Y\", \"Z\"]\nchannels = [\"x_nut\", \"x_bearing\", \"x_motor\", \"y_nut\", \"y_bearing\", "
+         "\"y_motor\", \"z_nut\", \"z_bearing\", \"z_motor\", \"ambient\", \"bed\"]\n"
+         "[model]\nfile = \"model.json\"\n[[axis]]\nname = \"Y\"\nenabled = false\n[[axis]]\nname = \"Z\"\nenabled = false\n"
+         "[history]\ndb = \"h.sqlite\"\nrecord_interval_s = 0.1\n";
+  const std::string cmd = kCli + " run --config " + (dir.path / "run.toml").string() + " --duration-s 2.5 > " +
+                          (dir.path / "out.txt").string() + " 2> " + (dir.path / "err.txt").string();
+  ASSERT_EQ(RunShell(cmd), 0) << Slurp(dir.path / "err.txt");
+  store::HistoryDb db((dir.path / "h.sqlite").string(), store::HistoryDb::Mode::kReadOnly);
+  const auto rows = db.QueryCompensation({}, {"X"});
+  ASSERT_GT(rows.size(), 5u);
+  double max_abs = 0;
+  for (const auto& r : rows) max_abs = std::max(max_abs, std::fabs(r.correction_um));
+  EXPECT_GT(max_abs, 5) << Slurp(dir.path / "err.txt");
+  EXPECT_FALSE(db.QueryTemperatures({}, {"x_nut"}).empty());
+  std::this_thread::sleep_for(std::chrono::seconds(4));  // let the server's own duration end it
+}
+
+TEST(RunCli, StaysUpWhenTheTerminalIsUnreachable) {
+  TempDir dir("trueaxis_run_nolink");
+  WriteXModel(dir.path / "model.json");
+  std::ofstream(dir.path / "run.toml")
+      << "[machine]\nkind = \"modbus\"\nport = " << FreePort() + 1
+      << "\naxes = [\"X\"]\nchannels = [\"x_nut\", \"x_bearing\", \"ambient\"]\n[model]\nfile = \"model.json\"\n";
+  const std::string cmd = kCli + " run --config " + (dir.path / "run.toml").string() + " --duration-s 1.2 > " +
+                          (dir.path / "out.txt").string() + " 2> " + (dir.path / "err.txt").string();
+  ASSERT_EQ(RunShell(cmd), 0) << Slurp(dir.path / "err.txt");
+  const std::string err = Slurp(dir.path / "err.txt");
+  EXPECT_NE(err.find("not reachable"), std::string::npos) << err;
+  EXPECT_NE(err.find("link_read"), std::string::npos) << err;
+}
+
+}  // namespace
+}  // namespace trueaxis

@@ -1,0 +1,136 @@
+#include "trueaxis/runtime/run_config.hpp"
+
+#include <gtest/gtest.h>
+
+#include "trueaxis/core/input_error.hpp"
+
+namespace trueaxis::runtime {
+namespace {
+
+constexpr const char* kFull = R"(
+[machine]
+kind = "virtual"
+file = "../machines/vmc.toml"
+seed = 7
+time_scale = 60
+duty = 0.5
+coolant = "flood"
+
+[model]
+file = "model.json"
+reload = false
+
+[loop]
+period_s = 0.005
+duration_s = 30
+
+[limits]
+max_correction_um = 80
+max_step_um = 0.25
+hysteresis = 0.3
+
+[sensor_fault]
+hold_last_good_s = 20
+fallback = "zero"
+max_rate_c_per_s = 1
+
+[link]
+loss_policy = "ramp_to_zero"
+recovery_cycles = 10
+follow_cnc_enable = false
+
+[channels]
+x_nut = "rtd_1"
+
+[[axis]]
+name = "X"
+pulse_equivalent_um = 0.5
+programming = "diameter"
+position_offset_mm = -2.5
+reference_position_mm = 10
+
+[[axis]]
+name = "Z"
+enabled = false
+
+[signal]
+enabled = true
+calibration = "cal.json"
+
+[history]
+db = "out/history.sqlite"
+record_interval_s = 0.5
+)";
+
+TEST(RunConfig, ParsesEveryField) {
+  const RunConfig c = ParseRunConfig(kFull, "/etc/trueaxis/run/run.toml");
+  EXPECT_EQ(c.machine, MachineKind::kVirtual);
+  EXPECT_EQ(c.virtual_machine.machine_file, "/etc/trueaxis/machines/vmc.toml");
+  EXPECT_EQ(c.virtual_machine.seed, 7u);
+  EXPECT_EQ(c.virtual_machine.time_scale, 60);
+  EXPECT_EQ(c.virtual_machine.coolant, CoolantState::kFlood);
+  EXPECT_EQ(c.model_file, "/etc/trueaxis/run/model.json");
+  EXPECT_FALSE(c.model_reload);
+  EXPECT_DOUBLE_EQ(c.period_s, 0.005);
+  EXPECT_DOUBLE_EQ(c.duration_s, 30);
+  EXPECT_DOUBLE_EQ(c.compensator.shaper.max_correction_um, 80);
+  EXPECT_DOUBLE_EQ(c.compensator.shaper.max_step_um, 0.25);
+  EXPECT_DOUBLE_EQ(c.compensator.shaper.hysteresis, 0.3);
+  EXPECT_EQ(c.compensator.sensor.fallback, SensorFallback::kZero);
+  EXPECT_DOUBLE_EQ(c.compensator.sensor.hold_last_good_s, 20);
+  EXPECT_EQ(c.compensator.link_loss, LinkLossPolicy::kRampToZero);
+  EXPECT_EQ(c.compensator.link_recovery_cycles, 10);
+  EXPECT_FALSE(c.compensator.follow_cnc_enable);
+  EXPECT_EQ(c.compensator.channel_map.at("x_nut"), "rtd_1");
+  ASSERT_EQ(c.axes.size(), 2u);
+  EXPECT_EQ(c.axes[0].programming, Programming::kDiameter);
+  EXPECT_DOUBLE_EQ(c.axes[0].pulse_equivalent_um, 0.5);
+  EXPECT_DOUBLE_EQ(c.axes[0].position_offset_mm, -2.5);
+  EXPECT_DOUBLE_EQ(c.axes[0].reference_position_mm, 10);
+  EXPECT_FALSE(c.axes[1].enabled);
+  EXPECT_TRUE(std::isnan(c.axes[1].reference_position_mm));
+  EXPECT_EQ(c.history_db, "/etc/trueaxis/run/out/history.sqlite");
+  EXPECT_TRUE(c.signal_processing);
+  EXPECT_EQ(c.calibration_file, "/etc/trueaxis/run/cal.json");
+}
+
+TEST(RunConfig, MinimalModbusConfigGetsDefaults) {
+  const RunConfig c = ParseRunConfig("[machine]\nkind = \"modbus\"\nport = 15020\n[model]\nfile = \"/m.json\"\n", "run.toml");
+  EXPECT_EQ(c.machine, MachineKind::kModbus);
+  EXPECT_EQ(c.modbus.port, 15020);
+  EXPECT_EQ(c.modbus.host, "127.0.0.1");
+  EXPECT_EQ(c.model_file, "/m.json");
+  EXPECT_DOUBLE_EQ(c.period_s, 0.01);
+  EXPECT_EQ(c.compensator.link_loss, LinkLossPolicy::kHold);
+}
+
+void ExpectError(const std::string& text, int line, const std::string& field, const std::string& words) {
+  try {
+    ParseRunConfig(text, "run.toml");
+    FAIL() << "accepted: " << text;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), "run.toml");
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_EQ(e.field(), field) << e.what();
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
+}
+
+TEST(RunConfig, BadInputNamesLineAndField) {
+  const std::string head = "[machine]\nkind = \"modbus\"\n[model]\nfile = \"m.json\"\n";  // lines 1-4
+  ExpectError(head + "[limits]\nmax_step_um = -1\n", 6, "limits.max_step_um", "out of range");
+  ExpectError(head + "[limits]\nmax_stepp_um = 1\n", 6, "limits.max_stepp_um", "unknown key");
+  ExpectError(head + "[link]\nloss_policy = \"panic\"\n", 6, "link.loss_policy", "not one of");
+  ExpectError(head + "[loop]\nperiod_s = \"fast\"\n", 6, "loop.period_s", "must be a number");
+  ExpectError(head + "[[axis]]\npulse_equivalent_um = 1\n", 5, "axis[0].name", "missing");
+  ExpectError(head + "[[axis]]\nname = \"X\"\n[[axis]]\nname = \"X\"\n", 8, "axis[1].name", "twice");
+  ExpectError(head + "[sensor_fault]\nmin_valid_c = 50\nmax_valid_c = 10\n", 7, "sensor_fault.max_valid_c", "greater");
+  ExpectError("[machine]\nkind = \"virtual\"\n[model]\nfile = \"m.json\"\n", 1, "machine.file", "missing");
+  ExpectError("[machine]\nkind = \"modbus\"\n", 1, "model", "missing");
+  ExpectError("[machine]\nkind = \"modbus\"\n[model]\nfile = \"m.json\"\nextra = 1\n", 5, "model.extra", "unknown key");
+  ExpectError("[machine\nkind = 1\n", 1, "", "");
+  ExpectError(head + "[signal]\ncalibration = \"c.json\"\n", 6, "signal.calibration", "enabled = true");
+}
+
+}  // namespace
+}  // namespace trueaxis::runtime
