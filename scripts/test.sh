@@ -1,18 +1,16 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds everything and runs every test.
-# Usage: scripts/test.sh            (build dir: build/)
+# Installs what is missing, builds everything, runs a bounded fuzz of the
+# measurement readers, then every test (CTest's summary is the last output).
+# Usage: scripts/test.sh            (build dirs: build/, build-fuzz/)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j"$(nproc)"
-cd build
-ctest -j"$(nproc)" --output-on-failure --timeout 900
 
 # Bounded libFuzzer run of the measurement readers (fuzz/): a separate clang
 # build with sanitizers; each fuzzer stops after a fixed number of runs (and at
 # most 12 s), so this adds < 30 s of fuzzing. Skipped, saying so, without clang.
-cd ..
 if command -v clang++ >/dev/null 2>&1 && command -v clang >/dev/null 2>&1; then
   CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DTRUEAXIS_BUILD_FUZZ=ON \
     -DTRUEAXIS_BUILD_TESTS=OFF -DTRUEAXIS_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo \
@@ -30,3 +28,6 @@ if command -v clang++ >/dev/null 2>&1 && command -v clang >/dev/null 2>&1; then
 else
   echo "clang/clang++ not found: skipping the libFuzzer run (install clang to enable it)"
 fi
+
+cd build
+ctest -j"$(nproc)" --output-on-failure --timeout 900

@@ -20,7 +20,8 @@
 namespace trueaxis::hw {
 
 struct AxisState {
-  double position_mm = 0;  // machine coordinate as the CNC reports it (radius, even for diameter-programmed axes)
+  double position_mm = 0;  // machine coordinate exactly as the CNC reports it: a diameter on a
+                           // diameter-programmed axis (the runtime converts, docs/runtime.md)
   int servo_direction = 0; // +1 moving/last moved towards +, -1 towards -, 0 not known
   bool moving = false;
 };
@@ -38,7 +39,8 @@ class CncLink {
   // Fills axes[0..AxisCount()) and machine. False on link fault.
   virtual bool Read(std::span<AxisState> axes, CncState& machine) = 0;
   // Writes one compensation value per axis, in µm, as the CORRECTION to add to
-  // the commanded position (docs/sign-convention.md). False on link fault.
+  // the commanded position (docs/sign-convention.md), in the CNC's own units
+  // (diameter on a diameter-programmed axis). False on link fault.
   virtual bool WriteCompensation(std::span<const double> correction_um) = 0;
 };
 
