@@ -94,6 +94,11 @@ std::string StatusText(const Status& s, double wall_s, const drivers::ModbusMach
 }
 
 void RunServe(const ServeOptions& o) {
+  // First thing: a stop request that arrives while the machine is being built
+  // must not be lost (a background job starts with SIGINT ignored).
+  g_stop_requested.store(false);
+  std::signal(SIGINT, OnStopSignal);
+  std::signal(SIGTERM, OnStopSignal);
   if (!(o.time_scale > 0 && o.time_scale <= 100000))
     throw InputError("command line", 0, "--time-scale", "must be in (0, 100000]");
   if (o.duration_s < 0) throw InputError("command line", 0, "--duration-s", "must be >= 0 (0 = until stopped)");
@@ -161,8 +166,6 @@ void RunServe(const ServeOptions& o) {
   });
   if (!server.Start(&why)) throw std::runtime_error(why);
 
-  std::signal(SIGINT, OnStopSignal);
-  std::signal(SIGTERM, OnStopSignal);
   const std::size_t modules = server.RtdModuleCount();
   if (o.json) {
     nlohmann::json hello;

@@ -178,6 +178,20 @@ TEST(ModbusProbe, ReadsTheServedMachineAsTheRuntimeWould) {
   EXPECT_NE(out.find("refused"), std::string::npos) << out;
 }
 
+TEST(SimServe, StopsCleanlyOnSigint) {
+  std::mt19937 rng(std::random_device{}());
+  int status = -1;
+  std::string out;
+  for (int attempt = 0; attempt < 5; ++attempt) {
+    const std::string port = std::to_string(std::uniform_int_distribution<int>(20000, 59999)(rng));
+    // SIGINT after 2 s, whether or not the machine is built by then.
+    out = RunCommand("timeout --preserve-status -s INT 2 " + kCli + " sim serve --machine " + kMachine + " --port " + port + " --status-interval-s 0", &status);
+    if (out.find("cannot listen") == std::string::npos) break;
+  }
+  EXPECT_EQ(status, 0) << out;
+  EXPECT_NE(out.find("stopped:"), std::string::npos) << out;
+}
+
 TEST(SimServe, BadOptionsAreReportedWithTheFieldAndExitCode2) {
   int status = -1;
   std::string out = RunCommand(kCli + " sim serve --machine " + kMachine + " --time-scale 0", &status);
