@@ -20,6 +20,8 @@ function(trueaxis_tests name)
   file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
   add_executable(test_${name} ${sources})
   target_link_libraries(test_${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gmock GTest::gtest_main)
+  # tests/support/: helpers shared by the suites (e.g. running the CLI).
+  target_include_directories(test_${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests)
   target_compile_definitions(test_${name} PRIVATE
     TRUEAXIS_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     TRUEAXIS_SHARED_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/data"

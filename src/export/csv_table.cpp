@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/number_text.hpp"
 
 namespace trueaxis::exporter {
@@ -34,15 +35,12 @@ CompensationTable ReadCsvTable(std::string_view text, const std::string& source)
   CompensationTable t;
   std::optional<ValueSign> sign;
   bool header_seen = false;
-  std::size_t pos = 0;
   int line_no = 0;
   std::string mode = "bidirectional";
-  while (pos <= text.size()) {
-    const std::size_t nl = text.find('\n', pos);
-    std::string_view line = text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
-    pos = nl == std::string_view::npos ? text.size() + 1 : nl + 1;
-    ++line_no;
-    line = Trim(line);
+  LineCursor cursor(text);
+  while (cursor.Next()) {
+    line_no = cursor.number();
+    std::string_view line = cursor.line();
     if (line.empty()) continue;
     if (line[0] == '#') {
       const auto colon = line.find(':');

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/number_text.hpp"
 
 namespace trueaxis::exporter {
@@ -208,14 +209,12 @@ CompensationTable ReadFanucPitchTape(std::string_view text, int axis_number, dou
     return *v;
   };
   std::map<int, int> param_line;
-  std::size_t pos = 0;
   int line_no = 0;
   int percent = 0;
-  while (pos <= text.size()) {
-    const std::size_t nl = text.find('\n', pos);
-    std::string line(Trim(text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos)));
-    pos = nl == std::string_view::npos ? text.size() + 1 : nl + 1;
-    ++line_no;
+  LineCursor cursor(text);
+  while (cursor.Next()) {
+    line_no = cursor.number();
+    std::string line(cursor.line());
     if (!line.empty() && line.back() == ';') line.pop_back();
     if (line.empty()) continue;
     if (line == "%") {

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/number_text.hpp"
 
 namespace trueaxis::exporter {
@@ -71,14 +72,11 @@ CompensationTable ReadLinuxCncCompFile(std::string_view text, int comp_file_type
   if (comp_file_type != 0 && comp_file_type != 1)
     throw InputError(source, 0, "COMP_FILE_TYPE", "must be 0 or 1");
   CompensationTable t;
-  std::size_t pos = 0;
   int line_no = 0;
-  while (pos <= text.size()) {
-    const std::size_t nl = text.find('\n', pos);
-    std::string_view line = text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
-    pos = nl == std::string_view::npos ? text.size() + 1 : nl + 1;
-    ++line_no;
-    line = Trim(line);
+  LineCursor cursor(text);
+  while (cursor.Next()) {
+    line_no = cursor.number();
+    std::string_view line = cursor.line();
     if (line.empty()) continue;
     std::vector<std::string_view> fields;
     std::size_t i = 0;

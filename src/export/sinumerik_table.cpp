@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/number_text.hpp"
 
 namespace trueaxis::exporter {
@@ -89,18 +90,16 @@ CompensationTable ReadSinumerikEec(std::string_view text, const std::string& sou
   std::map<std::string, double> data;
   std::optional<std::string> axis;
   bool header = false, end = false;
-  std::size_t pos = 0;
   int line_no = 0;
   auto number = [&](const std::string& s, int line, const std::string& field) {
     auto d = ParseDouble(s);
     if (!d || !std::isfinite(*d)) throw InputError(source, line, field, fmt::format("'{}' is not a number", s));
     return *d;
   };
-  while (pos <= text.size()) {
-    const std::size_t nl = text.find('\n', pos);
-    std::string line(Trim(text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos)));
-    pos = nl == std::string_view::npos ? text.size() + 1 : nl + 1;
-    ++line_no;
+  LineCursor cursor(text);
+  while (cursor.Next()) {
+    line_no = cursor.number();
+    std::string line(cursor.line());
     if (line.empty()) continue;
     std::smatch m;
     if (line[0] == ';') {

@@ -11,6 +11,7 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/text_file.hpp"
 
 namespace trueaxis::measure {
@@ -61,15 +62,11 @@ Measurement ParseEcmcDat(std::string_view text, const std::string& source) {
   std::optional<std::pair<std::string, int>> unit;                      // value, line
   std::optional<ScalarInt> cycles, positions;
   std::map<std::string, int> scalar_lines;                              // key -> line, for duplicates
+  LineCursor cursor(text);
   int line_no = 0;
-  std::size_t pos = 0;
-  while (pos < text.size()) {
-    auto nl = text.find('\n', pos);
-    std::string_view raw = text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
-    pos = (nl == std::string_view::npos) ? text.size() : nl + 1;
-    ++line_no;
-    if (line_no == 1 && raw.size() >= 3 && raw.substr(0, 3) == "\xEF\xBB\xBF") raw.remove_prefix(3);
-    std::string_view line = Trim(raw);
+  while (cursor.Next()) {
+    line_no = cursor.number();
+    std::string_view line = cursor.line();
     if (line.empty() || line.front() == '#') continue;
     const auto eq = line.find('=');
     if (eq == std::string_view::npos) {

@@ -7,22 +7,11 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/text_file.hpp"
 
 namespace trueaxis::measure {
 namespace {
-
-std::vector<std::string_view> SplitComma(std::string_view line) {
-  std::vector<std::string_view> out;
-  std::size_t start = 0;
-  while (true) {
-    auto pos = line.find(',', start);
-    out.push_back(Trim(line.substr(start, pos == std::string_view::npos ? std::string_view::npos : pos - start)));
-    if (pos == std::string_view::npos) break;
-    start = pos + 1;
-  }
-  return out;
-}
 
 enum class Column { kRun, kDirection, kTarget, kDeviation, kTime, kTemperature };
 
@@ -39,28 +28,17 @@ Measurement ParseMeasurementCsv(std::string_view text, const std::string& source
   m.source = source;
   std::vector<ColumnSpec> columns;
   bool have_header = false;
+  LineCursor cursor(text);
   int line_no = 0;
-  std::size_t pos = 0;
-  while (pos <= text.size()) {
-    auto nl = text.find('\n', pos);
-    std::string_view raw = text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
-    pos = (nl == std::string_view::npos) ? text.size() + 1 : nl + 1;
-    ++line_no;
-    if (!raw.empty() && raw.back() == '\r') raw.remove_suffix(1);
-    if (line_no == 1 && raw.size() >= 3 && raw.substr(0, 3) == "\xEF\xBB\xBF") raw.remove_prefix(3);
-    std::string_view line = Trim(raw);
+  while (cursor.Next()) {
+    line_no = cursor.number();
+    const std::string_view line = cursor.line();
     if (line.empty()) continue;
     if (line.front() == '#') {
-      auto body = Trim(line.substr(1));
-      auto colon = body.find(':');
-      if (colon != std::string_view::npos && colon > 0) {
-        std::string key(Trim(body.substr(0, colon)));
-        std::string value(Trim(body.substr(colon + 1)));
-        if (!have_header) m.SetMeta(key, value);
-      }
+      if (auto kv = ParseMetadataComment(line); kv && !have_header) m.SetMeta(std::string(kv->first), std::string(kv->second));
       continue;  // other comments are free text
     }
-    auto fields = SplitComma(line);
+    auto fields = SplitCsvFields(line);
     if (!have_header) {
       have_header = true;
       bool seen[4] = {false, false, false, false};

@@ -7,22 +7,11 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/text_file.hpp"
 
 namespace trueaxis::signal {
 namespace {
-
-std::vector<std::string_view> SplitComma(std::string_view line) {
-  std::vector<std::string_view> out;
-  std::size_t start = 0;
-  while (true) {
-    auto pos = line.find(',', start);
-    out.push_back(Trim(line.substr(start, pos == std::string_view::npos ? std::string_view::npos : pos - start)));
-    if (pos == std::string_view::npos) break;
-    start = pos + 1;
-  }
-  return out;
-}
 
 }  // namespace
 
@@ -32,18 +21,14 @@ ReadingsTable ParseReadingsCsv(std::string_view text, const std::string& source,
   int time_col = -1;
   std::vector<int> column_to_channel;
   bool have_header = false;
+  LineCursor cursor(text);
   int line_no = 0;
-  std::size_t pos = 0;
   double previous_time = -INFINITY;
-  while (pos <= text.size()) {
-    auto nl = text.find('\n', pos);
-    std::string_view raw = text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
-    pos = (nl == std::string_view::npos) ? text.size() + 1 : nl + 1;
-    ++line_no;
-    if (line_no == 1 && raw.size() >= 3 && raw.substr(0, 3) == "\xEF\xBB\xBF") raw.remove_prefix(3);
-    std::string_view line = Trim(raw);
+  while (cursor.Next()) {
+    line_no = cursor.number();
+    const std::string_view line = cursor.line();
     if (line.empty() || line.front() == '#') continue;
-    auto fields = SplitComma(line);
+    auto fields = SplitCsvFields(line);
     if (!have_header) {
       have_header = true;
       for (std::size_t c = 0; c < fields.size(); ++c) {

@@ -10,24 +10,13 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/text_file.hpp"
 
 namespace trueaxis::thermal {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::vector<std::string_view> SplitComma(std::string_view line) {
-  std::vector<std::string_view> out;
-  std::size_t start = 0;
-  while (true) {
-    auto pos = line.find(',', start);
-    out.push_back(Trim(line.substr(start, pos == std::string_view::npos ? std::string_view::npos : pos - start)));
-    if (pos == std::string_view::npos) break;
-    start = pos + 1;
-  }
-  return out;
-}
 
 bool EndsWith(const std::string& s, std::string_view suffix) {
   return s.size() > suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -55,25 +44,18 @@ ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& so
   std::vector<Column> columns;
   std::vector<double> temps, errs;  // row-major while reading
   bool have_header = false;
+  LineCursor cursor(text);
   int line_no = 0;
-  std::size_t pos = 0;
-  while (pos <= text.size()) {
-    auto nl = text.find('\n', pos);
-    std::string_view raw = text.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
-    pos = (nl == std::string_view::npos) ? text.size() + 1 : nl + 1;
-    ++line_no;
-    if (!raw.empty() && raw.back() == '\r') raw.remove_suffix(1);
-    if (line_no == 1 && raw.size() >= 3 && raw.substr(0, 3) == "\xEF\xBB\xBF") raw.remove_prefix(3);
-    std::string_view line = Trim(raw);
+  while (cursor.Next()) {
+    line_no = cursor.number();
+    const std::string_view line = cursor.line();
     if (line.empty()) continue;
     if (line.front() == '#') {
-      auto body = Trim(line.substr(1));
-      auto colon = body.find(':');
-      if (colon != std::string_view::npos && colon > 0 && !have_header)
-        s.metadata[std::string(Trim(body.substr(0, colon)))] = std::string(Trim(body.substr(colon + 1)));
+      if (auto kv = ParseMetadataComment(line); kv && !have_header)
+        s.metadata[std::string(kv->first)] = std::string(kv->second);
       continue;
     }
-    auto fields = SplitComma(line);
+    auto fields = SplitCsvFields(line);
     if (!have_header) {
       have_header = true;
       std::set<std::string> seen;

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cli_runner.hpp"
+#include "support/cli_runner.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
 

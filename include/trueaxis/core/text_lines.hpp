@@ -1,0 +1,40 @@
+#pragma once
+// Line-by-line reading shared by every text reader (measurement CSV, ecmc
+// .dat, thermal series, calibration sessions, controller tables), so they
+// agree on line numbers, line endings and the UTF-8 byte-order mark.
+//
+// LineCursor yields each line trimmed of blanks, "\r" and (on line 1) a BOM,
+// numbered from 1. A text ending in "\n" has one more, empty, last line, so
+// an error "after the last line" points one past it, as editors show it.
+#include <optional>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace trueaxis {
+
+class LineCursor {
+ public:
+  explicit LineCursor(std::string_view text) : text_(text) {}
+
+  // Moves to the next line; false when there is none.
+  bool Next();
+  std::string_view line() const { return line_; }
+  int number() const { return number_; }
+
+ private:
+  std::string_view text_;
+  std::size_t pos_ = 0;
+  std::string_view line_;
+  int number_ = 0;
+};
+
+// Splits a comma-separated line into its fields, each trimmed (no quoting:
+// trueaxis's CSV files never need it).
+std::vector<std::string_view> SplitCsvFields(std::string_view line);
+
+// "# key: value" metadata comment → (key, value), both trimmed; nullopt for a
+// line that is not a comment or a comment without "key:".
+std::optional<std::pair<std::string_view, std::string_view>> ParseMetadataComment(std::string_view line);
+
+}  // namespace trueaxis
