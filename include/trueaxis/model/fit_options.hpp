@@ -39,6 +39,10 @@ struct FitOptions {
   // axis' error without causing it, and a different warm-up path would break
   // that correlation. Shared sensors (ambient, bed, ...) stay candidates.
   bool own_axis_sensors_only = true;
+  // Thermal lag of the key sensors (thermal_lag.hpp): the τ values (seconds) tried, after the
+  // keys are chosen, by the same leave-one-state-out CV, the lag applied along each file's time
+  // series. A τ > 0 is kept only when it lowers the CV by min_cv_improvement. {} or {0}: no lag.
+  std::vector<double> key_lag_grid_s = {0, 120, 300, 600, 1200, 2400};
   // Fewer heated (or ambient) off-coolant states than this → geometric-only model with a warning.
   int min_thermal_states = 2;
 

@@ -50,6 +50,15 @@ struct PointTemperatures {
 PointTemperatures TemperaturesForPoint(const AxisModel& axis, const measure::Measurement& m,
                                        const measure::MeasurementPoint& p);
 
+// The readings of sensor `sensor_index` of `m` at each point (file order) passed through the
+// first-order lag LagStep(τ = tau_s) in time order (time_s). The filter starts at the file's
+// first reading (a measurement carries no earlier history); a point without time_s restarts it.
+// tau_s <= 0: the raw readings.
+std::vector<double> LaggedSensorSeries(const measure::Measurement& m, std::size_t sensor_index, double tau_s);
+// TemperaturesForPoint for every point, the key sensors lagged by axis.key_lag_s along the
+// file's time series: what Predict() is fed for a measurement (predict --measurement, fit summary).
+std::vector<PointTemperatures> LaggedKeyTemperatures(const AxisModel& axis, const measure::Measurement& m);
+
 // measured − predicted, point by point (same runs, directions, targets): the
 // error that would remain after compensation with `axis`. Deviation replaced,
 // everything else kept, so it can be evaluated by ISO 230-2 directly.
