@@ -132,7 +132,8 @@ void HeldOutStudy(bool markdown) {
       const double a_p = IsoA(model::PredictionResidual(fits[0].model.axes[ai], m, st.coolant));
       const double a_t = IsoA(model::PredictionResidual(fits[1].model.axes[ai], m, st.coolant));
       const double a_t2 = IsoA(model::PredictionResidual(fits[2].model.axes[ai], m, st.coolant));
-      const double a_l = IsoA(model::PredictionResidual(fits[3].model.axes[ai], m, st.coolant));
+      // The lag runs through the logged history before the measurement, as the runtime's would.
+      const double a_l = IsoA(model::PredictionResidual(fits[3].model.axes[ai], m, st.coolant, &st.history));
       const double a_m = IsoA(model::PredictionResidual(fit_mean.model.axes[ai], WithMeanTemperatures(m), st.coolant));
       const auto t = model::TemperaturesForPoint(fits[0].model.axes[ai], m, m.points.front());
       const double amb_delta = std::isnan(t.ambient_c) ? NAN : t.ambient_c - fits[0].model.axes[ai].ambient_baseline_c;

@@ -26,6 +26,8 @@ bool FitOptions::IsValid(std::string* why) const {
   if (!(min_ambient_range_c > 0)) return fail("min_ambient_range_c must be > 0");
   for (double tau : key_lag_grid_s)
     if (!(tau >= 0) || !std::isfinite(tau)) return fail("key_lag_grid_s values must be finite seconds >= 0");
+  if (!(min_lag_cv_improvement >= 0 && min_lag_cv_improvement < 1))
+    return fail("min_lag_cv_improvement must be within [0, 1)");
   std::set<std::string> seen;
   for (const auto& k : key_sensors) {
     if (k.empty()) return fail("key_sensors has an empty name");

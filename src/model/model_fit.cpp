@@ -488,7 +488,7 @@ class AxisFitter {
       std::vector<std::vector<double>> lagged(candidates.size());
       if (tau_s > 0)
         for (std::size_t j = 0; j < candidates.size(); ++j)
-          if (idx[j]) lagged[j] = LaggedSensorSeries(m, *idx[j], tau_s);
+          if (idx[j]) lagged[j] = LaggedSensorSeries(m, *idx[j], tau_s, &thermal_[si]->history);
       for (std::size_t pi = 0; pi < m.points.size(); ++pi) {
         const auto& p = m.points[pi];
         ThermalPoint t;
@@ -667,7 +667,7 @@ class AxisFitter {
         sum.lag_candidates.push_back({tau, cv});
         if (cv < best_cv) best_cv = cv, best_tau = tau, best = pts;
       }
-      if (best_tau > 0 && best_cv <= (1 - o_.min_cv_improvement) * cv0) {
+      if (best_tau > 0 && best_cv <= (1 - o_.min_lag_cv_improvement) * cv0) {
         pts = std::move(best);
         key_lag_s = best_tau;
         sum.lag_reason = fmt::format("τ = {} s lowers the LOSO CV from {:.3f} to {:.3f} µm", FormatShortest(best_tau),
@@ -676,7 +676,7 @@ class AxisFitter {
         pts = std::move(raw);
         sum.lag_reason = best_tau > 0 ? fmt::format("no lag: the best τ = {} s lowers the LOSO CV by less than {:.0f} % "
                                                     "({:.3f} → {:.3f} µm)",
-                                                    FormatShortest(best_tau), 100 * o_.min_cv_improvement, cv0, best_cv)
+                                                    FormatShortest(best_tau), 100 * o_.min_lag_cv_improvement, cv0, best_cv)
                                       : "no lag: no τ of the grid lowers the LOSO CV";
       }
       sum.key_lag_s = key_lag_s;
@@ -839,7 +839,7 @@ class AxisFitter {
       if (!model_.ambient_sensor.empty())
         st.mean_ambient_rise_c = MeanOfSensor(m, model_.ambient_sensor) - model_.ambient_baseline_c;
       double su = 0, sg = 0, sr = 0;
-      const auto lagged = LaggedKeyTemperatures(model_, m);
+      const auto lagged = LaggedKeyTemperatures(model_, m, &s.history);
       for (std::size_t pi = 0; pi < m.points.size(); ++pi) {
         const auto& p = m.points[pi];
         const auto& t = lagged[pi];
@@ -892,7 +892,8 @@ PointTemperatures TemperaturesForPoint(const AxisModel& axis, const measure::Mea
   return t;
 }
 
-std::vector<double> LaggedSensorSeries(const measure::Measurement& m, std::size_t sensor_index, double tau_s) {
+std::vector<double> LaggedSensorSeries(const measure::Measurement& m, std::size_t sensor_index, double tau_s,
+                                       const TemperatureHistory* history) {
   const auto& pts = m.points;
   std::vector<double> out(pts.size(), kNaN);
   std::vector<std::size_t> order(pts.size());
@@ -902,6 +903,14 @@ std::vector<double> LaggedSensorSeries(const measure::Measurement& m, std::size_
   if (all_timed)
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return *pts[a].time_s < *pts[b].time_s; });
   double lagged = kNaN, last_t = kNaN;
+  if (history && tau_s > 0 && all_timed)
+    for (std::size_t r = 0; r < history->time_s.size(); ++r) {
+      const auto& row = history->temps_c[r];
+      const double raw = sensor_index < row.size() ? row[sensor_index] : kNaN;
+      if (std::isnan(raw)) continue;  // a flagged reading: the lag carries on over the gap
+      lagged = std::isnan(last_t) ? raw : LagStep(lagged, raw, history->time_s[r] - last_t, tau_s);
+      last_t = history->time_s[r];
+    }
   for (std::size_t i : order) {
     const auto& p = pts[i];
     const double raw = sensor_index < p.temperatures_c.size() ? p.temperatures_c[sensor_index] : kNaN;
@@ -915,7 +924,8 @@ std::vector<double> LaggedSensorSeries(const measure::Measurement& m, std::size_
   return out;
 }
 
-std::vector<PointTemperatures> LaggedKeyTemperatures(const AxisModel& axis, const measure::Measurement& m) {
+std::vector<PointTemperatures> LaggedKeyTemperatures(const AxisModel& axis, const measure::Measurement& m,
+                                                     const TemperatureHistory* history) {
   std::vector<PointTemperatures> out;
   out.reserve(m.points.size());
   for (const auto& p : m.points) out.push_back(TemperaturesForPoint(axis, m, p));
@@ -923,15 +933,16 @@ std::vector<PointTemperatures> LaggedKeyTemperatures(const AxisModel& axis, cons
     if (!(axis.KeyLagS(k) > 0)) continue;
     const auto idx = m.SensorIndex(axis.key_sensors[k]);
     if (!idx) continue;
-    const auto series = LaggedSensorSeries(m, *idx, axis.KeyLagS(k));
+    const auto series = LaggedSensorSeries(m, *idx, axis.KeyLagS(k), history);
     for (std::size_t i = 0; i < out.size(); ++i) out[i].key_temp_c[k] = series[i];
   }
   return out;
 }
 
-measure::Measurement PredictedMeasurement(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant) {
+measure::Measurement PredictedMeasurement(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant,
+                                          const TemperatureHistory* history) {
   measure::Measurement out = m;
-  const auto temps = LaggedKeyTemperatures(axis, m);
+  const auto temps = LaggedKeyTemperatures(axis, m, history);
   for (std::size_t i = 0; i < out.points.size(); ++i) {
     auto& p = out.points[i];
     const auto& t = temps[i];
@@ -940,8 +951,9 @@ measure::Measurement PredictedMeasurement(const AxisModel& axis, const measure::
   return out;
 }
 
-measure::Measurement PredictionResidual(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant) {
-  measure::Measurement out = PredictedMeasurement(axis, m, coolant);
+measure::Measurement PredictionResidual(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant,
+                                        const TemperatureHistory* history) {
+  measure::Measurement out = PredictedMeasurement(axis, m, coolant, history);
   for (std::size_t i = 0; i < out.points.size(); ++i)
     out.points[i].deviation_um = m.points[i].deviation_um - out.points[i].deviation_um;
   return out;
