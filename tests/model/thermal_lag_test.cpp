@@ -4,12 +4,17 @@
 #include "trueaxis/model/thermal_lag.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <random>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include "synthetic_machine.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/text_file.hpp"
+#include "trueaxis/model/fit_input.hpp"
 #include "trueaxis/model/model_fit.hpp"
 #include "trueaxis/model/model_json.hpp"
 
@@ -209,6 +214,60 @@ TEST(LagFitOptions, NegativeGridValueIsInvalid) {
   std::string why;
   EXPECT_FALSE(o.IsValid(&why));
   EXPECT_NE(why.find("key_lag_grid_s"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace trueaxis::model
+
+namespace trueaxis::model {
+namespace {
+
+// A manifest naming the campaign's temperature_log gives each file its history, and the lag
+// runs through it before the file's points.
+TEST(LagHistory, ManifestTemperatureLogFeedsTheFilterBeforeTheFile) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("trueaxis_lag_history_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  WriteTextFile((dir / "m.csv").string(),
+                "# axis: X\n# state: warm\nrun,direction,target_mm,deviation_um,time_s,t_nut_c\n"
+                "1,+,0,0,0,30\n1,+,100,0,100,30\n");
+  // Nut at 20 °C for hours, then 30 °C from 100 s before the file (campaign clock: file at 10000 s).
+  std::string log = "time_s,date,coolant,t_nut_c,t_other_c\n";
+  for (int t = 0; t < 10000; t += 50) log += std::to_string(t) + ",d,off," + (t < 9900 ? "20" : "30") + ",1\n";
+  log += "10050,d,off,30,1\n";  // after the start: not history
+  WriteTextFile((dir / "temperature_log.csv").string(), log);
+  WriteTextFile((dir / "manifest.json").string(),
+                R"({"temperature_log": "temperature_log.csv", "measurements": [{"file": "m.csv", "axis": "X", "state": "warm", "start_time_s": 10000}]})");
+  const auto states = LoadFitStates({}, (dir / "manifest.json").string());
+  ASSERT_EQ(states.size(), 1u);
+  const auto& h = states[0].history;
+  ASSERT_FALSE(h.empty());
+  EXPECT_LT(h.time_s.back(), 0);
+  EXPECT_GE(h.time_s.front(), -TemperatureHistory::kWindowS);
+  EXPECT_EQ(h.temps_c.back().size(), 1u);  // mapped onto the file's sensors (nut only)
+  const auto& m = states[0].measurement;
+  // Without history the filter starts at the file's 30 °C; with it, at ~20 °C + 100 s of 30 °C.
+  EXPECT_EQ(LaggedSensorSeries(m, 0, 100)[0], 30.0);
+  const auto lagged = LaggedSensorSeries(m, 0, 100, &h);
+  // Each reading is held over the interval since the previous one: the first 30 °C row (−100 s)
+  // counts from the 20 °C row before it (−150 s), so 150 s of 30 °C at τ = 100 s.
+  EXPECT_NEAR(lagged[0], 20 + 10 * (1 - std::exp(-1.5)), 1e-9);
+  EXPECT_GT(lagged[1], lagged[0]);
+  EXPECT_LT(lagged[1], 30.0);
+
+  // A bad number in the log names its line and column.
+  WriteTextFile((dir / "temperature_log.csv").string(), "time_s,t_nut_c\n0,20\n50,abc\n");
+  try {
+    LoadFitStates({}, (dir / "manifest.json").string());
+    FAIL() << "bad log accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(":3:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("t_nut_c"), std::string::npos) << e.what();
+  }
+  fs::remove(dir / "temperature_log.csv");
+  EXPECT_THROW(LoadFitStates({}, (dir / "manifest.json").string()), InputError);
+  fs::remove_all(dir);
 }
 
 }  // namespace
