@@ -149,6 +149,7 @@ void Setup(CLI::App& app) {
   cmd->add_option("--lag-grid-s", opts->lag_grid_s,
                   "Key-sensor lag time constants τ (s) tried by cross-validation (comma separated); 0 alone: no lag")
       ->delimiter(',')
+      ->allow_extra_args(false)  // one token: the measurement files after it stay positional
       ->capture_default_str();
   cmd->add_option("--max-keys", opts->max_keys, "Most key sensors the selection may choose")->capture_default_str();
   cmd->add_option("--max-key-correlation", opts->max_key_correlation,

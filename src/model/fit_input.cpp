@@ -179,6 +179,11 @@ TemperatureHistory HistoryBefore(const TemperatureLog& log, const measure::Measu
 
 }  // namespace
 
+TemperatureHistory TemperatureHistoryFromLog(const std::string& log_path, const measure::Measurement& m,
+                                             double start_time_s) {
+  return HistoryBefore(ReadTemperatureLog(log_path), m, start_time_s);
+}
+
 std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, const std::string& manifest_path) {
   std::vector<FitState> out;
   for (const auto& p : csv_paths) {

@@ -36,8 +36,8 @@ std::string FitSummary::BriefReport() const {
                          a.key_sensors.empty() ? std::string("none") : fmt::format("{}", fmt::join(a.key_sensors, ", ")),
                          Num(a.thermal_cv_rms_um), Num(a.no_thermal_cv_rms_um), Num(a.reference_position_mm, 1),
                          Num(a.rho_um_per_mm_per_c, 5));
-    else
-      out += "; geometric only";
+    if (a.thermal_fitted && !a.lag_reason.empty()) out += fmt::format("; key lag τ {} s", Num(a.key_lag_s, 0));
+    if (!a.thermal_fitted) out += "; geometric only";
     const StateFitStats* worst = nullptr;
     for (const auto& s : a.states)
       if (!worst || s.residual_rms_um > worst->residual_rms_um) worst = &s;

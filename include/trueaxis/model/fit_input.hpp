@@ -47,6 +47,12 @@ struct FitState {
   TemperatureHistory history;
 };
 
+// The history of `m` from a campaign temperature log (docs/campaign.md: time_s on the campaign
+// clock + t_<sensor>_c columns): the rows of the kWindowS before `start_time_s`, mapped onto m's
+// sensors. InputError(log, line, column) for a bad number.
+TemperatureHistory TemperatureHistoryFromLog(const std::string& log_path, const measure::Measurement& m,
+                                             double start_time_s);
+
 // Kind and coolant from a label ("cold", "coolant:flood", ...). InputError-free:
 // an unknown coolant name in a label is reported by the caller.
 StateKind KindFromLabel(const std::string& label);
