@@ -81,19 +81,26 @@ void HeldOutStudy(bool markdown) {
     const char* name;
     model::FitOptions o;
   };
-  std::vector<Variant> variants(3);
+  // The first three without the thermal lag (key_lag_grid_s = {0}: the static model as before
+  // the lag existed); the fourth is the default fit (auto, τ chosen by LOSO CV).
+  std::vector<Variant> variants(4);
+  for (auto& v : variants) v.o.key_lag_grid_s = {0};
   variants[0].name = "polynomial";
   variants[0].o.geometric = model::FitOptions::Geometric::kPolynomial;
   variants[1].name = "table";
   variants[1].o.geometric = model::FitOptions::Geometric::kTable;
   variants[2].name = "auto";
   variants[2].o.geometric = model::FitOptions::Geometric::kAuto;
+  variants[3].name = "auto + lag (default)";
+  variants[3].o = model::FitOptions{};
   std::vector<model::FitResult> fits;
   for (auto& v : variants) fits.push_back(model::FitCompositeModel(c.a, v.o));
   // Fourth: auto, fitted and predicted with each file's mean temperatures.
   std::vector<model::FitState> a_mean = c.a;
   for (auto& st : a_mean) st.measurement = WithMeanTemperatures(st.measurement);
-  const auto fit_mean = model::FitCompositeModel(a_mean, {});
+  model::FitOptions mean_opts;
+  mean_opts.key_lag_grid_s = {0};
+  const auto fit_mean = model::FitCompositeModel(a_mean, mean_opts);
 
   for (std::size_t ai = 0; ai < fits[0].model.axes.size(); ++ai) {
     const auto& axis_name = fits[0].model.axes[ai].axis;
@@ -108,10 +115,15 @@ void HeldOutStudy(bool markdown) {
                                fmt::join(a.key_sensors, "+"), a.reference_position_mm,
                                a.rho_um_per_mm_per_c, s.thermal_cv_rms_um, s.no_thermal_cv_rms_um,
                                s.directions[0].geometric_cv_rms_um, s.directions[1].geometric_cv_rms_um);
+      if (!s.lag_reason.empty()) {
+        std::cout << fmt::format("  - lag: {}; grid", s.lag_reason);
+        for (const auto& lc : s.lag_candidates) std::cout << fmt::format(" τ {:.0f} s → {:.2f} µm;", lc[0], lc[1]);
+        std::cout << "\n";
+      }
     }
     std::cout << "\n| held-out state (B) | coolant | nut rise °C | ambient Δ °C | A uncorrected µm | A residual poly µm "
-                 "| A residual table µm | A residual auto µm | A residual auto, state-mean temps µm | max(R↑,R↓) µm |\n|---|---|---|---|---|---|---|---|---|---|\n";
-    double sum_u = 0, sum_p = 0, sum_t = 0, sum_t2 = 0, sum_m = 0;
+                 "| A residual table µm | A residual auto µm | A residual auto + lag µm | A residual auto, state-mean temps µm | max(R↑,R↓) µm |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+    double sum_u = 0, sum_p = 0, sum_t = 0, sum_t2 = 0, sum_l = 0, sum_m = 0;
     int n = 0;
     for (const auto& st : c.b) {
       if (st.axis != axis_name) continue;
@@ -120,17 +132,19 @@ void HeldOutStudy(bool markdown) {
       const double a_p = IsoA(model::PredictionResidual(fits[0].model.axes[ai], m, st.coolant));
       const double a_t = IsoA(model::PredictionResidual(fits[1].model.axes[ai], m, st.coolant));
       const double a_t2 = IsoA(model::PredictionResidual(fits[2].model.axes[ai], m, st.coolant));
+      // The lag runs through the logged history before the measurement, as the runtime's would.
+      const double a_l = IsoA(model::PredictionResidual(fits[3].model.axes[ai], m, st.coolant, &st.history));
       const double a_m = IsoA(model::PredictionResidual(fit_mean.model.axes[ai], WithMeanTemperatures(m), st.coolant));
       const auto t = model::TemperaturesForPoint(fits[0].model.axes[ai], m, m.points.front());
       const double amb_delta = std::isnan(t.ambient_c) ? NAN : t.ambient_c - fits[0].model.axes[ai].ambient_baseline_c;
-      std::cout << fmt::format("| {} | {} | {} | {:.2f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n", st.label,
+      std::cout << fmt::format("| {} | {} | {} | {:.2f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} |\n", st.label,
                                CoolantStateName(st.coolant), m.Meta("nut_rise_c").value_or("?"), amb_delta,
-                               ev.axis.A_um, a_p, a_t, a_t2, a_m, std::max(ev.axis.R_up_um, ev.axis.R_down_um));
-      sum_u += ev.axis.A_um, sum_p += a_p, sum_t += a_t, sum_t2 += a_t2, sum_m += a_m, ++n;
+                               ev.axis.A_um, a_p, a_t, a_t2, a_l, a_m, std::max(ev.axis.R_up_um, ev.axis.R_down_um));
+      sum_u += ev.axis.A_um, sum_p += a_p, sum_t += a_t, sum_t2 += a_t2, sum_l += a_l, sum_m += a_m, ++n;
     }
     if (n)
-      std::cout << fmt::format("| **mean of {} states** | | | | **{:.1f}** | **{:.1f}** | **{:.1f}** | **{:.1f}** | **{:.1f}** | |\n",
-                               n, sum_u / n, sum_p / n, sum_t / n, sum_t2 / n, sum_m / n);
+      std::cout << fmt::format("| **mean of {} states** | | | | **{:.1f}** | **{:.1f}** | **{:.1f}** | **{:.1f}** | **{:.1f}** | **{:.1f}** | |\n",
+                               n, sum_u / n, sum_p / n, sum_t / n, sum_t2 / n, sum_l / n, sum_m / n);
     const auto& sm = fit_mean.summary.axes[ai];
     std::cout << fmt::format("\nstate-mean variant: keys {}, thermal LOSO CV {:.2f} µm\n",
                              fmt::join(fit_mean.model.axes[ai].key_sensors, "+"), sm.thermal_cv_rms_um);

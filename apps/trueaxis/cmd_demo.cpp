@@ -56,6 +56,8 @@ void Setup(CLI::App& app) {
                 "Run the working day over MODBUS TCP on 127.0.0.1: the virtual machine behind the PMC-window/ADAM-6015 "
                 "terminal, the compensator on the MODBUS clients (slower: real round trips every cycle)");
   cmd->add_option("--modbus-port", opts->demo.modbus_port, "Port of that terminal (default: first free from 15020)");
+  cmd->add_flag_function("--no-lag", [opts](std::int64_t) { opts->demo.thermal_lag = false; },
+                "Fit the static thermal model (no key-sensor lag), for comparison with the default");
   cmd->add_option("--geometric", opts->demo.geometric,
                   "Er(x) model: auto (polynomial or table by cross-validation), polynomial (seed 000), table (seed 002)")
       ->check(CLI::IsMember({"auto", "polynomial", "table"}))

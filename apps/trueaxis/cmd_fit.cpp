@@ -41,6 +41,7 @@ struct FitCliOptions {
   double max_key_correlation = 0.98;
   bool reuse_sources = false;
   bool full = false;
+  std::vector<double> lag_grid_s = model::FitOptions{}.key_lag_grid_s;
 };
 
 // How much the geometric part moved against the previous revision, per axis and direction.
@@ -89,6 +90,7 @@ void RunFit(const FitCliOptions& o) {
   fo.rho_um_per_mm_per_c = o.rho;
   fo.ambient_sensor = o.ambient_sensor;
   fo.default_axis = o.axis;
+  fo.key_lag_grid_s = o.lag_grid_s;
   std::string why;
   if (!fo.IsValid(&why)) throw InputError("command line", 0, "options", why);
 
@@ -144,6 +146,11 @@ void Setup(CLI::App& app) {
   cmd->add_option("--report", opts->report, "Write an HTML fit report (measured vs model per state)");
   cmd->add_option("--previous", opts->previous, "Model this fit replaces: revision+1, lineage recorded");
   cmd->add_option("--keys", opts->keys, "Key sensors to use instead of selecting them (comma separated)")->delimiter(',');
+  cmd->add_option("--lag-grid-s", opts->lag_grid_s,
+                  "Key-sensor lag time constants τ (s) tried by cross-validation (comma separated); 0 alone: no lag")
+      ->delimiter(',')
+      ->allow_extra_args(false)  // one token: the measurement files after it stay positional
+      ->capture_default_str();
   cmd->add_option("--max-keys", opts->max_keys, "Most key sensors the selection may choose")->capture_default_str();
   cmd->add_option("--max-key-correlation", opts->max_key_correlation,
                   "Candidates whose rises correlate more than this with a chosen key are skipped")

@@ -39,6 +39,7 @@ struct PredictOptions {
   bool json = false;
   std::string measurement;
   std::string residual_out;
+  std::string temperature_log;  // with --measurement: history before the file, for the thermal lag
   bool position_given = false;
 };
 
@@ -58,7 +59,18 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
     if (!m.SensorIndex(k))
       throw InputError(o.measurement, 0, fmt::format("t_{}_c", k),
                        fmt::format("the model's key sensor '{}' is not in this file", k));
-  const auto residual = model::PredictionResidual(*axis, m, *coolant);
+  // Thermal lag (key_lag_s): through the logged history before the file when given (the file's
+  // '# campaign_time_s:' is its start on the log's clock), else from the file's first reading.
+  model::TemperatureHistory history;
+  if (!o.temperature_log.empty()) {
+    const auto start = m.Meta("campaign_time_s");
+    const auto start_s = start ? ParseDouble(Trim(*start)) : std::nullopt;
+    if (!start_s || !std::isfinite(*start_s))
+      throw InputError(o.measurement, 0, "campaign_time_s",
+                       "--temperature-log needs the file's '# campaign_time_s:' line (its start on the log's clock)");
+    history = model::TemperatureHistoryFromLog(o.temperature_log, m, *start_s);
+  }
+  const auto residual = model::PredictionResidual(*axis, m, *coolant, history.empty() ? nullptr : &history);
   const auto before = analysis::Evaluate(m);
   const auto after = analysis::Evaluate(residual);
   double ss_m = 0, ss_r = 0;
@@ -185,6 +197,9 @@ void Setup(CLI::App& app) {
   cmd->add_option("--measurement", o->measurement,
                   "Predict every point of this measurement CSV (held-out check) instead of one position");
   cmd->add_option("--residual-out", o->residual_out, "With --measurement: write measured − predicted as a CSV");
+  cmd->add_option("--temperature-log", o->temperature_log,
+                  "With --measurement: the campaign's temperature_log.csv, so the model's key-sensor lag starts from "
+                  "the history before the file (default: from the file's first reading)");
   cmd->add_option("--temp", o->temps, "Key-sensor temperatures NAME=°C, comma separated")->delimiter(',');
   cmd->add_option("--ambient-c", o->ambient_c, "Ambient temperature in °C (for the ρ term)");
   cmd->add_option("--coolant", o->coolant, "Coolant state: off, flood, mist, air (default off, or the file's)");

@@ -493,6 +493,7 @@ DemoResult RunDemo(const DemoOptions& o) {
         std::find(sensors.begin(), sensors.end(), bearing) != sensors.end())
       fo.key_sensors = {nut, bearing};
     if (o.geometric == "table") fo.geometric = model::FitOptions::Geometric::kTable;
+    if (!o.thermal_lag) fo.key_lag_grid_s = {0};
     model::FitResult one = model::FitCompositeModel(axis_states, fo);
     // Er(x): the seed-000 polynomial, unless the seed-002 table (linear
     // interpolation between the measured targets) cross-validates better over

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -94,6 +96,94 @@ FitState MakeFitState(measure::Measurement m, const std::string& label_override,
   return s;
 }
 
+namespace {
+
+// The campaign's temperature_log.csv: time_s (campaign clock) + t_<sensor>_c columns.
+struct TemperatureLog {
+  std::vector<std::string> sensors;
+  std::vector<double> time_s;
+  std::vector<std::vector<double>> rows;  // parallel to sensors
+};
+
+TemperatureLog ReadTemperatureLog(const std::string& path) {
+  const std::string text = ReadTextFile(path);
+  TemperatureLog log;
+  std::vector<int> col_sensor;  // per column: index into sensors, -1 other
+  int time_col = -1;
+  std::size_t pos = 0;
+  int line = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string::npos) end = text.size();
+    std::string row = text.substr(pos, end - pos);
+    pos = end + 1;
+    ++line;
+    if (!row.empty() && row.back() == '\r') row.pop_back();
+    if (row.empty() || row[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::size_t a = 0;
+    while (true) {
+      const std::size_t b = row.find(',', a);
+      cells.emplace_back(Trim(row.substr(a, b == std::string::npos ? std::string::npos : b - a)));
+      if (b == std::string::npos) break;
+      a = b + 1;
+    }
+    if (time_col < 0) {  // header
+      for (std::size_t c = 0; c < cells.size(); ++c) {
+        const auto& h = cells[c];
+        if (h == "time_s") time_col = static_cast<int>(c);
+        if (h.size() > 4 && h.rfind("t_", 0) == 0 && h.substr(h.size() - 2) == "_c") {
+          col_sensor.push_back(static_cast<int>(log.sensors.size()));
+          log.sensors.push_back(h.substr(2, h.size() - 4));
+        } else {
+          col_sensor.push_back(-1);
+        }
+      }
+      if (time_col < 0) throw InputError(path, line, "time_s", "the temperature log has no time_s column");
+      continue;
+    }
+    const auto t = static_cast<std::size_t>(time_col) < cells.size() ? ParseDouble(cells[time_col]) : std::nullopt;
+    if (!t || !std::isfinite(*t)) throw InputError(path, line, "time_s", "expected a number of seconds");
+    std::vector<double> vals(log.sensors.size(), std::nan(""));
+    for (std::size_t c = 0; c < cells.size() && c < col_sensor.size(); ++c) {
+      if (col_sensor[c] < 0 || cells[c].empty()) continue;  // empty: the hardware flagged the channel
+      const auto v = ParseDouble(cells[c]);
+      if (!v) throw InputError(path, line, fmt::format("t_{}_c", log.sensors[col_sensor[c]]), fmt::format("'{}' is not a number", cells[c]));
+      vals[col_sensor[c]] = *v;
+    }
+    log.time_s.push_back(*t);
+    log.rows.push_back(std::move(vals));
+  }
+  return log;
+}
+
+// The rows of `log` in [start − window, start), mapped onto m's sensors.
+TemperatureHistory HistoryBefore(const TemperatureLog& log, const measure::Measurement& m, double start_s) {
+  TemperatureHistory h;
+  std::vector<int> map;
+  for (const auto& n : m.sensor_names) {
+    auto it = std::find(log.sensors.begin(), log.sensors.end(), n);
+    map.push_back(it == log.sensors.end() ? -1 : static_cast<int>(it - log.sensors.begin()));
+  }
+  for (std::size_t r = 0; r < log.time_s.size(); ++r) {
+    const double rel = log.time_s[r] - start_s;
+    if (rel >= 0 || rel < -TemperatureHistory::kWindowS) continue;
+    std::vector<double> vals(map.size(), std::nan(""));
+    for (std::size_t k = 0; k < map.size(); ++k)
+      if (map[k] >= 0) vals[k] = log.rows[r][static_cast<std::size_t>(map[k])];
+    h.time_s.push_back(rel);
+    h.temps_c.push_back(std::move(vals));
+  }
+  return h;
+}
+
+}  // namespace
+
+TemperatureHistory TemperatureHistoryFromLog(const std::string& log_path, const measure::Measurement& m,
+                                             double start_time_s) {
+  return HistoryBefore(ReadTemperatureLog(log_path), m, start_time_s);
+}
+
 std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, const std::string& manifest_path) {
   std::vector<FitState> out;
   for (const auto& p : csv_paths) {
@@ -129,6 +219,17 @@ std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, c
       throw InputError(manifest_path, 0, "files", "expected an array of measurement files under \"files\"");
     if (list->empty()) throw InputError(manifest_path, 0, list_name, "lists no measurement files");
     const std::filesystem::path base = std::filesystem::path(manifest_path).parent_path();
+    // The sim campaign's temperature log: the history before each measurement (thermal lag).
+    std::optional<TemperatureLog> log;
+    if (doc.is_object() && doc.contains("temperature_log")) {
+      if (!doc["temperature_log"].is_string())
+        throw InputError(manifest_path, 0, "temperature_log", "expected a file name");
+      std::filesystem::path lp(doc["temperature_log"].get<std::string>());
+      if (lp.is_relative()) lp = base / lp;
+      if (!std::filesystem::exists(lp))
+        throw InputError(manifest_path, 0, "temperature_log", fmt::format("'{}' does not exist", lp.string()));
+      log = ReadTemperatureLog(lp.string());
+    }
     for (std::size_t i = 0; i < list->size(); ++i) {
       const auto& e = (*list)[i];
       const std::string where = fmt::format("{}[{}]", list_name, i);
@@ -156,6 +257,11 @@ std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, c
       if (label.empty()) label = str("label");
       FitState s = MakeFitState(std::move(m), label, str("coolant"), Sha256Hex(bytes));
       if (const std::string axis = str("axis"); !axis.empty()) s.axis = axis;
+      if (log && e.is_object() && e.contains("start_time_s")) {
+        if (!e["start_time_s"].is_number())
+          throw InputError(manifest_path, 0, where + ".start_time_s", "expected a number of seconds");
+        s.history = HistoryBefore(*log, s.measurement, e["start_time_s"].get<double>());
+      }
       out.push_back(std::move(s));
     }
   }

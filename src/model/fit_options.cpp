@@ -24,6 +24,10 @@ bool FitOptions::IsValid(std::string* why) const {
   if (min_thermal_states < 1) return fail("min_thermal_states must be >= 1");
   if (std::isinf(rho_um_per_mm_per_c)) return fail("rho_um_per_mm_per_c must be finite (or NaN for automatic)");
   if (!(min_ambient_range_c > 0)) return fail("min_ambient_range_c must be > 0");
+  for (double tau : key_lag_grid_s)
+    if (!(tau >= 0) || !std::isfinite(tau)) return fail("key_lag_grid_s values must be finite seconds >= 0");
+  if (!(min_lag_cv_improvement >= 0 && min_lag_cv_improvement < 1))
+    return fail("min_lag_cv_improvement must be within [0, 1)");
   std::set<std::string> seen;
   for (const auto& k : key_sensors) {
     if (k.empty()) return fail("key_sensors has an empty name");

@@ -36,8 +36,8 @@ std::string FitSummary::BriefReport() const {
                          a.key_sensors.empty() ? std::string("none") : fmt::format("{}", fmt::join(a.key_sensors, ", ")),
                          Num(a.thermal_cv_rms_um), Num(a.no_thermal_cv_rms_um), Num(a.reference_position_mm, 1),
                          Num(a.rho_um_per_mm_per_c, 5));
-    else
-      out += "; geometric only";
+    if (a.thermal_fitted && !a.lag_reason.empty()) out += fmt::format("; key lag τ {} s", Num(a.key_lag_s, 0));
+    if (!a.thermal_fitted) out += "; geometric only";
     const StateFitStats* worst = nullptr;
     for (const auto& s : a.states)
       if (!worst || s.residual_rms_um > worst->residual_rms_um) worst = &s;
@@ -79,6 +79,11 @@ std::string FitSummary::FullReport() const {
     out += fmt::format("why: {}\n", a.key_selection_reason);
     for (const auto& st : a.selection_steps)
       out += fmt::format("  step [{}]: LOSO CV RMS {} µm  {}\n", fmt::join(st.keys, ", "), Num(st.cv_rms_um), st.note);
+    if (!a.lag_reason.empty()) {
+      out += fmt::format("key sensor lag τ = {} s: {}\n", Num(a.key_lag_s, 0), a.lag_reason);
+      for (const auto& c : a.lag_candidates)
+        out += fmt::format("  τ {:>6} s: LOSO CV RMS {} µm\n", Num(c[0], 0), Num(c[1]));
+    }
     for (const auto& n : a.coolant_notes) out += "  " + n + "\n";
     out += "states (µm; residual = measured − model, all points):\n";
     out += fmt::format("  {:<16} {:<8} {:<7} {:>6} {:>10} {:>10} {:>10} {:>9} {:>9} {:>11} {:>11}  mean key rises °C\n",
@@ -155,6 +160,13 @@ nlohmann::json FitSummary::ToJson() const {
                       {"key_selection_reason", a.key_selection_reason},
                       {"selection_steps", steps},
                       {"thermal_cv_rms_um", JsonNum(a.thermal_cv_rms_um)},
+                      {"key_lag_s", JsonNum(a.key_lag_s)},
+                      {"lag_reason", a.lag_reason},
+                      {"lag_candidates", [&] {
+                         nlohmann::json arr = nlohmann::json::array();
+                         for (const auto& c : a.lag_candidates) arr.push_back({{"tau_s", JsonNum(c[0])}, {"cv_rms_um", JsonNum(c[1])}});
+                         return arr;
+                       }()},
                       {"no_thermal_cv_rms_um", JsonNum(a.no_thermal_cv_rms_um)},
                       {"reference_source", a.reference_source},
                       {"rho_source", a.rho_source},

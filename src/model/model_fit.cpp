@@ -1,4 +1,5 @@
 #include "trueaxis/model/model_fit.hpp"
+#include "trueaxis/model/thermal_lag.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -476,14 +477,20 @@ class AxisFitter {
     if (!amb.empty() && !std::isfinite(amb_base))
       throw InputError(cold_.source, 0, fmt::format("t_{}_c", amb), "the ambient sensor has no reading in the cold state");
 
-    // Thermal points.
+    // Thermal points; the key-sensor rises lagged by tau_s (0: each point's own reading).
+    auto build_points = [&](double tau_s) {
     std::vector<ThermalPoint> pts;
     for (std::size_t si = 0; si < thermal_.size(); ++si) {
       const auto& m = thermal_[si]->measurement;
       std::vector<std::optional<std::size_t>> idx;
       for (const auto& n : candidates) idx.push_back(m.SensorIndex(n));
       const auto amb_idx = amb.empty() ? std::nullopt : m.SensorIndex(amb);
-      for (const auto& p : m.points) {
+      std::vector<std::vector<double>> lagged(candidates.size());
+      if (tau_s > 0)
+        for (std::size_t j = 0; j < candidates.size(); ++j)
+          if (idx[j]) lagged[j] = LaggedSensorSeries(m, *idx[j], tau_s, &thermal_[si]->history);
+      for (std::size_t pi = 0; pi < m.points.size(); ++pi) {
+        const auto& p = m.points[pi];
         ThermalPoint t;
         t.state = si;
         t.dir = static_cast<int>(DirectionIndex(p.direction));
@@ -494,11 +501,16 @@ class AxisFitter {
           t.amb_rise = p.temperatures_c[*amb_idx] - amb_base;
           amb_shift = std::isfinite(t.amb_rise) ? t.amb_rise : kNaN;
         }
-        for (std::size_t j = 0; j < candidates.size(); ++j)
-          t.rise.push_back(idx[j] ? p.temperatures_c[*idx[j]] - base[j] - amb_shift : kNaN);
+        for (std::size_t j = 0; j < candidates.size(); ++j) {
+          const double temp = !idx[j] ? kNaN : lagged[j].empty() ? p.temperatures_c[*idx[j]] : lagged[j][pi];
+          t.rise.push_back(temp - base[j] - amb_shift);
+        }
         pts.push_back(std::move(t));
       }
     }
+    return pts;
+    };
+    std::vector<ThermalPoint> pts = build_points(0);
 
     // Px: the common pivot of the residual lines r_s(x) = a + b·x (both directions, every state).
     if (std::isnan(px)) {
@@ -637,6 +649,38 @@ class AxisFitter {
         thermal = false;
       }
     }
+    // Thermal lag: one τ for the axis' key sensors, from the grid, by the same LOSO CV; kept only
+    // when it lowers the CV by min_cv_improvement (τ = 0 leaves the points exactly as before).
+    double key_lag_s = 0;
+    bool lag_grid = false;
+    for (double tau : o_.key_lag_grid_s) lag_grid = lag_grid || tau > 0;
+    if (thermal && lag_grid) {
+      const double cv0 = CrossValidate(pts, off_states, keys, false, fit_rho ? joint_rho(keys) : rho);
+      sum.lag_candidates.push_back({0, cv0});
+      double best_cv = cv0, best_tau = 0;
+      std::vector<ThermalPoint> raw = pts, best;
+      for (double tau : o_.key_lag_grid_s) {
+        if (!(tau > 0)) continue;
+        pts = build_points(tau);
+        for (auto& p : pts) p.lever_mm = px - p.x;
+        const double cv = CrossValidate(pts, off_states, keys, false, fit_rho ? joint_rho(keys) : rho);
+        sum.lag_candidates.push_back({tau, cv});
+        if (cv < best_cv) best_cv = cv, best_tau = tau, best = pts;
+      }
+      if (best_tau > 0 && best_cv <= (1 - o_.min_lag_cv_improvement) * cv0) {
+        pts = std::move(best);
+        key_lag_s = best_tau;
+        sum.lag_reason = fmt::format("τ = {} s lowers the LOSO CV from {:.3f} to {:.3f} µm", FormatShortest(best_tau),
+                                     cv0, best_cv);
+      } else {
+        pts = std::move(raw);
+        sum.lag_reason = best_tau > 0 ? fmt::format("no lag: the best τ = {} s lowers the LOSO CV by less than {:.0f} % "
+                                                    "({:.3f} → {:.3f} µm)",
+                                                    FormatShortest(best_tau), 100 * o_.min_lag_cv_improvement, cv0, best_cv)
+                                      : "no lag: no τ of the grid lowers the LOSO CV";
+      }
+      sum.key_lag_s = key_lag_s;
+    }
     if (thermal) {
       GainFit fits[2];
       if (fit_rho) rho = joint_rho(keys);
@@ -653,6 +697,7 @@ class AxisFitter {
         model_.key_sensors.push_back(candidates[k]);
         model_.baseline_temp_c.push_back(base[k]);
       }
+      if (key_lag_s > 0) model_.key_lag_s.assign(keys.size(), key_lag_s);
       sum.key_sensors = model_.key_sensors;
       for (int dir = 0; dir < 2; ++dir)
         model_.directions[dir].thermal.push_back({CoolantState::kOff, fits[dir].k, 0});
@@ -794,8 +839,10 @@ class AxisFitter {
       if (!model_.ambient_sensor.empty())
         st.mean_ambient_rise_c = MeanOfSensor(m, model_.ambient_sensor) - model_.ambient_baseline_c;
       double su = 0, sg = 0, sr = 0;
-      for (const auto& p : m.points) {
-        const auto t = TemperaturesForPoint(model_, m, p);
+      const auto lagged = LaggedKeyTemperatures(model_, m, &s.history);
+      for (std::size_t pi = 0; pi < m.points.size(); ++pi) {
+        const auto& p = m.points[pi];
+        const auto& t = lagged[pi];
         const auto pr = Predict(model_, p.target_mm, p.direction, {t.key_temp_c, t.ambient_c, s.coolant, true});
         const double res = p.deviation_um - pr.total_um;
         su += p.deviation_um * p.deviation_um;
@@ -845,17 +892,68 @@ PointTemperatures TemperaturesForPoint(const AxisModel& axis, const measure::Mea
   return t;
 }
 
-measure::Measurement PredictedMeasurement(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant) {
+std::vector<double> LaggedSensorSeries(const measure::Measurement& m, std::size_t sensor_index, double tau_s,
+                                       const TemperatureHistory* history) {
+  const auto& pts = m.points;
+  std::vector<double> out(pts.size(), kNaN);
+  std::vector<std::size_t> order(pts.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  // Time order (a file may list the runs grouped differently); points without time_s keep file order.
+  const bool all_timed = std::all_of(pts.begin(), pts.end(), [](const auto& p) { return p.time_s.has_value(); });
+  if (all_timed)
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return *pts[a].time_s < *pts[b].time_s; });
+  double lagged = kNaN, last_t = kNaN;
+  if (history && tau_s > 0 && all_timed)
+    for (std::size_t r = 0; r < history->time_s.size(); ++r) {
+      const auto& row = history->temps_c[r];
+      const double raw = sensor_index < row.size() ? row[sensor_index] : kNaN;
+      if (std::isnan(raw)) continue;  // a flagged reading: the lag carries on over the gap
+      lagged = std::isnan(last_t) ? raw : LagStep(lagged, raw, history->time_s[r] - last_t, tau_s);
+      last_t = history->time_s[r];
+    }
+  for (std::size_t i : order) {
+    const auto& p = pts[i];
+    const double raw = sensor_index < p.temperatures_c.size() ? p.temperatures_c[sensor_index] : kNaN;
+    const double now = p.time_s ? *p.time_s : kNaN;
+    // No time stamp: no lag can be applied, the filter restarts at the reading.
+    lagged = std::isnan(now) || std::isnan(last_t) ? raw : LagStep(lagged, raw, now - last_t, tau_s);
+    if (std::isnan(lagged)) lagged = raw;
+    last_t = now;
+    out[i] = lagged;
+  }
+  return out;
+}
+
+std::vector<PointTemperatures> LaggedKeyTemperatures(const AxisModel& axis, const measure::Measurement& m,
+                                                     const TemperatureHistory* history) {
+  std::vector<PointTemperatures> out;
+  out.reserve(m.points.size());
+  for (const auto& p : m.points) out.push_back(TemperaturesForPoint(axis, m, p));
+  for (std::size_t k = 0; k < axis.key_sensors.size(); ++k) {
+    if (!(axis.KeyLagS(k) > 0)) continue;
+    const auto idx = m.SensorIndex(axis.key_sensors[k]);
+    if (!idx) continue;
+    const auto series = LaggedSensorSeries(m, *idx, axis.KeyLagS(k), history);
+    for (std::size_t i = 0; i < out.size(); ++i) out[i].key_temp_c[k] = series[i];
+  }
+  return out;
+}
+
+measure::Measurement PredictedMeasurement(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant,
+                                          const TemperatureHistory* history) {
   measure::Measurement out = m;
-  for (auto& p : out.points) {
-    const auto t = TemperaturesForPoint(axis, m, p);
+  const auto temps = LaggedKeyTemperatures(axis, m, history);
+  for (std::size_t i = 0; i < out.points.size(); ++i) {
+    auto& p = out.points[i];
+    const auto& t = temps[i];
     p.deviation_um = Predict(axis, p.target_mm, p.direction, {t.key_temp_c, t.ambient_c, coolant, true}).total_um;
   }
   return out;
 }
 
-measure::Measurement PredictionResidual(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant) {
-  measure::Measurement out = PredictedMeasurement(axis, m, coolant);
+measure::Measurement PredictionResidual(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant,
+                                        const TemperatureHistory* history) {
+  measure::Measurement out = PredictedMeasurement(axis, m, coolant, history);
   for (std::size_t i = 0; i < out.points.size(); ++i)
     out.points[i].deviation_um = m.points[i].deviation_um - out.points[i].deviation_um;
   return out;

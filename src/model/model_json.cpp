@@ -152,6 +152,7 @@ nlohmann::json ModelToJson(const CompositeModel& model) {
       ja["ambient_baseline_c"] = a.ambient_baseline_c;
     }
     ja["key_temperature_rise"] = a.key_rise_above_ambient ? "above_ambient" : "from_baseline";
+    if (a.HasKeyLag()) ja["key_lag_s"] = a.key_lag_s;  // absent = no lag (older readers see today's model)
     axes.push_back(std::move(ja));
   }
   json sources = json::array();
@@ -233,6 +234,14 @@ CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& sourc
     a.baseline_temp_c = ja.contains("baseline_temp_c") ? r.Numbers(ja, p, "baseline_temp_c") : std::vector<double>{};
     if (a.baseline_temp_c.size() != a.key_sensors.size())
       r.Fail(Reader::Join(p, "baseline_temp_c"), "needs one temperature per key sensor");
+    if (ja.contains("key_lag_s")) {
+      a.key_lag_s = r.Numbers(ja, p, "key_lag_s");
+      if (a.key_lag_s.size() != a.key_sensors.size())
+        r.Fail(Reader::Join(p, "key_lag_s"), "needs one time constant per key sensor");
+      for (std::size_t k = 0; k < a.key_lag_s.size(); ++k)
+        if (!(a.key_lag_s[k] >= 0) || !std::isfinite(a.key_lag_s[k]))
+          r.Fail(fmt::format("{}.key_lag_s[{}]", p, k), "must be a finite number of seconds >= 0");
+    }
     a.rho_um_per_mm_per_c = r.NumberOr(ja, p, "rho_um_per_mm_per_c", 0);
     a.ambient_sensor = r.StringOr(ja, p, "ambient_sensor", "");
     if (!a.ambient_sensor.empty()) a.ambient_baseline_c = r.Number(ja, p, "ambient_baseline_c");

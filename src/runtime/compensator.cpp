@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/model/thermal_lag.hpp"
 
 namespace trueaxis::runtime {
 
@@ -40,6 +41,9 @@ Compensator::Compensator(CompensatorOptions options, std::vector<AxisInterface> 
   proposed_.resize(n);
   write_buffer_.assign(n, 0);
   axis_status_.resize(n);
+  lag_c_.resize(n);
+  lag_time_s_.assign(n, 0);
+  lag_model_id_.assign(n, 0);
   good_reads_in_row_ = options_.link_recovery_cycles;  // start as if connected; the first read decides
   status_.axes = axis_status_;
   status_.channels = channels_;
@@ -113,6 +117,28 @@ const CycleStatus& Compensator::RunCycle(hw::CncLink& link, hw::TemperatureSourc
   const bool cnc_on = !options_.follow_cnc_enable || cnc_state_.compensation_enabled;
   const OutputShaperOptions& so = options_.shaper;
 
+  // Thermal lag: advanced every cycle for every axis with a model, enabled or not, so the lagged
+  // temperature tracks the machine's history and not only the time compensation was on.
+  for (std::size_t i = 0; bound && i < axes_.size(); ++i) {
+    const BoundAxis& ba = bound->axes[i];
+    if (!ba.has_model) continue;
+    bool fresh = lag_model_id_[i] != bound->id;
+    for (std::size_t k = 0; k < ba.key_channel.size(); ++k) {
+      const ChannelStatus& c = channels_[static_cast<std::size_t>(ba.key_channel[k])];
+      if (c.health == ChannelHealth::kLost) fresh = true;  // restart at the readings once they return
+    }
+    for (std::size_t k = 0; k < ba.key_channel.size(); ++k) {
+      const double raw = channels_[static_cast<std::size_t>(ba.key_channel[k])].value_c;
+      lag_c_[i][k] = fresh ? raw : model::LagStep(lag_c_[i][k], raw, now_s - lag_time_s_[i], ba.model.KeyLagS(k));
+    }
+    lag_time_s_[i] = now_s;
+    // A lost key leaves the state marked stale (id 0), so the next good cycle restarts the filter.
+    bool any_lost = false;
+    for (std::size_t k = 0; k < ba.key_channel.size(); ++k)
+      any_lost = any_lost || channels_[static_cast<std::size_t>(ba.key_channel[k])].health == ChannelHealth::kLost;
+    lag_model_id_[i] = any_lost ? 0 : bound->id;
+  }
+
   for (std::size_t i = 0; i < axes_.size(); ++i) {
     const AxisInterface& ai = axes_[i];
     AxisStatus& st = axis_status_[i];
@@ -140,7 +166,7 @@ const CycleStatus& Compensator::RunCycle(hw::CncLink& link, hw::TemperatureSourc
           const ChannelStatus& c = channels_[static_cast<std::size_t>(ba->key_channel[k])];
           if (c.health == ChannelHealth::kHeld) alarms |= kAlarmSensorHeld;
           if (c.health == ChannelHealth::kLost) keys_ok = false;
-          key_temps_[k] = c.value_c;
+          key_temps_[k] = lag_c_[i][k];  // = c.value_c when the model has no lag
         }
         double ambient = std::nan("");
         if (ba->ambient_channel >= 0) {

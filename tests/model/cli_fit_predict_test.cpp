@@ -66,6 +66,19 @@ class CliFit : public ::testing::Test {
   std::vector<std::string> files_;
 };
 
+TEST_F(CliFit, LagOptionsAreCheckedAndTheTemperatureLogNeedsTheFilesStart) {
+  auto bad = Cli("fit --out " + P("m.json") + " --lag-grid-s 0,-60" + AllFiles());
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_THAT(bad.out, HasSubstr("key_lag_grid_s"));
+  auto r = Cli("fit --out " + P("m.json") + " --lag-grid-s 0" + AllFiles());
+  ASSERT_EQ(r.code, 0) << r.out;
+  WriteTextFile(P("log.csv"), "time_s,t_nut_c\n0,20\n");
+  // The synthetic files have no '# campaign_time_s:' line: the log cannot be placed.
+  auto p = Cli("predict --model " + P("m.json") + " --measurement " + files_[2] + " --temperature-log " + P("log.csv"));
+  EXPECT_EQ(p.code, 2) << p.out;
+  EXPECT_THAT(p.out, HasSubstr("campaign_time_s"));
+}
+
 TEST_F(CliFit, FitWritesModelReportAndPredictUsesIt) {
   auto r = Cli("fit --out " + P("m.json") + " --report " + P("fit.html") + AllFiles());
   ASSERT_EQ(r.code, 0) << r.out;

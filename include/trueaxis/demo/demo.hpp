@@ -34,6 +34,9 @@ struct DemoOptions {
   // Er(x): "auto" picks the seed-000 polynomial or the seed-002 table by
   // cross-validation per axis; "polynomial" / "table" force one.
   std::string geometric = "auto";
+  // Thermal lag of the key sensors (model/thermal_lag.hpp): τ chosen by the fit's LOSO CV
+  // (FitOptions::key_lag_grid_s). false: the static model (no lag), for comparison.
+  bool thermal_lag = true;
   // The working day over MODBUS TCP on 127.0.0.1: the virtual machine behind
   // a ModbusMachineServer (PMC window + ADAM-6015 modules, docs/protocols.md),
   // the compensator on ModbusCncLink / ModbusTemperatureSource. Each cycle is a

@@ -74,7 +74,19 @@ struct AxisModel {
   //          counted twice. Needs ambient_sensor; with no ambient reading (NaN) Predict falls
   //          back to the plain rise.
   bool key_rise_above_ambient = false;
-  std::array<DirectionModel, 2> directions;  // indexed by DirectionIndex()
+  // First-order lag time constant per key sensor, seconds (thermal_lag.hpp; JSON "key_lag_s").
+  // Empty or 0: no lag. The caller (runtime, predict --measurement) lags the readings
+  // with LagStep() before they enter Predict(); Predict itself takes the lagged values.
+  std::vector<double> key_lag_s;
+  std::array<DirectionModel, 2> directions;
+
+  // τ of key sensor i (0 when not given).
+  double KeyLagS(std::size_t i) const { return i < key_lag_s.size() ? key_lag_s[i] : 0.0; }
+  bool HasKeyLag() const {
+    for (double t : key_lag_s)
+      if (t > 0) return true;
+    return false;
+  }  // indexed by DirectionIndex()
 
   const DirectionModel& For(Direction d) const { return directions[DirectionIndex(d)]; }
 };
@@ -113,7 +125,7 @@ struct CompositeModel {
 
 // The thermal state the prediction is made for.
 struct ThermalState {
-  std::span<const double> key_temp_c;  // current temperatures, parallel to key_sensors
+  std::span<const double> key_temp_c;  // current (already lagged, AxisModel::key_lag_s) temperatures, parallel to key_sensors
   double ambient_c = std::numeric_limits<double>::quiet_NaN();  // NaN: no ambient adjustment
   CoolantState coolant = CoolantState::kOff;
   bool use_thermal = true;             // false: geometric part only (sensor-fault fallback)

@@ -25,6 +25,16 @@ namespace trueaxis::model {
 enum class StateKind { kUnknown, kCold, kHeated, kAmbient };
 const char* StateKindName(StateKind k);
 
+// The temperatures logged before a measurement started (the campaign's temperature_log.csv,
+// docs/campaign.md), so a thermal-lag filter (thermal_lag.hpp) can start from the machine's
+// past instead of the file's first reading. Empty when not known.
+struct TemperatureHistory {
+  static constexpr double kWindowS = 6 * 3600.0;  // kept before the start: > 6·τ for τ ≤ 1 h
+  std::vector<double> time_s;                // relative to the measurement's start (< 0), ascending
+  std::vector<std::vector<double>> temps_c;  // per row, parallel to the measurement's sensor_names (NaN: absent)
+  bool empty() const { return time_s.empty(); }
+};
+
 struct FitState {
   std::string path;    // as given (for messages and the model's sources)
   std::string sha256;  // of the file's bytes
@@ -33,7 +43,15 @@ struct FitState {
   CoolantState coolant = CoolantState::kOff;
   std::string axis;    // from `# axis:` (or the manifest)
   measure::Measurement measurement;
+  // From the manifest's "temperature_log" and the entry's "start_time_s" (campaign clock).
+  TemperatureHistory history;
 };
+
+// The history of `m` from a campaign temperature log (docs/campaign.md: time_s on the campaign
+// clock + t_<sensor>_c columns): the rows of the kWindowS before `start_time_s`, mapped onto m's
+// sensors. InputError(log, line, column) for a bad number.
+TemperatureHistory TemperatureHistoryFromLog(const std::string& log_path, const measure::Measurement& m,
+                                             double start_time_s);
 
 // Kind and coolant from a label ("cold", "coolant:flood", ...). InputError-free:
 // an unknown coolant name in a label is reported by the caller.

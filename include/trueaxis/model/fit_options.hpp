@@ -39,6 +39,14 @@ struct FitOptions {
   // axis' error without causing it, and a different warm-up path would break
   // that correlation. Shared sensors (ambient, bed, ...) stay candidates.
   bool own_axis_sensors_only = true;
+  // Thermal lag of the key sensors (thermal_lag.hpp): the τ values (seconds) tried, after the
+  // keys are chosen, by the same leave-one-state-out CV, the lag applied along each file's time
+  // series (through the logged history when the manifest has one). The best τ > 0 is kept only
+  // when it lowers the CV by min_lag_cv_improvement. {} or {0}: no lag.
+  std::vector<double> key_lag_grid_s = {0, 120, 300, 600, 1200, 2400};
+  // Lower than min_cv_improvement because τ is one parameter per axis, where a key sensor adds a
+  // gain per direction and coolant state (set after the VMC-850 study, bench/results/modelfit.md).
+  double min_lag_cv_improvement = 0.01;
   // Fewer heated (or ambient) off-coolant states than this → geometric-only model with a warning.
   int min_thermal_states = 2;
 

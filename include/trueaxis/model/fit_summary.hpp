@@ -61,7 +61,12 @@ struct AxisFitSummary {
   std::vector<std::string> key_sensors;
   std::string key_selection_reason;
   std::vector<SelectionStep> selection_steps;
-  double thermal_cv_rms_um = kNaN;       // with the chosen keys
+  double thermal_cv_rms_um = kNaN;       // with the chosen keys (and the chosen lag)
+  // Thermal lag τ of the key sensors (one τ per axis, thermal_lag.hpp): each grid value's
+  // LOSO CV RMS with the chosen keys, the chosen τ (0 = no lag) and why.
+  std::vector<std::array<double, 2>> lag_candidates;  // {tau_s, cv_rms_um}
+  double key_lag_s = 0;
+  std::string lag_reason;
   double no_thermal_cv_rms_um = kNaN;    // residual RMS with no thermal term (step 0)
   double reference_position_mm = 0;
   std::string reference_source;          // "option", "metadata", "fitted ...", "default ..."

@@ -50,11 +50,25 @@ struct PointTemperatures {
 PointTemperatures TemperaturesForPoint(const AxisModel& axis, const measure::Measurement& m,
                                        const measure::MeasurementPoint& p);
 
+// The readings of sensor `sensor_index` of `m` at each point (file order) passed through the
+// first-order lag LagStep(τ = tau_s) in time order (time_s). With a `history` (the logged
+// temperatures before the measurement, FitState::history) the filter runs through it first;
+// without, it starts at the file's first reading. Points without time_s get no lag.
+// tau_s <= 0: the raw readings.
+std::vector<double> LaggedSensorSeries(const measure::Measurement& m, std::size_t sensor_index, double tau_s,
+                                       const TemperatureHistory* history = nullptr);
+// TemperaturesForPoint for every point, the key sensors lagged by axis.key_lag_s along the
+// file's time series: what Predict() is fed for a measurement (predict --measurement, fit summary).
+std::vector<PointTemperatures> LaggedKeyTemperatures(const AxisModel& axis, const measure::Measurement& m,
+                                                     const TemperatureHistory* history = nullptr);
+
 // measured − predicted, point by point (same runs, directions, targets): the
 // error that would remain after compensation with `axis`. Deviation replaced,
 // everything else kept, so it can be evaluated by ISO 230-2 directly.
-measure::Measurement PredictionResidual(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant);
+measure::Measurement PredictionResidual(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant,
+                                        const TemperatureHistory* history = nullptr);
 // The model's prediction for each point (deviation_um = predicted error).
-measure::Measurement PredictedMeasurement(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant);
+measure::Measurement PredictedMeasurement(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant,
+                                          const TemperatureHistory* history = nullptr);
 
 }  // namespace trueaxis::model

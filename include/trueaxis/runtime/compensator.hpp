@@ -6,7 +6,9 @@
 //   rate) and keep the last good value for a limited time
 //   read the CNC (positions, servo directions, coolant, CNC-side enable)
 //   per axis: pick the forward/reverse model by servo direction (held while
-//   stopped), Predict() with the ambient adjustment and the coolant's gains,
+//   stopped), key temperatures through the model's first-order lag (key_lag_s,
+//   model/thermal_lag.hpp; none when τ = 0), Predict() with the ambient
+//   adjustment and the coolant's gains,
 //   correction = −error (docs/sign-convention.md), or the fallback
 //   ─► OutputShaper (bound, rate limit, quantise to δ with hysteresis)
 //   ─► write all axes; the shaper state advances only if the write succeeded,
@@ -16,6 +18,7 @@
 // nothing (models are retired through ModelExchange). All buffers are sized
 // in the constructor. Exactly one thread calls RunCycle; PublishModel,
 // SetEnabled, SetAxisEnabled, CollectRetired may be called from any other.
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -135,6 +138,12 @@ class Compensator {
   std::vector<double> write_buffer_;
   std::vector<AxisStatus> axis_status_;
   double key_temps_[kMaxKeySensors] = {};
+  // Thermal lag state per axis (model::LagStep, AxisModel::key_lag_s): the lagged key temperatures,
+  // the time of the last update and the model they belong to. Restarted at the current readings
+  // when the model changes (a new model may have other keys or τ) and while a key sensor is lost.
+  std::vector<std::array<double, kMaxKeySensors>> lag_c_;
+  std::vector<double> lag_time_s_;
+  std::vector<std::uint64_t> lag_model_id_;
   int good_reads_in_row_ = 0;
   std::uint64_t cycle_ = 0;
   CycleStatus status_;

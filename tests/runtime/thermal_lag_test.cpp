@@ -1,0 +1,106 @@
+// The compensator feeds the model's lagged key temperatures (AxisModel::key_lag_s,
+// model/thermal_lag.hpp) into Predict, restarting the lag on a model swap and after a lost sensor.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "fakes.hpp"
+#include "trueaxis/model/thermal_lag.hpp"
+#include "trueaxis/runtime/compensator.hpp"
+
+namespace trueaxis::runtime {
+namespace {
+using testing::FakeCnc;
+using testing::FakeTemps;
+using testing::TestAxisModel;
+
+std::shared_ptr<const model::CompositeModel> LaggedModel(double nut_tau_s, double bearing_tau_s) {
+  auto m = std::make_shared<model::CompositeModel>();
+  m->axes.push_back(TestAxisModel("X"));
+  m->axes.back().key_lag_s = {nut_tau_s, bearing_tau_s};
+  return m;
+}
+
+struct LagRig {
+  LagRig() : cnc({"X"}), temps({"ambient", "nut", "bearing"}, 20.0) {
+    CompensatorOptions o;
+    o.shaper.max_step_um = 1000;
+    o.shaper.max_correction_um = 500;
+    o.sensor.max_rate_c_per_s = 0;  // the test steps temperatures on purpose
+    comp = Compensator::ForHardware(o, cnc, temps, {});
+    cnc.axes[0] = {400, +1, true};
+  }
+  // The error the model predicts at the CNC's position for the given (lagged) key temperatures.
+  double ExpectedDesired(const model::CompositeModel& m, double nut_c, double bearing_c) const {
+    const double key[2] = {nut_c, bearing_c};
+    model::ThermalState ts{std::span<const double>(key, 2), 20.0, CoolantState::kOff, true};
+    return model::CorrectionUm(model::Predict(m.axes[0], 400, Direction::kForward, ts));
+  }
+  FakeCnc cnc;
+  FakeTemps temps;
+  std::unique_ptr<Compensator> comp;
+};
+
+TEST(CompensatorLag, KeyTemperaturesArePassedThroughTheFirstOrderLag) {
+  LagRig r;
+  const auto m = LaggedModel(100, 0);  // nut lagged by 100 s, bearing raw
+  r.comp->PublishModel(m, "lag");
+  r.comp->RunCycle(r.cnc, r.temps, 0.0);  // the filter starts at the readings (20 °C)
+  r.temps.Set("nut", 26);
+  r.temps.Set("bearing", 23);
+  const auto& s = r.comp->RunCycle(r.cnc, r.temps, 100.0);  // one step of Δt = τ
+  const double nut_eff = 20 + 6 * (1 - std::exp(-1.0));
+  EXPECT_NEAR(s.axes[0].desired_um, r.ExpectedDesired(*m, nut_eff, 23), 1e-9);
+  // The raw reading would give a clearly different correction: the lag is really applied.
+  EXPECT_GT(std::fabs(r.ExpectedDesired(*m, 26, 23) - s.axes[0].desired_um), 1.0);
+  // Many small cycles converge on the reading.
+  const CycleStatus* last = nullptr;
+  for (int i = 1; i <= 2000; ++i) last = &r.comp->RunCycle(r.cnc, r.temps, 100.0 + i * 1.0);
+  EXPECT_NEAR(last->axes[0].desired_um, r.ExpectedDesired(*m, 26, 23), 1e-6);
+}
+
+TEST(CompensatorLag, ZeroTauUsesTheRawReadingsExactly) {
+  LagRig r;
+  const auto m = LaggedModel(0, 0);
+  r.comp->PublishModel(m, "no lag");
+  r.comp->RunCycle(r.cnc, r.temps, 0.0);
+  r.temps.Set("nut", 27.5);
+  r.temps.Set("bearing", 21.25);
+  const auto& s = r.comp->RunCycle(r.cnc, r.temps, 0.01);
+  EXPECT_DOUBLE_EQ(s.axes[0].desired_um, r.ExpectedDesired(*m, 27.5, 21.25));
+}
+
+TEST(CompensatorLag, ModelSwapRestartsTheLagAtTheCurrentReadings) {
+  LagRig r;
+  r.comp->PublishModel(LaggedModel(1000, 1000), "slow");
+  r.comp->RunCycle(r.cnc, r.temps, 0.0);
+  r.temps.Set("nut", 25);
+  r.temps.Set("bearing", 24);
+  r.comp->RunCycle(r.cnc, r.temps, 10.0);  // lagged values still near 20 °C
+  const auto fast = LaggedModel(50, 50);
+  r.comp->PublishModel(fast, "swapped");
+  const auto& s = r.comp->RunCycle(r.cnc, r.temps, 10.01);
+  // A new model may have other keys or τ: its filter starts at the readings, not at the old state.
+  EXPECT_NEAR(s.axes[0].desired_um, r.ExpectedDesired(*fast, 25, 24), 1e-9);
+}
+
+TEST(CompensatorLag, LostSensorRestartsTheLagWhenItReturns) {
+  LagRig r;
+  const auto m = LaggedModel(600, 600);
+  r.comp->PublishModel(m, "lag");
+  r.comp->RunCycle(r.cnc, r.temps, 0.0);
+  r.temps.SetFault("nut", true);
+  const auto& lost = r.comp->RunCycle(r.cnc, r.temps, 100.0);  // beyond hold_last_good_s (60 s)
+  EXPECT_TRUE(lost.alarms & kAlarmSensorFallback);
+  EXPECT_FALSE(lost.axes[0].thermal_used);
+  r.temps.SetFault("nut", false);
+  r.temps.Set("nut", 24);
+  r.temps.Set("bearing", 22);
+  const auto& back = r.comp->RunCycle(r.cnc, r.temps, 100.01);
+  EXPECT_TRUE(back.axes[0].thermal_used);
+  // Restarted at the returned readings (no memory of the value before the loss).
+  EXPECT_NEAR(back.axes[0].desired_um, r.ExpectedDesired(*m, 24, 22), 1e-9);
+}
+
+}  // namespace
+}  // namespace trueaxis::runtime
