@@ -139,7 +139,9 @@ void Finish(ResampleResult& r, const ResampleOptions& o, const std::string& sour
     const double ref = t.reference_position_mm;
     if (std::isnan(ref) || ref < t.position_mm.front() - kTol || ref > t.position_mm.back() + kTol)
       throw InputError(source, 0, "--zero-at-reference",
-                       fmt::format("the reference point {} mm is outside the table {}…{} mm", Num(ref),
+                       fmt::format("the reference point {} mm is outside the table {}…{} mm; give --reference-mm "
+                                   "(e.g. the machine reference position) inside it, or --range to cover it",
+                                   Num(ref),
                                    Num(t.position_mm.front()), Num(t.position_mm.back())));
     r.zero_shift_um = InterpolateAt(t.position_mm, t.forward_um, ref);
     for (std::size_t i = 0; i < t.size(); ++i) {
