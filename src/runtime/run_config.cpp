@@ -2,116 +2,16 @@
 
 #include <cmath>
 #include <filesystem>
-#include <set>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <toml++/toml.h>
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
+#include "trueaxis/core/toml_reader.hpp"
 
 namespace trueaxis::runtime {
 namespace {
-
-class Reader {
- public:
-  Reader(const toml::table& t, std::string source, std::string prefix)
-      : t_(t), source_(std::move(source)), prefix_(std::move(prefix)) {}
-  int Line(const toml::node* n) const { return static_cast<int>((n ? n : &t_)->source().begin.line); }
-  std::string Key(std::string_view k) const { return prefix_.empty() ? std::string(k) : prefix_ + "." + std::string(k); }
-  [[noreturn]] void Fail(std::string_view key, const toml::node* n, const std::string& why) const {
-    throw InputError(source_, Line(n), Key(key), why);
-  }
-  const toml::node* Get(std::string_view key) {
-    seen_.insert(std::string(key));
-    return t_.get(key);
-  }
-  void Double(std::string_view key, double& out, double lo, double hi) {
-    const toml::node* n = Get(key);
-    if (!n) return;
-    double v = 0;
-    if (auto f = n->as_floating_point()) v = f->get();
-    else if (auto i = n->as_integer()) v = static_cast<double>(i->get());
-    else Fail(key, n, "must be a number");
-    if (!std::isfinite(v) || v < lo || v > hi) Fail(key, n, fmt::format("{} is out of range [{}, {}]", v, lo, hi));
-    out = v;
-  }
-  void Int(std::string_view key, int& out, int lo, int hi) {
-    const toml::node* n = Get(key);
-    if (!n) return;
-    auto i = n->as_integer();
-    if (!i) Fail(key, n, "must be an integer");
-    if (i->get() < lo || i->get() > hi) Fail(key, n, fmt::format("{} is out of range [{}, {}]", i->get(), lo, hi));
-    out = static_cast<int>(i->get());
-  }
-  void U64(std::string_view key, std::uint64_t& out) {
-    const toml::node* n = Get(key);
-    if (!n) return;
-    auto i = n->as_integer();
-    if (!i || i->get() < 0) Fail(key, n, "must be a non-negative integer");
-    out = static_cast<std::uint64_t>(i->get());
-  }
-  void Bool(std::string_view key, bool& out) {
-    const toml::node* n = Get(key);
-    if (!n) return;
-    auto b = n->as_boolean();
-    if (!b) Fail(key, n, "must be true or false");
-    out = b->get();
-  }
-  bool String(std::string_view key, std::string& out, bool required = false) {
-    const toml::node* n = Get(key);
-    if (!n) {
-      if (required) Fail(key, nullptr, "missing (required)");
-      return false;
-    }
-    auto s = n->as_string();
-    if (!s) Fail(key, n, "must be a string");
-    out = s->get();
-    return true;
-  }
-  // A string that must be one of `choices`; returns its index, or -1 when absent.
-  int Choice(std::string_view key, std::initializer_list<std::string_view> choices) {
-    std::string v;
-    if (!String(key, v)) return -1;
-    int i = 0;
-    for (auto c : choices) {
-      if (c == v) return i;
-      ++i;
-    }
-    Fail(key, t_.get(key), fmt::format("'{}' is not one of: {}", v, fmt::join(choices, ", ")));
-  }
-  void Strings(std::string_view key, std::vector<std::string>& out) {
-    const toml::node* n = Get(key);
-    if (!n) return;
-    auto a = n->as_array();
-    if (!a) Fail(key, n, "must be an array of strings");
-    out.clear();
-    for (const auto& e : *a) {
-      auto s = e.as_string();
-      if (!s) Fail(key, &e, "must be an array of strings");
-      out.push_back(s->get());
-    }
-  }
-  const toml::table* Table(std::string_view key) {
-    const toml::node* n = Get(key);
-    if (!n) return nullptr;
-    auto t = n->as_table();
-    if (!t) Fail(key, n, "must be a table");
-    return t;
-  }
-  void RejectUnknown() const {
-    for (const auto& [k, v] : t_)
-      if (!seen_.count(std::string(k.str()))) Fail(k.str(), &v, "unknown key");
-  }
-  const std::string& source() const { return source_; }
-
- private:
-  const toml::table& t_;
-  std::string source_;
-  std::string prefix_;
-  std::set<std::string> seen_;
-};
 
 std::string Resolve(const std::string& base_dir, const std::string& p) {
   if (p.empty() || std::filesystem::path(p).is_absolute() || base_dir.empty()) return p;
@@ -121,21 +21,16 @@ std::string Resolve(const std::string& base_dir, const std::string& p) {
 }  // namespace
 
 RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    throw InputError(source, static_cast<int>(e.source().begin.line), "", std::string(e.description()));
-  }
+  const toml::table root = ParseTomlOrThrow(text, source);
   RunConfig c;
   c.source = source;
   const std::string base = std::filesystem::path(source).parent_path().string();
-  Reader r(root, source, "");
+  TomlTableReader r(root, source, "");
 
   const toml::table* mt = r.Table("machine");
   if (!mt) r.Fail("machine", nullptr, "missing (required): [machine] with kind = \"virtual\" or \"modbus\"");
   {
-    Reader m(*mt, source, "machine");
+    TomlTableReader m(*mt, source, "machine");
     const int kind = m.Choice("kind", {"virtual", "modbus"});
     if (kind < 0) m.Fail("kind", nullptr, "missing (required): \"virtual\" or \"modbus\"");
     c.machine = kind == 0 ? MachineKind::kVirtual : MachineKind::kModbus;
@@ -166,7 +61,7 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
   const toml::table* mo = r.Table("model");
   if (!mo) r.Fail("model", nullptr, "missing (required): [model] with file = \"model.json\"");
   {
-    Reader m(*mo, source, "model");
+    TomlTableReader m(*mo, source, "model");
     m.String("file", c.model_file, true);
     c.model_file = Resolve(base, c.model_file);
     m.Bool("reload", c.model_reload);
@@ -174,7 +69,7 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
   }
 
   if (const toml::table* t = r.Table("loop")) {
-    Reader m(*t, source, "loop");
+    TomlTableReader m(*t, source, "loop");
     m.Double("period_s", c.period_s, 1e-4, 10);
     m.Double("duration_s", c.duration_s, 0, 1e9);
     m.RejectUnknown();
@@ -182,14 +77,14 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
 
   auto& o = c.compensator;
   if (const toml::table* t = r.Table("limits")) {
-    Reader m(*t, source, "limits");
+    TomlTableReader m(*t, source, "limits");
     m.Double("max_correction_um", o.shaper.max_correction_um, 0, 1e5);
     m.Double("max_step_um", o.shaper.max_step_um, 1e-6, 1e5);
     m.Double("hysteresis", o.shaper.hysteresis, 0, 0.5);
     m.RejectUnknown();
   }
   if (const toml::table* t = r.Table("sensor_fault")) {
-    Reader m(*t, source, "sensor_fault");
+    TomlTableReader m(*t, source, "sensor_fault");
     m.Double("min_valid_c", o.sensor.min_valid_c, -273, 1000);
     m.Double("max_valid_c", o.sensor.max_valid_c, -273, 1000);
     m.Double("max_rate_c_per_s", o.sensor.max_rate_c_per_s, 0, 1e3);
@@ -202,7 +97,7 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
       m.Fail("max_valid_c", t->get("max_valid_c"), "must be greater than min_valid_c");
   }
   if (const toml::table* t = r.Table("link")) {
-    Reader m(*t, source, "link");
+    TomlTableReader m(*t, source, "link");
     const int lp = m.Choice("loss_policy", {"hold", "ramp_to_zero"});
     if (lp >= 0) o.link_loss = lp == 0 ? LinkLossPolicy::kHold : LinkLossPolicy::kRampToZero;
     m.Int("recovery_cycles", o.link_recovery_cycles, 1, 100000);
@@ -211,19 +106,19 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
     m.RejectUnknown();
   }
   if (const toml::table* t = r.Table("channels")) {
-    Reader m(*t, source, "channels");
+    TomlTableReader m(*t, source, "channels");
     for (const auto& [k, v] : *t) {
       std::string target;
       m.String(k.str(), target);
       o.channel_map[std::string(k.str())] = target;
     }
   }
-  if (const toml::node* n = r.Get("axis")) {
+  if (const toml::node* n = r.Node("axis")) {
     const toml::array* arr = n->as_array();
     if (!arr || !arr->is_array_of_tables()) r.Fail("axis", n, "must be an array of tables ([[axis]])");
     for (std::size_t i = 0; i < arr->size(); ++i) {
       const toml::table& at = *(*arr)[i].as_table();
-      Reader m(at, source, fmt::format("axis[{}]", i));
+      TomlTableReader m(at, source, fmt::format("axis[{}]", i));
       AxisInterface a;
       m.String("name", a.axis, true);
       m.Double("pulse_equivalent_um", a.pulse_equivalent_um, 1e-6, 1e4);
@@ -239,7 +134,7 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
     }
   }
   if (const toml::table* t = r.Table("signal")) {
-    Reader m(*t, source, "signal");
+    TomlTableReader m(*t, source, "signal");
     m.Bool("enabled", c.signal_processing);
     if (m.String("calibration", c.calibration_file)) c.calibration_file = Resolve(base, c.calibration_file);
     m.RejectUnknown();
@@ -247,7 +142,7 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
       m.Fail("calibration", t->get("calibration"), "needs enabled = true (calibration is applied by the signal processing)");
   }
   if (const toml::table* t = r.Table("history")) {
-    Reader m(*t, source, "history");
+    TomlTableReader m(*t, source, "history");
     if (m.String("db", c.history_db)) c.history_db = Resolve(base, c.history_db);
     if (m.String("csv", c.log_csv)) c.log_csv = Resolve(base, c.log_csv);
     m.Double("record_interval_s", c.record_interval_s, 1e-4, 1e6);

@@ -9,10 +9,10 @@
 #include <set>
 
 #include <fmt/format.h>
-#include <toml++/toml.h>
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
+#include "trueaxis/core/toml_reader.hpp"
 #include "trueaxis/sim/ambient_profile.hpp"
 
 namespace trueaxis::sim {
@@ -38,108 +38,10 @@ std::string_view SensorKindName(SensorKind k) {
 
 namespace {
 
-class TableReader {
- public:
-  TableReader(const toml::table& t, std::string source, std::string prefix)
-      : t_(t), source_(std::move(source)), prefix_(std::move(prefix)) {}
-
-  int Line(const toml::node* n) const {
-    const toml::node* x = n ? n : &t_;
-    return static_cast<int>(x->source().begin.line);
-  }
-  std::string Key(std::string_view k) const { return prefix_.empty() ? std::string(k) : prefix_ + "." + std::string(k); }
-  [[noreturn]] void Fail(std::string_view key, const toml::node* n, const std::string& why) const {
-    throw InputError(source_, Line(n), Key(key), why);
-  }
-
-  void Double(std::string_view key, double& out, double lo, double hi, bool required = false) {
-    seen_.insert(std::string(key));
-    const toml::node* n = t_.get(key);
-    if (!n) {
-      if (required) Fail(key, nullptr, "missing (required)");
-      return;
-    }
-    double v;
-    if (auto f = n->as_floating_point()) v = f->get();
-    else if (auto i = n->as_integer()) v = static_cast<double>(i->get());
-    else Fail(key, n, "must be a number");
-    if (!std::isfinite(v) || v < lo || v > hi) Fail(key, n, fmt::format("{} is out of range [{}, {}]", v, lo, hi));
-    out = v;
-  }
-  void Int(std::string_view key, int& out, int lo, int hi) {
-    seen_.insert(std::string(key));
-    const toml::node* n = t_.get(key);
-    if (!n) return;
-    auto i = n->as_integer();
-    if (!i) Fail(key, n, "must be an integer");
-    if (i->get() < lo || i->get() > hi) Fail(key, n, fmt::format("{} is out of range [{}, {}]", i->get(), lo, hi));
-    out = static_cast<int>(i->get());
-  }
-  void U64(std::string_view key, std::uint64_t& out) {
-    seen_.insert(std::string(key));
-    const toml::node* n = t_.get(key);
-    if (!n) return;
-    auto i = n->as_integer();
-    if (!i || i->get() < 0) Fail(key, n, "must be a non-negative integer");
-    out = static_cast<std::uint64_t>(i->get());
-  }
-  bool String(std::string_view key, std::string& out, bool required = false) {
-    seen_.insert(std::string(key));
-    const toml::node* n = t_.get(key);
-    if (!n) {
-      if (required) Fail(key, nullptr, "missing (required)");
-      return false;
-    }
-    auto s = n->as_string();
-    if (!s) Fail(key, n, "must be a string");
-    out = s->get();
-    return true;
-  }
-  void Doubles(std::string_view key, std::vector<double>& out, double lo, double hi) {
-    seen_.insert(std::string(key));
-    const toml::node* n = t_.get(key);
-    if (!n) return;
-    auto a = n->as_array();
-    if (!a) Fail(key, n, "must be an array of numbers");
-    out.clear();
-    for (const auto& e : *a) {
-      double v;
-      if (auto f = e.as_floating_point()) v = f->get();
-      else if (auto i = e.as_integer()) v = static_cast<double>(i->get());
-      else Fail(key, &e, "must be an array of numbers");
-      if (!std::isfinite(v) || v < lo || v > hi) Fail(key, &e, fmt::format("{} is out of range [{}, {}]", v, lo, hi));
-      out.push_back(v);
-    }
-  }
-  const toml::table* Table(std::string_view key) {
-    seen_.insert(std::string(key));
-    const toml::node* n = t_.get(key);
-    if (!n) return nullptr;
-    auto t = n->as_table();
-    if (!t) Fail(key, n, "must be a table");
-    return t;
-  }
-  const toml::node* Node(std::string_view key) {
-    seen_.insert(std::string(key));
-    return t_.get(key);
-  }
-  // Every key of the table must have been asked for.
-  void RejectUnknown() const {
-    for (const auto& [k, v] : t_)
-      if (!seen_.count(std::string(k.str()))) Fail(k.str(), &v, "unknown key");
-  }
-  const std::string& source() const { return source_; }
-
- private:
-  const toml::table& t_;
-  std::string source_;
-  std::string prefix_;
-  std::set<std::string> seen_;
-};
 
 constexpr double kBig = 1e12;
 
-void ReadThermal(TableReader& r, DriveThermalDescription& t) {
+void ReadThermal(TomlTableReader& r, DriveThermalDescription& t) {
   r.Double("reference_feed_mm_min", t.reference_feed_mm_min, 1, 1e6);
   r.Double("heat_speed_exponent", t.heat_speed_exponent, 0.3, 3);
   r.Double("nut_heat_w", t.nut_heat_w, 0, 1e4);
@@ -164,7 +66,7 @@ void ReadThermal(TableReader& r, DriveThermalDescription& t) {
   r.RejectUnknown();
 }
 
-void ReadPitch(TableReader& r, PitchErrorDescription& p) {
+void ReadPitch(TomlTableReader& r, PitchErrorDescription& p) {
   r.Double("progressive_um", p.progressive_um, -1e4, 1e4);
   r.Double("curvature_um", p.curvature_um, -1e4, 1e4);
   r.Doubles("lead_harmonics_um", p.lead_harmonics_um, 0, 1e3);
@@ -184,12 +86,7 @@ bool ValidSensorName(const std::string& s) {
 }  // namespace
 
 MachineDescription ParseMachineToml(const std::string& text, const std::string& source) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    throw InputError(source, static_cast<int>(e.source().begin.line), "", std::string(e.description()));
-  }
+  const toml::table root = ParseTomlOrThrow(text, source);
   MachineDescription m;
   m.source = source;
   // Coolant defaults: flood washes the nut and screw; mist cools by evaporation
@@ -198,9 +95,9 @@ MachineDescription ParseMachineToml(const std::string& text, const std::string& 
   m.coolant[static_cast<int>(CoolantState::kMist)] = {1.5, 20.0, -0.5};
   m.coolant[static_cast<int>(CoolantState::kAir)] = {0.6, 10.0, 0.0};
 
-  TableReader r(root, source, "");
+  TomlTableReader r(root, source, "");
   if (auto* t = r.Table("machine")) {
-    TableReader mr(*t, source, "machine");
+    TomlTableReader mr(*t, source, "machine");
     mr.String("name", m.name);
     mr.U64("serial_seed", m.serial_seed);
     if (const toml::node* n = mr.Node("start")) {
@@ -222,7 +119,7 @@ MachineDescription ParseMachineToml(const std::string& text, const std::string& 
     mr.RejectUnknown();
   }
   if (auto* t = r.Table("ambient")) {
-    TableReader ar(*t, source, "ambient");
+    TomlTableReader ar(*t, source, "ambient");
     auto& a = m.ambient;
     ar.Double("mean_c", a.mean_c, -20, 50);
     ar.Double("seasonal_amplitude_c", a.seasonal_amplitude_c, 0, 30);
@@ -233,18 +130,18 @@ MachineDescription ParseMachineToml(const std::string& text, const std::string& 
     ar.RejectUnknown();
   }
   if (auto* t = r.Table("bed")) {
-    TableReader br(*t, source, "bed");
+    TomlTableReader br(*t, source, "bed");
     br.Double("capacity_j_per_k", m.bed.capacity_j_per_k, 1, kBig);
     br.Double("to_ambient_w_per_k", m.bed.to_ambient_w_per_k, 0.01, 1e6);
     br.Double("cte_um_per_m_c", m.bed.cte_um_per_m_c, 0, 100);
     br.RejectUnknown();
   }
   if (auto* t = r.Table("coolant")) {
-    TableReader cr(*t, source, "coolant");
+    TomlTableReader cr(*t, source, "coolant");
     for (int s = 1; s < kCoolantStateCount; ++s) {
       std::string name(kCoolantStateNames[s]);
       if (auto* ct = cr.Table(name)) {
-        TableReader sr(*ct, source, "coolant." + name);
+        TomlTableReader sr(*ct, source, "coolant." + name);
         auto& c = m.coolant[s];
         sr.Double("nut_w_per_k", c.nut_w_per_k, 0, 1e4);
         sr.Double("screw_w_per_m2_k", c.screw_w_per_m2_k, 0, 1e5);
@@ -259,7 +156,7 @@ MachineDescription ParseMachineToml(const std::string& text, const std::string& 
     if (!arr || !arr->is_array_of_tables()) r.Fail("axis", n, "must be an array of tables ([[axis]])");
     for (std::size_t i = 0; i < arr->size(); ++i) {
       const toml::table& at = *(*arr)[i].as_table();
-      TableReader ar(at, source, fmt::format("axis[{}]", i));
+      TomlTableReader ar(at, source, fmt::format("axis[{}]", i));
       AxisDescription a;
       ar.String("name", a.name, true);
       std::transform(a.name.begin(), a.name.end(), a.name.begin(), [](char c) { return std::toupper(c); });
@@ -282,11 +179,11 @@ MachineDescription ParseMachineToml(const std::string& text, const std::string& 
       ar.Double("homing_repeatability_um", a.homing_repeatability_um, 0, 1e3);
       ar.Double("bed_anchor_mm", a.bed_anchor_mm, -1e4, 1e4);
       if (auto* pt = ar.Table("pitch")) {
-        TableReader pr(*pt, source, ar.Key("pitch"));
+        TomlTableReader pr(*pt, source, ar.Key("pitch"));
         ReadPitch(pr, a.pitch);
       }
       if (auto* tt = ar.Table("thermal")) {
-        TableReader tr(*tt, source, ar.Key("thermal"));
+        TomlTableReader tr(*tt, source, ar.Key("thermal"));
         ReadThermal(tr, a.thermal);
       }
       ar.RejectUnknown();
@@ -300,7 +197,7 @@ MachineDescription ParseMachineToml(const std::string& text, const std::string& 
     std::set<std::string> names;
     for (std::size_t i = 0; i < arr->size(); ++i) {
       const toml::table& st = *(*arr)[i].as_table();
-      TableReader sr(st, source, fmt::format("sensor[{}]", i));
+      TomlTableReader sr(st, source, fmt::format("sensor[{}]", i));
       SensorDescription s;
       sr.String("name", s.name, true);
       if (!ValidSensorName(s.name)) sr.Fail("name", st.get("name"), "must be lower case letters, digits and '_' (e.g. x_nut)");
