@@ -366,20 +366,25 @@ void HistoryDb::ForEachTemperature(const TimeRange& range, const std::vector<std
       "WHERE t.time_s BETWEEN ?1 AND ?2";
   if (!ids.empty()) sql += " AND t.channel_id IN " + InList(ids.size(), 3);
   sql += " ORDER BY t.time_s, c.name";
+  TemperatureRow row;
+  ForEachRow(sql, range, ids, [&](sqlite3_stmt* s) {
+    row.time_s = sqlite3_column_double(s, 0);
+    row.channel = ColumnText(s, 1);
+    row.raw_c = ColumnDouble(s, 2);
+    row.filtered_c = ColumnDouble(s, 3);
+    row.status = ColumnText(s, 4);
+    fn(row);
+  });
+}
+
+void HistoryDb::ForEachRow(const std::string& sql, const TimeRange& range, const std::vector<std::int64_t>& ids,
+                           const std::function<void(sqlite3_stmt*)>& on_row) const {
   Statement st;
   st.s = Prepare(sql.c_str());
   BindRange(st.s, range);
   for (std::size_t i = 0; i < ids.size(); ++i) sqlite3_bind_int64(st.s, 3 + static_cast<int>(i), ids[i]);
-  TemperatureRow row;
   int rc;
-  while ((rc = sqlite3_step(st.s)) == SQLITE_ROW) {
-    row.time_s = sqlite3_column_double(st.s, 0);
-    row.channel = ColumnText(st.s, 1);
-    row.raw_c = ColumnDouble(st.s, 2);
-    row.filtered_c = ColumnDouble(st.s, 3);
-    row.status = ColumnText(st.s, 4);
-    fn(row);
-  }
+  while ((rc = sqlite3_step(st.s)) == SQLITE_ROW) on_row(st.s);
   if (rc != SQLITE_DONE) Fail("query failed");
 }
 
@@ -405,21 +410,15 @@ void HistoryDb::ForEachCompensation(const TimeRange& range, const std::vector<st
       "WHERE t.time_s BETWEEN ?1 AND ?2";
   if (!ids.empty()) sql += " AND t.axis_id IN " + InList(ids.size(), 3);
   sql += " ORDER BY t.time_s, a.name";
-  Statement st;
-  st.s = Prepare(sql.c_str());
-  BindRange(st.s, range);
-  for (std::size_t i = 0; i < ids.size(); ++i) sqlite3_bind_int64(st.s, 3 + static_cast<int>(i), ids[i]);
   CompensationRow row;
-  int rc;
-  while ((rc = sqlite3_step(st.s)) == SQLITE_ROW) {
-    row.time_s = sqlite3_column_double(st.s, 0);
-    row.axis = ColumnText(st.s, 1);
-    row.position_mm = ColumnDouble(st.s, 2);
-    row.correction_um = ColumnDouble(st.s, 3);
-    row.state = ColumnText(st.s, 4);
+  ForEachRow(sql, range, ids, [&](sqlite3_stmt* s) {
+    row.time_s = sqlite3_column_double(s, 0);
+    row.axis = ColumnText(s, 1);
+    row.position_mm = ColumnDouble(s, 2);
+    row.correction_um = ColumnDouble(s, 3);
+    row.state = ColumnText(s, 4);
     fn(row);
-  }
-  if (rc != SQLITE_DONE) Fail("query failed");
+  });
 }
 
 std::vector<CompensationRow> HistoryDb::QueryCompensation(const TimeRange& range, const std::vector<std::string>& axes) const {
@@ -429,26 +428,20 @@ std::vector<CompensationRow> HistoryDb::QueryCompensation(const TimeRange& range
 }
 
 std::vector<AlarmRow> HistoryDb::QueryAlarms(const TimeRange& range) const {
-  Statement st;
-  st.s = Prepare("SELECT time_s, severity, source, message FROM alarm WHERE time_s BETWEEN ?1 AND ?2 ORDER BY time_s, rowid");
-  BindRange(st.s, range);
   std::vector<AlarmRow> rows;
-  int rc;
-  while ((rc = sqlite3_step(st.s)) == SQLITE_ROW)
-    rows.push_back({sqlite3_column_double(st.s, 0), ColumnText(st.s, 1), ColumnText(st.s, 2), ColumnText(st.s, 3)});
-  if (rc != SQLITE_DONE) Fail("query failed");
+  ForEachRow("SELECT time_s, severity, source, message FROM alarm WHERE time_s BETWEEN ?1 AND ?2 ORDER BY time_s, rowid", range, {},
+             [&](sqlite3_stmt* s) {
+               rows.push_back({sqlite3_column_double(s, 0), ColumnText(s, 1), ColumnText(s, 2), ColumnText(s, 3)});
+             });
   return rows;
 }
 
 std::vector<ModelChangeRow> HistoryDb::QueryModelChanges(const TimeRange& range) const {
-  Statement st;
-  st.s = Prepare("SELECT time_s, sha256, revision, note FROM model_change WHERE time_s BETWEEN ?1 AND ?2 ORDER BY time_s, rowid");
-  BindRange(st.s, range);
   std::vector<ModelChangeRow> rows;
-  int rc;
-  while ((rc = sqlite3_step(st.s)) == SQLITE_ROW)
-    rows.push_back({sqlite3_column_double(st.s, 0), ColumnText(st.s, 1), ColumnText(st.s, 2), ColumnText(st.s, 3)});
-  if (rc != SQLITE_DONE) Fail("query failed");
+  ForEachRow("SELECT time_s, sha256, revision, note FROM model_change WHERE time_s BETWEEN ?1 AND ?2 ORDER BY time_s, rowid", range, {},
+             [&](sqlite3_stmt* s) {
+               rows.push_back({sqlite3_column_double(s, 0), ColumnText(s, 1), ColumnText(s, 2), ColumnText(s, 3)});
+             });
   return rows;
 }
 

@@ -123,6 +123,10 @@ class HistoryDb {
   std::int64_t NameId(const char* table, const char* name);
   std::vector<std::int64_t> ResolveNames(const char* table, const std::vector<std::string>& names,
                                          const char* field) const;
+  // Runs `sql` with ?1..?2 bound to the time range and ?3.. to `ids`, calling
+  // on_row for every result row; a failing step throws.
+  void ForEachRow(const std::string& sql, const TimeRange& range, const std::vector<std::int64_t>& ids,
+                  const std::function<void(sqlite3_stmt*)>& on_row) const;
 
   std::string path_;
   sqlite3* db_ = nullptr;
