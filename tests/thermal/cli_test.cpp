@@ -14,26 +14,9 @@ namespace {
 
 using testing::RunCli;
 
-// 8 h: four 2 h blocks at 0/2000/0/3000 rpm; sensor s0 heats with the
-// spindle, s1 is ambient, s2 noise; error = 2.5 µm/°C on s0.
+// The synthetic spindle-block series of test_util.hpp, written as CSV.
 std::string WriteFixture(const std::string& dir) {
-  const int rows = 8 * 240;
-  ThermalSeries s = testing::MakeSeries(rows, 3);
-  s.has_spindle = true;
-  std::mt19937_64 rng(2);
-  std::normal_distribution<double> noise(0.0, 0.02);
-  double t0 = 22;
-  for (int r = 0; r < rows; ++r) {
-    const double h = s.time_s[static_cast<std::size_t>(r)] / 3600;
-    const double rpm = h < 2 ? 0 : h < 4 ? 2000 : h < 6 ? 0 : 3000;
-    s.spindle_rpm.push_back(rpm);
-    const double target = 22 + rpm / 500.0;
-    t0 += (target - t0) * 15.0 / 2400.0;
-    s.temperatures_c(r, 0) = t0 + noise(rng);
-    s.temperatures_c(r, 1) = 21 + 0.3 * std::sin(h) + noise(rng);
-    s.temperatures_c(r, 2) = 23 + noise(rng);
-    s.errors_um(r, 0) = 2.5 * (t0 - 22) + noise(rng);
-  }
+  const ThermalSeries s = testing::MakeSpindleBlockSeries(2);
   const std::string path = dir + "/series.csv";
   WriteThermalSeriesCsv(s, path);
   return path;

@@ -1,6 +1,7 @@
 #pragma once
 // Shared helpers for the thermal tests: synthetic series and a CLI runner.
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <random>
@@ -25,6 +26,29 @@ inline ThermalSeries MakeSeries(int rows, int sensors, double dt_s = 15.0) {
   s.temperatures_c = Eigen::MatrixXd::Zero(rows, sensors);
   s.error_names = {"e"};
   s.errors_um = Eigen::MatrixXd::Zero(rows, 1);
+  return s;
+}
+
+// 8 h of 15 s samples in four 2 h spindle blocks (0/2000/0/3000 rpm): sensor
+// s0 heats with the spindle, s1 follows a slow ambient swing, s2 is noise;
+// the one error channel is 2.5 µm/°C on s0's rise, plus noise.
+inline ThermalSeries MakeSpindleBlockSeries(unsigned seed) {
+  const int rows = 8 * 240;
+  ThermalSeries s = MakeSeries(rows, 3);
+  s.has_spindle = true;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  double t0 = 22;
+  for (int r = 0; r < rows; ++r) {
+    const double h = s.time_s[static_cast<std::size_t>(r)] / 3600;
+    const double rpm = h < 2 ? 0 : h < 4 ? 2000 : h < 6 ? 0 : 3000;
+    s.spindle_rpm.push_back(rpm);
+    t0 += (22 + rpm / 500.0 - t0) * 15.0 / 2400.0;
+    s.temperatures_c(r, 0) = t0 + noise(rng);
+    s.temperatures_c(r, 1) = 21 + 0.3 * std::sin(h) + noise(rng);
+    s.temperatures_c(r, 2) = 23 + noise(rng);
+    s.errors_um(r, 0) = 2.5 * (t0 - 22) + noise(rng);
+  }
   return s;
 }
 
