@@ -5,7 +5,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+# Tests and benchmarks are switched on explicitly: scripts/demo.sh configures the same build/
+# with them off, and CMake's cache would otherwise keep that (no tests built, none run).
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRUEAXIS_BUILD_TESTS=ON -DTRUEAXIS_BUILD_BENCH=ON
 cmake --build build -j"$(nproc)"
 
 # Bounded libFuzzer run of the measurement readers (fuzz/): a separate clang
@@ -30,4 +32,5 @@ else
 fi
 
 cd build
-ctest -j"$(nproc)" --output-on-failure --timeout 900
+# --no-tests=error: a build that registered no test is a failure, never a green run.
+ctest -j"$(nproc)" --output-on-failure --timeout 900 --no-tests=error
