@@ -27,7 +27,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // CLI11 prints the message (or the help) itself; its own exit codes
+    // (104–109 …) are folded into ours: help/version is success, any usage
+    // error is bad input like a bad file (README: exit code 2).
+    const int cli11_code = app.exit(e);
+    return cli11_code == 0 ? kExitOk : kExitBadInput;
   } catch (const trueaxis::InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return kExitBadInput;
