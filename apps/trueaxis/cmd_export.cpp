@@ -347,7 +347,10 @@ void Setup(CLI::App& app) {
   cmd->add_option("--sign", a->sign, "csv/heidenhain: correction (default) or error");
   cmd->add_flag("--zero-at-reference", a->zero_at_reference, "shift the table to 0 at the reference point");
   cmd->add_option("--reference-mm", a->reference_mm, "reference point, mm (default: the model's Px; fanuc --read: 0)");
-  cmd->add_option("--temp", a->temps, "NAME=DEGREES: freeze the thermal part at this sensor temperature (repeat)");
+  cmd->add_option("--temp", a->temps, "NAME=DEGREES: freeze the thermal part at this sensor temperature (repeat, or "
+                  "comma separated as predict takes them)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
   cmd->add_option("--coolant", a->coolant, "coolant state for the frozen thermal part: off | flood | mist | air");
   cmd->add_option("--comp-file-type", a->comp_file_type, "linuxcnc COMP_FILE_TYPE 0 (actual) or 1 (trim, default)");
   cmd->add_option("--joint", a->joint, "linuxcnc [JOINT_n] for the INI lines");

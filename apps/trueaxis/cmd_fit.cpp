@@ -68,6 +68,12 @@ std::string CompareWithPrevious(const model::CompositeModel& prev, const model::
     if (a.key_sensors != p->key_sensors)
       out += fmt::format("  axis {}: key sensors changed ({} → {})\n", a.axis, fmt::join(p->key_sensors, ","),
                          fmt::join(a.key_sensors, ","));
+    std::vector<double> old_lag, new_lag;
+    for (std::size_t i = 0; i < p->key_sensors.size(); ++i) old_lag.push_back(p->KeyLagS(i));
+    for (std::size_t i = 0; i < a.key_sensors.size(); ++i) new_lag.push_back(a.KeyLagS(i));
+    if (old_lag != new_lag)
+      out += fmt::format("  axis {}: key-sensor lag τ changed ({} s → {} s)\n", a.axis, fmt::join(old_lag, "/"),
+                         fmt::join(new_lag, "/"));
   }
   return out;
 }
@@ -145,7 +151,9 @@ void Setup(CLI::App& app) {
   cmd->add_option("--max-degree", opts->max_degree, "Highest polynomial degree tried")->capture_default_str();
   cmd->add_option("--report", opts->report, "Write an HTML fit report (measured vs model per state)");
   cmd->add_option("--previous", opts->previous, "Model this fit replaces: revision+1, lineage recorded");
-  cmd->add_option("--keys", opts->keys, "Key sensors to use instead of selecting them (comma separated)")->delimiter(',');
+  cmd->add_option("--keys", opts->keys, "Key sensors to use instead of selecting them (comma separated)")
+      ->delimiter(',')
+      ->allow_extra_args(false);  // --keys a,b file.csv: the file stays an input
   cmd->add_option("--lag-grid-s", opts->lag_grid_s,
                   "Key-sensor lag time constants τ (s) tried by cross-validation (comma separated); 0 alone: no lag")
       ->delimiter(',')

@@ -18,6 +18,7 @@
 #include "command.hpp"
 #include "trueaxis/analysis/evaluation.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/model/composite_model.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
@@ -119,6 +120,7 @@ void RunPredict(const PredictOptions& o) {
     if (!v || !std::isfinite(*v))
       throw InputError("command line", 0, "--temp", fmt::format("'{}': '{}' is not a temperature", name, t.substr(eq + 1)));
     if (name.empty()) throw InputError("command line", 0, "--temp", fmt::format("'{}' has no sensor name", t));
+    if (auto why = ImplausibleTemperatureC(*v)) throw InputError("command line", 0, "--temp", name + ": " + *why);
     bool known = false;
     for (const auto& k : axis->key_sensors) known = known || k == name;
     if (!known && name != axis->ambient_sensor)
@@ -141,8 +143,18 @@ void RunPredict(const PredictOptions& o) {
     }
   }
   double ambient = o.ambient_c;
+  if (!std::isnan(ambient))
+    if (auto why = ImplausibleTemperatureC(ambient)) throw InputError("command line", 0, "--ambient-c", *why);
   if (std::isnan(ambient) && !axis->ambient_sensor.empty())
     if (auto it = given.find(axis->ambient_sensor); it != given.end()) ambient = it->second;
+  // Without the ambient reading the model would silently drop the ρ term and, when it measures key
+  // rises above ambient, switch to the plain rise: a different prediction. Ask for it instead.
+  if (use_thermal && std::isnan(ambient) && !axis->ambient_sensor.empty())
+    throw InputError("command line", 0, "--ambient-c",
+                     fmt::format("axis {} is modelled with the ambient sensor '{}'{}: give --ambient-c (its baseline "
+                                 "is {:.2f} °C), or --geometric-only", o.axis, axis->ambient_sensor,
+                                 axis->key_rise_above_ambient ? " (key rises are measured above ambient)" : "",
+                                 axis->ambient_baseline_c));
 
   model::ThermalState st{key_temps, ambient, *coolant, use_thermal};
   const auto p = model::Predict(*axis, o.position_mm, *dir, st);
@@ -181,8 +193,7 @@ void RunPredict(const PredictOptions& o) {
     std::cout << fmt::format("  warning: {} mm is outside the fitted range {} … {} mm (extrapolated)\n",
                              FormatShortest(o.position_mm), FormatShortest(lo), FormatShortest(hi));
   if (!use_thermal) std::cout << "  note: --geometric-only: thermal and ambient parts not applied\n";
-  else if (!axis->ambient_sensor.empty() && std::isnan(ambient))
-    std::cout << fmt::format("  note: no ambient temperature given (--ambient-c): no ambient adjustment\n");
+
 }
 
 void Setup(CLI::App& app) {
@@ -200,7 +211,9 @@ void Setup(CLI::App& app) {
   cmd->add_option("--temperature-log", o->temperature_log,
                   "With --measurement: the campaign's temperature_log.csv, so the model's key-sensor lag starts from "
                   "the history before the file (default: from the file's first reading)");
-  cmd->add_option("--temp", o->temps, "Key-sensor temperatures NAME=°C, comma separated")->delimiter(',');
+  cmd->add_option("--temp", o->temps, "Key-sensor temperatures NAME=°C, comma separated")
+      ->delimiter(',')
+      ->allow_extra_args(false);
   cmd->add_option("--ambient-c", o->ambient_c, "Ambient temperature in °C (for the ρ term)");
   cmd->add_option("--coolant", o->coolant, "Coolant state: off, flood, mist, air (default off, or the file's)");
   cmd->add_flag("--geometric-only", o->geometric_only, "Geometric part only (no temperatures needed)");

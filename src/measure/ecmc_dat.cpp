@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/text_file.hpp"
@@ -184,6 +185,9 @@ Measurement ParseEcmcDat(std::string_view text, const std::string& source) {
     p.target_mm = scale == 1000.0 ? targets.at(i).value : targets.at(i).value * scale / 1000.0;
     // Difference first, then scale: keeps the sub-nm digits of readings like -10.0000990190.
     p.deviation_um = (v.value - targets.at(i).value) * scale;
+    if (auto why = ImplausiblePositionMm(p.target_mm)) throw InputError(source, targets.at(i).line, targets.at(i).key, *why);
+    if (auto why = ImplausibleDeviationUm(p.deviation_um))
+      throw InputError(source, v.line, v.key, "reading minus target: " + *why);
     p.source_line = v.line;
     m.points.push_back(std::move(p));
   }

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/text_file.hpp"
@@ -104,6 +105,10 @@ Measurement ParseMeasurementCsv(std::string_view text, const std::string& source
           auto v = ParseDouble(f);
           if (!v || !std::isfinite(*v))
             throw InputError(source, line_no, col.name, fmt::format("'{}' is not a finite number", f));
+          const auto implausible = col.kind == Column::kTarget      ? ImplausiblePositionMm(*v)
+                                   : col.kind == Column::kDeviation ? ImplausibleDeviationUm(*v)
+                                                                    : ImplausibleTimeS(*v);
+          if (implausible) throw InputError(source, line_no, col.name, *implausible);
           if (col.kind == Column::kTarget) p.target_mm = *v;
           else if (col.kind == Column::kDeviation) p.deviation_um = *v;
           else p.time_s = *v;
@@ -112,9 +117,10 @@ Measurement ParseMeasurementCsv(std::string_view text, const std::string& source
         case Column::kTemperature: {
           if (f.empty()) break;  // not read at this point: stays NaN
           auto v = ParseDouble(f);
-          if (!v || !std::isfinite(*v) || *v < -100 || *v > 500)
+          if (!v || !std::isfinite(*v))
             throw InputError(source, line_no, col.name,
                              fmt::format("'{}' is not a temperature in °C (empty means not read)", f));
+          if (auto why = ImplausibleTemperatureC(*v)) throw InputError(source, line_no, col.name, *why);
           p.temperatures_c[col.sensor] = *v;
           break;
         }

@@ -4,12 +4,15 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <optional>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/plausibility.hpp"
+#include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
@@ -105,32 +108,24 @@ struct TemperatureLog {
   std::vector<std::vector<double>> rows;  // parallel to sensors
 };
 
+// Every row must have the header's field count, a time after the previous
+// row's, and plausible temperatures: a row cut short or a log glued from two
+// files is refused, not half-read.
 TemperatureLog ReadTemperatureLog(const std::string& path) {
   const std::string text = ReadTextFile(path);
   TemperatureLog log;
   std::vector<int> col_sensor;  // per column: index into sensors, -1 other
   int time_col = -1;
-  std::size_t pos = 0;
-  int line = 0;
-  while (pos < text.size()) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string::npos) end = text.size();
-    std::string row = text.substr(pos, end - pos);
-    pos = end + 1;
-    ++line;
-    if (!row.empty() && row.back() == '\r') row.pop_back();
+  std::size_t columns = 0;
+  LineCursor cursor(text);
+  while (cursor.Next()) {
+    const std::string_view row = cursor.line();
+    const int line = cursor.number();
     if (row.empty() || row[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::size_t a = 0;
-    while (true) {
-      const std::size_t b = row.find(',', a);
-      cells.emplace_back(Trim(row.substr(a, b == std::string::npos ? std::string::npos : b - a)));
-      if (b == std::string::npos) break;
-      a = b + 1;
-    }
-    if (time_col < 0) {  // header
+    const auto cells = SplitCsvFields(row);
+    if (columns == 0) {  // header
       for (std::size_t c = 0; c < cells.size(); ++c) {
-        const auto& h = cells[c];
+        const std::string h(cells[c]);
         if (h == "time_s") time_col = static_cast<int>(c);
         if (h.size() > 4 && h.rfind("t_", 0) == 0 && h.substr(h.size() - 2) == "_c") {
           col_sensor.push_back(static_cast<int>(log.sensors.size()));
@@ -140,20 +135,32 @@ TemperatureLog ReadTemperatureLog(const std::string& path) {
         }
       }
       if (time_col < 0) throw InputError(path, line, "time_s", "the temperature log has no time_s column");
+      columns = cells.size();
       continue;
     }
-    const auto t = static_cast<std::size_t>(time_col) < cells.size() ? ParseDouble(cells[time_col]) : std::nullopt;
+    if (cells.size() != columns)
+      throw InputError(path, line, "", fmt::format("{} fields, but the header has {} columns (row cut short or "
+                                                   "joined?)", cells.size(), columns));
+    const auto t = ParseDouble(cells[static_cast<std::size_t>(time_col)]);
     if (!t || !std::isfinite(*t)) throw InputError(path, line, "time_s", "expected a number of seconds");
+    if (!log.time_s.empty() && *t <= log.time_s.back())
+      throw InputError(path, line, "time_s",
+                       fmt::format("{} s is not after the previous row's {} s (the log must be in time order, one "
+                                   "campaign per file)", *t, log.time_s.back()));
     std::vector<double> vals(log.sensors.size(), std::nan(""));
-    for (std::size_t c = 0; c < cells.size() && c < col_sensor.size(); ++c) {
+    for (std::size_t c = 0; c < cells.size(); ++c) {
       if (col_sensor[c] < 0 || cells[c].empty()) continue;  // empty: the hardware flagged the channel
+      const std::string field = fmt::format("t_{}_c", log.sensors[col_sensor[c]]);
       const auto v = ParseDouble(cells[c]);
-      if (!v) throw InputError(path, line, fmt::format("t_{}_c", log.sensors[col_sensor[c]]), fmt::format("'{}' is not a number", cells[c]));
+      if (!v) throw InputError(path, line, field, fmt::format("'{}' is not a number", cells[c]));
+      if (auto why = ImplausibleTemperatureC(*v)) throw InputError(path, line, field, *why);
       vals[col_sensor[c]] = *v;
     }
     log.time_s.push_back(*t);
     log.rows.push_back(std::move(vals));
   }
+  if (columns == 0) throw InputError(path, cursor.number(), "", "no header line: the temperature log is empty");
+  if (log.time_s.empty()) throw InputError(path, cursor.number(), "time_s", "the temperature log has no rows");
   return log;
 }
 
@@ -177,20 +184,63 @@ TemperatureHistory HistoryBefore(const TemperatureLog& log, const measure::Measu
   return h;
 }
 
+// The log must reach the measurement's start (a log cut short would leave
+// the lag without its history, silently) and must read what the measurement
+// read at its start (another campaign's log does not).
+void CheckLogBelongsTo(const TemperatureLog& log, const std::string& log_path, const measure::Measurement& m,
+                       double start_s) {
+  double step_s = 0;
+  for (std::size_t r = 1; r < log.time_s.size(); ++r) step_s = std::max(step_s, log.time_s[r] - log.time_s[r - 1]);
+  if (start_s > log.time_s.back() + 2 * step_s + 1)
+    throw InputError(log_path, 0, "time_s",
+                     fmt::format("the log ends at {} s, before {} starts at {} s (campaign_time_s): a truncated log "
+                                 "or another campaign's", log.time_s.back(), m.source, start_s));
+  if (start_s < log.time_s.front() - 2 * step_s - 1)
+    throw InputError(log_path, 0, "time_s",
+                     fmt::format("the log starts at {} s, after {} starts at {} s: another campaign's log?",
+                                 log.time_s.front(), m.source, start_s));
+  if (m.points.empty()) return;
+  // The log row nearest the start against the measurement's first reading of each shared sensor.
+  std::size_t nearest = 0;
+  for (std::size_t r = 0; r < log.time_s.size(); ++r)
+    if (std::abs(log.time_s[r] - start_s) < std::abs(log.time_s[nearest] - start_s)) nearest = r;
+  constexpr double kToleranceC = 1.0;  // far above sensor noise, far below a day-to-day difference
+  for (std::size_t k = 0; k < m.sensor_names.size(); ++k) {
+    auto it = std::find(log.sensors.begin(), log.sensors.end(), m.sensor_names[k]);
+    if (it == log.sensors.end()) continue;
+    const double logged = log.rows[nearest][static_cast<std::size_t>(it - log.sensors.begin())];
+    const double measured = m.points.front().temperatures_c.at(k);
+    if (std::isfinite(logged) && std::isfinite(measured) && std::abs(logged - measured) > kToleranceC)
+      throw InputError(log_path, 0, "t_" + m.sensor_names[k] + "_c",
+                       fmt::format("reads {:.2f} °C at {} s, but {} starts at {:.2f} °C: the log belongs to another "
+                                   "campaign", logged, log.time_s[nearest], m.source, measured));
+  }
+}
+
 }  // namespace
 
 TemperatureHistory TemperatureHistoryFromLog(const std::string& log_path, const measure::Measurement& m,
                                              double start_time_s) {
-  return HistoryBefore(ReadTemperatureLog(log_path), m, start_time_s);
+  const TemperatureLog log = ReadTemperatureLog(log_path);
+  CheckLogBelongsTo(log, log_path, m, start_time_s);
+  return HistoryBefore(log, m, start_time_s);
 }
 
-std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, const std::string& manifest_path) {
+std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, const std::string& given_manifest) {
   std::vector<FitState> out;
+  // A campaign's manifest.json given among the input files is read as a manifest.
+  std::vector<std::string> manifests;
   for (const auto& p : csv_paths) {
     const std::string bytes = ReadTextFile(p);
+    const auto first = bytes.find_first_not_of(" \t\r\n");
+    if (first != std::string::npos && (bytes[first] == '{' || bytes[first] == '[')) {
+      manifests.push_back(p);
+      continue;
+    }
     out.push_back(MakeFitState(measure::ParseMeasurementCsv(bytes, p), "", "", Sha256Hex(bytes)));
   }
-  if (!manifest_path.empty()) {
+  if (!given_manifest.empty()) manifests.push_back(given_manifest);
+  for (const auto& manifest_path : manifests) {
     const std::string text = ReadTextFile(manifest_path);
     nlohmann::json doc;
     try {
@@ -221,6 +271,7 @@ std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, c
     const std::filesystem::path base = std::filesystem::path(manifest_path).parent_path();
     // The sim campaign's temperature log: the history before each measurement (thermal lag).
     std::optional<TemperatureLog> log;
+    std::string log_path, log_sha;
     if (doc.is_object() && doc.contains("temperature_log")) {
       if (!doc["temperature_log"].is_string())
         throw InputError(manifest_path, 0, "temperature_log", "expected a file name");
@@ -228,7 +279,9 @@ std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, c
       if (lp.is_relative()) lp = base / lp;
       if (!std::filesystem::exists(lp))
         throw InputError(manifest_path, 0, "temperature_log", fmt::format("'{}' does not exist", lp.string()));
-      log = ReadTemperatureLog(lp.string());
+      log_path = lp.string();
+      log = ReadTemperatureLog(log_path);
+      log_sha = Sha256Hex(ReadTextFile(log_path));
     }
     for (std::size_t i = 0; i < list->size(); ++i) {
       const auto& e = (*list)[i];
@@ -260,16 +313,35 @@ std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, c
       if (log && e.is_object() && e.contains("start_time_s")) {
         if (!e["start_time_s"].is_number())
           throw InputError(manifest_path, 0, where + ".start_time_s", "expected a number of seconds");
-        s.history = HistoryBefore(*log, s.measurement, e["start_time_s"].get<double>());
+        s.start_time_s = e["start_time_s"].get<double>();
+        s.history = HistoryBefore(*log, s.measurement, s.start_time_s);
+        s.temperature_log = log_path;
+        s.temperature_log_sha256 = log_sha;
       }
       out.push_back(std::move(s));
     }
   }
+  RejectDuplicateStates(out);
   return out;
+}
+
+void RejectDuplicateStates(const std::vector<FitState>& states) {
+  std::map<std::string, const FitState*> seen;
+  for (const auto& s : states) {
+    if (s.sha256.empty()) continue;
+    auto [it, fresh] = seen.emplace(s.sha256, &s);
+    if (!fresh)
+      throw InputError(s.path, 0, "file",
+                       it->second->path == s.path
+                           ? std::string("given twice: each measurement may enter the fit once")
+                           : fmt::format("has the same bytes as {}: the same measurement given twice would count "
+                                         "twice in the fit", it->second->path));
+  }
 }
 
 std::vector<FitState> LoadPreviousSources(const CompositeModel& previous, const std::string& model_path) {
   std::vector<FitState> out;
+  std::map<std::string, TemperatureLog> logs;
   for (std::size_t i = 0; i < previous.sources.size(); ++i) {
     const auto& src = previous.sources[i];
     if (!std::filesystem::exists(src.path))
@@ -284,6 +356,25 @@ std::vector<FitState> LoadPreviousSources(const CompositeModel& previous, const 
                                    src.sha256.substr(0, 12), sha.substr(0, 12)));
     FitState s = MakeFitState(measure::ParseMeasurementCsv(bytes, src.path), src.state, src.coolant, sha);
     if (!src.axis.empty()) s.axis = src.axis;
+    if (!src.temperature_log.empty() && std::isfinite(src.start_time_s)) {
+      // The history (thermal lag) the previous fit had: the same log, hash-checked.
+      auto it = logs.find(src.temperature_log);
+      if (it == logs.end()) {
+        const std::string where = fmt::format("sources[{}].temperature_log", i);
+        if (!std::filesystem::exists(src.temperature_log))
+          throw InputError(model_path, 0, where,
+                           fmt::format("'{}' (the temperature log of the previous fit) no longer exists",
+                                       src.temperature_log));
+        const std::string log_sha = Sha256Hex(ReadTextFile(src.temperature_log));
+        if (!src.temperature_log_sha256.empty() && log_sha != src.temperature_log_sha256)
+          throw InputError(src.temperature_log, 0, "sha256", "the temperature log changed since the previous fit");
+        it = logs.emplace(src.temperature_log, ReadTemperatureLog(src.temperature_log)).first;
+      }
+      s.history = HistoryBefore(it->second, s.measurement, src.start_time_s);
+      s.temperature_log = src.temperature_log;
+      s.temperature_log_sha256 = src.temperature_log_sha256;
+      s.start_time_s = src.start_time_s;
+    }
     out.push_back(std::move(s));
   }
   return out;

@@ -240,7 +240,12 @@ class AxisFitter {
       }
       if (all_.size() == 1) {
         colds.push_back(all_.front());
-        Warn(fmt::format("'{}' has no '# state:' line; as the only file it is taken as the cold state", all_.front()->path));
+        Warn(all_.front()->label.empty()
+                 ? fmt::format("'{}' has no '# state:' line; as the only file it is taken as the cold state",
+                               all_.front()->path)
+                 : fmt::format("'{}' is the only file (state '{}'), so it is taken as the cold state: its error is "
+                               "the geometric part and no thermal part can be fitted", all_.front()->path,
+                               all_.front()->label));
       } else if (common.empty()) {
         throw InputError(all_.front()->path, 0, "state",
                          "no file is marked '# state: cold' and the files share no temperature sensor to tell which "
@@ -981,7 +986,8 @@ FitResult FitCompositeModel(const std::vector<FitState>& states, const FitOption
       if (auto mm = s.measurement.Meta("machine")) res.model.machine = *mm;
     res.model.sources.push_back({s.path, s.sha256, s.label.empty() ? std::string(StateKindName(s.kind)) : s.label,
                                  std::string(CoolantStateName(s.coolant)),
-                                 s.axis.empty() ? options.default_axis : s.axis});
+                                 s.axis.empty() ? options.default_axis : s.axis, s.temperature_log,
+                                 s.temperature_log_sha256, s.start_time_s});
   }
   for (const auto& axis : order) {
     AxisFitSummary sum;

@@ -160,6 +160,11 @@ nlohmann::json ModelToJson(const CompositeModel& model) {
     json js{{"path", s.path}, {"sha256", s.sha256}, {"state", s.state}};
     if (!s.coolant.empty()) js["coolant"] = s.coolant;
     if (!s.axis.empty()) js["axis"] = s.axis;
+    if (!s.temperature_log.empty() && std::isfinite(s.start_time_s)) {
+      js["temperature_log"] = s.temperature_log;
+      js["temperature_log_sha256"] = s.temperature_log_sha256;
+      js["start_time_s"] = s.start_time_s;
+    }
     sources.push_back(std::move(js));
   }
   json lineage = json::array();
@@ -199,7 +204,9 @@ CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& sourc
     for (std::size_t i = 0; i < s.size(); ++i) {
       const std::string p = fmt::format("sources[{}]", i);
       m.sources.push_back({r.String(s[i], p, "path"), r.StringOr(s[i], p, "sha256", ""), r.StringOr(s[i], p, "state", ""),
-                           r.StringOr(s[i], p, "coolant", ""), r.StringOr(s[i], p, "axis", "")});
+                           r.StringOr(s[i], p, "coolant", ""), r.StringOr(s[i], p, "axis", ""),
+                           r.StringOr(s[i], p, "temperature_log", ""), r.StringOr(s[i], p, "temperature_log_sha256", ""),
+                           r.NumberOr(s[i], p, "start_time_s", std::numeric_limits<double>::quiet_NaN())});
     }
   }
   if (doc.contains("lineage")) {

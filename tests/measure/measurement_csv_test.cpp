@@ -123,3 +123,34 @@ TEST(MeasurementCsv, ReadingAMissingFileNamesIt) {
 
 }  // namespace
 }  // namespace trueaxis::measure
+
+namespace trueaxis::measure {
+namespace {
+
+// Huge finite numbers and wrong units are refused with file, line and field, never evaluated
+// (a 1e308 deviation made A = inf; kelvin passed the old −100…500 °C check).
+TEST(MeasurementCsvPlausibility, HugeDeviationIsRefused) {
+  const std::string e = ErrorOf("run,direction,target_mm,deviation_um\n1,+,0,1e308\n");
+  EXPECT_NE(e.find("f.csv:2: field 'deviation_um'"), std::string::npos) << e;
+  EXPECT_NE(e.find("µm"), std::string::npos) << e;
+}
+
+TEST(MeasurementCsvPlausibility, HugeTargetIsRefused) {
+  EXPECT_NE(ErrorOf("run,direction,target_mm,deviation_um\n1,+,1e300,1\n").find("f.csv:2: field 'target_mm'"),
+            std::string::npos);
+}
+
+TEST(MeasurementCsvPlausibility, KelvinTemperatureIsNamedAsKelvin) {
+  const std::string e = ErrorOf("run,direction,target_mm,deviation_um,t_nut_c\n1,+,0,1,293.4\n");
+  EXPECT_NE(e.find("f.csv:2: field 't_nut_c'"), std::string::npos) << e;
+  EXPECT_NE(e.find("kelvin"), std::string::npos) << e;
+}
+
+TEST(MeasurementCsvPlausibility, PlausibleExtremesStillRead) {
+  EXPECT_EQ(ErrorOf("run,direction,target_mm,deviation_um,t_nut_c\n1,+,2000,-950.5,-5\n1,-,2000,-940,60\n"
+                    "2,+,2000,-950,-5\n2,-,2000,-941,60\n"),
+            "");
+}
+
+}  // namespace
+}  // namespace trueaxis::measure

@@ -103,9 +103,36 @@ TEST_F(CliFit, FitWritesModelReportAndPredictUsesIt) {
   auto lib = Predict(m.axes[0], 400, Direction::kForward, {t, 20.0, CoolantState::kOff, true});
   EXPECT_NEAR(j["error_um"].get<double>(), lib.total_um, 1e-9);
   EXPECT_NEAR(j["correction_um"].get<double>(), -lib.total_um, 1e-9);
-  auto text = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction - --temp nut=26,bearing=23");
+  auto text = Cli("predict --model " + P("m.json") +
+                  " --axis X --position-mm 400 --direction - --temp nut=26,bearing=23 --ambient-c 20");
   ASSERT_EQ(text.code, 0) << text.out;
   EXPECT_THAT(text.out, HasSubstr("correction (added to the command)"));
+  // Without the ambient reading the prediction would silently change (ρ term dropped, key rises
+  // no longer above ambient): refused, naming the option and the baseline.
+  auto no_ambient = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction - --temp nut=26,bearing=23");
+  EXPECT_EQ(no_ambient.code, 2) << no_ambient.out;
+  EXPECT_THAT(no_ambient.out, HasSubstr("--ambient-c"));
+  // Kelvin (or a lost decimal point) is refused, not turned into a millimetre correction.
+  auto kelvin = Cli("predict --model " + P("m.json") +
+                    " --axis X --position-mm 400 --direction + --temp nut=299.2,bearing=296.2 --ambient-c 20");
+  EXPECT_EQ(kelvin.code, 2) << kelvin.out;
+  EXPECT_THAT(kelvin.out, HasSubstr("looks like kelvin"));
+  auto lost_point = Cli("predict --model " + P("m.json") +
+                        " --axis X --position-mm 400 --direction + --temp nut=2820,bearing=23 --ambient-c 20");
+  EXPECT_EQ(lost_point.code, 2) << lost_point.out;
+}
+
+TEST_F(CliFit, TheSameFileTwiceIsRefusedNotCountedTwice) {
+  const auto files = AllFiles();
+  const auto first = files.substr(0, files.find(".csv") + 4);
+  auto r = Cli("fit --out " + P("m.json") + files + first);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("given twice"));
+}
+
+TEST_F(CliFit, KeysOptionLeavesTheFilesAfterItPositional) {
+  auto r = Cli("fit --out " + P("m.json") + " --keys nut,bearing" + AllFiles());
+  EXPECT_EQ(r.code, 0) << r.out;
 }
 
 TEST_F(CliFit, PredictMeasurementReportsHeldOutResidual) {

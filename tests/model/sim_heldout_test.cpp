@@ -3,12 +3,17 @@
 // require the compensated ISO 230-2 A to be a small fraction of the
 // uncorrected one — the claim bench/results/modelfit.md makes, as a test.
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "trueaxis/analysis/evaluation.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/measure/measurement_csv.hpp"
 #include "trueaxis/model/fit_input.hpp"
+#include "trueaxis/model/model_json.hpp"
 #include "trueaxis/model/model_fit.hpp"
 #include "trueaxis/sim/campaign.hpp"
 #include "trueaxis/sim/machine_description.hpp"
@@ -60,6 +65,79 @@ TEST(SimHeldOut, FitOnOneDayCompensatesMostOfAnotherDaysError) {
   std::cout << "held-out mean ISO A over " << b.size() << " states: uncorrected " << sum_u / b.size()
             << " µm, residual " << sum_r / b.size() << " µm\n";
   EXPECT_LT(sum_r, 0.4 * sum_u) << "mean A uncorrected " << sum_u / b.size() << " µm, residual " << sum_r / b.size();
+  fs::remove_all(root);
+}
+
+}  // namespace
+}  // namespace trueaxis::model
+
+namespace trueaxis::model {
+namespace {
+
+std::string ReadAll(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// A re-fit with --add-to-previous and no new file must reproduce the model: the previous fit's
+// temperature log (thermal lag history) travels with its sources (it was lost: τ changed).
+TEST(SimCampaignLog, RefitFromPreviousSourcesKeepsTheTemperatureLogAndTheLag) {
+  const fs::path root = fs::temp_directory_path() / ("trueaxis_model_log_" + std::to_string(::getpid()));
+  const auto a = Campaign(3, (root / "A").string(), false);
+  ASSERT_FALSE(a.empty());
+  EXPECT_FALSE(a.back().temperature_log.empty());
+  EXPECT_FALSE(a.back().history.time_s.empty());
+  const auto first = FitCompositeModel(a, {});
+  WriteModelFile(first.model, (root / "m.json").string());
+  const auto again = LoadPreviousSources(ReadModelFile((root / "m.json").string()), (root / "m.json").string());
+  ASSERT_EQ(again.size(), a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(again[i].history.time_s.size(), a[i].history.time_s.size());
+  const auto second = FitCompositeModel(again, {});
+  EXPECT_EQ(second.model.axes[0].key_lag_s, first.model.axes[0].key_lag_s);
+  EXPECT_EQ(second.model.axes[0].key_sensors, first.model.axes[0].key_sensors);
+  fs::remove_all(root);
+}
+
+// The campaign log is checked row by row and against the measurement it is used for.
+TEST(SimCampaignLog, CutRowsAndAnotherCampaignsLogAreRefused) {
+  const fs::path root = fs::temp_directory_path() / ("trueaxis_model_badlog_" + std::to_string(::getpid()));
+  Campaign(4, (root / "A").string(), false);
+  Campaign(5, (root / "B").string(), true);
+  const auto file = root / "A" / "X_04_warm_03.csv";
+  ASSERT_TRUE(fs::exists(file));
+  const auto m = measure::ReadMeasurementCsv(file.string());
+  const double start = std::stod(*m.Meta("campaign_time_s"));
+  EXPECT_NO_THROW(TemperatureHistoryFromLog((root / "A/temperature_log.csv").string(), m, start));
+  // Another campaign's log (other seed, other day path): its readings at that time disagree.
+  try {
+    TemperatureHistoryFromLog((root / "B/temperature_log.csv").string(), m, start);
+    ADD_FAILURE() << "another campaign's log was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("another campaign"), std::string::npos) << e.what();
+  }
+  // A row cut to 5 fields.
+  std::string log = ReadAll(root / "A/temperature_log.csv");
+  const auto third_line = log.find('\n', log.find('\n', log.find('\n') + 1) + 1);
+  std::string cut = log.substr(0, third_line + 1);
+  const auto next = log.substr(third_line + 1, log.find('\n', third_line + 1) - third_line - 1);
+  std::string five;
+  int commas = 0;
+  for (char c : next) {
+    if (c == ',' && ++commas == 5) break;
+    five += c;
+  }
+  std::ofstream(root / "cut.csv") << cut << five << "\n";
+  try {
+    TemperatureHistoryFromLog((root / "cut.csv").string(), m, start);
+    ADD_FAILURE() << "a row cut short was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("5 fields"), std::string::npos) << e.what();
+  }
+  // A log that ends before the measurement starts (cut at its first lines).
+  std::ofstream(root / "short.csv") << cut;
+  EXPECT_THROW(TemperatureHistoryFromLog((root / "short.csv").string(), m, start), InputError);
   fs::remove_all(root);
 }
 

@@ -105,6 +105,11 @@ struct SourceRecord {
   std::string state;  // "cold", "warm", "ambient", "coolant:flood", ...
   std::string coolant;  // coolant state during the measurement ("off", "flood", ...; "" unknown)
   std::string axis;     // axis the file measured ("" unknown)
+  // The campaign temperature log the state's history (thermal lag) came from, its hash and the
+  // measurement's start on the log's clock; empty / NaN when the fit had none for this file.
+  std::string temperature_log;
+  std::string temperature_log_sha256;
+  double start_time_s = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct CompositeModel {

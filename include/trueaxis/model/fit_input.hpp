@@ -14,6 +14,7 @@
 // A state label starting with "cold" is the cold state, "ambient" a soak at
 // another room temperature, anything else a heated state; "coolant:<name>" or
 // "coolant-<name>" (or `# coolant: <name>`) sets the coolant working state.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -45,7 +46,17 @@ struct FitState {
   measure::Measurement measurement;
   // From the manifest's "temperature_log" and the entry's "start_time_s" (campaign clock).
   TemperatureHistory history;
+  // Where that history came from, recorded in the model's sources so a re-fit
+  // (--add-to-previous) rebuilds it: empty / NaN when the state has none.
+  std::string temperature_log;
+  std::string temperature_log_sha256;
+  double start_time_s = std::numeric_limits<double>::quiet_NaN();
 };
+
+// Refuses a set of states in which one file's bytes occur twice (the same run
+// given twice, in a manifest or on the command line, would count twice in the
+// fit). InputError names both paths.
+void RejectDuplicateStates(const std::vector<FitState>& states);
 
 // The history of `m` from a campaign temperature log (docs/campaign.md: time_s on the campaign
 // clock + t_<sensor>_c columns): the rows of the kWindowS before `start_time_s`, mapped onto m's

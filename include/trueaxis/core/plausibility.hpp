@@ -1,0 +1,30 @@
+#pragma once
+// Plausibility limits of the physical quantities trueaxis reads, so that a
+// value a machine tool cannot have is refused with the file, line and field
+// instead of flowing on (a 1e308 deviation made A = inf; kelvin temperatures
+// passed a −100…500 °C check and made a −19 mm correction). Each check returns
+// nothing when the value is plausible, else the reason, for an InputError.
+//
+// The limits are wide on purpose — they catch wrong units and garbage, not
+// bad machines:
+//   temperature   −50 … 150 °C        (a value in 223 … 423 is named as likely kelvin)
+//   position      |x| ≤ 100 000 mm    (100 m: longer than any machine axis)
+//   deviation     |e| ≤ 10 000 µm     (10 mm: no laser run of a working axis is that far off)
+//   time          |t| ≤ 1e10 s        (since the start of a test or a campaign)
+#include <optional>
+#include <string>
+
+namespace trueaxis {
+
+inline constexpr double kMinPlausibleTemperatureC = -50;
+inline constexpr double kMaxPlausibleTemperatureC = 150;
+inline constexpr double kMaxPlausiblePositionMm = 100000;
+inline constexpr double kMaxPlausibleDeviationUm = 10000;
+inline constexpr double kMaxPlausibleTimeS = 1e10;
+
+std::optional<std::string> ImplausibleTemperatureC(double value_c);
+std::optional<std::string> ImplausiblePositionMm(double value_mm);
+std::optional<std::string> ImplausibleDeviationUm(double value_um);
+std::optional<std::string> ImplausibleTimeS(double value_s);
+
+}  // namespace trueaxis
