@@ -73,6 +73,27 @@ double ResolveLead(const AnalyzeOptions& o, const measure::Measurement& m) {
   return 0;
 }
 
+// A before/after comparison is only meaningful for the same test of the same
+// axis: the same axis name (when both files say) and targets over mostly the
+// same stretch of travel. Anything else is refused, naming what differs.
+void RequireComparable(const measure::Measurement& before, const measure::Measurement& after) {
+  const auto axis_b = before.Meta("axis"), axis_a = after.Meta("axis");
+  if (axis_b && axis_a && *axis_b != *axis_a)
+    throw InputError(after.source, 0, "axis",
+                     fmt::format("axis {} cannot be compared with {} of {}", *axis_a, *axis_b, before.source));
+  const auto tb = before.Targets(), ta = after.Targets();
+  if (tb.empty() || ta.empty()) return;
+  const double lo = std::max(tb.front(), ta.front()), hi = std::min(tb.back(), ta.back());
+  const double span = std::max(tb.back(), ta.back()) - std::min(tb.front(), ta.front());
+  const double overlap = span > 0 ? std::max(0.0, hi - lo) / span : 1.0;
+  if (overlap < 0.5)
+    throw InputError(after.source, 0, "target_mm",
+                     fmt::format("targets {}…{} mm ({} targets) overlap {:.0f} % of the travel of {}'s {}…{} mm ({} "
+                                 "targets): not a before/after of the same test", FormatShortest(ta.front()),
+                                 FormatShortest(ta.back()), ta.size(), 100 * overlap, before.source,
+                                 FormatShortest(tb.front()), FormatShortest(tb.back()), tb.size()));
+}
+
 void RunAnalyze(const AnalyzeOptions& o) {
   analysis::EvaluationOptions eo;
   eo.standard = o.standard;
@@ -86,6 +107,7 @@ void RunAnalyze(const AnalyzeOptions& o) {
   std::optional<analysis::Evaluation> after_ev;
   if (!o.compare.empty()) {
     after_m = std::make_unique<measure::Measurement>(measure::ReadMeasurementFile(o.compare));
+    RequireComparable(before, *after_m);
     after_ev = analysis::Evaluate(*after_m, eo);
   }
 

@@ -124,8 +124,10 @@ ResampleOptions ResampleOf(const ExportArgs& a, TableFormat f) {
     Bad("--mode", fmt::format("'{}' is not auto, bidirectional or unidirectional", a.mode));
   }
   if (f == TableFormat::kFanuc) {
-    // One point number per interval and direction must fit under the highest number.
-    const int numbers = a.fanuc.max_point_number + 1;
+    // One point number per interval and direction must fit in the axis's numbers: its own block
+    // of the shared pool by default (FanucOptions::axes_sharing_pool), the whole pool when placed.
+    const bool placed = a.fanuc.reference_point_number >= 0 || a.fanuc.reverse_first_number >= 0;
+    const int numbers = (a.fanuc.max_point_number + 1) / (placed ? 1 : std::max(a.fanuc.axes_sharing_pool, 1));
     o.max_points = std::min(o.max_points, o.bidirectional ? numbers / 2 : numbers);
   }
   // FANUC tables are relative to the reference position by construction.
@@ -365,6 +367,8 @@ void Setup(CLI::App& app) {
   cmd->add_option("--fanuc-reference-number", a->fanuc.reference_point_number, "3620 (default: derived)");
   cmd->add_option("--fanuc-reverse-number", a->fanuc.reverse_first_number, "3626 (default: after the forward block)");
   cmd->add_option("--fanuc-max-point", a->fanuc.max_point_number, "highest compensation point number (default 1023)");
+  cmd->add_option("--fanuc-axes", a->fanuc.axes_sharing_pool,
+                  "axes sharing the point numbers: each gets its own block by default (default 4)");
   cmd->add_option("--max-feed", a->fanuc.max_feed_mm_per_min, "fanuc: max feedrate mm/min; interval >= feed/7500");
   cmd->callback([a] {
     if (!a->read.empty()) RunRead(*a);

@@ -20,6 +20,7 @@ bool FanucOptions::IsValid(std::string* why) const {
     return false;
   };
   if (axis_number < 1 || axis_number > 32) return fail("--fanuc-axis: controlled axis number 1…32");
+  if (axes_sharing_pool < 1 || axes_sharing_pool > 32) return fail("--fanuc-axes: axes sharing the point pool, 1…32");
   if (!(detection_unit_um > 0) || !std::isfinite(detection_unit_um)) return fail("--detection-unit-um: must be > 0");
   if (magnification < 0 || magnification > 100) return fail("--fanuc-magnification: 1…100 (0 = choose)");
   if (point_limit < 1 || point_limit > 127) return fail("--fanuc-point-limit: 1…127");
@@ -94,7 +95,13 @@ FanucResult WriteFanucPitchTape(const CompensationTable& t, const FanucOptions& 
 
   FanucResult res;
   const int below = static_cast<int>(r);
-  res.reference_point_number = o.reference_point_number >= 0 ? o.reference_point_number : std::max(below - 1, 0);
+  // The point numbers are one pool shared by every axis of the control: by default each axis
+  // gets its own block of it (A1 from 0, A2 from pool/axes_sharing, ...), so tapes written for
+  // X and Y with the defaults can both be loaded; an explicit 3620 places the axis anywhere.
+  const bool derived = o.reference_point_number < 0;
+  const int axis_block = (o.max_point_number + 1) / o.axes_sharing_pool;
+  const int axis_first = (o.axis_number - 1) % o.axes_sharing_pool * axis_block;
+  res.reference_point_number = derived ? axis_first + std::max(below - 1, 0) : o.reference_point_number;
   res.min_point_number = std::min(res.reference_point_number, res.reference_point_number - below + 1);
   res.max_point_number = res.reference_point_number + static_cast<int>(t.size() - 1 - r);
   if (res.min_point_number < 0)
@@ -113,6 +120,13 @@ FanucResult WriteFanucPitchTape(const CompensationTable& t, const FanucOptions& 
   }
   const int last_number = t.bidirectional ? std::max(res.max_point_number, res.reverse_min_point_number + block - 1)
                                           : res.max_point_number;
+  if (derived && o.reverse_first_number < 0 && last_number >= axis_first + axis_block)
+    throw InputError(source, 0, "--spacing",
+                     fmt::format("axis A{} needs point numbers {}…{} ({} per direction), beyond its default block "
+                                 "{}…{} ({} numbers shared by {} axes): choose a larger --spacing, or place the axis "
+                                 "with --fanuc-reference-number / --fanuc-reverse-number (e.g. a single-axis control)",
+                                 o.axis_number, res.min_point_number, last_number, block, axis_first,
+                                 axis_first + axis_block - 1, o.max_point_number + 1, o.axes_sharing_pool));
   if (last_number > o.max_point_number)
     throw InputError(source, 0, "--spacing",
                      fmt::format("compensation point numbers up to {} exceed the control's {} ({} points per direction); "

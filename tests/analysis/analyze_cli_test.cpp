@@ -67,7 +67,8 @@ TEST(AnalyzeCli, StandardsChangeTheCoverageFactor) {
 TEST(AnalyzeCli, TextTableDecompositionCompareAndReport) {
   const auto html = (std::filesystem::temp_directory_path() / "trueaxis_analyze_cli_test.html").string();
   std::filesystem::remove(html);
-  const auto r = RunCli("analyze " + Q(kFatSat) + " --lead-mm 5 --compare " + Q(kMcu) + " --report " + Q(html));
+  // Compared with itself: the same test, so the comparison is allowed and every change is 0.
+  const auto r = RunCli("analyze " + Q(kFatSat) + " --lead-mm 5 --compare " + Q(kFatSat) + " --report " + Q(html));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("bidirectional accuracy"), std::string::npos);
   EXPECT_NE(r.out.find("aliased"), std::string::npos);  // 5.12 mm targets vs 5 mm lead
@@ -81,12 +82,17 @@ TEST(AnalyzeCli, TextTableDecompositionCompareAndReport) {
   std::filesystem::remove(html);
 
   const auto j = nlohmann::json::parse(
-      RunCli("analyze " + Q(kFatSat) + " --json --lead-mm 5 --compare " + Q(kMcu)).out);
+      RunCli("analyze " + Q(kFatSat) + " --json --lead-mm 5 --compare " + Q(kFatSat)).out);
   ASSERT_TRUE(j.contains("decomposition"));
   EXPECT_FALSE(j["decomposition"]["periodic_fitted"].get<bool>());
   ASSERT_TRUE(j.contains("compare"));
   EXPECT_NEAR(j["compare"]["change_um"]["A_um"].get<double>(),
               j["compare"]["after"]["A_um"].get<double>() - j["A_um"].get<double>(), 1e-9);
+  EXPECT_NEAR(j["compare"]["change_um"]["A_um"].get<double>(), 0, 1e-12);
+  // Two different stages' tests (−10…10 mm against 15…56 mm) are not a before/after.
+  const auto unrelated = RunCli("analyze " + Q(kFatSat) + " --compare " + Q(kMcu));
+  EXPECT_EQ(unrelated.exit_code, 2);
+  EXPECT_NE(unrelated.err.find("not a before/after of the same test"), std::string::npos) << unrelated.err;
 }
 
 TEST(AnalyzeCli, LeadFromMetadataAndBadLead) {
@@ -180,3 +186,15 @@ TEST(AnalyzeCli, BadCompareFileAndUnwritableReportAreReported) {
   EXPECT_NE(r2.exit_code, 0);
   EXPECT_NE(r2.err.find("/nonexistent-dir/x.html"), std::string::npos) << r2.err;
 }
+
+namespace {
+// --compare of unrelated tests (0–800 mm 41×5 against a short-pitch run over a few leads) is
+// refused, naming the files and the travel they cover, instead of a meaningless comparison.
+TEST(AnalyzeCliCompare, UnrelatedTestsAreRefused) {
+  const std::string dir = std::string(TRUEAXIS_SOURCE_DIR) + "/examples/measurements/";
+  const auto r = RunCli("analyze '" + dir + "x_axis_ballscrew_5x41.csv' --compare '" + dir + "x_axis_short_pitch.csv'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("not a before/after of the same test"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("field 'target_mm'"), std::string::npos) << r.err;
+}
+}  // namespace

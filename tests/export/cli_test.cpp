@@ -14,6 +14,18 @@
 namespace trueaxis::exporter {
 namespace {
 
+std::vector<std::string> SplitLines(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t a = 0;
+  while (a <= text.size()) {
+    const auto b = text.find('\n', a);
+    out.push_back(text.substr(a, b == std::string::npos ? std::string::npos : b - a));
+    if (b == std::string::npos) break;
+    a = b + 1;
+  }
+  return out;
+}
+
 namespace fs = std::filesystem;
 
 const std::string kModel = std::string(TRUEAXIS_SOURCE_DIR) + "/tests/export/golden/example_model.json";
@@ -134,10 +146,34 @@ TEST_F(ExportCli, BadOptionsExitTwoNamingTheOption) {
 
 TEST_F(ExportCli, FanucDerivedGridFitsThePointNumbersOfBothDirections) {
   // 41 numbers (0…40) for two directions: at most 20 points per direction → 50 mm.
-  const auto r = Cli("export --model " + kModel + " --axis X --format fanuc --fanuc-max-point 40 --out " + Path("f.tape"));
+  const auto r = Cli("export --model " + kModel + " --axis X --format fanuc --fanuc-max-point 40 --fanuc-axes 1 --out " +
+                     Path("f.tape"));
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("step 50 mm"), std::string::npos) << r.out;
   EXPECT_NE(ReadTextFile(Path("f.tape")).find("N03624A1P50000"), std::string::npos);
+}
+
+// Tapes written with the defaults for two axes must not share point numbers: loading both would
+// overwrite the first axis's data (X used 0…841 and Y started at 0 too).
+TEST_F(ExportCli, FanucDefaultTapesOfTwoAxesUseDisjointPointNumbers) {
+  auto range = [&](const std::string& tape_path) {
+    int lo = 1 << 30, hi = -1;
+    for (const auto& line : SplitLines(ReadTextFile(tape_path)))
+      if (line.rfind("N1", 0) == 0 && line.size() > 6) {
+        const int n = std::stoi(line.substr(2, 4));
+        lo = std::min(lo, n), hi = std::max(hi, n);
+      }
+    return std::make_pair(lo, hi);
+  };
+  const auto x = Cli("export --model " + kModel + " --axis X --format fanuc --out " + Path("x.tape"));
+  ASSERT_EQ(x.code, 0) << x.out;
+  const auto y = Cli("export --model " + kModel + " --axis X --fanuc-axis 2 --format fanuc --out " + Path("y.tape"));
+  ASSERT_EQ(y.code, 0) << y.out;
+  const auto rx = range(Path("x.tape")), ry = range(Path("y.tape"));
+  ASSERT_GE(rx.second, rx.first);
+  ASSERT_GE(ry.second, ry.first);
+  EXPECT_TRUE(rx.second < ry.first || ry.second < rx.first)
+      << "A1 " << rx.first << "…" << rx.second << " overlaps A2 " << ry.first << "…" << ry.second;
 }
 
 TEST_F(ExportCli, CorruptTableOnReadNamesTheLine) {

@@ -33,7 +33,9 @@ struct FanucOptions {
   double detection_unit_um = 1.0;   // 1 µm for IS-B metric
   int magnification = 0;            // 3623; 0: the smallest 1…100 whose increments fit point_limit
   int point_limit = 7;              // |value| per point, in magnification × detection units
-  int reference_point_number = -1;  // 3620; −1: derived so the first used number is 0
+  int reference_point_number = -1;  // 3620; −1: derived so the axis starts its own block of the
+                                    // shared pool: A<n> from (n−1)·(max_point_number+1)/axes_sharing_pool
+  int axes_sharing_pool = 4;        // axes the pool of point numbers is divided between by default
   int reverse_first_number = -1;    // 3626; −1: right after the forward block
   int max_point_number = 1023;
   double max_feed_mm_per_min = std::numeric_limits<double>::quiet_NaN();  // if given: interval ≥ feed/7500
