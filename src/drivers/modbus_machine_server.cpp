@@ -70,8 +70,10 @@ bool ModbusMachineServerOptions::IsValid(std::string* why) const {
 }
 
 std::string ModbusMachineServerStats::BriefReport() const {
-  return fmt::format("{} requests ({} exceptions), {} clients now, {} connections ({} refused, {} dropped idle), {} machine exchanges, {} compensation writes",
-                     requests, exceptions, clients, connections, refused_connections, idle_disconnects, exchanges, compensation_writes);
+  return fmt::format("{} requests ({} exceptions), {} clients now, {} connections ({} refused, {} dropped idle, {} "
+                     "evicted for a new client), {} machine exchanges, {} compensation writes",
+                     requests, exceptions, clients, connections, refused_connections, idle_disconnects,
+                     evicted_connections, exchanges, compensation_writes);
 }
 
 struct ModbusMachineServer::Impl {
@@ -332,6 +334,15 @@ struct ModbusMachineServer::Impl {
       const std::size_t frame = 6 + static_cast<std::size_t>(length);
       if (protocol != 0 || length < 2 || frame > sizeof c.buf) return false;  // not MODBUS TCP
       if (c.len < frame) break;  // rest of the frame still on its way
+      // Function codes 0x80…0xFF are the exception responses themselves: a request carrying one is
+      // not MODBUS (an "exception reply" to it would echo the same code and look like a normal
+      // answer). Drop the connection, counted as a refused frame.
+      if (c.buf[kMbap] >= 0x80) {
+        std::lock_guard<std::mutex> lock(mu);
+        ++stats.requests;
+        ++stats.exceptions;
+        return false;
+      }
       modbus_set_socket(ctx, c.fd);
       HandleRequest(c.buf, static_cast<int>(frame));
       std::memmove(c.buf, c.buf + frame, c.len - frame);
@@ -362,7 +373,17 @@ struct ModbusMachineServer::Impl {
         const int fd = accept4(listen_fd, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
         if (fd >= 0) {
           std::lock_guard<std::mutex> lock(mu);
-          if (static_cast<int>(clients.size()) >= opt.max_clients || fd >= FD_SETSIZE) {
+          // A new client always gets in: when every slot is taken, the connection silent the
+          // longest makes room (silent sockets held open must not lock the real clients out).
+          if (static_cast<int>(clients.size()) >= opt.max_clients && fd < FD_SETSIZE) {
+            std::size_t oldest = 0;
+            for (std::size_t i = 1; i < clients.size(); ++i)
+              if (clients[i]->last_activity < clients[oldest]->last_activity) oldest = i;
+            close(clients[oldest]->fd);
+            clients.erase(clients.begin() + static_cast<std::ptrdiff_t>(oldest));
+            ++stats.evicted_connections;
+          }
+          if (fd >= FD_SETSIZE) {
             close(fd);
             ++stats.refused_connections;
           } else {

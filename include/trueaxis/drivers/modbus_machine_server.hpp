@@ -40,8 +40,8 @@ struct ModbusMachineServerOptions {
   double machine_period_s = 0.005;          // machine exchange period (read state, forward compensation)
   double max_abs_compensation_um = 1000.0;  // larger writes are refused with ILLEGAL DATA VALUE
   bool initial_enable = true;               // PMC enable register at start
-  int max_clients = 16;                     // further connections are closed at once
-  double idle_timeout_s = 60.0;             // a connection silent this long is closed (0 = never)
+  int max_clients = 16;                     // when full, the longest-silent connection makes room for a new one
+  double idle_timeout_s = 10.0;             // a connection silent this long is closed (0 = never)
   // Link-loss behaviour on the machine side: with watchdog_s > 0, when no
   // client has written a PMC holding register for that long, the compensation
   // ramps to 0 at watchdog_ramp_um_per_s (never a jump). 0 = hold the last value.
@@ -55,7 +55,8 @@ struct ModbusMachineServerStats {
   std::uint64_t requests = 0;          // requests answered (normal or exception)
   std::uint64_t exceptions = 0;        // of which exception responses
   std::uint64_t connections = 0;       // connections accepted
-  std::uint64_t refused_connections = 0;  // beyond max_clients
+  std::uint64_t refused_connections = 0;  // socket number beyond what select() takes
+  std::uint64_t evicted_connections = 0;  // closed (longest silent) to let a new client in
   std::uint64_t idle_disconnects = 0;     // closed after idle_timeout_s of silence
   std::uint64_t exchanges = 0;         // machine exchanges (= heartbeat)
   std::uint64_t compensation_writes = 0;  // vectors forwarded to CncLink::WriteCompensation
