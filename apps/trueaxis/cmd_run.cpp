@@ -16,6 +16,7 @@
 
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/text_file.hpp"
 #include "trueaxis/drivers/modbus_cnc_link.hpp"
 #include "trueaxis/drivers/modbus_temperature_source.hpp"
 #include "trueaxis/model/model_json.hpp"
@@ -113,15 +114,34 @@ Machine OpenMachine(const runtime::RunConfig& c) {
 }
 
 // A decimated CSV log of the loop: time, alarms, per axis position/correction, per channel value.
+// A run appends to the log of earlier runs (never overwrites it); a last row cut short by a
+// kill -9 is removed first, and a log with other columns is refused rather than mixed.
 class CsvLog {
  public:
-  CsvLog(const std::string& path, const runtime::Compensator& comp) : out_(path) {
+  CsvLog(const std::string& path, const runtime::Compensator& comp) {
+    std::string header = "time_s,alarms";
+    for (const auto& a : comp.axes()) header += "," + a.axis + "_position_mm," + a.axis + "_correction_um";
+    for (const auto& ch : comp.channel_names()) header += ",t_" + ch + "_c";
+    std::error_code ec;
+    const bool existing = fs::exists(path, ec) && fs::file_size(path, ec) > 0;
+    if (existing) {
+      const std::string text = ReadTextFile(path);
+      const std::string first = text.substr(0, text.find('\n'));
+      if (first != header)
+        throw InputError(path, 1, "header",
+                         "the log has other columns (written by another configuration): move it away or name "
+                         "another [history] csv");
+      const auto last_newline = text.rfind('\n');
+      if (last_newline + 1 != text.size()) {
+        fs::resize_file(path, last_newline + 1);  // drop the row a kill -9 cut short
+        repaired_ = true;
+      }
+    }
+    out_.open(path, std::ios::app);
     if (!out_) throw InputError(path, 0, "history.csv", "cannot open for writing");
-    out_ << "time_s,alarms";
-    for (const auto& a : comp.axes()) out_ << "," << a.axis << "_position_mm," << a.axis << "_correction_um";
-    for (const auto& ch : comp.channel_names()) out_ << ",t_" << ch << "_c";
-    out_ << "\n";
+    if (!existing) out_ << header << "\n";
   }
+  bool repaired() const { return repaired_; }
   void Write(const runtime::CycleRecord& r) {
     out_ << fmt::format("{:.3f},{}", r.time_s, runtime::AlarmNames(r.alarms));
     for (std::size_t i = 0; i < r.axis_count; ++i)
@@ -133,6 +153,7 @@ class CsvLog {
 
  private:
   std::ofstream out_;
+  bool repaired_ = false;
 };
 
 std::shared_ptr<const model::CompositeModel> LoadModel(const std::string& path) {
@@ -168,7 +189,9 @@ void Run(const Options& o) {
     m.source = monitored.get();
   }
   auto comp = runtime::Compensator::ForHardware(c.compensator, *m.link, *m.source, c.axes);
-  comp->PublishModel(LoadModel(c.model_file), c.model_file);  // InputError (exit 2) on a model that does not fit
+  auto first_model = LoadModel(c.model_file);
+  const int first_revision = first_model->revision;
+  comp->PublishModel(std::move(first_model), c.model_file);  // InputError (exit 2) on a model that does not fit
   std::error_code ec;
   auto model_mtime = fs::last_write_time(c.model_file, ec);
 
@@ -186,12 +209,16 @@ void Run(const Options& o) {
     if (fs::path(c.history_db).has_parent_path()) fs::create_directories(fs::path(c.history_db).parent_path());
     writer = std::make_unique<store::HistoryWriter>(c.history_db);
     history = std::make_unique<runtime::HistoryLogger>(*writer, axis_names, comp->channel_names(), unix0);
-    history->LogModelChange(0, model::Sha256OfFile(c.model_file), "loaded", c.model_file);
+    history->LogModelChange(0, model::Sha256OfFile(c.model_file), std::to_string(first_revision),
+                            "loaded " + c.model_file);
   }
   std::unique_ptr<CsvLog> csv;
   if (!c.log_csv.empty()) {
     if (fs::path(c.log_csv).has_parent_path()) fs::create_directories(fs::path(c.log_csv).parent_path());
     csv = std::make_unique<CsvLog>(c.log_csv, *comp);
+    if (csv->repaired())
+      fmt::print(stderr, "note: {}: its last row was cut short (the previous run was killed); removed, appending\n",
+                 c.log_csv);
   }
 
   g_stop = false;
@@ -226,13 +253,18 @@ void Run(const Options& o) {
     if (now >= next_housekeeping) {
       next_housekeeping = now + std::chrono::seconds(1);
       comp->CollectRetired();
+      if (csv) csv->Flush();  // at most a second of rows lost to a kill -9
       if (c.model_reload) {
         auto t = fs::last_write_time(c.model_file, ec);
         if (!ec && t != model_mtime) {
           model_mtime = t;
           try {
-            comp->PublishModel(LoadModel(c.model_file), c.model_file);
-            if (history) history->LogModelChange(elapsed, model::Sha256OfFile(c.model_file), "reloaded", c.model_file);
+            auto next = LoadModel(c.model_file);
+            const int revision = next->revision;
+            comp->PublishModel(std::move(next), c.model_file);
+            if (history)
+              history->LogModelChange(elapsed, model::Sha256OfFile(c.model_file), std::to_string(revision),
+                                      "reloaded " + c.model_file);
             if (!o.quiet) fmt::print(stderr, "[{:.2f} s] model reloaded from {} (ramping to it)\n", elapsed, c.model_file);
           } catch (const std::exception& e) {
             fmt::print(stderr, "[{:.2f} s] model NOT reloaded, keeping the running one: {}\n", elapsed, e.what());

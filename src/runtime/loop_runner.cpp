@@ -37,7 +37,11 @@ void LoopRunner::Start() {
 }
 
 void LoopRunner::Stop() {
-  stop_.store(true);
+  {
+    std::lock_guard<std::mutex> lock(wake_mu_);
+    stop_.store(true);
+  }
+  wake_cv_.notify_all();
   if (thread_.joinable()) thread_.join();
   running_.store(false);
 }
@@ -70,7 +74,8 @@ void LoopRunner::ThreadMain() {
       deadline += missed * period;
     }
     Account(std::chrono::duration<double>(end - start).count(), overrun);
-    std::this_thread::sleep_until(deadline);
+    std::unique_lock<std::mutex> lock(wake_mu_);  // outside the cycle: the cycle itself takes no lock
+    wake_cv_.wait_until(lock, deadline, [this] { return stop_.load(std::memory_order_relaxed); });
   }
 }
 

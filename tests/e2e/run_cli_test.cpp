@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -83,11 +84,54 @@ TEST(RunCli, VirtualMachineInProcessLogsCorrectionsToHistoryAndCsv) {
   double max_abs = 0;
   for (const auto& r : rows) max_abs = std::max(max_abs, std::fabs(r.correction_um));
   EXPECT_GT(max_abs, 5);  // the model asks for tens of µm along X
-  EXPECT_EQ(db.QueryModelChanges({}).size(), 1u);
+  const auto changes = db.QueryModelChanges({});
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_EQ(changes[0].revision, "1");  // the model's revision number, not a word
   EXPECT_FALSE(db.QueryTemperatures({}, {"x_nut"}).empty());
   const std::string csv = Slurp(dir.path / "cycles.csv");
   EXPECT_EQ(csv.rfind("time_s,alarms,X_position_mm,X_correction_um", 0), 0u);
-  EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 5);
+  const auto rows_first = std::count(csv.begin(), csv.end(), '\n');
+  EXPECT_GT(rows_first, 5);
+
+  // A row cut short (kill -9 in the middle of a write): the next run removes it and APPENDS.
+  std::ofstream(dir.path / "cycles.csv", std::ios::app) << "12.345,sensor_he";
+  ASSERT_EQ(RunShell(cmd), 0) << Slurp(dir.path / "err.txt");
+  EXPECT_NE(Slurp(dir.path / "err.txt").find("cut short"), std::string::npos);
+  const std::string both = Slurp(dir.path / "cycles.csv");
+  EXPECT_EQ(both.rfind(csv, 0), 0u) << "the first run's rows must be kept";
+  EXPECT_GT(std::count(both.begin(), both.end(), '\n'), rows_first + 5);
+  EXPECT_EQ(both.find("sensor_he\n"), std::string::npos);
+  EXPECT_EQ(both.find("time_s,alarms", 1), std::string::npos) << "one header only";
+}
+
+// SIGINT stops the loop without waiting for the rest of a long period (it waited up to period_s).
+TEST(RunCli, SigintStopsWithinALongPeriod) {
+  TempDir dir("trueaxis_run_sigint");
+  WriteXModel(dir.path / "model.json");
+  std::ofstream(dir.path / "run.toml") << "[machine]\nkind = \"virtual\"\nfile = \"" << kMachine
+                                       << "\"\n[model]\nfile = \"model.json\"\n[loop]\nperiod_s = 10\n";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const std::string config = (dir.path / "run.toml").string();
+    execl(kCli.c_str(), kCli.c_str(), "run", "--config", config.c_str(), "--quiet", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // inside the first 10 s period
+  kill(pid, SIGINT);
+  // It must exit well before the period's end; waitpid with WNOHANG polled for up to 6 s.
+  int status = 0;
+  pid_t done = 0;
+  for (int i = 0; i < 60 && done == 0; ++i) {
+    done = waitpid(pid, &status, WNOHANG);
+    if (done == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  if (done == 0) {
+    kill(pid, SIGKILL);
+    waitpid(pid, &status, 0);
+    FAIL() << "run did not stop within 6 s of SIGINT (period 10 s)";
+  }
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
 }
 
 TEST(RunCli, WithSignalProcessingInFront) {

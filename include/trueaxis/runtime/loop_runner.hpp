@@ -13,6 +13,8 @@
 // must be as real-time safe as the cycle itself in real-time mode (e.g. push
 // into a preallocated ring, see CycleRecorder).
 #include <atomic>
+#include <mutex>
+#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -85,6 +87,10 @@ class LoopRunner {
   std::thread thread_;
   std::atomic<bool> running_{false};
   std::atomic<bool> stop_{false};
+  // The loop waits for its next deadline here, so Stop() wakes it at once
+  // instead of after up to a whole period (10 s periods made SIGINT wait).
+  std::mutex wake_mu_;
+  std::condition_variable wake_cv_;
   std::uint64_t sim_cycles_ = 0;
   double sim_pause_s_ = 0;
   std::atomic<std::uint64_t> cycles_{0};
