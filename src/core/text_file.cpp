@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -11,7 +12,70 @@
 
 namespace trueaxis {
 
-std::string ReadTextFile(const std::string& path) {
+namespace {
+
+void AppendUtf8(std::string& out, std::uint32_t cp) {
+  if (cp < 0x80) {
+    out += static_cast<char>(cp);
+  } else if (cp < 0x800) {
+    out += static_cast<char>(0xC0 | (cp >> 6));
+    out += static_cast<char>(0x80 | (cp & 0x3F));
+  } else if (cp < 0x10000) {
+    out += static_cast<char>(0xE0 | (cp >> 12));
+    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (cp & 0x3F));
+  } else {
+    out += static_cast<char>(0xF0 | (cp >> 18));
+    out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
+    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (cp & 0x3F));
+  }
+}
+
+std::string Utf16ToUtf8(std::string_view bytes, bool little_endian, const std::string& path) {
+  std::string out;
+  out.reserve(bytes.size() / 2);
+  auto unit = [&](std::size_t i) -> std::uint32_t {
+    const auto a = static_cast<unsigned char>(bytes[i]), b = static_cast<unsigned char>(bytes[i + 1]);
+    return little_endian ? (a | (b << 8)) : ((a << 8) | b);
+  };
+  for (std::size_t i = 0; i + 1 < bytes.size(); i += 2) {
+    std::uint32_t cp = unit(i);
+    if (cp >= 0xD800 && cp <= 0xDBFF && i + 3 < bytes.size()) {
+      const std::uint32_t lo = unit(i + 2);
+      if (lo >= 0xDC00 && lo <= 0xDFFF) {
+        cp = 0x10000 + ((cp - 0xD800) << 10) + (lo - 0xDC00);
+        i += 2;
+      }
+    }
+    AppendUtf8(out, cp);
+  }
+  if (bytes.size() % 2) throw InputError(path, "UTF-16 text with an odd number of bytes: the file is cut short");
+  return out;
+}
+
+}  // namespace
+
+std::string DecodeText(std::string bytes, const std::string& path) {
+  // Excel and Windows tools save "Unicode text" as UTF-16: read it as the UTF-8 it means.
+  if (bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0xFF && static_cast<unsigned char>(bytes[1]) == 0xFE)
+    bytes = Utf16ToUtf8(std::string_view(bytes).substr(2), true, path);
+  else if (bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0xFE && static_cast<unsigned char>(bytes[1]) == 0xFF)
+    bytes = Utf16ToUtf8(std::string_view(bytes).substr(2), false, path);
+  else if (bytes.size() >= 4 && bytes[0] != 0 && bytes[1] == 0 && bytes[2] != 0 && bytes[3] == 0)
+    bytes = Utf16ToUtf8(bytes, true, path);  // UTF-16LE without a byte-order mark
+  if (bytes.rfind("PK\x03\x04", 0) == 0)
+    throw InputError(path, "is a ZIP container (an .xlsx/.ods workbook?), not a text file: save the sheet as CSV");
+  if (bytes.find('\0') != std::string::npos)
+    throw InputError(path, "holds NUL bytes: a binary file, not text (or an encoding other than UTF-8/UTF-16)");
+  // Classic Mac OS / some loggers end lines with CR alone: the readers count lines by LF.
+  if (bytes.find('\n') == std::string::npos && bytes.find('\r') != std::string::npos)
+    for (auto& c : bytes)
+      if (c == '\r') c = '\n';
+  return bytes;
+}
+
+std::string ReadFileBytes(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError(path, "is a directory, expected a file");
   std::ifstream in(path, std::ios::binary);
@@ -20,6 +84,8 @@ std::string ReadTextFile(const std::string& path) {
   ss << in.rdbuf();
   return ss.str();
 }
+
+std::string ReadTextFile(const std::string& path) { return DecodeText(ReadFileBytes(path), path); }
 
 void WriteTextFile(const std::string& path, std::string_view content) {
   const std::string tmp = path + ".tmp";

@@ -19,10 +19,57 @@ std::vector<std::string_view> SplitCsvFields(std::string_view line) {
   std::vector<std::string_view> out;
   std::size_t start = 0;
   while (true) {
+    // RFC 4180: a field in double quotes may hold commas; the quotes are not part of the value.
+    std::size_t scan = start;
+    while (scan < line.size() && (line[scan] == ' ' || line[scan] == '\t')) ++scan;
+    if (scan < line.size() && line[scan] == '"') {
+      std::size_t close = scan + 1;
+      while (close < line.size()) {
+        if (line[close] == '"' && close + 1 < line.size() && line[close + 1] == '"') close += 2;  // "" inside
+        else if (line[close] == '"') break;
+        else ++close;
+      }
+      if (close < line.size()) {
+        const auto pos = line.find(',', close);
+        out.push_back(line.substr(scan + 1, close - scan - 1));
+        if (pos == std::string_view::npos) break;
+        start = pos + 1;
+        continue;
+      }
+    }
     const auto pos = line.find(',', start);
     out.push_back(Trim(line.substr(start, pos == std::string_view::npos ? std::string_view::npos : pos - start)));
     if (pos == std::string_view::npos) break;
     start = pos + 1;
+  }
+  return out;
+}
+
+std::string CanonicalCsv(std::string_view text) {
+  // The header (first line that is neither empty nor a comment) tells the separator.
+  LineCursor cursor(text);
+  bool semicolons = false;
+  while (cursor.Next()) {
+    const auto line = cursor.line();
+    if (line.empty() || line[0] == '#') continue;
+    semicolons = line.find(';') != std::string_view::npos && line.find(',') == std::string_view::npos;
+    break;
+  }
+  std::string out(text);
+  if (!semicolons) return out;
+  // A German/Chinese-locale Excel export: ';' between fields, ',' as the decimal mark.
+  bool comment = false, line_start = true;
+  for (auto& c : out) {
+    if (line_start) comment = (c == '#');
+    if (!comment && c != ' ' && c != '\t') line_start = false;
+    if (c == '\n') {
+      line_start = true;
+      comment = false;
+      continue;
+    }
+    if (comment) continue;
+    if (c == ',') c = '.';
+    else if (c == ';') c = ',';
   }
   return out;
 }

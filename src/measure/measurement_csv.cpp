@@ -29,7 +29,8 @@ Measurement ParseMeasurementCsv(std::string_view text, const std::string& source
   m.source = source;
   std::vector<ColumnSpec> columns;
   bool have_header = false;
-  LineCursor cursor(text);
+  const std::string canonical = CanonicalCsv(text);  // ';' + decimal-comma exports read as CSV
+  LineCursor cursor(canonical);
   int line_no = 0;
   while (cursor.Next()) {
     line_no = cursor.number();

@@ -117,7 +117,8 @@ TemperatureLog ReadTemperatureLog(const std::string& path) {
   std::vector<int> col_sensor;  // per column: index into sensors, -1 other
   int time_col = -1;
   std::size_t columns = 0;
-  LineCursor cursor(text);
+  const std::string canonical = CanonicalCsv(text);  // ';' + decimal-comma exports read as CSV
+  LineCursor cursor(canonical);
   while (cursor.Next()) {
     const std::string_view row = cursor.line();
     const int line = cursor.number();

@@ -24,6 +24,6 @@ std::string Sha256Hex(std::string_view bytes) {
   return out;
 }
 
-std::string Sha256OfFile(const std::string& path) { return Sha256Hex(ReadTextFile(path)); }
+std::string Sha256OfFile(const std::string& path) { return Sha256Hex(ReadFileBytes(path)); }
 
 }  // namespace trueaxis::model

@@ -107,7 +107,8 @@ CalibrationSession ParseCalibrationSessionCsv(std::string_view text, const std::
   s.source = source;
   std::vector<int> column_to_sensor;  // -1: ignored column (time_s)
   bool have_header = false;
-  LineCursor cursor(text);
+  const std::string canonical = CanonicalCsv(text);  // ';' + decimal-comma exports read as CSV
+  LineCursor cursor(canonical);
   int line_no = 0;
   while (cursor.Next()) {
     line_no = cursor.number();

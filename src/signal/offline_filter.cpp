@@ -21,7 +21,8 @@ ReadingsTable ParseReadingsCsv(std::string_view text, const std::string& source,
   int time_col = -1;
   std::vector<int> column_to_channel;
   bool have_header = false;
-  LineCursor cursor(text);
+  const std::string canonical = CanonicalCsv(text);  // ';' + decimal-comma exports read as CSV
+  LineCursor cursor(canonical);
   int line_no = 0;
   double previous_time = -INFINITY;
   while (cursor.Next()) {

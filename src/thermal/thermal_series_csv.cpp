@@ -44,7 +44,8 @@ ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& so
   std::vector<Column> columns;
   std::vector<double> temps, errs;  // row-major while reading
   bool have_header = false;
-  LineCursor cursor(text);
+  const std::string canonical = CanonicalCsv(text);  // ';' + decimal-comma exports read as CSV
+  LineCursor cursor(canonical);
   int line_no = 0;
   while (cursor.Next()) {
     line_no = cursor.number();

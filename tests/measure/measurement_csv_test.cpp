@@ -154,3 +154,65 @@ TEST(MeasurementCsvPlausibility, PlausibleExtremesStillRead) {
 
 }  // namespace
 }  // namespace trueaxis::measure
+
+#include <filesystem>
+#include <fstream>
+
+#include "trueaxis/core/text_file.hpp"
+
+namespace trueaxis::measure {
+namespace {
+
+// The same four points in the encodings and dialects spreadsheets and loggers write.
+const std::string kPlain =
+    "run,direction,target_mm,deviation_um,t_nut_c\n1,+,0,1.5,20.25\n1,-,0,2.5,20.5\n2,+,0,1.25,20.75\n2,-,0,2.75,21\n";
+
+Measurement ReadBytes(const std::string& bytes, const std::string& name) {
+  const auto path = (std::filesystem::temp_directory_path() / ("trueaxis_dialect_" + name)).string();
+  std::ofstream(path, std::ios::binary) << bytes;
+  auto m = ReadMeasurementCsv(path);
+  std::filesystem::remove(path);
+  return m;
+}
+
+void ExpectSameAsPlain(const Measurement& m) {
+  ASSERT_EQ(m.points.size(), 4u);
+  EXPECT_DOUBLE_EQ(m.points[0].deviation_um, 1.5);
+  EXPECT_DOUBLE_EQ(m.points[3].deviation_um, 2.75);
+  EXPECT_DOUBLE_EQ(m.points[2].temperatures_c[0], 20.75);
+}
+
+TEST(MeasurementCsvDialects, SemicolonsWithDecimalCommas) {
+  std::string s = kPlain;
+  for (auto& c : s) c = c == ',' ? ';' : c == '.' ? ',' : c;
+  ExpectSameAsPlain(ReadBytes("# note: a German Excel export, with a comma\n" + s, "semicolon.csv"));
+}
+
+TEST(MeasurementCsvDialects, QuotedFieldsAsSpreadsheetsWriteThem) {
+  ExpectSameAsPlain(ReadBytes("\"run\",\"direction\",\"target_mm\",\"deviation_um\",\"t_nut_c\"\n"
+                              "1,\"+\",0,\"1.5\",20.25\n1,-,0,2.5,20.5\n2,+,0,1.25,20.75\n2,-,0,2.75,21\n",
+                              "quoted.csv"));
+}
+
+TEST(MeasurementCsvDialects, Utf16WithBomAndCrOnlyLineEnds) {
+  std::string utf16 = "\xFF\xFE";
+  for (char c : kPlain) utf16 += std::string{c, '\0'};
+  ExpectSameAsPlain(ReadBytes(utf16, "utf16.csv"));
+  std::string cr = kPlain;
+  for (auto& c : cr) c = c == '\n' ? '\r' : c;
+  ExpectSameAsPlain(ReadBytes(cr, "cr.csv"));
+}
+
+TEST(MeasurementCsvDialects, AWorkbookIsNamedNotPrintedAsBytes) {
+  try {
+    ReadBytes(std::string("PK\x03\x04\x14\x00\x06\x00", 8) + "[Content_Types].xml", "book.xlsx");
+    ADD_FAILURE() << "an .xlsx was read as text";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("xlsx"), std::string::npos) << what;
+    EXPECT_EQ(what.find("Content_Types"), std::string::npos) << what;
+  }
+}
+
+}  // namespace
+}  // namespace trueaxis::measure

@@ -192,7 +192,7 @@ TEST_F(HistoryExportTest, CliExportQueryAndInfo) {
 }
 
 TEST_F(HistoryExportTest, CliBadInputsExitTwoAndChangeNothing) {
-  const std::string before = ReadTextFile(db_path_);
+  const std::string before = ReadFileBytes(db_path_);
   auto r = testing::RunCli("history export --db " + db_path_ + " --channels nope --format csv --out " + Path("x.csv"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("channels"), std::string::npos) << r.output;
@@ -222,7 +222,7 @@ TEST_F(HistoryExportTest, CliBadInputsExitTwoAndChangeNothing) {
   EXPECT_NE(r.output.find("not a trueaxis history database"), std::string::npos) << r.output;
   EXPECT_EQ(ReadTextFile(Path("corrupt.db")), std::string(4096, 'x'));
   EXPECT_FALSE(fs::exists(Path("x.xlsx")));
-  EXPECT_EQ(ReadTextFile(db_path_), before);
+  EXPECT_EQ(ReadFileBytes(db_path_), before);
 }
 
 }  // namespace

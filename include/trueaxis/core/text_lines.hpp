@@ -7,6 +7,7 @@
 // numbered from 1. A text ending in "\n" has one more, empty, last line, so
 // an error "after the last line" points one past it, as editors show it.
 #include <optional>
+#include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -29,9 +30,16 @@ class LineCursor {
   int number_ = 0;
 };
 
-// Splits a comma-separated line into its fields, each trimmed (no quoting:
-// trueaxis's CSV files never need it).
+// Splits a comma-separated line into its fields, each trimmed. A field in
+// double quotes (RFC 4180, as spreadsheets write them) may hold commas; the
+// view excludes the quotes.
 std::vector<std::string_view> SplitCsvFields(std::string_view line);
+
+// The CSV text in trueaxis's canonical dialect: a file whose header is
+// separated by ';' (a German or Chinese locale's Excel export) has its ';'
+// turned into ',' and its decimal commas into points, comment lines untouched.
+// Any other text is returned unchanged.
+std::string CanonicalCsv(std::string_view text);
 
 // "# key: value" metadata comment → (key, value), both trimmed; nullopt for a
 // line that is not a comment or a comment without "key:".
