@@ -9,6 +9,7 @@
 #include <set>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
@@ -87,6 +88,8 @@ bool ValidSensorName(const std::string& s) {
 
 MachineDescription ParseMachineToml(const std::string& text, const std::string& source) {
   const toml::table root = ParseTomlOrThrow(text, source);
+  std::vector<std::string> declared_axes;  // [machine] axes, when given
+  int declared_axes_line = 0;
   MachineDescription m;
   m.source = source;
   // Coolant defaults: flood washes the nut and screw; mist cools by evaporation
@@ -99,6 +102,8 @@ MachineDescription ParseMachineToml(const std::string& text, const std::string& 
   if (auto* t = r.Table("machine")) {
     TomlTableReader mr(*t, source, "machine");
     mr.String("name", m.name);
+    mr.Strings("axes", declared_axes);
+    declared_axes_line = mr.Line(mr.Node("axes"));
     mr.U64("serial_seed", m.serial_seed);
     if (const toml::node* n = mr.Node("start")) {
       std::string iso;
@@ -191,6 +196,16 @@ MachineDescription ParseMachineToml(const std::string& text, const std::string& 
     }
   }
   if (m.axes.empty()) throw InputError(source, 0, "axis", "no [[axis]] defined");
+  // [machine] axes lists the axes the file defines: a file cut short at a table boundary is still
+  // valid TOML, and would otherwise run with axes (or its sensors) silently missing.
+  if (!declared_axes.empty()) {
+    std::vector<std::string> defined;
+    for (const auto& a : m.axes) defined.push_back(a.name);
+    if (defined != declared_axes)
+      throw InputError(source, declared_axes_line, "machine.axes",
+                       fmt::format("declares axes {} but the file defines [[axis]] {}: is the file cut short?",
+                                   fmt::join(declared_axes, ", "), fmt::join(defined, ", ")));
+  }
   if (const toml::node* n = r.Node("sensor")) {
     auto* arr = n->as_array();
     if (!arr || !arr->is_array_of_tables()) r.Fail("sensor", n, "must be an array of tables ([[sensor]])");

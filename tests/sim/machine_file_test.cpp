@@ -1,5 +1,7 @@
 // Machine file reader: the example loads; bad files name file, line and key.
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -80,6 +82,33 @@ TEST(MachineFile, NoAxesIsAnError) {
 
 TEST(MachineFile, MissingFileIsAnInputError) {
   EXPECT_THROW(ReadMachineFile("/nonexistent/machine.toml"), InputError);
+}
+
+}  // namespace
+}  // namespace trueaxis::sim
+
+namespace trueaxis::sim {
+namespace {
+
+// A machine file cut short at a table boundary is valid TOML; the declared axis list catches it.
+TEST(MachineFileTruncation, AFileCutAfterItsFirstAxisIsRefused) {
+  const std::string path = std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850.toml";
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  const auto second_axis = text.find("\n[[axis]]", text.find("\n[[axis]]") + 1);
+  ASSERT_NE(second_axis, std::string::npos);
+  try {
+    ParseMachineToml(text.substr(0, second_axis), "cut.toml");
+    ADD_FAILURE() << "a machine file cut after its first axis was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("cut.toml:"), std::string::npos) << what;
+    EXPECT_NE(what.find("machine.axes"), std::string::npos) << what;
+    EXPECT_NE(what.find("cut short"), std::string::npos) << what;
+  }
+  EXPECT_EQ(ParseMachineToml(text, "whole.toml").axes.size(), 3u);
 }
 
 }  // namespace
