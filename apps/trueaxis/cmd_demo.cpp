@@ -47,14 +47,16 @@ void Setup(CLI::App& app) {
   cmd->add_option("--out", opts->demo.out_dir, "Output directory (report.html, model.json, campaign/, day/, history.sqlite)")
       ->capture_default_str();
   cmd->add_option("--seed", opts->demo.seed, "Run seed (the working day uses seed + 1000)")->capture_default_str();
-  cmd->add_flag("--fast", opts->demo.fast, "One axis, fewer targets and runs (about a minute)");
+  cmd->add_flag("--fast", opts->demo.fast, "One axis, fewer targets and runs (a few seconds in process; 4–5 minutes with --modbus)");
   cmd->add_option("--machine", opts->demo.machine_file, "Machine description (default examples/machines/vmc850.toml)");
   cmd->add_option("--axes", opts->demo.axes, "Axes to calibrate and measure, e.g. X,Y (default: all; --fast: the first)")
       ->delimiter(',');
   cmd->add_option("--period-ms", opts->period_ms, "Compensation cycle in ms of machine time (default 10; 100 with --modbus)");
   cmd->add_flag("--modbus", opts->demo.modbus,
                 "Run the working day over MODBUS TCP on 127.0.0.1: the virtual machine behind the PMC-window/ADAM-6015 "
-                "terminal, the compensator on the MODBUS clients (slower: real round trips every cycle)");
+                "terminal, the compensator on the MODBUS clients. Slow on purpose: every cycle is real round trips, "
+                "so the period is 100 ms and --fast takes 4–5 minutes; its figures match the in-process demo at "
+                "--period-ms 100, which is what differs from the default 10 ms (docs/runtime.md)");
   cmd->add_option("--modbus-port", opts->demo.modbus_port, "Port of that terminal (default: first free from 15020)");
   cmd->add_flag_function("--no-lag", [opts](std::int64_t) { opts->demo.thermal_lag = false; },
                 "Fit the static thermal model (no key-sensor lag), for comparison with the default");
