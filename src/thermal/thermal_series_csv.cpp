@@ -1,3 +1,4 @@
+#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/thermal/thermal_series_csv.hpp"
 
 #include <algorithm>
@@ -123,6 +124,7 @@ ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& so
       switch (col.kind) {
         case Kind::kTime:
           time = number("a finite time in seconds");
+          if (auto why = ImplausibleTimeS(time)) throw InputError(source, line_no, col.header, *why);
           if (!s.time_s.empty() && !(time > s.time_s.back()))
             throw InputError(source, line_no, col.header,
                              fmt::format("time {} s is not after the previous row's {} s; rows must be in "
@@ -131,6 +133,7 @@ ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& so
           break;
         case Kind::kPosition:
           s.position_mm.push_back(number("a finite position in mm"));
+          if (auto why = ImplausiblePositionMm(s.position_mm.back())) throw InputError(source, line_no, col.header, *why);
           break;
         case Kind::kSpindle: {
           double v = number("a spindle speed in rpm");
@@ -153,9 +156,10 @@ ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& so
         case Kind::kTemperature: {
           if (IsMissing(f)) break;
           auto v = ParseDouble(f);
-          if (!v || !std::isfinite(*v) || *v < -100 || *v > 500)
+          if (!v || !std::isfinite(*v))
             throw InputError(source, line_no, col.header,
-                             fmt::format("'{}' is not a temperature in °C (-100..500; empty or nan = not read)", f));
+                             fmt::format("'{}' is not a temperature in °C (empty or nan = not read)", f));
+          if (auto why = ImplausibleTemperatureC(*v)) throw InputError(source, line_no, col.header, *why);
           temps[row * s.temperature_names.size() + col.index] = *v;
           break;
         }
@@ -165,6 +169,7 @@ ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& so
           if (!v || !std::isfinite(*v))
             throw InputError(source, line_no, col.header,
                              fmt::format("'{}' is not an error in µm (empty or nan = not measured)", f));
+          if (auto why = ImplausibleDeviationUm(*v)) throw InputError(source, line_no, col.header, "thermal error " + *why);
           errs[row * s.error_names.size() + col.index] = *v;
           break;
         }
