@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 
 #include <fmt/format.h>
 
@@ -34,6 +35,10 @@ int main(int argc, char** argv) {
     return cli11_code == 0 ? kExitOk : kExitBadInput;
   } catch (const trueaxis::InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
+    return kExitBadInput;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A path the user gave that cannot be read or created: bad input, said as path: reason.
+    fmt::print(stderr, "error: {}: {}\n", e.path1().string(), e.code().message());
     return kExitBadInput;
   } catch (const std::exception& e) {
     fmt::print(stderr, "error: {}\n", e.what());

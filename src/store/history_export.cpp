@@ -243,6 +243,12 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
 
   ExportResult result;
   const std::string tmp = out_path + ".tmp";
+  {
+    // libxlsxwriter creates the file only when the workbook closes, after the whole export, and
+    // then prints its own raw error: check that the file can be created before any work.
+    std::ofstream probe(tmp, std::ios::binary | std::ios::trunc);
+    if (!probe) throw InputError(out_path, "cannot create the export file (directory missing or not writable?)");
+  }
   lxw_workbook_options options{};
   options.constant_memory = LXW_TRUE;  // rows stream to disk: exports of millions of readings stay small in memory
   lxw_workbook* wb = workbook_new_opt(tmp.c_str(), &options);
@@ -344,7 +350,7 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
     }
     closed = true;
     const lxw_error err = workbook_close(wb);
-    if (err != LXW_NO_ERROR) throw std::runtime_error(fmt::format("{}: cannot write workbook: {}", out_path, lxw_strerror(err)));
+    if (err != LXW_NO_ERROR) throw InputError(out_path, fmt::format("cannot write workbook: {}", lxw_strerror(err)));
   } catch (...) {
     if (!closed) workbook_close(wb);
     std::error_code ec;
