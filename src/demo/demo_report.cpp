@@ -35,28 +35,29 @@ report::SvgChart ErrorCurves(const StateResult& r) {
     }
     return std::make_tuple(x, y, lo, hi);
   };
-  report::SeriesStyle off_up{"#c0392b"}, off_down{"#e67e22"}, on_up{"#1f6fb2"}, on_down{"#16a085"};
-  off_down.dashed = true;
-  on_down.dashed = true;
-  {
-    auto [x, y, lo, hi] = series(r.eval_on, true, 2);
-    chart.AddBand("compensated ↑ ±2s", x, lo, hi, report::SeriesStyle{"#1f6fb2"});
+  // Every series with its ±2s band (the spread of the runs), bands first so the lines sit on top.
+  struct Curve {
+    const analysis::Evaluation* eval;
+    bool up;
+    const char* label;
+    const char* color;
+    bool dashed;
+  };
+  const Curve curves[] = {{&r.eval_off, true, "uncompensated ↑ (forward)", "#c0392b", false},
+                          {&r.eval_off, false, "uncompensated ↓ (reverse)", "#e67e22", true},
+                          {&r.eval_on, true, "compensated ↑ (forward)", "#1f6fb2", false},
+                          {&r.eval_on, false, "compensated ↓ (reverse)", "#16a085", true}};
+  for (const auto& c : curves) {
+    auto [x, y, lo, hi] = series(*c.eval, c.up, 2);
+    report::SeriesStyle band{c.color};
+    band.fill_opacity = 0.12;
+    chart.AddBand(fmt::format("{} ±2s", c.label), x, lo, hi, band);
   }
-  {
-    auto [x, y, lo, hi] = series(r.eval_off, true, 2);
-    chart.AddLine("uncompensated ↑ (forward)", x, y, off_up);
-  }
-  {
-    auto [x, y, lo, hi] = series(r.eval_off, false, 2);
-    chart.AddLine("uncompensated ↓ (reverse)", x, y, off_down);
-  }
-  {
-    auto [x, y, lo, hi] = series(r.eval_on, true, 2);
-    chart.AddLine("compensated ↑", x, y, on_up);
-  }
-  {
-    auto [x, y, lo, hi] = series(r.eval_on, false, 2);
-    chart.AddLine("compensated ↓", x, y, on_down);
+  for (const auto& c : curves) {
+    auto [x, y, lo, hi] = series(*c.eval, c.up, 2);
+    report::SeriesStyle line{c.color};
+    line.dashed = c.dashed;
+    chart.AddLine(c.label, x, y, line);
   }
   return chart;
 }
@@ -108,12 +109,17 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
   });
 
   page.AddHeading("Model");
-  report::HtmlTable mt({"axis", "Px (mm)", "ρ (µm/mm/°C)", "key sensors", "degree ↑/↓", "thermal CV RMS (µm)",
+  report::HtmlTable mt({"axis", "Px (mm)", "ρ (µm/mm/°C)", "key sensors", "Er(x) ↑ / ↓", "thermal CV RMS (µm)",
                         "CV RMS without thermal term (µm)"});
+  // What Er(x) is per direction: a table says its points, a polynomial its degree.
+  auto er_kind = [](const model::DirectionFitStats& d) {
+    return d.kind == model::GeometricError::Kind::kTable ? fmt::format("table of {} points", d.targets)
+                                                         : fmt::format("polynomial, degree {}", d.degree.degree);
+  };
   for (const auto& a : fit.summary.axes)
     mt.AddRow({a.axis, F(a.reference_position_mm, 1), F(a.rho_um_per_mm_per_c, 5),
                a.key_sensors.empty() ? "(none)" : fmt::format("{}", fmt::join(a.key_sensors, ", ")),
-               fmt::format("{}/{}", a.directions[0].degree.degree, a.directions[1].degree.degree),
+               fmt::format("{} / {}", er_kind(a.directions[0]), er_kind(a.directions[1])),
                F(a.thermal_cv_rms_um), F(a.no_thermal_cv_rms_um)});
   page.AddTable(mt);
   page.AddRawHtml("<pre>" + report::EscapeHtml(r.fit_brief) + "</pre>");

@@ -25,6 +25,7 @@ th { background: #eef3f8; text-align: left; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 tr:nth-child(even) td { background: #fafafa; }
 .note { color: #666; font-size: 0.9em; }
+pre { white-space: pre-wrap; overflow-wrap: anywhere; font-size: 0.85em; }  /* fit text stays on the page */
 svg.chart { display: block; margin: 8px 0 16px 0; border: 1px solid #eee; max-width: 100%; height: auto; }
 @media print { body { max-width: none; } svg.chart { page-break-inside: avoid; } }
 )";

@@ -13,12 +13,16 @@
 namespace trueaxis::report {
 namespace {
 
-// Colour-blind-friendly palette (Okabe–Ito), darkest first.
-constexpr std::array<const char*, 8> kPalette = {"#0072B2", "#D55E00", "#009E73", "#CC79A7",
-                                                 "#E69F00", "#56B4E9", "#000000", "#F0E442"};
+// Colour-blind-friendly palette (Okabe–Ito) first, then further distinct hues; a chart with more
+// series than colours cycles through dash patterns too, so no two series share a look.
+constexpr std::array<const char*, 16> kPalette = {"#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9",
+                                                  "#000000", "#B8A000", "#7F3C8D", "#11A579", "#E73F74", "#3969AC",
+                                                  "#80BA5A", "#8C564B", "#F97B72", "#4B4B8F"};
+constexpr std::array<const char*, 3> kDashes = {"", " stroke-dasharray=\"6 4\"", " stroke-dasharray=\"2 3\""};
 
-// Plot area margins in px: room for tick labels, axis labels, title.
-constexpr double kLeft = 70, kRight = 20, kTop = 36, kBottom = 52;
+// Plot area margins in px: room for tick labels, axis labels, title. The legend, when shown,
+// stands to the right of the plot area, never over the data.
+constexpr double kLeft = 70, kRightBare = 20, kTop = 36, kBottom = 52;
 
 std::string Num(double v) { return fmt::format("{:.2f}", v); }
 
@@ -108,8 +112,23 @@ SvgChart& SvgChart::AddHorizontalLine(std::string label, double y, SeriesStyle s
   return *this;
 }
 
+SvgChart& SvgChart::AddVerticalLine(std::string label, double x, SeriesStyle style) {
+  series_.push_back({Kind::kVLine, std::move(label), {x}, {}, {}, std::move(style)});
+  return *this;
+}
+
 std::string SvgChart::Render() const {
   const double w = options_.width_px, h = options_.height_px;
+  std::vector<std::size_t> labelled;
+  if (options_.show_legend)
+    for (std::size_t k = 0; k < series_.size(); ++k)
+      if (!series_[k].label.empty()) labelled.push_back(k);
+  std::size_t longest = 0;
+  for (auto k : labelled) longest = std::max(longest, series_[k].label.size());
+  // Legend beside the plot: as wide as its longest label, at most 40 % of the chart.
+  const double legend_w =
+      labelled.empty() ? 0 : std::min(0.4 * w, 40 + 6.6 * static_cast<double>(std::min<std::size_t>(longest, 60)));
+  const double kRight = labelled.empty() ? kRightBare : legend_w + 14;
   const double pw = w - kLeft - kRight, ph = h - kTop - kBottom;
   constexpr double kInf = std::numeric_limits<double>::infinity();
   double xmin = kInf, xmax = -kInf, ymin = kInf, ymax = -kInf;
@@ -119,6 +138,10 @@ std::string SvgChart::Render() const {
   for (const auto& s : series_) {
     if (s.kind == Kind::kHLine) {
       take_y(s.y[0]);
+      continue;
+    }
+    if (s.kind == Kind::kVLine) {
+      if (std::isfinite(s.x[0])) xmin = std::min(xmin, s.x[0]), xmax = std::max(xmax, s.x[0]);
       continue;
     }
     for (std::size_t i = 0; i < s.x.size(); ++i) {
@@ -203,17 +226,42 @@ std::string SvgChart::Render() const {
   out += fmt::format("<svg x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" overflow=\"hidden\" "
                      "viewBox=\"{} {} {} {}\">\n",
                      Num(kLeft), Num(kTop), Num(pw), Num(ph), Num(kLeft), Num(kTop), Num(pw), Num(ph));
-  std::vector<std::string> colors;
+  std::vector<std::string> colors, dashes;
+  {
+    // Palette colours go to the series without their own, skipping colours given explicitly.
+    std::vector<std::string> explicit_colors;
+    for (const auto& s : series_)
+      if (!s.style.color.empty()) explicit_colors.push_back(s.style.color);
+    std::vector<std::string> free;
+    for (const char* c : kPalette)
+      if (std::find(explicit_colors.begin(), explicit_colors.end(), c) == explicit_colors.end()) free.push_back(c);
+    std::size_t next = 0;
+    for (const auto& s : series_) {
+      if (!s.style.color.empty()) {
+        colors.push_back(s.style.color);
+        dashes.push_back(s.style.dashed ? kDashes[1] : "");
+        continue;
+      }
+      const std::size_t j = next++;
+      colors.push_back(free[j % free.size()]);
+      const std::size_t cycle = j / free.size();
+      dashes.push_back(s.style.dashed ? kDashes[1] : kDashes[cycle % kDashes.size()]);
+    }
+  }
   for (std::size_t k = 0; k < series_.size(); ++k) {
     const auto& s = series_[k];
-    const std::string color = s.style.color.empty() ? kPalette[k % kPalette.size()] : s.style.color;
-    colors.push_back(color);
-    const std::string dash = s.style.dashed ? " stroke-dasharray=\"6 4\"" : "";
+    const std::string& color = colors[k];
+    const std::string& dash = dashes[k];
     switch (s.kind) {
       case Kind::kHLine:
         if (std::isfinite(s.y[0]))
           out += fmt::format("<line x1=\"{1}\" y1=\"{0}\" x2=\"{2}\" y2=\"{0}\" stroke=\"{3}\" stroke-width=\"{4}\"{5}/>\n",
                              Num(sy(s.y[0])), Num(kLeft), Num(kLeft + pw), color, Num(s.style.width_px), dash);
+        break;
+      case Kind::kVLine:
+        if (std::isfinite(s.x[0]))
+          out += fmt::format("<line x1=\"{0}\" y1=\"{1}\" x2=\"{0}\" y2=\"{2}\" stroke=\"{3}\" stroke-width=\"{4}\"{5}/>\n",
+                             Num(sx(s.x[0])), Num(kTop), Num(kTop + ph), color, Num(s.style.width_px), dash);
         break;
       case Kind::kLine: {
         // One polyline per run of finite points (NaN breaks the line).
@@ -265,37 +313,39 @@ std::string SvgChart::Render() const {
   out += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#666\"/>\n", Num(kLeft),
                      Num(kTop), Num(pw), Num(ph));
 
-  // Legend: top-right inside the plot, one row per labelled series.
-  if (options_.show_legend) {
-    std::vector<std::size_t> labelled;
-    for (std::size_t k = 0; k < series_.size(); ++k)
-      if (!series_[k].label.empty()) labelled.push_back(k);
-    if (!labelled.empty()) {
-      std::size_t longest = 0;
-      for (auto k : labelled) longest = std::max(longest, series_[k].label.size());
-      const double lw = 34 + 6.6 * static_cast<double>(std::min<std::size_t>(longest, 60));
-      const double lh = 6 + 17 * static_cast<double>(labelled.size());
-      const double lx = kLeft + pw - lw - 6, ly = kTop + 6;
-      out += fmt::format("<g class=\"legend\"><rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"#fff\" "
-                         "fill-opacity=\"0.85\" stroke=\"#bbb\"/>",
-                         Num(lx), Num(ly), Num(lw), Num(lh));
-      double row = ly + 15;
-      for (auto k : labelled) {
-        const auto& s = series_[k];
-        const auto& c = colors[k];
-        if (s.kind == Kind::kBand)
-          out += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"22\" height=\"10\" fill=\"{}\" fill-opacity=\"{}\"/>",
-                             Num(lx + 6), Num(row - 9), c, Num(std::max(0.3, s.style.fill_opacity)));
-        else if (s.kind == Kind::kPoints)
-          out += fmt::format("<circle cx=\"{}\" cy=\"{}\" r=\"3\" fill=\"{}\"/>", Num(lx + 17), Num(row - 4), c);
-        else
-          out += fmt::format("<line x1=\"{0}\" y1=\"{2}\" x2=\"{1}\" y2=\"{2}\" stroke=\"{3}\" stroke-width=\"2\"{4}/>",
-                             Num(lx + 6), Num(lx + 28), Num(row - 4), c, s.style.dashed ? " stroke-dasharray=\"6 4\"" : "");
-        out += fmt::format("<text x=\"{}\" y=\"{}\">{}</text>", Num(lx + 34), Num(row), EscapeHtml(s.label));
-        row += 17;
+  // Legend: right of the plot area, one row per labelled series.
+  if (!labelled.empty()) {
+    const double lw = legend_w;
+    const double lh = 6 + 17 * static_cast<double>(labelled.size());
+    const double lx = kLeft + pw + 10, ly = kTop;
+    out += fmt::format("<g class=\"legend\"><rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"#fff\" "
+                       "stroke=\"#bbb\"/>",
+                       Num(lx), Num(ly), Num(lw), Num(lh));
+    double row = ly + 15;
+    const std::size_t max_chars = static_cast<std::size_t>(std::max(4.0, (lw - 40) / 6.6));
+    for (auto k : labelled) {
+      const auto& s = series_[k];
+      const auto& c = colors[k];
+      if (s.kind == Kind::kBand)
+        out += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"22\" height=\"10\" fill=\"{}\" fill-opacity=\"{}\"/>",
+                           Num(lx + 6), Num(row - 9), c, Num(std::max(0.3, s.style.fill_opacity)));
+      else if (s.kind == Kind::kPoints)
+        out += fmt::format("<circle cx=\"{}\" cy=\"{}\" r=\"3\" fill=\"{}\"/>", Num(lx + 17), Num(row - 4), c);
+      else
+        out += fmt::format("<line x1=\"{0}\" y1=\"{2}\" x2=\"{1}\" y2=\"{2}\" stroke=\"{3}\" stroke-width=\"2\"{4}/>",
+                           Num(lx + 6), Num(lx + 28), Num(row - 4), c, dashes[k]);
+      // A label longer than the legend is shortened with an ellipsis; the full text is the tooltip.
+      std::string shown = s.label;
+      if (shown.size() > max_chars) {
+        std::size_t cut = max_chars - 1;
+        while (cut > 0 && (static_cast<unsigned char>(shown[cut]) & 0xC0) == 0x80) --cut;  // whole UTF-8 characters
+        shown = shown.substr(0, cut) + "…";
       }
-      out += "</g>\n";
+      out += fmt::format("<text x=\"{}\" y=\"{}\"><title>{}</title>{}</text>", Num(lx + 34), Num(row),
+                         EscapeHtml(s.label), EscapeHtml(shown));
+      row += 17;
     }
+    out += "</g>\n";
   }
   out += "</svg>\n";
   return out;

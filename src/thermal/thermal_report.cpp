@@ -68,6 +68,26 @@ void WriteThermalReport(const ThermalEvaluation& ev, const std::string& path) {
   double split_x = NAN;
   if (!ev.in_sample && !ev.validate_rows.empty() && s.has_time)
     split_x = s.time_s[static_cast<std::size_t>(ev.validate_rows.front())] / 3600.0;
+  // Where the rows switch between training and validation: a marker on every chart.
+  std::vector<std::pair<double, bool>> switches;  // x, true = validation starts
+  if (!ev.in_sample && !ev.validate_rows.empty()) {
+    std::vector<bool> is_validation(static_cast<std::size_t>(s.Rows()), false);
+    for (auto r : ev.validate_rows) is_validation[static_cast<std::size_t>(r)] = true;
+    for (Eigen::Index r = 1; r < s.Rows(); ++r)
+      if (is_validation[static_cast<std::size_t>(r)] != is_validation[static_cast<std::size_t>(r - 1)])
+        switches.emplace_back(s.has_time ? s.time_s[static_cast<std::size_t>(r)] / 3600.0 : static_cast<double>(r),
+                              is_validation[static_cast<std::size_t>(r)]);
+  }
+  auto mark_split = [&](report::SvgChart& chart) {
+    bool labelled_v = false, labelled_t = false;
+    for (const auto& [sx, validation] : switches) {
+      report::SeriesStyle st{validation ? "#7F3C8D" : "#11A579", 1.4, true};
+      std::string label;
+      if (validation && !labelled_v) label = "validation starts", labelled_v = true;
+      if (!validation && !labelled_t) label = "training starts", labelled_t = true;
+      chart.AddVerticalLine(label, sx, st);
+    }
+  };
   for (Eigen::Index c = 0; c < s.errors_um.cols(); ++c) {
     const std::string ch = s.error_names[static_cast<std::size_t>(c)];
     page.AddHeading("Channel " + ch);
@@ -88,6 +108,7 @@ void WriteThermalReport(const ThermalEvaluation& ev, const std::string& path) {
       for (Eigen::Index r : rows) yp.push_back(m.predicted_um(r, c));
       chart.AddLine(m.name, x, yp);
     }
+    mark_split(chart);
     page.AddChart(chart);
     report::SvgChartOptions ro = o;
     ro.title = ch + ": residual (measured − predicted)";
@@ -99,6 +120,7 @@ void WriteThermalReport(const ThermalEvaluation& ev, const std::string& path) {
       for (Eigen::Index r : rows) yr.push_back(s.errors_um(r, c) - m.predicted_um(r, c));
       res.AddLine(m.name, x, yr);
     }
+    mark_split(res);
     page.AddChart(res);
   }
 

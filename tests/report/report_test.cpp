@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <limits>
 #include <regex>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -161,3 +162,41 @@ TEST(SvgChart, FixedLimitsOverrideTheDataRange) {
   EXPECT_FALSE(bad.IsValid(&why));
   EXPECT_NE(why.find("y_min"), std::string::npos);
 }
+
+namespace {
+
+// Every series of a chart looks different: 20 lines get 20 distinct (colour, dash) styles (the
+// palette of 8 made x_nut and z_motor the same blue), and an explicit colour is not reused.
+TEST(SvgChartStyle, EverySeriesHasItsOwnLook) {
+  tr::SvgChart chart{tr::SvgChartOptions{}};
+  chart.AddLine("explicit", {0, 1}, {0, 1}, tr::SeriesStyle{"#0072B2"});
+  for (int i = 0; i < 20; ++i) chart.AddLine("s" + std::to_string(i), {0, 1}, {double(i), double(i + 1)});
+  const std::string svg = chart.Render();
+  std::regex poly(R"re(<polyline fill="none" stroke="(#[0-9A-Fa-f]{6})" stroke-width="[0-9.]+"( stroke-dasharray="[0-9 ]+")?)re");
+  std::set<std::string> looks;
+  int lines = 0;
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), poly); it != std::sregex_iterator(); ++it) {
+    ++lines;
+    looks.insert((*it)[1].str() + (*it)[2].str());
+  }
+  EXPECT_EQ(lines, 21);
+  EXPECT_EQ(looks.size(), 21u);
+}
+
+// The legend stands right of the plot frame, never over the data; a vertical marker is drawn.
+TEST(SvgChartStyle, LegendOutsideThePlotAndVerticalMarker) {
+  tr::SvgChartOptions o;
+  o.x_label = "time (h)";
+  o.y_label = "error (µm)";
+  tr::SvgChart chart(o);
+  chart.AddLine("measured", {0, 10}, {0, 5});
+  chart.AddVerticalLine("validation starts", 6);
+  const std::string svg = chart.Render();
+  std::smatch frame, legend;
+  ASSERT_TRUE(std::regex_search(svg, frame, std::regex(R"re(<rect x="([0-9.]+)" y="[0-9.]+" width="([0-9.]+)" height="[0-9.]+" fill="none" stroke="#666"/>)re")));
+  ASSERT_TRUE(std::regex_search(svg, legend, std::regex(R"re(<g class="legend"><rect x="([0-9.]+)")re")));
+  EXPECT_GE(std::stod(legend[1]), std::stod(frame[1]) + std::stod(frame[2]));
+  EXPECT_NE(svg.find("validation starts"), std::string::npos);
+}
+
+}  // namespace

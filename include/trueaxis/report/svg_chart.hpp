@@ -55,6 +55,8 @@ class SvgChart {
                     SeriesStyle style = {});
   // Horizontal reference line across the whole chart (e.g. a tolerance).
   SvgChart& AddHorizontalLine(std::string label, double y, SeriesStyle style = {});
+  // Vertical marker across the whole chart at x (e.g. where validation data starts).
+  SvgChart& AddVerticalLine(std::string label, double x, SeriesStyle style = {});
 
   const SvgChartOptions& options() const { return options_; }
   std::size_t series_count() const { return series_.size(); }
@@ -64,7 +66,7 @@ class SvgChart {
   std::string Render() const;
 
  private:
-  enum class Kind { kLine, kPoints, kBand, kHLine };
+  enum class Kind { kLine, kPoints, kBand, kHLine, kVLine };
   struct Series {
     Kind kind;
     std::string label;
