@@ -162,6 +162,15 @@ void RunPredict(const PredictOptions& o) {
   const double lo = g.kind == model::GeometricError::Kind::kTable ? g.table_position_mm.front() : g.center_mm - g.half_span_mm;
   const double hi = g.kind == model::GeometricError::Kind::kTable ? g.table_position_mm.back() : g.center_mm + g.half_span_mm;
   const bool outside = o.position_mm < lo - 1e-9 || o.position_mm > hi + 1e-9;
+  // Key temperatures outside what the fit saw: the thermal part is extrapolated.
+  std::vector<std::string> temp_outside;
+  for (std::size_t k = 0; k < axis->key_sensors.size() && k < axis->key_fitted_range_c.size(); ++k) {
+    const double t = key_temps[k];
+    const auto& r = axis->key_fitted_range_c[k];
+    if (std::isfinite(t) && (t < r[0] - 1e-9 || t > r[1] + 1e-9))
+      temp_outside.push_back(fmt::format("{} {} °C is outside the fitted {:.2f} … {:.2f} °C", axis->key_sensors[k],
+                                         FormatShortest(t), r[0], r[1]));
+  }
   const auto* gains = axis->For(*dir).GainsFor(*coolant);
 
   if (o.json) {
@@ -175,7 +184,8 @@ void RunPredict(const PredictOptions& o) {
                      {"tan_beta_um_per_mm", p.tan_beta_um_per_mm},
                      {"error_um", p.total_um},
                      {"correction_um", model::CorrectionUm(p)},
-                     {"outside_fitted_range", outside}};
+                     {"outside_fitted_range", outside},
+                     {"temperatures_outside_fitted_range", temp_outside}};
     std::cout << j.dump(2) << "\n";
     return;
   }
@@ -192,6 +202,7 @@ void RunPredict(const PredictOptions& o) {
   if (outside)
     std::cout << fmt::format("  warning: {} mm is outside the fitted range {} … {} mm (extrapolated)\n",
                              FormatShortest(o.position_mm), FormatShortest(lo), FormatShortest(hi));
+  for (const auto& w : temp_outside) std::cout << "  warning: " << w << " (thermal part extrapolated)\n";
   if (!use_thermal) std::cout << "  note: --geometric-only: thermal and ambient parts not applied\n";
 
 }

@@ -703,6 +703,18 @@ class AxisFitter {
         model_.baseline_temp_c.push_back(base[k]);
       }
       if (key_lag_s > 0) model_.key_lag_s.assign(keys.size(), key_lag_s);
+      for (const auto& name : model_.key_sensors) {
+        std::array<double, 2> range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+        for (const auto* st : all_) {
+          const auto idx = st->measurement.SensorIndex(name);
+          if (!idx) continue;
+          for (const auto& p : st->measurement.points) {
+            const double t = p.temperatures_c[*idx];
+            if (std::isfinite(t)) range[0] = std::min(range[0], t), range[1] = std::max(range[1], t);
+          }
+        }
+        model_.key_fitted_range_c.push_back(range);
+      }
       sum.key_sensors = model_.key_sensors;
       for (int dir = 0; dir < 2; ++dir)
         model_.directions[dir].thermal.push_back({CoolantState::kOff, fits[dir].k, 0});

@@ -153,6 +153,7 @@ nlohmann::json ModelToJson(const CompositeModel& model) {
     }
     ja["key_temperature_rise"] = a.key_rise_above_ambient ? "above_ambient" : "from_baseline";
     if (a.HasKeyLag()) ja["key_lag_s"] = a.key_lag_s;  // absent = no lag (older readers see today's model)
+    if (!a.key_fitted_range_c.empty()) ja["key_fitted_range_c"] = a.key_fitted_range_c;
     axes.push_back(std::move(ja));
   }
   json sources = json::array();
@@ -241,6 +242,16 @@ CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& sourc
     a.baseline_temp_c = ja.contains("baseline_temp_c") ? r.Numbers(ja, p, "baseline_temp_c") : std::vector<double>{};
     if (a.baseline_temp_c.size() != a.key_sensors.size())
       r.Fail(Reader::Join(p, "baseline_temp_c"), "needs one temperature per key sensor");
+    if (ja.contains("key_fitted_range_c")) {
+      const json& fr = ja["key_fitted_range_c"];
+      const std::string where = Reader::Join(p, "key_fitted_range_c");
+      if (!fr.is_array() || fr.size() != a.key_sensors.size()) r.Fail(where, "needs one [low, high] per key sensor");
+      for (const auto& e : fr) {
+        if (!e.is_array() || e.size() != 2 || !e[0].is_number() || !e[1].is_number() || e[0].get<double>() > e[1].get<double>())
+          r.Fail(where, "each entry is [low °C, high °C] with low <= high");
+        a.key_fitted_range_c.push_back({e[0].get<double>(), e[1].get<double>()});
+      }
+    }
     if (ja.contains("key_lag_s")) {
       a.key_lag_s = r.Numbers(ja, p, "key_lag_s");
       if (a.key_lag_s.size() != a.key_sensors.size())

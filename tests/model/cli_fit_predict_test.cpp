@@ -117,6 +117,15 @@ TEST_F(CliFit, FitWritesModelReportAndPredictUsesIt) {
                     " --axis X --position-mm 400 --direction + --temp nut=299.2,bearing=296.2 --ambient-c 20");
   EXPECT_EQ(kelvin.code, 2) << kelvin.out;
   EXPECT_THAT(kelvin.out, HasSubstr("looks like kelvin"));
+  // Plausible but beyond the fit's temperatures: predicted, with a warning and the JSON flag.
+  auto hot = Cli("predict --model " + P("m.json") +
+                 " --axis X --position-mm 400 --direction + --temp nut=80,bearing=23 --ambient-c 20");
+  EXPECT_EQ(hot.code, 0) << hot.out;
+  EXPECT_THAT(hot.out, HasSubstr("nut 80 °C is outside the fitted"));
+  auto hot_json = Cli("predict --model " + P("m.json") +
+                      " --axis X --position-mm 400 --direction + --temp nut=80,bearing=23 --ambient-c 20 --json");
+  ASSERT_EQ(hot_json.code, 0) << hot_json.out;
+  EXPECT_EQ(nlohmann::json::parse(hot_json.out)["temperatures_outside_fitted_range"].size(), 1u);
   auto lost_point = Cli("predict --model " + P("m.json") +
                         " --axis X --position-mm 400 --direction + --temp nut=2820,bearing=23 --ambient-c 20");
   EXPECT_EQ(lost_point.code, 2) << lost_point.out;

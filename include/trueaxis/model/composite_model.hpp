@@ -78,6 +78,9 @@ struct AxisModel {
   // Empty or 0: no lag. The caller (runtime, predict --measurement) lags the readings
   // with LagStep() before they enter Predict(); Predict itself takes the lagged values.
   std::vector<double> key_lag_s;
+  // Per key sensor: the lowest and highest reading in the fit's measurements (°C). A prediction
+  // outside this range is an extrapolation and is flagged (predict warns). Empty: not recorded.
+  std::vector<std::array<double, 2>> key_fitted_range_c;
   std::array<DirectionModel, 2> directions;
 
   // τ of key sensor i (0 when not given).
