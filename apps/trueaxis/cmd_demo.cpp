@@ -64,6 +64,12 @@ void Setup(CLI::App& app) {
                   "Er(x) model: auto (polynomial or table by cross-validation), polynomial (seed 000), table (seed 002)")
       ->check(CLI::IsMember({"auto", "polynomial", "table"}))
       ->capture_default_str();
+  cmd->add_flag_function("--fixed-bound", [opts](std::int64_t) { opts->demo.derive_bounds = false; },
+                         "Bound every axis's correction by the fixed ±100 µm instead of deriving it from the model "
+                         "(saturation is then likely on big machines; the report counts it)");
+  cmd->add_option("--controller-limit-um", opts->demo.controller_limit_um,
+                  "Largest correction the CNC's compensation input accepts (µm); derived bounds are capped here")
+      ->capture_default_str();
   cmd->add_flag("--quiet", opts->quiet, "No progress on stderr");
   cmd->callback([opts] { Run(*opts); });
 }

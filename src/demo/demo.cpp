@@ -15,6 +15,7 @@
 #include "trueaxis/drivers/modbus_machine_server.hpp"
 #include "trueaxis/drivers/modbus_temperature_source.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
+#include "trueaxis/model/compensation_bound.hpp"
 #include "trueaxis/model/fit_input.hpp"
 #include "trueaxis/model/model_fit.hpp"
 #include "trueaxis/model/model_json.hpp"
@@ -56,6 +57,13 @@ std::string DemoResult::BriefReport() const {
                      r.eval_off.axis.A_um, r.eval_on.axis.A_um, r.Factor());
   s += fmt::format("loop: {}; machine time {:.1f} h; wall {:.1f} s (campaign {:.1f} s, fit {:.1f} s, day {:.1f} s)\n",
                    loop_stats.BriefReport(), machine_time_h, wall_s, campaign_wall_s, fit_wall_s, day_wall_s);
+  std::string bounds;
+  for (std::size_t i = 0; i < machine_axes.size() && i < bound_um.size(); ++i) {
+    const std::uint64_t n = i < clamped_cycles.size() ? clamped_cycles[i] : 0;
+    bounds += fmt::format("{}{} ±{:g} µm{}", bounds.empty() ? "" : ", ", machine_axes[i], bound_um[i],
+                          n ? fmt::format(" (SATURATED in {} cycles)", n) : "");
+  }
+  if (!bounds.empty()) s += "bounds: " + bounds + "\n";
   return s;
 }
 
@@ -86,6 +94,10 @@ class DayObserver : public runtime::CycleObserver {
       : vm_(vm), result_(result), history_(history) {}
   void OnCycle(const runtime::CycleStatus& s) override {
     alarms_ |= s.alarms;
+    ++result_.day_cycles;
+    if (result_.clamped_cycles.size() < s.axes.size()) result_.clamped_cycles.resize(s.axes.size(), 0);
+    for (std::size_t i = 0; i < s.axes.size(); ++i)
+      if (s.axes[i].clamped) ++result_.clamped_cycles[i];
     if (s.alarms != last_alarms_ && result_.alarm_log.size() < 200)
       result_.alarm_log.push_back(fmt::format("{} {}", vm_.IsoTime(), s.alarms ? runtime::AlarmNames(s.alarms) : "cleared"));
     last_alarms_ = s.alarms;
@@ -169,6 +181,17 @@ class WorkingDay {
       a.axis = name;
       const auto* am = model->FindAxis(name);
       a.enabled = am != nullptr;
+      if (am && o.derive_bounds) {
+        model::CompensationBoundOptions bo;
+        bo.controller_limit_um = o.controller_limit_um;
+        const auto b = model::DeriveCompensationBound(*am, bo);
+        a.max_correction_um = b.bound_um;
+        result_.bound_source.push_back("from the model: " + b.BriefReport());
+      } else {
+        result_.bound_source.push_back(am ? "fixed (--fixed-bound)" : "axis not compensated");
+      }
+      result_.bound_um.push_back(std::isnan(a.max_correction_um) ? o.compensator.shaper.max_correction_um
+                                                                 : a.max_correction_um);
       interfaces.push_back(a);
     }
     hw::CncLink* link = &vm_;
@@ -306,7 +329,9 @@ class WorkingDay {
     comp_->SetEnabled(on);
     // Wait for the ramp (at most max_correction / max_step cycles, plus margin).
     const auto& so = o_.compensator.shaper;
-    const double ramp_s = (so.max_correction_um / so.max_step_um + 10) * o_.period_s;
+    double largest_bound = so.max_correction_um;
+    for (double b : result_.bound_um) largest_bound = std::max(largest_bound, b);
+    const double ramp_s = (largest_bound / so.max_step_um + 10) * o_.period_s;
     for (double waited = 0; waited < ramp_s; waited += o_.period_s) {
       Cycles(1);
       if (!on) {

@@ -89,6 +89,23 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
   page.AddNote("The compensated test ran first, the uncompensated one right after it: the machine cools a little "
                "meanwhile, so the uncompensated figure is, if anything, flattered.");
 
+  // Saturation is never silent: each axis's bound, and how often the model asked for more.
+  page.AddHeading("Compensation bounds and saturation");
+  report::HtmlTable bt({"axis", "bound (µm)", "how it was set", "cycles saturated", "share of the day"});
+  for (std::size_t i = 0; i < r.machine_axes.size() && i < r.bound_um.size(); ++i) {
+    const std::uint64_t n = i < r.clamped_cycles.size() ? r.clamped_cycles[i] : 0;
+    bt.AddRow({r.machine_axes[i], fmt::format("±{:g}", r.bound_um[i]),
+               i < r.bound_source.size() ? r.bound_source[i] : "", std::to_string(n),
+               r.day_cycles ? fmt::format("{:.3f} %", 100.0 * static_cast<double>(n) / static_cast<double>(r.day_cycles))
+                            : "-"});
+  }
+  page.AddTable(bt);
+  std::uint64_t saturated = 0;
+  for (auto n : r.clamped_cycles) saturated += n;
+  page.AddNote(saturated ? fmt::format("WARNING: the correction saturated at its bound in {} axis-cycles "
+                                       "(alarm correction_clamped): the figures above include that.", saturated)
+                         : "No axis saturated: every correction the model asked for was applied within its bound.");
+
   page.AddHeading("Setup");
   const auto& so = o.compensator.shaper;
   page.AddKeyValueTable({
@@ -100,8 +117,8 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
                                   o.day_offset, o.other_day_offset)},
       {"compensation cycle", fmt::format("{:.0f} ms of machine time (simulated-time loop)", o.period_s * 1000)},
       {"interface", r.interface_used},
-      {"output limits", fmt::format("|correction| ≤ {} µm, change ≤ {} µm per cycle, quantum δ = 1 µm, hysteresis {} δ",
-                                    so.max_correction_um, so.max_step_um, so.hysteresis)},
+      {"output limits", fmt::format("|correction| ≤ the axis's bound (table above), change ≤ {} µm per cycle, "
+                                    "quantum δ = 1 µm, hysteresis {} δ", so.max_step_um, so.hysteresis)},
       {"sensor fault policy", fmt::format("hold last good {} s, then geometric part only", o.compensator.sensor.hold_last_good_s)},
       {"mode", o.fast ? "--fast (fewer targets and runs)" : "full"},
       {"wall time", fmt::format("{:.1f} s (campaign {:.1f} s, fit {:.1f} s, day {:.1f} s)", r.wall_s, r.campaign_wall_s,

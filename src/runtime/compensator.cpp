@@ -188,10 +188,13 @@ const CycleStatus& Compensator::RunCycle(hw::CncLink& link, hw::TemperatureSourc
         }
       }
     }
-    if (std::fabs(desired) > so.max_correction_um) alarms |= kAlarmCorrectionClamped;
+    OutputShaperOptions axis_so = so;  // a few doubles on the stack: no allocation
+    if (!std::isnan(ai.max_correction_um)) axis_so.max_correction_um = ai.max_correction_um;
+    st.clamped = std::fabs(desired) > axis_so.max_correction_um;
+    if (st.clamped) alarms |= kAlarmCorrectionClamped;
     st.desired_um = desired;
     const double q = ai.PhysicalQuantumUm();
-    proposed_[i] = ShapeOutput(shaper_[i], desired, q, so);
+    proposed_[i] = ShapeOutput(shaper_[i], desired, q, axis_so);
     write_buffer_[i] = ai.CncCorrectionUm(OutputUm(proposed_[i], q));
   }
 

@@ -127,6 +127,7 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
       m.Double("position_offset_mm", a.position_offset_mm, -1e6, 1e6);
       m.Double("reference_position_mm", a.reference_position_mm, -1e6, 1e6);
       m.Bool("enabled", a.enabled);
+      m.Double("max_correction_um", a.max_correction_um, 1e-3, 1e4);
       m.RejectUnknown();
       for (const auto& prev : c.axes)
         if (prev.axis == a.axis) m.Fail("name", at.get("name"), fmt::format("axis '{}' is configured twice", a.axis));

@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "trueaxis/demo/demo.hpp"
+#include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/store/history_db.hpp"
 
 namespace trueaxis::demo {
@@ -79,6 +81,34 @@ TEST_F(DemoE2E, CompensatorRanEveryCycleWithoutAlarms) {
     hi = std::max(hi, d.correction_um[0]);
   }
   EXPECT_GT(hi - lo, 20);
+  // Each axis's bound came from its model, above every correction of the day, and nothing saturated.
+  ASSERT_EQ(r.bound_um.size(), r.machine_axes.size());
+  EXPECT_GE(r.bound_um[0], 10);
+  EXPECT_GT(r.bound_um[0], std::max(std::fabs(lo), std::fabs(hi)));
+  EXPECT_NE(r.bound_source[0].find("from the model"), std::string::npos);
+  ASSERT_FALSE(r.clamped_cycles.empty());
+  EXPECT_EQ(r.clamped_cycles[0], 0u);
+  EXPECT_GT(r.day_cycles, 1'000'000u);
+}
+
+// A bound too small for the model (a fixed ±10 µm) saturates: counted per axis, alarmed, reported.
+TEST(DemoSaturation, ATooSmallBoundIsCountedAlarmedAndReported) {
+  DemoOptions o;
+  o.machine_file = std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850.toml";
+  o.out_dir = (fs::temp_directory_path() / ("trueaxis_demo_sat_" + std::to_string(getpid()))).string();
+  fs::remove_all(o.out_dir);
+  o.fast = true;
+  o.seed = 3;
+  o.derive_bounds = false;
+  o.compensator.shaper.max_correction_um = 10;
+  const DemoResult r = RunDemo(o);
+  ASSERT_FALSE(r.clamped_cycles.empty());
+  EXPECT_GT(r.clamped_cycles[0], 1000u);
+  EXPECT_NE(r.alarms_seen & runtime::kAlarmCorrectionClamped, 0u);
+  std::stringstream html;
+  html << std::ifstream(r.report_path).rdbuf();
+  EXPECT_NE(html.str().find("WARNING: the correction saturated"), std::string::npos);
+  fs::remove_all(o.out_dir);
 }
 
 TEST_F(DemoE2E, WritesReportModelMeasurementsAndHistory) {

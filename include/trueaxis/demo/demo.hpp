@@ -31,6 +31,11 @@ struct DemoOptions {
   std::vector<std::string> axes;   // empty: every axis (fast: the first)
   double period_s = 0.010;         // compensation cycle, simulated time
   runtime::CompensatorOptions compensator;  // defaults: ±100 µm, 1 µm per cycle
+  // Each axis's bound on |correction| from its fitted model (model::DeriveCompensationBound,
+  // capped by compensator.shaper.max_correction_um as the controller's limit); false: the fixed
+  // common bound compensator.shaper.max_correction_um for every axis.
+  bool derive_bounds = true;
+  double controller_limit_um = 1000;  // the CNC compensation input's limit (physical µm)
   // Er(x): "auto" picks the seed-000 polynomial or the seed-002 table by
   // cross-validation per axis; "polynomial" / "table" force one.
   std::string geometric = "auto";
@@ -83,6 +88,12 @@ struct DemoResult {
   double machine_time_h = 0;
   double wall_s = 0, campaign_wall_s = 0, fit_wall_s = 0, day_wall_s = 0;
   std::uint32_t alarms_seen = 0;
+  // Per machine axis (parallel to machine_axes): the compensation bound used and how it was
+  // found, and how many cycles the model asked for more (the output saturated, alarm raised).
+  std::vector<double> bound_um;
+  std::vector<std::string> bound_source;
+  std::vector<std::uint64_t> clamped_cycles;
+  std::uint64_t day_cycles = 0;
   std::string interface_used;      // "in-process CncLink" or "MODBUS TCP 127.0.0.1:<port>"
   std::vector<std::string> alarm_log;  // "<date> <alarms>" at each change
   std::string BriefReport() const;  // the before/after table as text

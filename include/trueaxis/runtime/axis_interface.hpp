@@ -32,6 +32,10 @@ struct AxisInterface {
   // Px override: NaN keeps the model's reference_position_mm (seed 000 "参考点坐标位置的设定").
   double reference_position_mm = std::numeric_limits<double>::quiet_NaN();
   bool enabled = true;              // initial state of this axis's enable switch
+  // This axis's bound on |correction| (physical µm), e.g. derived from its fitted model
+  // (model::DeriveCompensationBound); NaN: the compensator's common bound (shaper.max_correction_um).
+  // Asking for more raises kAlarmCorrectionClamped: saturation is never silent.
+  double max_correction_um = std::numeric_limits<double>::quiet_NaN();
 
   bool IsValid(std::string* why) const;
 

@@ -67,6 +67,7 @@ struct AxisStatus {
   bool thermal_used = false;
   model::Prediction prediction; // zero when not evaluated
   double desired_um = 0;        // target correction (physical µm) before shaping; NaN = hold
+  bool clamped = false;         // desired beyond this axis's bound: the output saturates (alarm raised)
   double output_um = 0;         // shaped correction, physical µm
   double written_um = 0;        // value written to the CNC (CNC units: ×2 on diameter axes)
 };
