@@ -97,29 +97,43 @@ std::string ThermalEvaluation::SplitDescription() const {
   return out;
 }
 
+namespace {
+// Validation RMSE as a percentage of a baseline's; "-" when the baseline is 0.
+std::string PercentOf(double rmse, double baseline) {
+  return baseline > 0 ? fmt::format("{:.0f} %", 100 * rmse / baseline) : std::string("-");
+}
+}  // namespace
+
 std::string ThermalEvaluation::BriefReport() const {
-  std::string out = fmt::format("{:<22} {:<8} {:>12} {:>12} {:>12} {:>12}\n", "model", "channel", "train RMSE",
-                                "train max", "valid RMSE", "valid max");
+  std::string out = fmt::format("{:<22} {:<8} {:>12} {:>12} {:>12} {:>12} {:>8} {:>8}\n", "model", "channel",
+                                "train RMSE", "train max", "valid RMSE", "valid max", "% none", "% const");
   auto rows = [&](const std::string& name, const std::vector<ChannelMetrics>& tr, const std::vector<ChannelMetrics>& va) {
     for (std::size_t c = 0; c < tr.size(); ++c)
-      out += fmt::format("{:<22} {:<8} {:>12.3f} {:>12.3f} {:>12.3f} {:>12.3f}\n", name, tr[c].channel, tr[c].rmse_um,
-                         tr[c].max_abs_um, va[c].rmse_um, va[c].max_abs_um);
+      out += fmt::format("{:<22} {:<8} {:>12.3f} {:>12.3f} {:>12.3f} {:>12.3f} {:>8} {:>8}\n", name, tr[c].channel,
+                         tr[c].rmse_um, tr[c].max_abs_um, va[c].rmse_um, va[c].max_abs_um,
+                         PercentOf(va[c].rmse_um, baseline_validate[c].rmse_um),
+                         PercentOf(va[c].rmse_um, constant_validate[c].rmse_um));
   };
   rows("no compensation", baseline_train, baseline_validate);
+  rows("constant (train mean)", constant_train, constant_validate);
   for (const auto& m : models) rows(m.name, m.train, m.validate);
-  out += "(µm; residual = measured - predicted; no compensation = the measured error)\n";
+  out += "(µm; residual = measured - predicted; no compensation = the measured error; constant = the training "
+         "mean of the error; % = validation RMSE against those two baselines)\n";
   return out;
 }
 
 std::string ThermalEvaluation::MarkdownTable() const {
-  std::string out = "| model | channel | train RMSE (µm) | train max \\|e\\| (µm) | validation RMSE (µm) | validation max \\|e\\| (µm) |\n";
-  out += "|---|---|---:|---:|---:|---:|\n";
+  std::string out = "| model | channel | train RMSE (µm) | train max \\|e\\| (µm) | validation RMSE (µm) | validation max \\|e\\| (µm) | % of none | % of constant |\n";
+  out += "|---|---|---:|---:|---:|---:|---:|---:|\n";
   auto rows = [&](const std::string& name, const std::vector<ChannelMetrics>& tr, const std::vector<ChannelMetrics>& va) {
     for (std::size_t c = 0; c < tr.size(); ++c)
-      out += fmt::format("| {} | {} | {:.2f} | {:.2f} | {:.2f} | {:.2f} |\n", name, tr[c].channel, tr[c].rmse_um,
-                         tr[c].max_abs_um, va[c].rmse_um, va[c].max_abs_um);
+      out += fmt::format("| {} | {} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {} | {} |\n", name, tr[c].channel,
+                         tr[c].rmse_um, tr[c].max_abs_um, va[c].rmse_um, va[c].max_abs_um,
+                         PercentOf(va[c].rmse_um, baseline_validate[c].rmse_um),
+                         PercentOf(va[c].rmse_um, constant_validate[c].rmse_um));
   };
   rows("no compensation", baseline_train, baseline_validate);
+  rows("constant (train mean)", constant_train, constant_validate);
   for (const auto& m : models) rows(m.name, m.train, m.validate);
   return out;
 }
@@ -153,6 +167,18 @@ ThermalEvaluation EvaluateThermalModels(const ThermalSeries& cleaned, SeriesClea
   const ThermalSeries train = SelectRows(cleaned, ev.train_rows);
   ev.baseline_train = ResidualMetrics(cleaned, Eigen::MatrixXd(), ev.train_rows);
   ev.baseline_validate = ResidualMetrics(cleaned, Eigen::MatrixXd(), ev.validate_rows);
+  {
+    Eigen::MatrixXd constant(cleaned.errors_um.rows(), cleaned.errors_um.cols());
+    for (Eigen::Index c = 0; c < cleaned.errors_um.cols(); ++c) {
+      double sum = 0;
+      int n = 0;
+      for (Eigen::Index r : ev.train_rows)
+        if (std::isfinite(cleaned.errors_um(r, c))) sum += cleaned.errors_um(r, c), ++n;
+      constant.col(c).setConstant(n ? sum / n : 0.0);
+    }
+    ev.constant_train = ResidualMetrics(cleaned, constant, ev.train_rows);
+    ev.constant_validate = ResidualMetrics(cleaned, constant, ev.validate_rows);
+  }
   for (const auto& fo : o.models) {
     ModelEvaluation me;
     me.name = ModelKindName(fo.kind);

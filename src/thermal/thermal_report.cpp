@@ -51,8 +51,11 @@ void WriteThermalReport(const ThermalEvaluation& ev, const std::string& path) {
                       fmt::format("{:.3f}", va[c].rmse_um), fmt::format("{:.3f}", va[c].max_abs_um)});
   };
   add("no compensation", ev.baseline_train, ev.baseline_validate);
+  add("constant (train mean)", ev.constant_train, ev.constant_validate);
   for (const auto& m : ev.models) add(m.name, m.train, m.validate);
   page.AddTable(metrics);
+  page.AddNote("'constant' predicts the training mean of each channel's error: a model that does not beat it "
+               "only removes an offset");
 
   page.AddHeading("Models and chosen sensors");
   for (const auto& m : ev.models) {

@@ -367,6 +367,17 @@ TEST(Evaluation, ModelsBeatNoCompensationOnHeldOutBlocks) {
     const double limit = m.name == "pso-bp" ? 0.8 : 0.1;
     EXPECT_LT(m.validate[0].rmse_um, limit * ev.baseline_validate[0].rmse_um) << m.name;
   }
+  // The constant baseline (training mean) is reported beside "no compensation": its residual is
+  // the error minus the training mean, so its RMSE is the error's spread about that mean.
+  ASSERT_EQ(ev.constant_validate.size(), ev.baseline_validate.size());
+  double mean = 0;
+  for (auto r : ev.train_rows) mean += s.errors_um(r, 0);
+  mean /= static_cast<double>(ev.train_rows.size());
+  double ss = 0;
+  for (auto r : ev.validate_rows) ss += (s.errors_um(r, 0) - mean) * (s.errors_um(r, 0) - mean);
+  EXPECT_NEAR(ev.constant_validate[0].rmse_um, std::sqrt(ss / static_cast<double>(ev.validate_rows.size())), 1e-9);
+  EXPECT_NE(ev.BriefReport().find("constant (train mean)"), std::string::npos);
+  EXPECT_NE(ev.MarkdownTable().find("% of constant"), std::string::npos);
   // in-sample is flagged
   eo.validate_blocks = "1-2";
   eo.models.resize(1);

@@ -52,6 +52,9 @@ struct ThermalEvaluation {
   std::vector<Eigen::Index> train_rows, validate_rows;
   bool in_sample = false;  // validation rows overlap training rows
   std::vector<ChannelMetrics> baseline_train, baseline_validate;
+  // The trivial model every real one must beat: a constant per channel equal to the training
+  // mean of the error (an offset is most of the error when it starts at zero).
+  std::vector<ChannelMetrics> constant_train, constant_validate;
   std::vector<ModelEvaluation> models;
 
   std::string SplitDescription() const;
