@@ -108,6 +108,15 @@ ThermalSeries LoadSeries(const CommonOptions& o, SeriesCleaningReport* report) {
   if (!co.IsValid(&why)) throw InputError("command line", 0, "--max-gap-samples", why);
   ThermalSeries cleaned = CleanSeries(s, co, report);
   for (const auto& w : report->warnings) fmt::print(stderr, "warning: {}\n", w);
+  // More sensors asked for than the recording has: say so rather than silently use them all.
+  const int available = static_cast<int>(cleaned.temperature_names.size());
+  if (o.sensors > available)
+    fmt::print(stderr, "warning: --sensors {}: {} has only {} usable temperature channel(s); at most those are used\n",
+               o.sensors, o.series, available);
+  // A fit needs more rows than coefficients to mean anything.
+  if (cleaned.Rows() < 10 + 2 * std::min(o.sensors, available))
+    fmt::print(stderr, "warning: {} has only {} rows for up to {} sensors: the fit is barely determined\n", o.series,
+               cleaned.Rows(), std::min(o.sensors, available));
   return cleaned;
 }
 

@@ -102,3 +102,21 @@ TEST(ThermalCli, BadInputsExitTwoNamingFileLineAndField) {
 
 }  // namespace
 }  // namespace trueaxis::thermal
+
+namespace trueaxis::thermal {
+namespace {
+
+// More sensors than the recording has, and a recording too short to determine a fit: both are said.
+TEST(ThermalCliWarnings, TooManySensorsAndTooFewRowsAreSaid) {
+  const std::string dir = testing::TempDir("cli_warn");
+  const std::string series = WriteFixture(dir);
+  auto many = RunCli("thermal fit --series " + series + " --model ridge --sensors 50 -o " + dir + "/m.json");
+  EXPECT_EQ(many.exit_code, 0) << many.output;
+  EXPECT_NE(many.output.find("warning: --sensors 50"), std::string::npos) << many.output;
+  std::ofstream(dir + "/three.csv") << "time_s,t_a_c,t_b_c,e_x_um\n0,20,21,1\n15,20.5,21,1.5\n30,21,21.2,2\n";
+  auto few = RunCli("thermal fit --series " + dir + "/three.csv --model mlr --sensors 1 -o " + dir + "/m3.json");
+  EXPECT_NE(few.output.find("barely determined"), std::string::npos) << few.output;
+}
+
+}  // namespace
+}  // namespace trueaxis::thermal
