@@ -15,6 +15,7 @@ bool FitOptions::IsValid(std::string* why) const {
   if (max_degree < 1 || max_degree > 15) return fail(fmt::format("max_degree {} must be within 1 … 15", max_degree));
   if (!(auto_systematic_factor > 0)) return fail("auto_systematic_factor must be > 0");
   if (!(auto_table_cv_ratio > 0)) return fail("auto_table_cv_ratio must be > 0");
+  if (!(auto_table_run_margin >= 0 && auto_table_run_margin < 1)) return fail("auto_table_run_margin must be in [0, 1)");
   if (std::isinf(reference_position_mm)) return fail("reference_position_mm must be finite (or NaN for automatic)");
   if (max_key_sensors < 0 || max_key_sensors > 8)
     return fail(fmt::format("max_key_sensors {} must be within 0 … 8", max_key_sensors));

@@ -115,4 +115,50 @@ double TableCrossValidationRms(std::span<const double> x, std::span<const double
   return std::sqrt(ss / static_cast<double>(n));
 }
 
+double LeaveOneRunOutRms(std::span<const double> x, const std::vector<std::vector<double>>& deviation_by_run,
+                         int degree, double center_mm, double half_span_mm) {
+  const std::size_t runs = deviation_by_run.size(), n = x.size();
+  if (runs < 3 || n < 2) return std::numeric_limits<double>::quiet_NaN();
+  double ss = 0;
+  std::size_t count = 0;
+  for (std::size_t j = 0; j < runs; ++j) {
+    std::vector<double> xs, means;
+    for (std::size_t k = 0; k < n; ++k) {
+      double sum = 0;
+      int m = 0;
+      for (std::size_t r = 0; r < runs; ++r)
+        if (r != j && k < deviation_by_run[r].size() && std::isfinite(deviation_by_run[r][k]))
+          sum += deviation_by_run[r][k], ++m;
+      if (m > 0) xs.push_back(x[k]), means.push_back(sum / m);
+    }
+    if (xs.size() < 2) continue;
+    std::vector<double> coeff;
+    if (degree >= 0) {
+      std::vector<double> u;
+      for (double v : xs) u.push_back((v - center_mm) / half_span_mm);
+      const int d = std::min<int>(degree, static_cast<int>(xs.size()) - 1);
+      coeff = FitPolynomial(u, means, d);
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      if (k >= deviation_by_run[j].size() || !std::isfinite(deviation_by_run[j][k])) continue;
+      double pred;
+      if (degree >= 0) {
+        pred = EvaluatePolynomial(coeff, (x[k] - center_mm) / half_span_mm);
+      } else {  // the table of the other runs' means, linear between its points, ends held
+        const auto it = std::lower_bound(xs.begin(), xs.end(), x[k]);
+        if (it == xs.begin()) pred = means.front();
+        else if (it == xs.end()) pred = means.back();
+        else {
+          const std::size_t hi = static_cast<std::size_t>(it - xs.begin()), lo = hi - 1;
+          const double t = (x[k] - xs[lo]) / (xs[hi] - xs[lo]);
+          pred = means[lo] + t * (means[hi] - means[lo]);
+        }
+      }
+      ss += std::pow(deviation_by_run[j][k] - pred, 2);
+      ++count;
+    }
+  }
+  return count ? std::sqrt(ss / static_cast<double>(count)) : std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace trueaxis::model

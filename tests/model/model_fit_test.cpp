@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include <gmock/gmock.h>
+#include <map>
+
 #include <gtest/gtest.h>
 
 #include "synthetic_machine.hpp"
@@ -110,6 +112,37 @@ TEST(ModelFit, AutoKeepsThePolynomialForASmoothErrorAndTakesTheTableForARepeatab
   poly.geometric = FitOptions::Geometric::kPolynomial;
   EXPECT_EQ(FitCompositeModel({MakeFitState(m)}, poly).model.axes[0].directions[0].geometric.kind,
             GeometricError::Kind::kPolynomial);
+}
+
+// Issue 10: a repeatable error with no pattern a neighbour could predict (a screw's random pitch
+// part, a different value at every target) is real — it is in every run — and must be kept; the
+// old leave-one-TARGET-out rule threw it away. Noise of the same size must not be kept. Judged by
+// leave-one-RUN-out CV.
+TEST(ModelFit, AutoKeepsARepeatableTargetToTargetErrorAndDropsNoiseOfTheSameSize) {
+  SyntheticMachine smooth;
+  std::mt19937 pattern_rng(17);
+  std::normal_distribution<double> pattern(0.0, 3.0);
+  std::map<long, double> repeatable;  // per target, the same in every run
+  std::mt19937 rng(5);
+  auto m = smooth.Make({"cold", 0, 0, 0, 0}, rng);
+  for (auto& p : m.points) {
+    auto [it, fresh] = repeatable.try_emplace(std::lround(p.target_mm * 1000), 0.0);
+    if (fresh) it->second = pattern(pattern_rng);
+    p.deviation_um += it->second;
+  }
+  auto res = FitCompositeModel({MakeFitState(m)}, {});
+  const auto& ds = res.summary.axes[0].directions[0];
+  EXPECT_EQ(res.model.axes[0].directions[0].geometric.kind, GeometricError::Kind::kTable) << ds.choice;
+  EXPECT_THAT(ds.choice, HasSubstr("leave-one-run-out"));
+  EXPECT_LT(ds.table_loro_rms_um, 0.5 * ds.polynomial_loro_rms_um) << ds.choice;
+  // The same size of scatter, but different in every run: noise. The smooth polynomial stays.
+  std::mt19937 noise_rng(6);
+  std::normal_distribution<double> noise(0.0, 3.0);
+  auto n = smooth.Make({"cold", 0, 0, 0, 0}, rng);
+  for (auto& p : n.points) p.deviation_um += noise(noise_rng);
+  auto res_noise = FitCompositeModel({MakeFitState(n)}, {});
+  EXPECT_EQ(res_noise.model.axes[0].directions[0].geometric.kind, GeometricError::Kind::kPolynomial)
+      << res_noise.summary.axes[0].directions[0].choice;
 }
 
 TEST(ModelFit, SelectsNutAndBearingRecoversGainsPxAndRho) {

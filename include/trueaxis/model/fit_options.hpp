@@ -17,6 +17,9 @@ struct FitOptions {
   Geometric geometric = Geometric::kAuto;
   double auto_systematic_factor = 3.0;
   double auto_table_cv_ratio = 1.25;
+  // With >= 3 cold runs, `auto` decides by leave-one-run-out CV instead (polynomial_fit.hpp): the
+  // table is chosen when its held-out-run RMS is below (1 − this margin) × the polynomial's.
+  double auto_table_run_margin = 0.05;
   int max_degree = 8;                            // highest polynomial degree tried (capped at targets − 2)
 
   // Reference point Px (where the thermal error is zero: the screw's fixed

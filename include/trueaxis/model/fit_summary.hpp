@@ -49,6 +49,8 @@ struct DirectionFitStats {
   double geometric_fit_rms_um = kNaN;  // fit of the cold target means
   double geometric_cv_rms_um = kNaN;   // leave-one-target-out
   double table_cv_rms_um = kNaN;       // the seed-002 table's CV, for comparison
+  // Leave-one-RUN-out CV (polynomial_fit.hpp): what `auto` decides by when there are >= 3 runs.
+  double table_loro_rms_um = kNaN, polynomial_loro_rms_um = kNaN;
 };
 
 struct AxisFitSummary {

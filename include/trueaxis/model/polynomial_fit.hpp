@@ -52,4 +52,13 @@ DegreeSelection SelectPolynomialDegree(std::span<const double> x, std::span<cons
 // end values held), for comparison with the polynomial.
 double TableCrossValidationRms(std::span<const double> x, std::span<const double> y);
 
+// Leave-one-RUN-out CV RMS (µm) of Er(x) at the targets x: for each run j, Er(x) is fitted to the
+// per-target means of the OTHER runs — as the seed-002 table (degree < 0: the means themselves)
+// or as a polynomial of `degree` in u = (x − center)/half_span — and predicts run j's deviations.
+// A repeatable short-wavelength error is in every run, so the table predicts it in a held-out
+// run; noise is not, so fitting it costs the table here. `deviation_by_run[j][k]` is run j at
+// target k (NaN: not measured). NaN with fewer than 3 runs (2 to fit, 1 to test).
+double LeaveOneRunOutRms(std::span<const double> x, const std::vector<std::vector<double>>& deviation_by_run,
+                         int degree, double center_mm, double half_span_mm);
+
 }  // namespace trueaxis::model
