@@ -2,7 +2,9 @@
 """The machine-zoo table (issue 10): runs `trueaxis demo` (calibration campaign, fit, held-out
 working day with the compensator in its loop) on every machine description in examples/machines/
 and writes one Markdown table: machine, axis, state, A off, A on, R on and the score
-A_on / max(10 % of A_off, 1.3 x R_on); 'must' marks A_on <= max(20 % of A_off, 2 x R_on).
+A_on / max(10 % of A_off, 1.3 x R_on); 'must' marks A_on <= max(20 % of A_off, 2 x R_on), and
+fails any row where compensation made A worse or more than doubled the repeatability (R_on > 2 R_off
++ 2 µm: the correction moved during the test), which the R_on term would otherwise excuse.
 
 Usage (from the repository root, after a build):
   /usr/bin/python3 bench/zoo_table.py [--seed 3] [--out out/zoo] [--trueaxis build/apps/trueaxis/trueaxis] [machines...]
@@ -37,7 +39,10 @@ for m in machines:
             ev[k] = json.loads(j.stdout)
         a_off, a_on, r_on = ev["off"]["A_um"], ev["on"]["A_um"], ev["on"]["R_um"]
         score = a_on / max(0.1 * a_off, 1.3 * r_on)
-        must = a_on <= max(0.2 * a_off, 2 * r_on)
+        # A compensation that makes the axis worse, or scatters it (R_on far above R_off), must not
+        # pass through the R_on term of the criterion: it fails whatever its score.
+        r_off = ev["off"]["R_um"]
+        must = a_on <= max(0.2 * a_off, 2 * r_on) and a_on < a_off and r_on <= 2 * r_off + 2
         rows.append((name, axis, state.replace("_", " "), a_off, a_on, r_on, score, must))
     print(f"{name}: {time.time() - t0:.1f} s; {bounds[0] if bounds else ''}", file=sys.stderr)
 

@@ -21,7 +21,7 @@ struct Options {
   int runs = 5;
   int warm_runs = 3;
   double spacing_mm = 25;
-  int max_warm = 12;
+  int max_warm = trueaxis::sim::CampaignOptions{}.max_warm_measurements;  // one default, in the library
   int cooldown = 2;
   std::vector<int> ambient_days = {60, 150};
   bool no_coolant = false;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
+#include <vector>
 #include <cmath>
 #include <deque>
 #include <filesystem>
@@ -27,6 +29,7 @@ bool CampaignOptions::IsValid(std::string* why) const {
   if (!laser.IsValid(why)) return false;
   if (!(warmup_feed_low_mm_min > 0 && warmup_feed_high_mm_min > 0)) return fail("warm-up feeds must be positive");
   if (!(nut_step_c > 0)) return fail("nut_step_c must be positive");
+  if (!(nut_step_growth >= 0 && nut_step_growth <= 1)) return fail("nut_step_growth must be in 0–1");
   if (cooldown_measurements < 0 || cooldown_measurements > 20) return fail("cooldown_measurements must be 0–20");
   if (!(cooldown_step_c > 0) || !(max_cooldown_hours > 0)) return fail("cooldown step and time cap must be positive");
   if (warm_runs < 2 || warm_runs > 20) return fail("warm_runs must be 2–20");
@@ -55,6 +58,27 @@ std::string CampaignSummary::BriefReport() const {
 }
 
 namespace {
+
+// The rise a first-order warm-up tends to, from its curve so far: the three-point formula
+// A = (T0·T2 − T1²)/(T0 + T2 − 2·T1) on equally spaced times (a third, two thirds and all of it).
+// NaN while the curve does not yet bend (no deceleration to extrapolate from).
+double EstimateSaturationRise(const std::vector<std::pair<double, double>>& curve) {
+  if (curve.size() < 30) return std::numeric_limits<double>::quiet_NaN();
+  const double t_end = curve.back().first;
+  auto at = [&](double t) {
+    const auto it = std::lower_bound(curve.begin(), curve.end(), t,
+                                     [](const std::pair<double, double>& p, double v) { return p.first < v; });
+    return it == curve.end() ? curve.back().second : it->second;
+  };
+  const double t0 = at(t_end / 3), t1 = at(2 * t_end / 3), t2 = curve.back().second;
+  const double first = t1 - t0, second = t2 - t1;
+  if (!(first > 0.05) || !(second < 0.95 * first)) return std::numeric_limits<double>::quiet_NaN();
+  const double den = t0 + t2 - 2 * t1;
+  const double a = (t0 * t2 - t1 * t1) / den;
+  // Beyond ten times the present rise the extrapolation is not to be trusted.
+  return a > t2 && a < 10 * std::max(t2, 0.5) ? a : std::numeric_limits<double>::quiet_NaN();
+}
+
 
 std::string Lower(std::string s) {
   for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -233,6 +257,7 @@ class Campaign {
     double next = o_.nut_step_c;
     double warm_s = 0;
     int taken = 0;
+    std::vector<std::pair<double, double>> curve;  // (warm-up seconds, nut rise), never reset
     StartWarmUpMotion();
     Progress(fmt::format("warm-up ({} coolant), nut start {:.2f} °C", CoolantStateName(vm_.coolant()), nut0));
     // Threshold measurements up to max_measurements − 1; the last one is
@@ -248,6 +273,7 @@ class Campaign {
       history.push_back(nut);
       if (history.size() > window + 1) history.pop_front();
       const double rise = nut - nut0;
+      curve.emplace_back(warm_s, rise);
       const bool saturated = history.size() > window && history.back() - history.front() < o_.saturation_rise_c;
       const bool timeout = warm_s >= o_.max_warmup_hours * 3600;
       if (saturated || timeout) {
@@ -259,7 +285,16 @@ class Campaign {
       if (rise >= next && taken + 1 < max_measurements) {
         MeasureAndWrite(axis, state);
         ++taken;
-        next = (std::floor(rise / o_.nut_step_c) + 1) * o_.nut_step_c;
+        // Spread the remaining measurements over the rise still to come (issue 10: with a fixed
+        // 0.5 °C step a hot machine used them all by +5 °C and jumped to its +11 °C saturation).
+        const double saturation_rise = EstimateSaturationRise(curve);
+        const int remaining = max_measurements - 1 - taken;
+        // At least nut_step_c, growing with the rise (a hot machine's rise is long; until the
+        // curve bends, its end is unknown), and at least the even share of what is still to come.
+        double step = std::max(o_.nut_step_c, o_.nut_step_growth * rise);
+        if (std::isfinite(saturation_rise) && saturation_rise > rise && remaining > 0)
+          step = std::max(step, (saturation_rise - rise) / (remaining + 1));
+        next = rise + step;
         StartWarmUpMotion();
         history.clear();  // the measurement interrupted the warm-up: judge saturation afresh
         minute.clear();

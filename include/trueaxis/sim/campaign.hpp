@@ -25,8 +25,11 @@ struct CampaignOptions {
                                         //   warm-up is interrupted less (seed 000 allows 3–5)
   double warmup_feed_low_mm_min = 2000;   // strokes alternate between low and high feed
   double warmup_feed_high_mm_min = 4000;
-  double nut_step_c = 0.5;                // measure each time the nut rose this much more
-  int max_warm_measurements = 12;      // the last one is kept for saturation
+  double nut_step_c = 0.5;                // measure each time the nut rose this much more …
+  double nut_step_growth = 0.25;          // … or this fraction of the rise so far, or the even share of
+                                          // the rise still to come (extrapolated from the warm-up curve),
+                                          // whichever is larger: the tests cover the whole rise
+  int max_warm_measurements = 16;      // the last one is kept for saturation
   double max_warmup_hours = 5;            // give up waiting for saturation after this
   double saturation_window_min = 30;      // saturated when the nut rose less than
   double saturation_rise_c = 0.15;        //   this much within the window
