@@ -110,7 +110,7 @@ ThermalSeries LoadSeries(const CommonOptions& o, SeriesCleaningReport* report) {
   for (const auto& w : report->warnings) fmt::print(stderr, "warning: {}\n", w);
   // More sensors asked for than the recording has: say so rather than silently use them all.
   const int available = static_cast<int>(cleaned.temperature_names.size());
-  if (o.sensors > available)
+  if (o.sensors > available && o.sensors != CommonOptions{}.sensors)  // asked for, not the default
     fmt::print(stderr, "warning: --sensors {}: {} has only {} usable temperature channel(s); at most those are used\n",
                o.sensors, o.series, available);
   // A fit needs more rows than coefficients to mean anything.
@@ -219,14 +219,21 @@ void Setup(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--validate-blocks", *validate, "speed blocks to validate on (auto: the others)")
         ->capture_default_str();
+    auto last = std::make_shared<double>(0);
+    cmd->add_option("--validate-last", *last,
+                    "split in time instead: validate on this last fraction of the rows, e.g. 0.1 (default with "
+                    "a single speed block: 0.3)");
     cmd->add_option("--report", *report, "write an HTML report (plots of measured vs predicted, residuals, sensors)");
     cmd->add_option("--markdown", *markdown, "write the metrics table as Markdown");
-    cmd->callback([o, models, train, validate, report, markdown] {
+    cmd->callback([o, models, train, validate, last, report, markdown] {
       SeriesCleaningReport rep;
       ThermalSeries s = LoadSeries(*o, &rep);
       EvaluationOptions eo;
       eo.train_blocks = *train;
       eo.validate_blocks = *validate;
+      eo.validate_last_fraction = *last;
+      if (*last > 0 && (*train != "auto" || *validate != "auto"))
+        throw InputError("command line", 0, "--validate-last", "a split in time replaces --train-blocks/--validate-blocks");
       for (const auto& m : SplitList(*models)) eo.models.push_back(MakeFitOptions(*o, ParseKind(m, "--models")));
       if (eo.models.empty()) throw InputError("command line", 0, "--models", "no model given");
       ThermalEvaluation ev = EvaluateThermalModels(s, rep, eo);

@@ -91,6 +91,16 @@ std::string ThermalEvaluation::SplitDescription() const {
     }
     return out;
   };
+  if (time_split_fraction > 0 && !train_rows.empty() && !validate_rows.empty()) {
+    auto hours = [&](Eigen::Index r) {
+      return series.has_time ? fmt::format("{:.2f} h", series.time_s[static_cast<std::size_t>(r)] / 3600)
+                             : fmt::format("row {}", r);
+    };
+    return fmt::format("split in time: train on the first {} rows ({} … {}), validate on the last {:.0f} %: {} rows "
+                       "({} … {})\n", train_rows.size(), hours(train_rows.front()), hours(train_rows.back()),
+                       100 * time_split_fraction, validate_rows.size(), hours(validate_rows.front()),
+                       hours(validate_rows.back()));
+  }
   std::string out = fmt::format("train: {} rows in blocks {}\nvalidate: {} rows in blocks {}\n", train_rows.size(),
                                 list(train_blocks), validate_rows.size(), list(validate_blocks));
   if (in_sample) out += "NOTE: validation overlaps training: these are in-sample (fit) residuals\n";
@@ -145,13 +155,27 @@ ThermalEvaluation EvaluateThermalModels(const ThermalSeries& cleaned, SeriesClea
   ev.cleaning = std::move(cleaning);
   ev.blocks = SpeedBlocks(cleaned);
   const int nb = static_cast<int>(ev.blocks.size());
-  if (o.train_blocks == "auto") {
+  double fraction = o.validate_last_fraction;
+  if (!(fraction >= 0 && fraction < 1))
+    throw InputError("--validate-last", "the validated fraction must be in (0, 1)");
+  if (fraction == 0 && nb == 1 && o.train_blocks == "auto" && o.validate_blocks == "auto") fraction = 0.3;
+  if (fraction > 0) {
+    const Eigen::Index n = cleaned.Rows();
+    const Eigen::Index n_train = static_cast<Eigen::Index>(std::floor((1 - fraction) * static_cast<double>(n)));
+    if (n_train < 3 || n - n_train < 1)
+      throw InputError("--validate-last", fmt::format("{} rows cannot be split {:.0f} % / {:.0f} %", n,
+                                                      100 * (1 - fraction), 100 * fraction));
+    ev.time_split_fraction = fraction;
+    for (Eigen::Index r = 0; r < n; ++r) (r < n_train ? ev.train_rows : ev.validate_rows).push_back(r);
+  } else if (o.train_blocks == "auto") {
     const int ntrain = nb == 1 ? 1 : std::min(nb - 1, (nb * 6 + 9) / 10);
     for (int b = 0; b < ntrain; ++b) ev.train_blocks.push_back(b);
   } else {
     ev.train_blocks = ParseBlockList(o.train_blocks, nb, "--train-blocks");
   }
-  if (o.validate_blocks == "auto") {
+  if (fraction > 0) {
+    // time split: rows chosen above, blocks unused
+  } else if (o.validate_blocks == "auto") {
     for (int b = 0; b < nb; ++b)
       if (std::find(ev.train_blocks.begin(), ev.train_blocks.end(), b) == ev.train_blocks.end())
         ev.validate_blocks.push_back(b);
@@ -159,10 +183,12 @@ ThermalEvaluation EvaluateThermalModels(const ThermalSeries& cleaned, SeriesClea
   } else {
     ev.validate_blocks = ParseBlockList(o.validate_blocks, nb, "--validate-blocks");
   }
-  for (int b : ev.validate_blocks)
-    if (std::find(ev.train_blocks.begin(), ev.train_blocks.end(), b) != ev.train_blocks.end()) ev.in_sample = true;
-  ev.train_rows = RowsOfBlocks(ev.blocks, ev.train_blocks);
-  ev.validate_rows = RowsOfBlocks(ev.blocks, ev.validate_blocks);
+  if (fraction == 0) {
+    for (int b : ev.validate_blocks)
+      if (std::find(ev.train_blocks.begin(), ev.train_blocks.end(), b) != ev.train_blocks.end()) ev.in_sample = true;
+    ev.train_rows = RowsOfBlocks(ev.blocks, ev.train_blocks);
+    ev.validate_rows = RowsOfBlocks(ev.blocks, ev.validate_blocks);
+  }
   if (ev.train_rows.size() < 3) throw InputError("--train-blocks", "fewer than 3 training rows");
   const ThermalSeries train = SelectRows(cleaned, ev.train_rows);
   ev.baseline_train = ResidualMetrics(cleaned, Eigen::MatrixXd(), ev.train_rows);

@@ -118,5 +118,26 @@ TEST(ThermalCliWarnings, TooManySensorsAndTooFewRowsAreSaid) {
   EXPECT_NE(few.output.find("barely determined"), std::string::npos) << few.output;
 }
 
+// A recording without a spindle column is one speed block: the default split is in time (the
+// last 30 % validated), never silently in-sample; --validate-last sets the fraction.
+TEST(ThermalCliSplit, ARecordingWithoutSpeedIsSplitInTimeNotInSample) {
+  const std::string dir = testing::TempDir("cli_split");
+  std::ofstream csv(dir + "/nospeed.csv");
+  csv << "time_s,t_a_c,t_b_c,e_x_um\n";
+  for (int i = 0; i < 200; ++i) {
+    const double a = 20 + 5 * (1 - std::exp(-i * 60.0 / 9000)), b = 21 + 0.3 * std::sin(i * 60.0 / 5000);
+    csv << i * 60 << "," << a << "," << b << "," << 3 * (a - 20) << "\n";
+  }
+  csv.close();
+  auto ev = RunCli("thermal evaluate --series " + dir + "/nospeed.csv --models mlr");
+  ASSERT_EQ(ev.exit_code, 0) << ev.output;
+  EXPECT_NE(ev.output.find("split in time: train on the first 140 rows"), std::string::npos) << ev.output;
+  EXPECT_EQ(ev.output.find("in-sample"), std::string::npos) << ev.output;
+  auto tenth = RunCli("thermal evaluate --series " + dir + "/nospeed.csv --models mlr --validate-last 0.1");
+  EXPECT_NE(tenth.output.find("validate on the last 10 %: 20 rows"), std::string::npos) << tenth.output;
+  auto both = RunCli("thermal evaluate --series " + dir + "/nospeed.csv --models mlr --validate-last 0.1 --train-blocks 0");
+  EXPECT_EQ(both.exit_code, 2) << both.output;
+}
+
 }  // namespace
 }  // namespace trueaxis::thermal

@@ -51,6 +51,7 @@ struct ThermalEvaluation {
   std::vector<int> train_blocks, validate_blocks;
   std::vector<Eigen::Index> train_rows, validate_rows;
   bool in_sample = false;  // validation rows overlap training rows
+  double time_split_fraction = 0;  // > 0: split in time (last fraction validated), blocks unused
   std::vector<ChannelMetrics> baseline_train, baseline_validate;
   // The trivial model every real one must beat: a constant per channel equal to the training
   // mean of the error (an offset is most of the error when it starts at zero).
@@ -66,6 +67,10 @@ struct EvaluationOptions {
   std::vector<ThermalFitOptions> models;
   std::string train_blocks = "auto";     // "auto": the first 60 % of blocks (rounded up); "all"; or "0-8"
   std::string validate_blocks = "auto";  // "auto": the blocks not trained on (all when one block)
+  // > 0: a split in time instead of by blocks: train on the first (1 − f) of the rows, validate on
+  // the last f. With both block options "auto" and a single speed block (no spindle column, or a
+  // constant speed) the split is in time with f = 0.3 — never silently in-sample.
+  double validate_last_fraction = 0;
 };
 
 ThermalEvaluation EvaluateThermalModels(const ThermalSeries& cleaned, SeriesCleaningReport cleaning,
