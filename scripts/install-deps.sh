@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev libmodbus-dev nlohmann-json3-dev libcli11-dev libtomlplusplus-dev
   libfmt-dev libspdlog-dev libcpp-httplib-dev libsodium-dev libsqlite3-dev
-  libxlsxwriter-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libxlsxwriter-dev libminizip-dev libpugixml-dev libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
   mbpoll python3-pymodbus python3-serial-asyncio sqlite3 curl
 )
