@@ -1,6 +1,8 @@
 // trueaxis thermal fit|predict|evaluate — data-driven thermal error models
 // (docs/thermal-models.md, docs/thermal-series.md).
+#include <cmath>
 #include <iostream>
+#include <optional>
 #include <memory>
 #include <sstream>
 
@@ -18,15 +20,16 @@ namespace {
 using namespace trueaxis::thermal;
 
 struct CommonOptions {
-  std::string series;
+  std::vector<std::string> series;  // several: one experiment each
   std::string channels;  // comma list; empty = all
+  std::string sensors_list;  // comma list; empty = every sensor of the series
   // cleaning
   int max_gap_samples = 4;
   bool strict = false;
   bool allow_time_gaps = false;
   // models
   std::string select = "lasso";
-  int sensors = 4;
+  std::string sensors = "auto";  // a count, or "auto": chosen per channel by blocked CV (up to 32)
   double lambda = 1e-3;
   int temperature_inputs = 1;
   int hidden = 7;
@@ -49,15 +52,23 @@ std::vector<std::string> SplitList(const std::string& text) {
 }
 
 void AddCommon(CLI::App* cmd, CommonOptions* o) {
-  cmd->add_option("--series", o->series, "thermal series CSV (docs/thermal-series.md; fl_thermal.csv reads as is)")
-      ->required();
+  cmd->add_option("--series", o->series,
+                  "thermal series CSV (docs/thermal-series.md; fl_thermal.csv reads as is); several files (or "
+                  "--series given again) are separate experiments of the same machine")
+      ->required()
+      ->expected(1, -1);
   cmd->add_option("--channels", o->channels, "error channels to model, comma separated (default: all)");
+  cmd->add_option("--sensors-list", o->sensors_list,
+                  "use exactly these temperature sensors, comma separated (no selection; e.g. t1,t4,t9)");
   cmd->add_option("--max-gap-samples", o->max_gap_samples, "interior gaps up to this many rows are interpolated")
       ->capture_default_str();
   cmd->add_flag("--strict", o->strict, "refuse a series with a dead/gappy temperature channel instead of dropping it");
   cmd->add_flag("--allow-time-gaps", o->allow_time_gaps, "warn instead of refusing jumps in time_s");
   cmd->add_option("--select", o->select, "sensor selection: lasso, correlation-clusters or all")->capture_default_str();
-  cmd->add_option("--sensors", o->sensors, "sensors per channel for mlr/ridge/hysteresis")->capture_default_str();
+  cmd->add_option("--sensors", o->sensors,
+                  "sensors per channel for mlr/ridge/hysteresis: a count, or auto (chosen per channel by blocked "
+                  "cross-validation on the training rows among 1, 2, 3, 4, 6, … and all sensors)")
+      ->capture_default_str();
   cmd->add_option("--lambda", o->lambda, "ridge penalty on standardised temperatures")->capture_default_str();
   cmd->add_option("--temperature-inputs", o->temperature_inputs,
                   "pso-bp: selected temperatures fed to the network (seed 003: 1, plus the position)")
@@ -75,12 +86,28 @@ void AddCommon(CLI::App* cmd, CommonOptions* o) {
       ->capture_default_str();
 }
 
+// --sensors as a count: the number given, or for "auto" the upper bound of the CV's search.
+int SensorCount(const CommonOptions& o) {
+  if (o.sensors == "auto") return 32;
+  const auto v = ParseInt(o.sensors);
+  if (!v || *v < 1 || *v > 1000)
+    throw InputError("command line", 0, "--sensors", fmt::format("'{}' is not a count >= 1 or 'auto'", o.sensors));
+  return static_cast<int>(*v);
+}
+
 ThermalFitOptions MakeFitOptions(const CommonOptions& o, ModelKind kind) {
   ThermalFitOptions f;
   f.kind = kind;
   if (!ParseSelectionMethod(o.select, &f.linear.selection.method))
     throw InputError("command line", 0, "--select", "'" + o.select + "' is not correlation-clusters, lasso or all");
-  f.linear.selection.max_sensors = o.sensors;
+  if (!o.sensors_list.empty()) {  // the user chose the sensors: no selection among them
+    if (o.sensors != "auto")
+      throw InputError("command line", 0, "--sensors-list", "names the sensors itself: leave out --sensors");
+    f.linear.selection.method = SelectionMethod::kAll;
+  }
+  f.linear.choose_count_by_cv = o.sensors == "auto" && f.linear.selection.method != SelectionMethod::kAll;
+  f.linear.selection.max_sensors = SensorCount(o);
+
   f.ridge_lambda = o.lambda;
   f.network.selection = f.linear.selection;
   f.network.temperature_inputs = o.temperature_inputs;
@@ -98,25 +125,36 @@ ThermalFitOptions MakeFitOptions(const CommonOptions& o, ModelKind kind) {
 }
 
 ThermalSeries LoadSeries(const CommonOptions& o, SeriesCleaningReport* report) {
-  ThermalSeries s = ReadThermalSeriesCsv(o.series);
-  if (!o.channels.empty()) s = SelectErrorChannels(s, SplitList(o.channels));
   SeriesCleaningOptions co;
   co.max_interpolated_gap_samples = o.max_gap_samples;
   co.drop_bad_temperature_channels = !o.strict;
   co.allow_time_gaps = o.allow_time_gaps;
   std::string why;
   if (!co.IsValid(&why)) throw InputError("command line", 0, "--max-gap-samples", why);
-  ThermalSeries cleaned = CleanSeries(s, co, report);
+  // Each file is read and cleaned on its own (its own clock and gaps), then joined as experiments.
+  std::vector<ThermalSeries> parts;
+  for (const auto& path : o.series)
+    for (ThermalSeries s : ReadThermalSeriesFile(path, &report->warnings)) {
+      if (!o.channels.empty()) s = SelectErrorChannels(s, SplitList(o.channels));
+      if (!o.sensors_list.empty()) s = SelectTemperatureSensors(s, SplitList(o.sensors_list));
+      SeriesCleaningReport part_report;
+      parts.push_back(CleanSeries(s, co, &part_report));
+      for (const auto& w : part_report.warnings) report->warnings.push_back(w);
+      report->interpolated_values += part_report.interpolated_values;
+      for (const auto& d : part_report.dropped_temperatures) report->dropped_temperatures.push_back(d);
+    }
+  ThermalSeries cleaned = ConcatenateExperiments(parts, &report->warnings);
   for (const auto& w : report->warnings) fmt::print(stderr, "warning: {}\n", w);
   // More sensors asked for than the recording has: say so rather than silently use them all.
   const int available = static_cast<int>(cleaned.temperature_names.size());
-  if (o.sensors > available && o.sensors != CommonOptions{}.sensors)  // asked for, not the default
+  const int asked = SensorCount(o);
+  if (o.sensors != "auto" && asked > available)
     fmt::print(stderr, "warning: --sensors {}: {} has only {} usable temperature channel(s); at most those are used\n",
-               o.sensors, o.series, available);
+               asked, cleaned.source, available);
   // A fit needs more rows than coefficients to mean anything.
-  if (cleaned.Rows() < 10 + 2 * std::min(o.sensors, available))
-    fmt::print(stderr, "warning: {} has only {} rows for up to {} sensors: the fit is barely determined\n", o.series,
-               cleaned.Rows(), std::min(o.sensors, available));
+  if (cleaned.Rows() < 10 + 2 * std::min(asked, available))
+    fmt::print(stderr, "warning: {} has only {} rows for up to {} sensors: the fit is barely determined\n", cleaned.source,
+               cleaned.Rows(), std::min(asked, available));
   return cleaned;
 }
 
@@ -170,33 +208,59 @@ void Setup(CLI::App& app) {
     auto out = std::make_shared<std::string>();
     auto gap = std::make_shared<int>(4);
     cmd->add_option("--model", *model_path, "model JSON from 'thermal fit'")->required();
-    cmd->add_option("--series", *series, "thermal series CSV")->required();
+    cmd->add_option("--series", *series, "thermal series CSV or .xlsx workbook (one experiment per sheet)")->required();
     cmd->add_option("-o,--out", *out, "CSV to write (default: stdout)");
     cmd->add_option("--max-gap-samples", *gap, "interior gaps up to this many rows are interpolated")->capture_default_str();
     cmd->callback([model_path, series, out, gap] {
       auto model = ReadThermalModelFile(*model_path);
-      ThermalSeries s = ReadThermalSeriesCsv(*series);
       SeriesCleaningOptions co;
       co.max_interpolated_gap_samples = *gap;
       co.min_temperature_std_c = 0;       // prediction does not standardise
       co.check_error_channels = false;    // and needs no measured error
       SeriesCleaningReport rep;
-      ThermalSeries cleaned = CleanSeries(s, co, &rep);
+      std::vector<ThermalSeries> parts;
+      for (const ThermalSeries& s : ReadThermalSeriesFile(*series, &rep.warnings)) parts.push_back(CleanSeries(s, co, &rep));
+      ThermalSeries cleaned = ConcatenateExperiments(parts, &rep.warnings);
       for (const auto& w : rep.warnings) fmt::print(stderr, "warning: {}\n", w);
       Eigen::MatrixXd pred = PredictSeries(*model, cleaned);
       std::vector<ThermalInterval> iv = model->ClassifyRows(cleaned);
       std::string text = cleaned.has_time ? "time_s" : "row";
       if (cleaned.has_position) text += ",position_mm";
       if (model->UsesInterval()) text += ",interval";
-      for (const auto& c : model->Channels()) text += ",e_" + c + "_predicted_um";
+      // Where the series also holds the measured error of a channel, it is written beside the
+      // prediction with the residual (measured − predicted: what compensation would leave).
+      std::vector<std::optional<std::size_t>> measured;
+      for (const auto& c : model->Channels()) {
+        measured.push_back(cleaned.ErrorIndex(c));
+        text += ",e_" + c + "_predicted_um";
+        if (measured.back()) text += ",e_" + c + "_measured_um,e_" + c + "_residual_um";
+      }
       text += '\n';
+      std::vector<double> sum_sq(measured.size(), 0.0);
+      std::vector<int> count(measured.size(), 0);
       for (Eigen::Index r = 0; r < cleaned.Rows(); ++r) {
         text += FormatShortest(cleaned.time_s[static_cast<std::size_t>(r)]);
         if (cleaned.has_position) text += "," + FormatShortest(cleaned.position_mm[static_cast<std::size_t>(r)]);
         if (model->UsesInterval()) text += std::string(",") + ThermalIntervalName(iv[static_cast<std::size_t>(r)]);
-        for (Eigen::Index c = 0; c < pred.cols(); ++c) text += "," + FormatShortest(pred(r, c));
+        for (Eigen::Index c = 0; c < pred.cols(); ++c) {
+          text += "," + FormatShortest(pred(r, c));
+          if (const auto m = measured[static_cast<std::size_t>(c)]) {
+            const double v = cleaned.errors_um(r, static_cast<Eigen::Index>(*m));
+            if (std::isfinite(v)) {
+              text += "," + FormatShortest(v) + "," + FormatShortest(v - pred(r, c));
+              sum_sq[static_cast<std::size_t>(c)] += (v - pred(r, c)) * (v - pred(r, c));
+              ++count[static_cast<std::size_t>(c)];
+            } else {
+              text += ",,";  // not measured in this row
+            }
+          }
+        }
         text += '\n';
       }
+      for (std::size_t c = 0; c < measured.size(); ++c)
+        if (count[c] > 0)
+          fmt::print(stderr, "{}: residual RMSE {:.3f} um over {} measured rows\n", model->Channels()[c],
+                     std::sqrt(sum_sq[c] / count[c]), count[c]);
       if (out->empty()) std::cout << text;
       else WriteTextFile(*out, text);
     });
@@ -205,7 +269,8 @@ void Setup(CLI::App& app) {
   // evaluate
   {
     auto* cmd = thermal->add_subcommand(
-        "evaluate", "Train on some speed blocks, validate on others; RMSE and max |error| per channel and model");
+        "evaluate", "Train on part of a recording, validate on the rest (speed blocks, rows, hours, experiments); RMSE and max "
+        "|error| per channel and model next to no compensation, a constant and all sensors");
     auto o = std::make_shared<CommonOptions>();
     auto models = std::make_shared<std::string>("mlr,ridge,pso-bp,hysteresis");
     auto train = std::make_shared<std::string>("auto");
@@ -223,17 +288,25 @@ void Setup(CLI::App& app) {
     cmd->add_option("--validate-last", *last,
                     "split in time instead: validate on this last fraction of the rows, e.g. 0.1 (default with "
                     "a single speed block: 0.3)");
+    auto rows = std::make_shared<std::string>(), hours = std::make_shared<std::string>(),
+         experiments = std::make_shared<std::string>();
+    cmd->add_option("--validate-rows", *rows, "validate on these data rows (0-based ranges, e.g. 9000-11114), train on the rest");
+    cmd->add_option("--validate-hours", *hours, "validate on the rows whose time lies in these hours (e.g. 30-46)");
+    cmd->add_option("--validate-experiments", *experiments,
+                    "with several --series files: validate on these experiments (0-based, e.g. 2 or 1,3), or 'each' "
+                    "for leave-one-experiment-out (the default with several files)");
     cmd->add_option("--report", *report, "write an HTML report (plots of measured vs predicted, residuals, sensors)");
     cmd->add_option("--markdown", *markdown, "write the metrics table as Markdown");
-    cmd->callback([o, models, train, validate, last, report, markdown] {
+    cmd->callback([o, models, train, validate, last, rows, hours, experiments, report, markdown] {
       SeriesCleaningReport rep;
       ThermalSeries s = LoadSeries(*o, &rep);
       EvaluationOptions eo;
       eo.train_blocks = *train;
       eo.validate_blocks = *validate;
       eo.validate_last_fraction = *last;
-      if (*last > 0 && (*train != "auto" || *validate != "auto"))
-        throw InputError("command line", 0, "--validate-last", "a split in time replaces --train-blocks/--validate-blocks");
+      eo.validate_rows = *rows;
+      eo.validate_hours = *hours;
+      eo.validate_experiments = *experiments;
       for (const auto& m : SplitList(*models)) eo.models.push_back(MakeFitOptions(*o, ParseKind(m, "--models")));
       if (eo.models.empty()) throw InputError("command line", 0, "--models", "no model given");
       ThermalEvaluation ev = EvaluateThermalModels(s, rep, eo);

@@ -72,8 +72,11 @@ std::vector<ThermalInterval> ClassifyIntervals(const std::vector<double>& t, con
   if (!o.IsValid(&why)) throw InputError("classifier options", why);
   std::vector<double> slope = TemperatureTrendCPerH(t, y, o.window_s);
   std::vector<ThermalInterval> out(t.size(), ThermalInterval::kSteady);
+  std::size_t lo = 0;
   for (std::size_t i = 0; i < t.size(); ++i) {
-    if (slope[i] > o.threshold_c_per_h) out[i] = ThermalInterval::kHeating;
+    while (t[lo] < t[i] - o.window_s) ++lo;
+    if (i - lo + 1 < 3 || t[i] - t[lo] < 0.5 * o.window_s) out[i] = ThermalInterval::kStartUp;
+    else if (slope[i] > o.threshold_c_per_h) out[i] = ThermalInterval::kHeating;
     else if (slope[i] < -o.threshold_c_per_h) out[i] = ThermalInterval::kCooling;
   }
   return out;
@@ -114,6 +117,7 @@ ThermalInterval IntervalTracker::Push(double time_s, double reference_c) {
     const double den = mm * stt - st * st;
     if (den > 0) trend_c_per_h_ = (mm * sty - st * sy) / den * 3600.0;
   }
+  if (m < 3 || time_s - window_[head_].first < 0.5 * options_.window_s) return ThermalInterval::kStartUp;
   if (trend_c_per_h_ > options_.threshold_c_per_h) return ThermalInterval::kHeating;
   if (trend_c_per_h_ < -options_.threshold_c_per_h) return ThermalInterval::kCooling;
   return ThermalInterval::kSteady;
@@ -182,7 +186,8 @@ nlohmann::json HysteresisThermalModel::ToJson() const {
 
 std::string HysteresisThermalModel::Describe() const {
   std::string out = fmt::format(
-      "interval rule: slope of mean({}) over the trailing {} s; heating > +{} °C/h, cooling < -{} °C/h, else steady\n",
+      "interval rule: slope of mean({}) over the trailing {} s; heating > +{} °C/h, cooling < -{} °C/h, else steady; "
+      "start-up (less than half a window of history) uses the all-data model\n",
       fmt::join(reference_, ", "), classifier_.window_s, classifier_.threshold_c_per_h, classifier_.threshold_c_per_h);
   for (int i = 0; i < kThermalIntervalCount; ++i) {
     out += fmt::format("[{}]\n", ThermalIntervalName(static_cast<ThermalInterval>(i)));
@@ -221,25 +226,48 @@ HysteresisThermalModel HysteresisThermalModel::FromJson(const nlohmann::json& do
   return HysteresisThermalModel(std::move(all), std::move(subs), std::move(fitted), std::move(ref), co);
 }
 
-HysteresisThermalModel FitHysteresisModel(const ThermalSeries& s, const HysteresisFitOptions& o) {
+HysteresisThermalModel FitHysteresisModel(const ThermalSeries& s, const HysteresisFitOptions& o,
+                                          std::vector<std::string>* warnings) {
   std::string why;
   if (!o.IsValid(&why)) throw InputError("hysteresis fit options", why);
   if (!s.has_time)
     throw InputError(s.source, 0, "time_s", "the hysteresis model classifies by temperature trend and needs time_s");
+  auto warn = [&](std::string text) {
+    if (warnings) warnings->push_back(std::move(text));
+  };
+  // A trend needs several samples in its window, whatever the recording's sample interval.
+  IntervalClassifierOptions classifier = o.classifier;
+  if (s.Rows() >= 2) {
+    std::vector<double> steps;
+    for (std::size_t r = 1; r < s.time_s.size(); ++r) steps.push_back(s.time_s[r] - s.time_s[r - 1]);
+    std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
+    const double median_step_s = steps[steps.size() / 2];
+    if (classifier.window_s < kMinWindowSteps * median_step_s) {
+      classifier.window_s = kMinWindowSteps * median_step_s;
+      warn(fmt::format("hysteresis: the sample interval is {:g} s, so the {:g} s trend window would hold fewer than {} "
+                       "samples; widened to {:g} s (the classifier reacts that much later)",
+                       median_step_s, o.classifier.window_s, kMinWindowSteps, classifier.window_s));
+    }
+  }
   LinearThermalModel all = FitLinearModel(s, o.sub_model);
   std::vector<std::string> ref = o.reference_sensors.empty() ? all.InputSensors() : o.reference_sensors;
-  std::vector<ThermalInterval> cls = ClassifyIntervals(s.time_s, ReferenceOf(s, ref), o.classifier);
+  std::vector<ThermalInterval> cls = ClassifyIntervals(s.time_s, ReferenceOf(s, ref), classifier);
   std::vector<LinearThermalModel> subs(kThermalIntervalCount);
   std::vector<bool> fitted(kThermalIntervalCount, false);
   for (int i = 0; i < kThermalIntervalCount; ++i) {
     std::vector<Eigen::Index> rows;
     for (std::size_t r = 0; r < cls.size(); ++r)
       if (cls[r] == static_cast<ThermalInterval>(i)) rows.push_back(static_cast<Eigen::Index>(r));
-    if (static_cast<int>(rows.size()) < o.min_interval_samples) continue;
+    if (static_cast<int>(rows.size()) < o.min_interval_samples) {
+      warn(fmt::format("hysteresis: only {} training rows are {} (the trend never passes ±{:g} °C/h long enough); that "
+                       "interval uses the all-data model", rows.size(), ThermalIntervalName(static_cast<ThermalInterval>(i)),
+                       classifier.threshold_c_per_h));
+      continue;
+    }
     subs[static_cast<std::size_t>(i)] = FitLinearModel(SelectRows(s, rows), o.sub_model);
     fitted[static_cast<std::size_t>(i)] = true;
   }
-  return HysteresisThermalModel(std::move(all), std::move(subs), std::move(fitted), std::move(ref), o.classifier);
+  return HysteresisThermalModel(std::move(all), std::move(subs), std::move(fitted), std::move(ref), classifier);
 }
 
 }  // namespace trueaxis::thermal

@@ -1,6 +1,7 @@
 #include "trueaxis/thermal/linear_model.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -95,6 +96,82 @@ LinearThermalModel LinearThermalModel::FromJson(const nlohmann::json& doc, const
   return LinearThermalModel(std::move(sensors), std::move(channels), lambda, std::move(selection));
 }
 
+namespace {
+
+// One channel's least-squares (ridge) fit on the chosen sensors: intercept + k per sensor.
+struct ChannelSolution {
+  std::vector<int> sensors;
+  double intercept_um = 0;
+  std::vector<double> k_um_per_c;
+  double Predict(const Eigen::MatrixXd& t, Eigen::Index r) const {
+    double v = intercept_um;
+    for (std::size_t j = 0; j < sensors.size(); ++j) v += k_um_per_c[j] * t(r, sensors[j]);
+    return v;
+  }
+};
+
+ChannelSolution SolveChannel(const Eigen::MatrixXd& temps, const Eigen::VectorXd& y, const SensorSelectionOptions& so,
+                             double ridge_lambda) {
+  const Eigen::Index n = temps.rows();
+  SensorSelectionOptions sel_opt = so;
+  sel_opt.max_sensors = std::max(1, std::min<int>(sel_opt.max_sensors, static_cast<int>(n) - 2));
+  const SensorSelection sel = SelectSensors(temps, y, sel_opt);
+  const auto p = static_cast<Eigen::Index>(sel.sensors.size());
+  Eigen::MatrixXd x(n, p);
+  for (Eigen::Index k = 0; k < p; ++k) x.col(k) = temps.col(sel.sensors[static_cast<std::size_t>(k)]);
+  // Solve on centred, standardised columns (well-conditioned, lambda unit-free).
+  const Eigen::RowVectorXd mean = x.colwise().mean();
+  Eigen::MatrixXd z = x.rowwise() - mean;
+  Eigen::VectorXd sd(p);
+  for (Eigen::Index k = 0; k < p; ++k) {
+    sd(k) = std::sqrt(z.col(k).squaredNorm() / static_cast<double>(n));
+    if (sd(k) > 0) z.col(k) /= sd(k);
+  }
+  const double ymean = y.mean();
+  const Eigen::VectorXd yc = y.array() - ymean;
+  Eigen::MatrixXd a = z.transpose() * z;
+  a.diagonal().array() += ridge_lambda * static_cast<double>(n);
+  const Eigen::VectorXd b_std = a.completeOrthogonalDecomposition().solve(z.transpose() * yc);
+  ChannelSolution out;
+  out.sensors = sel.sensors;
+  out.intercept_um = ymean;
+  for (Eigen::Index k = 0; k < p; ++k) {
+    const double k_raw = sd(k) > 0 ? b_std(k) / sd(k) : 0.0;
+    out.k_um_per_c.push_back(k_raw);
+    out.intercept_um -= k_raw * mean(k);
+  }
+  return out;
+}
+
+// Blocked (contiguous-in-time) 5-fold CV RMS of one channel with `so`.
+double BlockedCvRms(const Eigen::MatrixXd& temps, const Eigen::VectorXd& y, const SensorSelectionOptions& so,
+                    double ridge_lambda) {
+  const Eigen::Index n = temps.rows();
+  constexpr int kFolds = 5;
+  double ss = 0;
+  Eigen::Index count = 0;
+  for (int f = 0; f < kFolds; ++f) {
+    const Eigen::Index lo = n * f / kFolds, hi = n * (f + 1) / kFolds;
+    const Eigen::Index m = n - (hi - lo);
+    if (m < 3 || hi <= lo) continue;
+    Eigen::MatrixXd tt(m, temps.cols());
+    Eigen::VectorXd yt(m);
+    tt.topRows(lo) = temps.topRows(lo);
+    tt.bottomRows(n - hi) = temps.bottomRows(n - hi);
+    yt.head(lo) = y.head(lo);
+    yt.tail(n - hi) = y.tail(n - hi);
+    const ChannelSolution sol = SolveChannel(tt, yt, so, ridge_lambda);
+    for (Eigen::Index r = lo; r < hi; ++r) {
+      const double e = y(r) - sol.Predict(temps, r);
+      ss += e * e;
+      ++count;
+    }
+  }
+  return count ? std::sqrt(ss / static_cast<double>(count)) : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
 LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions& o) {
   std::string why;
   if (!o.IsValid(&why)) throw InputError("linear fit options", why);
@@ -104,34 +181,48 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
     throw InputError(s.source, 0, "", "series holds missing values; clean it first (CleanSeries)");
   std::vector<std::string> used;  // union of selected sensors, in first-use order
   std::vector<LinearChannel> channels;
+  std::string selection = SelectionMethodName(o.selection.method);
+  const int available = static_cast<int>(s.temperatures_c.cols());
   for (Eigen::Index c = 0; c < s.errors_um.cols(); ++c) {
     const Eigen::VectorXd y = s.errors_um.col(c);
-    SensorSelectionOptions sel_opt = o.selection;
-    sel_opt.max_sensors = std::min<int>(sel_opt.max_sensors, static_cast<int>(n) - 2);
-    if (sel_opt.max_sensors < 1) sel_opt.max_sensors = 1;
-    SensorSelection sel = SelectSensors(s.temperatures_c, y, sel_opt);
-    const auto p = static_cast<Eigen::Index>(sel.sensors.size());
-    Eigen::MatrixXd x(n, p);
-    for (Eigen::Index k = 0; k < p; ++k) x.col(k) = s.temperatures_c.col(sel.sensors[static_cast<std::size_t>(k)]);
-    // Solve on centred, standardised columns (well-conditioned, lambda unit-free).
-    const Eigen::RowVectorXd mean = x.colwise().mean();
-    Eigen::MatrixXd z = x.rowwise() - mean;
-    Eigen::VectorXd sd(p);
-    for (Eigen::Index k = 0; k < p; ++k) {
-      sd(k) = std::sqrt(z.col(k).squaredNorm() / static_cast<double>(n));
-      if (sd(k) > 0) z.col(k) /= sd(k);
+    SensorSelectionOptions chosen = o.selection;
+    if (o.choose_count_by_cv && n >= 25) {
+      // Candidate counts up to the bound, then every sensor; the smallest within 2 % of the best.
+      std::vector<std::pair<SensorSelectionOptions, double>> tried;
+      const int bound = std::min(o.selection.max_sensors, available);
+      for (int m : {1, 2, 3, 4, 6, 8, 12, 16, 24, 32}) {
+        if (m > bound) break;
+        SensorSelectionOptions so = o.selection;
+        so.max_sensors = m;
+        tried.emplace_back(so, BlockedCvRms(s.temperatures_c, y, so, o.ridge_lambda));
+      }
+      SensorSelectionOptions all = o.selection;
+      all.method = SelectionMethod::kAll;
+      all.max_sensors = available;
+      tried.emplace_back(all, BlockedCvRms(s.temperatures_c, y, all, o.ridge_lambda));
+      // The smallest count within 2 % of the best held-out RMSE, and never worse than all sensors
+      // (the last candidate), so the default cannot lose to "all sensors" on the data it chose by.
+      double best = std::numeric_limits<double>::infinity();
+      for (const auto& [so, rms] : tried) best = std::min(best, rms);
+      const double limit = std::min(1.02 * best, tried.back().second);
+      for (const auto& [so, rms] : tried)
+        if (rms <= limit) {
+          chosen = so;
+          break;
+        }
+      std::string cv;
+      for (const auto& [so, rms] : tried)
+        cv += fmt::format("{}{}: {:.3f}", cv.empty() ? "" : ", ",
+                          so.method == SelectionMethod::kAll ? std::string("all") : std::to_string(so.max_sensors), rms);
+      selection = fmt::format("{}, sensor count by blocked 5-fold CV (RMS µm per count: {})",
+                              SelectionMethodName(o.selection.method), cv);
     }
-    const double ymean = y.mean();
-    const Eigen::VectorXd yc = y.array() - ymean;
-    Eigen::MatrixXd a = z.transpose() * z;
-    a.diagonal().array() += o.ridge_lambda * static_cast<double>(n);
-    Eigen::VectorXd b_std = a.completeOrthogonalDecomposition().solve(z.transpose() * yc);
+    const ChannelSolution sol = SolveChannel(s.temperatures_c, y, chosen, o.ridge_lambda);
     LinearChannel ch;
     ch.name = s.error_names[static_cast<std::size_t>(c)];
-    ch.intercept_um = ymean;
-    for (Eigen::Index k = 0; k < p; ++k) {
-      const double k_raw = sd(k) > 0 ? b_std(k) / sd(k) : 0.0;
-      const std::string& sensor = s.temperature_names[static_cast<std::size_t>(sel.sensors[static_cast<std::size_t>(k)])];
+    ch.intercept_um = sol.intercept_um;
+    for (std::size_t k = 0; k < sol.sensors.size(); ++k) {
+      const std::string& sensor = s.temperature_names[static_cast<std::size_t>(sol.sensors[k])];
       int idx = -1;
       for (std::size_t u = 0; u < used.size(); ++u)
         if (used[u] == sensor) idx = static_cast<int>(u);
@@ -140,13 +231,11 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
         used.push_back(sensor);
       }
       ch.inputs.push_back(idx);
-      ch.k_um_per_c.push_back(k_raw);
-      ch.intercept_um -= k_raw * mean(k);
+      ch.k_um_per_c.push_back(sol.k_um_per_c[k]);
     }
     channels.push_back(std::move(ch));
   }
-  return LinearThermalModel(std::move(used), std::move(channels), o.ridge_lambda,
-                            SelectionMethodName(o.selection.method));
+  return LinearThermalModel(std::move(used), std::move(channels), o.ridge_lambda, selection);
 }
 
 }  // namespace trueaxis::thermal

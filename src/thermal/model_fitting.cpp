@@ -1,11 +1,13 @@
 #include "trueaxis/thermal/model_fitting.hpp"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/number_text.hpp"
 
 namespace trueaxis::thermal {
 
@@ -68,12 +70,15 @@ std::unique_ptr<ThermalErrorModel> FitThermalModel(const ThermalSeries& s, const
       HysteresisFitOptions ho = o.hysteresis;
       ho.sub_model = o.linear;
       ho.sub_model.ridge_lambda = o.ridge_lambda;
-      auto m = std::make_unique<HysteresisThermalModel>(FitHysteresisModel(s, ho));
+      std::vector<std::string> warnings;
+      auto m = std::make_unique<HysteresisThermalModel>(FitHysteresisModel(s, ho, &warnings));
       if (fit_report) {
         std::vector<ThermalInterval> cls = m->ClassifyRows(s);
-        int count[kThermalIntervalCount] = {0, 0, 0};
+        int count[kThermalIntervalCount + 1] = {0, 0, 0, 0};
         for (auto c : cls) ++count[static_cast<int>(c)];
-        *fit_report = fmt::format("training rows: {} heating, {} steady, {} cooling\n", count[0], count[1], count[2]);
+        *fit_report = fmt::format("training rows: {} heating, {} steady, {} cooling, {} start-up\n", count[0], count[1],
+                                  count[2], count[3]);
+        for (const auto& w : warnings) *fit_report += "warning: " + w + "\n";
       }
       return m;
     }
@@ -91,6 +96,13 @@ std::string ThermalEvaluation::SplitDescription() const {
     }
     return out;
   };
+  if (!split.empty()) {
+    std::string out = split + "\n";
+    if (folds.size() > 1)
+      for (const auto& f : folds)
+        out += fmt::format("  fold {}: validate {} rows, train {} rows\n", f.name, f.validate_rows.size(), f.train_rows.size());
+    return out;
+  }
   if (time_split_fraction > 0 && !train_rows.empty() && !validate_rows.empty()) {
     auto hours = [&](Eigen::Index r) {
       return series.has_time ? fmt::format("{:.2f} h", series.time_s[static_cast<std::size_t>(r)] / 3600)
@@ -148,71 +160,217 @@ std::string ThermalEvaluation::MarkdownTable() const {
   return out;
 }
 
+namespace {
+
+std::vector<Eigen::Index> Complement(Eigen::Index n, const std::vector<Eigen::Index>& rows) {
+  std::vector<bool> in(static_cast<std::size_t>(n), false);
+  for (Eigen::Index r : rows) in[static_cast<std::size_t>(r)] = true;
+  std::vector<Eigen::Index> out;
+  for (Eigen::Index r = 0; r < n; ++r)
+    if (!in[static_cast<std::size_t>(r)]) out.push_back(r);
+  return out;
+}
+
+// "A-B[,C-D]" of numbers (rows or hours) as closed ranges.
+std::vector<std::pair<double, double>> ParseRanges(const std::string& text, const std::string& field) {
+  std::vector<std::pair<double, double>> out;
+  std::size_t pos = 0;
+  const std::string t(Trim(text));
+  while (pos <= t.size()) {
+    const auto comma = t.find(',', pos);
+    const std::string part(Trim(std::string_view(t).substr(pos, comma == std::string::npos ? std::string::npos : comma - pos)));
+    pos = comma == std::string::npos ? t.size() + 1 : comma + 1;
+    const auto dash = part.find('-', 1);
+    const auto a = ParseDouble(part.substr(0, dash));
+    const auto b = dash == std::string::npos ? a : ParseDouble(part.substr(dash + 1));
+    if (!a || !b || *a > *b || *a < 0)
+      throw InputError("command line", 0, field, fmt::format("'{}' is not a range such as 100-200", part));
+    out.emplace_back(*a, *b);
+  }
+  return out;
+}
+
+// The folds of the requested split, and its description.
+void ChooseSplit(const ThermalSeries& s, const EvaluationOptions& o, ThermalEvaluation* ev) {
+  const Eigen::Index n = s.Rows();
+  const int nb = static_cast<int>(ev->blocks.size());
+  const int experiments = s.ExperimentCount();
+  const bool blocks_given = o.train_blocks != "auto" || o.validate_blocks != "auto";
+  int given = (blocks_given ? 1 : 0) + (o.validate_last_fraction != 0 ? 1 : 0) + (!o.validate_rows.empty() ? 1 : 0) +
+              (!o.validate_hours.empty() ? 1 : 0) + (!o.validate_experiments.empty() ? 1 : 0);
+  if (given > 1)
+    throw InputError("command line", 0, "--split",
+                     "give one split: blocks, --validate-last, --validate-rows, --validate-hours or --validate-experiments");
+  std::string by_experiment = o.validate_experiments;
+  if (given == 0 && experiments > 1) by_experiment = "each";
+  SplitFold fold;
+  if (!by_experiment.empty()) {
+    if (experiments < 2)
+      throw InputError("command line", 0, "--validate-experiments",
+                       "the series is a single experiment: give several --series files (or workbook sheets)");
+    std::vector<int> held;
+    if (by_experiment == "each") {
+      for (int e = 0; e < experiments; ++e) held.push_back(e);
+    } else {
+      held = ParseBlockList(by_experiment, experiments, "--validate-experiments");
+      if (static_cast<int>(held.size()) == experiments)
+        throw InputError("command line", 0, "--validate-experiments", "nothing left to train on");
+    }
+    auto rows_of = [&](int e) {
+      std::vector<Eigen::Index> rows;
+      for (Eigen::Index r = 0; r < n; ++r)
+        if (s.ExperimentOf(r) == e) rows.push_back(r);
+      return rows;
+    };
+    if (by_experiment == "each") {
+      for (int e : held) {
+        SplitFold f;
+        f.name = fmt::format("experiment {} ({})", e, s.experiment_names[static_cast<std::size_t>(e)]);
+        f.validate_rows = rows_of(e);
+        f.train_rows = Complement(n, f.validate_rows);
+        ev->folds.push_back(std::move(f));
+      }
+      ev->split = fmt::format("leave one experiment out: {} folds, each experiment validated by the models fitted on "
+                              "the others", experiments);
+      ev->train_rows = Complement(n, {});
+      ev->validate_rows = ev->train_rows;
+      return;
+    }
+    for (int e : held) {
+      auto rows = rows_of(e);
+      fold.validate_rows.insert(fold.validate_rows.end(), rows.begin(), rows.end());
+    }
+    std::sort(fold.validate_rows.begin(), fold.validate_rows.end());
+    std::vector<std::string> names;
+    for (int e : held) names.push_back(s.experiment_names[static_cast<std::size_t>(e)]);
+    ev->split = fmt::format("by experiment: validate on {}, train on the others", fmt::join(names, ", "));
+  } else if (!o.validate_rows.empty() || !o.validate_hours.empty()) {
+    const bool hours = !o.validate_hours.empty();
+    if (hours && !s.has_time) throw InputError("command line", 0, "--validate-hours", "the series has no time_s");
+    const auto ranges = ParseRanges(hours ? o.validate_hours : o.validate_rows, hours ? "--validate-hours" : "--validate-rows");
+    for (Eigen::Index r = 0; r < n; ++r) {
+      const double v = hours ? s.time_s[static_cast<std::size_t>(r)] / 3600.0 : static_cast<double>(r);
+      for (const auto& [a, b] : ranges)
+        if (v >= a && v <= b) {
+          fold.validate_rows.push_back(r);
+          break;
+        }
+    }
+    if (fold.validate_rows.empty())
+      throw InputError("command line", 0, hours ? "--validate-hours" : "--validate-rows",
+                       fmt::format("selects no row (the series has rows 0..{}{})", n - 1,
+                                   s.has_time ? fmt::format(", {:.2f}..{:.2f} h", s.time_s.front() / 3600,
+                                                            s.time_s.back() / 3600)
+                                              : std::string()));
+    ev->split = fmt::format("validate on {} {} ({} rows), train on the other {} rows", hours ? "hours" : "rows",
+                            hours ? o.validate_hours : o.validate_rows, fold.validate_rows.size(),
+                            n - static_cast<Eigen::Index>(fold.validate_rows.size()));
+  } else {
+    double fraction = o.validate_last_fraction;
+    if (!(fraction >= 0 && fraction < 1))
+      throw InputError("--validate-last", "the validated fraction must be in (0, 1)");
+    if (fraction == 0 && nb == 1 && !blocks_given) fraction = 0.3;
+    if (fraction > 0) {
+      const Eigen::Index n_train = static_cast<Eigen::Index>(std::floor((1 - fraction) * static_cast<double>(n)));
+      if (n_train < 3 || n - n_train < 1)
+        throw InputError("--validate-last", fmt::format("{} rows cannot be split {:.0f} % / {:.0f} %", n,
+                                                        100 * (1 - fraction), 100 * fraction));
+      ev->time_split_fraction = fraction;
+      for (Eigen::Index r = n_train; r < n; ++r) fold.validate_rows.push_back(r);
+    } else {
+      if (o.train_blocks == "auto") {
+        const int ntrain = nb == 1 ? 1 : std::min(nb - 1, (nb * 6 + 9) / 10);
+        for (int b = 0; b < ntrain; ++b) ev->train_blocks.push_back(b);
+      } else {
+        ev->train_blocks = ParseBlockList(o.train_blocks, nb, "--train-blocks");
+      }
+      if (o.validate_blocks == "auto") {
+        for (int b = 0; b < nb; ++b)
+          if (std::find(ev->train_blocks.begin(), ev->train_blocks.end(), b) == ev->train_blocks.end())
+            ev->validate_blocks.push_back(b);
+        if (ev->validate_blocks.empty()) ev->validate_blocks = ev->train_blocks;
+      } else {
+        ev->validate_blocks = ParseBlockList(o.validate_blocks, nb, "--validate-blocks");
+      }
+      for (int b : ev->validate_blocks)
+        if (std::find(ev->train_blocks.begin(), ev->train_blocks.end(), b) != ev->train_blocks.end()) ev->in_sample = true;
+      fold.train_rows = RowsOfBlocks(ev->blocks, ev->train_blocks);
+      fold.validate_rows = RowsOfBlocks(ev->blocks, ev->validate_blocks);
+    }
+  }
+  if (fold.train_rows.empty()) fold.train_rows = Complement(n, fold.validate_rows);
+  fold.name = "split";
+  ev->train_rows = fold.train_rows;
+  ev->validate_rows = fold.validate_rows;
+  ev->folds.push_back(std::move(fold));
+}
+
+std::string ModelLabel(const ThermalFitOptions& fo) {
+  const bool all = fo.linear.selection.method == SelectionMethod::kAll &&
+                   (fo.kind == ModelKind::kMlr || fo.kind == ModelKind::kRidge || fo.kind == ModelKind::kHysteresis);
+  return std::string(ModelKindName(fo.kind)) + (all ? " (all sensors)" : "");
+}
+
+}  // namespace
+
 ThermalEvaluation EvaluateThermalModels(const ThermalSeries& cleaned, SeriesCleaningReport cleaning,
                                         const EvaluationOptions& o) {
   ThermalEvaluation ev;
   ev.series = cleaned;
   ev.cleaning = std::move(cleaning);
   ev.blocks = SpeedBlocks(cleaned);
-  const int nb = static_cast<int>(ev.blocks.size());
-  double fraction = o.validate_last_fraction;
-  if (!(fraction >= 0 && fraction < 1))
-    throw InputError("--validate-last", "the validated fraction must be in (0, 1)");
-  if (fraction == 0 && nb == 1 && o.train_blocks == "auto" && o.validate_blocks == "auto") fraction = 0.3;
-  if (fraction > 0) {
-    const Eigen::Index n = cleaned.Rows();
-    const Eigen::Index n_train = static_cast<Eigen::Index>(std::floor((1 - fraction) * static_cast<double>(n)));
-    if (n_train < 3 || n - n_train < 1)
-      throw InputError("--validate-last", fmt::format("{} rows cannot be split {:.0f} % / {:.0f} %", n,
-                                                      100 * (1 - fraction), 100 * fraction));
-    ev.time_split_fraction = fraction;
-    for (Eigen::Index r = 0; r < n; ++r) (r < n_train ? ev.train_rows : ev.validate_rows).push_back(r);
-  } else if (o.train_blocks == "auto") {
-    const int ntrain = nb == 1 ? 1 : std::min(nb - 1, (nb * 6 + 9) / 10);
-    for (int b = 0; b < ntrain; ++b) ev.train_blocks.push_back(b);
-  } else {
-    ev.train_blocks = ParseBlockList(o.train_blocks, nb, "--train-blocks");
-  }
-  if (fraction > 0) {
-    // time split: rows chosen above, blocks unused
-  } else if (o.validate_blocks == "auto") {
-    for (int b = 0; b < nb; ++b)
-      if (std::find(ev.train_blocks.begin(), ev.train_blocks.end(), b) == ev.train_blocks.end())
-        ev.validate_blocks.push_back(b);
-    if (ev.validate_blocks.empty()) ev.validate_blocks = ev.train_blocks;
-  } else {
-    ev.validate_blocks = ParseBlockList(o.validate_blocks, nb, "--validate-blocks");
-  }
-  if (fraction == 0) {
-    for (int b : ev.validate_blocks)
-      if (std::find(ev.train_blocks.begin(), ev.train_blocks.end(), b) != ev.train_blocks.end()) ev.in_sample = true;
-    ev.train_rows = RowsOfBlocks(ev.blocks, ev.train_blocks);
-    ev.validate_rows = RowsOfBlocks(ev.blocks, ev.validate_blocks);
-  }
-  if (ev.train_rows.size() < 3) throw InputError("--train-blocks", "fewer than 3 training rows");
-  const ThermalSeries train = SelectRows(cleaned, ev.train_rows);
+  ChooseSplit(cleaned, o, &ev);
+  for (const auto& f : ev.folds)
+    if (f.train_rows.size() < 3) throw InputError("command line", 0, "--train-blocks", f.name + ": fewer than 3 training rows");
+  const Eigen::Index n = cleaned.Rows(), channels = cleaned.errors_um.cols();
+  const bool pooled = ev.folds.size() > 1;
   ev.baseline_train = ResidualMetrics(cleaned, Eigen::MatrixXd(), ev.train_rows);
   ev.baseline_validate = ResidualMetrics(cleaned, Eigen::MatrixXd(), ev.validate_rows);
   {
-    Eigen::MatrixXd constant(cleaned.errors_um.rows(), cleaned.errors_um.cols());
-    for (Eigen::Index c = 0; c < cleaned.errors_um.cols(); ++c) {
+    // Constant = training mean per channel, per fold (out of fold where pooled).
+    auto mean_of = [&](const std::vector<Eigen::Index>& rows, Eigen::Index c) {
       double sum = 0;
-      int n = 0;
-      for (Eigen::Index r : ev.train_rows)
-        if (std::isfinite(cleaned.errors_um(r, c))) sum += cleaned.errors_um(r, c), ++n;
-      constant.col(c).setConstant(n ? sum / n : 0.0);
-    }
-    ev.constant_train = ResidualMetrics(cleaned, constant, ev.train_rows);
-    ev.constant_validate = ResidualMetrics(cleaned, constant, ev.validate_rows);
+      int k = 0;
+      for (Eigen::Index r : rows)
+        if (std::isfinite(cleaned.errors_um(r, c))) sum += cleaned.errors_um(r, c), ++k;
+      return k ? sum / k : 0.0;
+    };
+    Eigen::MatrixXd in_sample(n, channels), out_of_fold(n, channels);
+    for (Eigen::Index c = 0; c < channels; ++c) in_sample.col(c).setConstant(mean_of(ev.train_rows, c));
+    out_of_fold = in_sample;
+    for (const auto& f : ev.folds)
+      for (Eigen::Index c = 0; c < channels; ++c) {
+        const double m = mean_of(f.train_rows, c);
+        for (Eigen::Index r : f.validate_rows) out_of_fold(r, c) = m;
+      }
+    ev.constant_train = ResidualMetrics(cleaned, in_sample, ev.train_rows);
+    ev.constant_validate = ResidualMetrics(cleaned, out_of_fold, ev.validate_rows);
   }
-  for (const auto& fo : o.models) {
+  std::vector<ThermalFitOptions> models = o.models;
+  if (o.all_sensors_reference) {
+    ThermalFitOptions all;
+    all.kind = ModelKind::kRidge;
+    all.linear.selection.method = SelectionMethod::kAll;
+    if (!models.empty()) all.ridge_lambda = models.front().ridge_lambda;
+    bool present = false;
+    for (const auto& m : models) present = present || ModelLabel(m) == ModelLabel(all);
+    if (!present) models.insert(models.begin(), all);
+  }
+  for (const auto& fo : models) {
     ModelEvaluation me;
-    me.name = ModelKindName(fo.kind);
+    me.name = ModelLabel(fo);
     const auto t0 = std::chrono::steady_clock::now();
-    me.model = FitThermalModel(train, fo, &me.fit_report);
+    me.model = FitThermalModel(SelectRows(cleaned, ev.train_rows), fo, &me.fit_report);
     me.fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     me.predicted_um = PredictSeries(*me.model, cleaned);
     me.train = ResidualMetrics(cleaned, me.predicted_um, ev.train_rows);
+    if (pooled) {
+      for (const auto& f : ev.folds) {
+        auto fold_model = FitThermalModel(SelectRows(cleaned, f.train_rows), fo, nullptr);
+        const Eigen::MatrixXd p = PredictSeries(*fold_model, cleaned);
+        for (Eigen::Index r : f.validate_rows) me.predicted_um.row(r) = p.row(r);
+      }
+    }
     me.validate = ResidualMetrics(cleaned, me.predicted_um, ev.validate_rows);
     ev.models.push_back(std::move(me));
   }

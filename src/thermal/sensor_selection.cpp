@@ -63,24 +63,27 @@ bool SensorSelectionOptions::IsValid(std::string* why) const {
   return true;
 }
 
-int LassoCoordinateDescent(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, double lambda, int max_sweeps,
-                           double tolerance, Eigen::VectorXd* beta) {
-  const double n = static_cast<double>(x.rows());
-  const Eigen::Index p = x.cols();
+namespace {
+
+// Coordinate descent in covariance form (glmnet's "covariance updates"): with the Gram matrix
+// g = X'X/n and c = X'y/n each coordinate update costs O(p) instead of O(n), which makes a whole
+// lambda path on a long recording (n >> p) cheap. `grad` = X'(y - X beta)/n is kept up to date.
+int LassoGram(const Eigen::MatrixXd& g, const Eigen::VectorXd& c, double lambda, int max_sweeps, double tolerance,
+              Eigen::VectorXd* beta) {
+  const Eigen::Index p = g.cols();
   if (beta->size() != p) *beta = Eigen::VectorXd::Zero(p);
-  Eigen::VectorXd col_sq(p);
-  for (Eigen::Index j = 0; j < p; ++j) col_sq(j) = x.col(j).squaredNorm() / n;
-  Eigen::VectorXd residual = y - x * (*beta);
+  Eigen::VectorXd grad = c - g * (*beta);
   int sweep = 0;
   for (; sweep < max_sweeps; ++sweep) {
     double max_change = 0;
     for (Eigen::Index j = 0; j < p; ++j) {
-      if (col_sq(j) <= 0) continue;
+      const double gjj = g(j, j);
+      if (gjj <= 0) continue;
       const double old = (*beta)(j);
-      const double rho = x.col(j).dot(residual) / n + col_sq(j) * old;
-      const double shrunk = std::copysign(std::max(std::abs(rho) - lambda, 0.0), rho) / col_sq(j);
+      const double rho = grad(j) + gjj * old;
+      const double shrunk = std::copysign(std::max(std::abs(rho) - lambda, 0.0), rho) / gjj;
       if (shrunk != old) {
-        residual -= x.col(j) * (shrunk - old);
+        grad -= g.col(j) * (shrunk - old);
         (*beta)(j) = shrunk;
         max_change = std::max(max_change, std::abs(shrunk - old));
       }
@@ -88,6 +91,16 @@ int LassoCoordinateDescent(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, d
     if (max_change < tolerance) break;
   }
   return sweep + 1;
+}
+
+}  // namespace
+
+int LassoCoordinateDescent(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, double lambda, int max_sweeps,
+                           double tolerance, Eigen::VectorXd* beta) {
+  const double n = static_cast<double>(x.rows());
+  const Eigen::MatrixXd g = x.transpose() * x / n;
+  const Eigen::VectorXd c = x.transpose() * y / n;
+  return LassoGram(g, c, lambda, max_sweeps, tolerance, beta);
 }
 
 SensorSelection SelectSensors(const Eigen::MatrixXd& t, const Eigen::VectorXd& y, const SensorSelectionOptions& o) {
@@ -158,10 +171,12 @@ SensorSelection SelectSensors(const Eigen::MatrixXd& t, const Eigen::VectorXd& y
         return sel;
       }
       std::vector<double> score(static_cast<std::size_t>(p), 0.0);
+      const Eigen::MatrixXd gram = z.transpose() * z / n;
+      const Eigen::VectorXd zy = z.transpose() * yc / n;
       for (int step = 1; step <= o.lasso_path_steps; ++step) {
         const double frac = static_cast<double>(step) / o.lasso_path_steps;
         const double lambda = lambda_max * std::pow(o.lasso_lambda_min_ratio, frac);
-        LassoCoordinateDescent(z, yc, lambda, o.lasso_max_sweeps, o.lasso_tolerance * std::max(ysd, 1e-12), &beta);
+        LassoGram(gram, zy, lambda, o.lasso_max_sweeps, o.lasso_tolerance * std::max(ysd, 1e-12), &beta);
         int nonzero = 0;
         for (int j = 0; j < p; ++j) nonzero += beta(j) != 0 ? 1 : 0;
         sel.lasso_lambda = lambda;

@@ -16,6 +16,7 @@ const char* ThermalIntervalName(ThermalInterval i) {
     case ThermalInterval::kHeating: return "heating";
     case ThermalInterval::kSteady: return "steady";
     case ThermalInterval::kCooling: return "cooling";
+    case ThermalInterval::kStartUp: return "start-up";
   }
   return "?";
 }

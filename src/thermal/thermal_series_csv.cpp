@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <set>
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/text_file.hpp"
+#include "trueaxis/core/xlsx_workbook.hpp"
 
 namespace trueaxis::thermal {
 namespace {
@@ -188,6 +190,32 @@ ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& so
 }
 
 ThermalSeries ReadThermalSeriesCsv(const std::string& path) { return ParseThermalSeriesCsv(ReadTextFile(path), path); }
+
+std::vector<ThermalSeries> ReadThermalSeriesFile(const std::string& path, std::vector<std::string>* warnings) {
+  if (!IsZipFile(path)) return {ReadThermalSeriesCsv(path)};
+  std::vector<ThermalSeries> out;
+  std::vector<std::string> skipped;
+  std::optional<InputError> first_error;
+  for (const WorkbookSheet& sheet : ReadXlsxWorkbook(path)) {
+    const std::string source = fmt::format("{}[{}]", path, sheet.name);
+    bool empty = true;
+    for (const auto& row : sheet.rows)
+      for (const auto& cell : row) empty = empty && Trim(cell).empty();
+    if (empty) continue;
+    try {
+      out.push_back(ParseThermalSeriesCsv(sheet.ToCsv(), source));
+    } catch (const InputError& e) {
+      if (!first_error) first_error = e;
+      skipped.push_back(fmt::format("sheet '{}' of {} is not read as a recording: {}", sheet.name, path, e.what()));
+    }
+  }
+  if (out.empty()) {
+    if (first_error) throw *first_error;
+    throw InputError(path, 0, "", "the workbook's sheets are all empty");
+  }
+  if (warnings) warnings->insert(warnings->end(), skipped.begin(), skipped.end());
+  return out;
+}
 
 std::string FormatThermalSeriesCsv(const ThermalSeries& s) {
   std::string out;

@@ -32,7 +32,9 @@ TEST(ThermalCli, FitPredictEvaluateWithReport) {
   ASSERT_EQ(pred.exit_code, 0) << pred.output;
   const std::string text = ReadTextFile(dir + "/p.csv");
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 8 * 240 + 1);
-  EXPECT_EQ(text.substr(0, text.find('\n')), "time_s,e_e_predicted_um");
+  // The series holds the measured error too: it is written beside the prediction, with the residual.
+  EXPECT_EQ(text.substr(0, text.find('\n')), "time_s,e_e_predicted_um,e_e_measured_um,e_e_residual_um");
+  EXPECT_NE(pred.output.find("residual RMSE"), std::string::npos) << pred.output;
 
   auto ev = RunCli("thermal evaluate --series " + series +
                    " --train-blocks 0-1 --validate-blocks 2-3 --particles 20 --pso-iterations 10 --epochs 20"
@@ -137,6 +139,43 @@ TEST(ThermalCliSplit, ARecordingWithoutSpeedIsSplitInTimeNotInSample) {
   EXPECT_NE(tenth.output.find("validate on the last 10 %: 20 rows"), std::string::npos) << tenth.output;
   auto both = RunCli("thermal evaluate --series " + dir + "/nospeed.csv --models mlr --validate-last 0.1 --train-blocks 0");
   EXPECT_EQ(both.exit_code, 2) << both.output;
+}
+
+
+// Several files are experiments: evaluated leave-one-experiment-out by default; an explicit
+// sensor list is used as given; a split by rows; conflicting splits refused.
+TEST(ThermalCliExperiments, SeveralFilesSensorListAndRowSplit) {
+  const std::string dir = testing::TempDir("cli_exp");
+  std::string files;
+  for (unsigned e = 0; e < 3; ++e) {
+    ThermalSeries s = testing::MakeSpindleBlockSeries(10 + e);
+    s.source = dir + "/run" + std::to_string(e) + ".csv";
+    WriteThermalSeriesCsv(s, s.source);
+    files += " " + s.source;
+  }
+  auto loeo = RunCli("thermal evaluate --series" + files + " --models mlr,hysteresis");
+  ASSERT_EQ(loeo.exit_code, 0) << loeo.output;
+  EXPECT_NE(loeo.output.find("leave one experiment out: 3 folds"), std::string::npos) << loeo.output;
+  EXPECT_NE(loeo.output.find("ridge (all sensors)"), std::string::npos) << loeo.output;
+  auto one = RunCli("thermal evaluate --series" + files + " --models mlr --validate-experiments 2");
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  EXPECT_NE(one.output.find("validate on " + dir + "/run2.csv"), std::string::npos) << one.output;
+
+  auto listed = RunCli("thermal fit --series" + files + " --model mlr --sensors-list s2,s1 -o " + dir + "/m.json");
+  ASSERT_EQ(listed.exit_code, 0) << listed.output;
+  const std::string model = ReadTextFile(dir + "/m.json");
+  EXPECT_NE(model.find("\"s2\""), std::string::npos);
+  EXPECT_EQ(model.find("\"s0\""), std::string::npos) << "a sensor that was not listed was used";
+  auto unknown = RunCli("thermal fit --series" + files + " --sensors-list s1,nope -o " + dir + "/m2.json");
+  EXPECT_EQ(unknown.exit_code, 2) << unknown.output;
+  EXPECT_NE(unknown.output.find("nope"), std::string::npos) << unknown.output;
+
+  const std::string first = dir + "/run0.csv";
+  auto rows = RunCli("thermal evaluate --series " + first + " --models mlr --validate-rows 1500-1919");
+  ASSERT_EQ(rows.exit_code, 0) << rows.output;
+  EXPECT_NE(rows.output.find("validate on rows 1500-1919 (420 rows)"), std::string::npos) << rows.output;
+  auto two = RunCli("thermal evaluate --series " + first + " --models mlr --validate-rows 1-5 --validate-hours 1-2");
+  EXPECT_EQ(two.exit_code, 2) << two.output;
 }
 
 }  // namespace

@@ -359,7 +359,8 @@ TEST(Evaluation, ModelsBeatNoCompensationOnHeldOutBlocks) {
   EXPECT_EQ(ev.train_rows.size(), 960u);
   EXPECT_EQ(ev.validate_rows.size(), 960u);
   EXPECT_FALSE(ev.in_sample);
-  ASSERT_EQ(ev.models.size(), 4u);
+  ASSERT_EQ(ev.models.size(), 5u);  // + ridge on all sensors, the reference a selection must beat
+  EXPECT_EQ(ev.models[0].name, "ridge (all sensors)");
   // 3000 rpm is never seen in training; the linear models extrapolate the
   // linear physics, the network (sigmoid output) cannot go beyond its
   // training range, so it only has to beat doing nothing.

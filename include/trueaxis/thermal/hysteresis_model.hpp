@@ -11,7 +11,13 @@
 // [t - window_s, t] — causal, so the runtime can classify as it goes.
 //   slope >  +threshold_c_per_h  -> heating
 //   slope <  -threshold_c_per_h  -> cooling
-//   otherwise (or fewer than 3 samples in the window) -> steady
+//   otherwise -> steady
+// A sample whose window holds fewer than 3 samples or spans less than half
+// of window_s (the start of a recording, or after a gap) is kStartUp: the
+// trend is not known yet, and the all-data model predicts it.
+// The fit widens the window to at least kMinWindowSteps sample steps when the
+// recording's sample interval is coarse (with a warning), so a trend can be
+// measured at any sample interval.
 // Sub-models are linear/ridge models (linear_model.hpp) on the same sensor
 // selection options; an interval with fewer than min_interval_samples
 // training rows uses the all-data model instead (said in Describe()).
@@ -22,6 +28,8 @@
 #include "trueaxis/thermal/thermal_model.hpp"
 
 namespace trueaxis::thermal {
+
+inline constexpr int kMinWindowSteps = 6;
 
 struct IntervalClassifierOptions {
   double window_s = 900.0;
@@ -96,7 +104,9 @@ class HysteresisThermalModel final : public ThermalErrorModel {
   std::vector<std::vector<int>> maps_;  // per sub-model (0..2 intervals, 3 all-data): its sensor -> our index
 };
 
-// Needs a series with time (InputError otherwise).
-HysteresisThermalModel FitHysteresisModel(const ThermalSeries& series, const HysteresisFitOptions& options);
+// Needs a series with time (InputError otherwise). `warnings` (optional) receives what the data
+// could not support: a widened window, an interval with too few rows for its own sub-model.
+HysteresisThermalModel FitHysteresisModel(const ThermalSeries& series, const HysteresisFitOptions& options,
+                                          std::vector<std::string>* warnings = nullptr);
 
 }  // namespace trueaxis::thermal

@@ -16,6 +16,12 @@ namespace trueaxis::thermal {
 struct LinearFitOptions {
   double ridge_lambda = 0.0;
   SensorSelectionOptions selection;
+  // true: the number of sensors per channel is chosen by blocked cross-validation on the
+  // training rows (5 contiguous folds in time) among 1, 2, 3, 4, 6, 8, 12, … and ALL sensors,
+  // the smallest count within 2 % of the best held-out RMSE; selection.max_sensors is then only an
+  // upper bound. The choice is the data's, per recording: four sensors can be far worse than all
+  // of them on one machine and better on another (issue 14).
+  bool choose_count_by_cv = false;
 
   bool IsValid(std::string* why) const;
 };

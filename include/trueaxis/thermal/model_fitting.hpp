@@ -44,12 +44,23 @@ struct ModelEvaluation {
   std::string fit_report;
 };
 
+// One train/validate split. A leave-one-experiment-out evaluation has one fold per experiment.
+struct SplitFold {
+  std::string name;  // e.g. "experiment 2 (b.csv)"
+  std::vector<Eigen::Index> train_rows, validate_rows;
+};
+
 struct ThermalEvaluation {
   ThermalSeries series;  // cleaned
   SeriesCleaningReport cleaning;
   std::vector<SpeedBlock> blocks;
   std::vector<int> train_blocks, validate_blocks;
+  // Single split: the rows of its one fold. Several folds (leave-one-experiment-out): every row is
+  // validated by the fold that held it out (validate_rows = all rows), and the training metrics are
+  // those of the model fitted on all rows (the model shown).
   std::vector<Eigen::Index> train_rows, validate_rows;
+  std::vector<SplitFold> folds;
+  std::string split;       // how the split was made, in words
   bool in_sample = false;  // validation rows overlap training rows
   double time_split_fraction = 0;  // > 0: split in time (last fraction validated), blocks unused
   std::vector<ChannelMetrics> baseline_train, baseline_validate;
@@ -71,6 +82,14 @@ struct EvaluationOptions {
   // the last f. With both block options "auto" and a single speed block (no spindle column, or a
   // constant speed) the split is in time with f = 0.3 — never silently in-sample.
   double validate_last_fraction = 0;
+  // Other splits (each replaces the block options; at most one may be given):
+  std::string validate_rows;         // "A-B[,C-D]": validate these data rows (0-based), train on the rest
+  std::string validate_hours;        // "A-B": validate the rows whose time_s lies in [A, B] hours
+  std::string validate_experiments;  // "1,3" (0-based) or "each" (leave-one-experiment-out); a
+                                     // series of several experiments defaults to "each"
+  // Adds ridge on all sensors to the models (unless one is asked for): the reference a sensor
+  // selection must beat.
+  bool all_sensors_reference = true;
 };
 
 ThermalEvaluation EvaluateThermalModels(const ThermalSeries& cleaned, SeriesCleaningReport cleaning,

@@ -22,8 +22,11 @@
 
 namespace trueaxis::thermal {
 
-enum class ThermalInterval { kHeating = 0, kSteady = 1, kCooling = 2 };
-inline constexpr int kThermalIntervalCount = 3;
+// kStartUp: too little history to tell (the trend window is not yet half filled, at the start of a
+// recording or after a gap); a hysteresis model predicts it with its all-data model, which was
+// trained on every state, never with a sub-model trained on another interval.
+enum class ThermalInterval { kHeating = 0, kSteady = 1, kCooling = 2, kStartUp = 3 };
+inline constexpr int kThermalIntervalCount = 3;  // intervals with a sub-model of their own
 const char* ThermalIntervalName(ThermalInterval i);
 
 struct ThermalSample {

@@ -39,7 +39,15 @@ struct ThermalSeries {
   bool has_coolant = false;
   std::vector<CoolantState> coolant;
 
+  // Experiments: a recording made of separate runs (several files, or the sheets of a workbook).
+  // Row r belongs to experiment experiment[r]; empty = a single experiment. ConcatenateExperiments
+  // shifts each run's clock so time keeps increasing, with a gap longer than any trend window.
+  std::vector<int> experiment;
+  std::vector<std::string> experiment_names;
+
   Eigen::Index Rows() const { return static_cast<Eigen::Index>(time_s.size()); }
+  int ExperimentOf(Eigen::Index row) const;
+  int ExperimentCount() const;
   std::optional<std::size_t> TemperatureIndex(const std::string& name) const;
   std::optional<std::size_t> ErrorIndex(const std::string& name) const;
   // File line of a row for error messages (0 if unknown).
@@ -49,12 +57,22 @@ struct ThermalSeries {
 // The rows given (in that order) as a new series; keeps names and metadata.
 ThermalSeries SelectRows(const ThermalSeries& series, const std::vector<Eigen::Index>& rows);
 
+// Several cleaned recordings of the same machine as one series of experiments (one per part,
+// named by its source). Error channels must be the same in every part (InputError naming the part
+// otherwise); temperature sensors missing from some part are dropped, with a warning. Each part's
+// time is shifted to start kExperimentGapS after the previous part's end.
+inline constexpr double kExperimentGapS = 7 * 24 * 3600.0;
+ThermalSeries ConcatenateExperiments(const std::vector<ThermalSeries>& parts, std::vector<std::string>* warnings);
+
+// Keeps only the named temperature sensors, in that order (InputError naming the sensor when absent).
+ThermalSeries SelectTemperatureSensors(const ThermalSeries& series, const std::vector<std::string>& names);
+
 // Keeps only the named error channels (InputError naming the channel when absent).
 ThermalSeries SelectErrorChannels(const ThermalSeries& series, const std::vector<std::string>& names);
 
-// A maximal run of rows at one spindle speed: fl_thermal's programme is a
-// sequence of heating (rpm > 0) and cooling (rpm = 0) blocks. A series
-// without spindle speed is one block.
+// A maximal run of rows at one spindle speed within one experiment: fl_thermal's programme is a
+// sequence of heating (rpm > 0) and cooling (rpm = 0) blocks. A series without spindle speed is
+// one block per experiment.
 struct SpeedBlock {
   int index = 0;
   double spindle_rpm = 0;

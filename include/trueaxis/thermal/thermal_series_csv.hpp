@@ -15,6 +15,7 @@
 // here and handled by CleanSeries, never silently fitted.
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "trueaxis/thermal/thermal_series.hpp"
 
@@ -22,6 +23,11 @@ namespace trueaxis::thermal {
 
 ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& source);
 ThermalSeries ReadThermalSeriesCsv(const std::string& path);
+// A recording file as one or more experiments: a CSV file is one; an Excel workbook (.xlsx, read
+// directly) gives one per worksheet that holds a recording, named "file.xlsx[Sheet]", with the
+// spreadsheet's row numbers as line numbers. A sheet that is not a recording (notes, a chart's
+// data) is skipped with a warning when another sheet is one; otherwise its error is thrown.
+std::vector<ThermalSeries> ReadThermalSeriesFile(const std::string& path, std::vector<std::string>* warnings);
 // Canonical form: time_s[,position_mm][,spindle_rpm][,coolant],t_<n>_c...,e_<n>_um...
 // with shortest round-trip numbers; NaN written as an empty field.
 std::string FormatThermalSeriesCsv(const ThermalSeries& series);
