@@ -65,23 +65,44 @@ void WriteThermalReport(const ThermalEvaluation& ev, const std::string& path) {
   }
 
   const std::vector<Eigen::Index> rows = PlotRows(s.Rows(), 1500);
+  // Several experiments are drawn one after the other on one time axis (without the gap that
+  // separates them in the joined series), with a marker where each begins.
+  std::vector<double> row_x(static_cast<std::size_t>(s.Rows()));
+  std::vector<std::pair<double, std::string>> experiment_starts;
+  {
+    double offset_h = 0, start_s = s.Rows() ? s.time_s[0] : 0.0;
+    for (Eigen::Index r = 0; r < s.Rows(); ++r) {
+      const auto ru = static_cast<std::size_t>(r);
+      if (s.ExperimentCount() > 1 && (r == 0 || s.ExperimentOf(r) != s.ExperimentOf(r - 1))) {
+        if (r > 0)  // one sample step after the previous experiment's last row
+          offset_h = row_x[ru - 1] + (ru >= 2 ? (s.time_s[ru - 1] - s.time_s[ru - 2]) / 3600.0 : 0.0);
+        start_s = s.time_s[ru];
+        experiment_starts.emplace_back(offset_h, s.experiment_names[static_cast<std::size_t>(s.ExperimentOf(r))]);
+      }
+      row_x[ru] = !s.has_time ? static_cast<double>(r)
+                  : s.ExperimentCount() > 1 ? offset_h + (s.time_s[ru] - start_s) / 3600.0
+                                            : s.time_s[ru] / 3600.0;
+    }
+  }
   std::vector<double> x;
-  for (Eigen::Index r : rows) x.push_back(s.has_time ? s.time_s[static_cast<std::size_t>(r)] / 3600.0 : static_cast<double>(r));
-  const std::string x_label = s.has_time ? "time (h)" : "sample";
+  for (Eigen::Index r : rows) x.push_back(row_x[static_cast<std::size_t>(r)]);
+  const std::string x_label = !s.has_time ? "sample" : s.ExperimentCount() > 1 ? "time, experiments end to end (h)" : "time (h)";
   double split_x = NAN;
-  if (!ev.in_sample && !ev.validate_rows.empty() && s.has_time)
-    split_x = s.time_s[static_cast<std::size_t>(ev.validate_rows.front())] / 3600.0;
+  if (!ev.in_sample && !ev.validate_rows.empty() && s.has_time && ev.folds.size() == 1)
+    split_x = row_x[static_cast<std::size_t>(ev.validate_rows.front())];
   // Where the rows switch between training and validation: a marker on every chart.
   std::vector<std::pair<double, bool>> switches;  // x, true = validation starts
-  if (!ev.in_sample && !ev.validate_rows.empty()) {
+  if (!ev.in_sample && !ev.validate_rows.empty() && ev.folds.size() == 1) {
     std::vector<bool> is_validation(static_cast<std::size_t>(s.Rows()), false);
     for (auto r : ev.validate_rows) is_validation[static_cast<std::size_t>(r)] = true;
     for (Eigen::Index r = 1; r < s.Rows(); ++r)
       if (is_validation[static_cast<std::size_t>(r)] != is_validation[static_cast<std::size_t>(r - 1)])
-        switches.emplace_back(s.has_time ? s.time_s[static_cast<std::size_t>(r)] / 3600.0 : static_cast<double>(r),
-                              is_validation[static_cast<std::size_t>(r)]);
+        switches.emplace_back(row_x[static_cast<std::size_t>(r)], is_validation[static_cast<std::size_t>(r)]);
   }
   auto mark_split = [&](report::SvgChart& chart) {
+    for (std::size_t e = 0; e < experiment_starts.size(); ++e)
+      chart.AddVerticalLine(e == 0 ? "experiment starts" : "", experiment_starts[e].first,
+                            report::SeriesStyle{"#E68310", 1.2, true});
     bool labelled_v = false, labelled_t = false;
     for (const auto& [sx, validation] : switches) {
       report::SeriesStyle st{validation ? "#7F3C8D" : "#11A579", 1.4, true};
