@@ -161,7 +161,7 @@ ThermalSeries LoadSeries(const CommonOptions& o, SeriesCleaningReport* report) {
 ModelKind ParseKind(const std::string& text, const std::string& field) {
   ModelKind k;
   if (!ParseModelKind(text, &k))
-    throw InputError("command line", 0, field, "'" + text + "' is not a model: mlr, ridge, pso-bp or hysteresis");
+    throw InputError("command line", 0, field, "'" + text + "' is not a model: mlr, ridge, pso-bp, hysteresis or auto");
   return k;
 }
 
@@ -177,7 +177,7 @@ void Setup(CLI::App& app) {
     auto out = std::make_shared<std::string>();
     auto blocks = std::make_shared<std::string>("all");
     AddCommon(cmd, o.get());
-    cmd->add_option("--model", *kind, "mlr, ridge, pso-bp or hysteresis")->capture_default_str();
+    cmd->add_option("--model", *kind, "mlr, ridge, pso-bp, hysteresis, or auto (the best of mlr/ridge/hysteresis by blocked CV)")->capture_default_str();
     cmd->add_option("--train-blocks", *blocks, "speed blocks to fit on (e.g. 0-8); default all rows")
         ->capture_default_str();
     cmd->add_option("-o,--out", *out, "model JSON to write")->required();
@@ -278,7 +278,7 @@ void Setup(CLI::App& app) {
     auto report = std::make_shared<std::string>();
     auto markdown = std::make_shared<std::string>();
     AddCommon(cmd, o.get());
-    cmd->add_option("--models", *models, "comma list of mlr, ridge, pso-bp, hysteresis")->capture_default_str();
+    cmd->add_option("--models", *models, "comma list of mlr, ridge, pso-bp, hysteresis, auto")->capture_default_str();
     cmd->add_option("--train-blocks", *train,
                     "speed blocks to train on, e.g. 0-8 (auto: first 60 % of blocks; all)")
         ->capture_default_str();

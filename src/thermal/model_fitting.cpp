@@ -3,6 +3,7 @@
 #include <chrono>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -17,12 +18,13 @@ const char* ModelKindName(ModelKind k) {
     case ModelKind::kRidge: return "ridge";
     case ModelKind::kPsoBp: return "pso-bp";
     case ModelKind::kHysteresis: return "hysteresis";
+    case ModelKind::kAuto: return "auto";
   }
   return "?";
 }
 
 bool ParseModelKind(const std::string& text, ModelKind* out) {
-  for (auto k : {ModelKind::kMlr, ModelKind::kRidge, ModelKind::kPsoBp, ModelKind::kHysteresis})
+  for (auto k : {ModelKind::kMlr, ModelKind::kRidge, ModelKind::kPsoBp, ModelKind::kHysteresis, ModelKind::kAuto})
     if (text == ModelKindName(k)) {
       *out = k;
       return true;
@@ -39,10 +41,38 @@ bool ThermalFitOptions::IsValid(std::string* why) const {
     case ModelKind::kMlr:
     case ModelKind::kRidge: return linear.IsValid(why);
     case ModelKind::kPsoBp: return network.IsValid(why);
-    case ModelKind::kHysteresis: return linear.IsValid(why) && hysteresis.classifier.IsValid(why);
+    case ModelKind::kHysteresis:
+    case ModelKind::kAuto: return linear.IsValid(why) && hysteresis.classifier.IsValid(why);
   }
   return true;
 }
+
+namespace {
+
+// Blocked k-fold CV RMSE (all channels pooled) of one model kind on `s`.
+double BlockedCvRmse(const ThermalSeries& s, const ThermalFitOptions& o) {
+  constexpr int kFolds = 5;
+  const Eigen::Index n = s.Rows();
+  double ss = 0;
+  long count = 0;
+  for (int f = 0; f < kFolds; ++f) {
+    const Eigen::Index lo = n * f / kFolds, hi = n * (f + 1) / kFolds;
+    std::vector<Eigen::Index> train;
+    for (Eigen::Index r = 0; r < n; ++r)
+      if (r < lo || r >= hi) train.push_back(r);
+    const auto model = FitThermalModel(SelectRows(s, train), o, nullptr);
+    const Eigen::MatrixXd p = PredictSeries(*model, s);
+    for (Eigen::Index r = lo; r < hi; ++r)
+      for (Eigen::Index c = 0; c < s.errors_um.cols(); ++c) {
+        const double e = s.errors_um(r, c) - p(r, c);
+        ss += e * e;
+        ++count;
+      }
+  }
+  return count ? std::sqrt(ss / static_cast<double>(count)) : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
 
 std::unique_ptr<ThermalErrorModel> FitThermalModel(const ThermalSeries& s, const ThermalFitOptions& o,
                                                    std::string* fit_report) {
@@ -50,6 +80,25 @@ std::unique_ptr<ThermalErrorModel> FitThermalModel(const ThermalSeries& s, const
   if (!o.IsValid(&why)) throw InputError("fit options", why);
   if (s.error_names.empty()) throw InputError(s.source, 0, "", "no error channel to fit");
   switch (o.kind) {
+    case ModelKind::kAuto: {
+      if (s.Rows() < 50) throw InputError(s.source, 0, "--model", "auto needs at least 50 rows to cross-validate");
+      std::string cv;
+      ThermalFitOptions best = o;
+      double best_rmse = std::numeric_limits<double>::infinity();
+      for (ModelKind k : {ModelKind::kMlr, ModelKind::kRidge, ModelKind::kHysteresis}) {
+        ThermalFitOptions c = o;
+        c.kind = k;
+        if (k == ModelKind::kHysteresis && !s.has_time) continue;
+        const double rmse = BlockedCvRmse(s, c);
+        cv += fmt::format("{}{} {:.3f} µm", cv.empty() ? "" : ", ", ModelKindName(k), rmse);
+        if (rmse < best_rmse) best_rmse = rmse, best = c;
+      }
+      std::string report;
+      auto m = FitThermalModel(s, best, &report);
+      if (fit_report)
+        *fit_report = fmt::format("auto: {} chosen by blocked 5-fold CV RMSE ({})\n{}", ModelKindName(best.kind), cv, report);
+      return m;
+    }
     case ModelKind::kMlr: {
       LinearFitOptions lo = o.linear;
       lo.ridge_lambda = 0;
@@ -361,6 +410,7 @@ ThermalEvaluation EvaluateThermalModels(const ThermalSeries& cleaned, SeriesClea
     me.name = ModelLabel(fo);
     const auto t0 = std::chrono::steady_clock::now();
     me.model = FitThermalModel(SelectRows(cleaned, ev.train_rows), fo, &me.fit_report);
+    if (fo.kind == ModelKind::kAuto) me.name += fmt::format(" ({})", me.model->Kind());
     me.fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     me.predicted_um = PredictSeries(*me.model, cleaned);
     me.train = ResidualMetrics(cleaned, me.predicted_um, ev.train_rows);

@@ -274,3 +274,33 @@ TEST(Workbook, EachSheetIsAnExperimentWithSpreadsheetRowNumbers) {
 
 }  // namespace
 }  // namespace trueaxis::thermal
+
+namespace trueaxis::thermal {
+namespace {
+
+// --model auto: the kind with the lowest blocked-CV RMSE on the rows given.
+TEST(AutoModel, ChoosesHysteresisWhereHeatingAndCoolingDifferAndALinearModelWhereNot) {
+  ThermalSeries loop = testing::MakeSeries(12 * 240, 2);
+  double lag = 20;
+  for (int r = 0; r < loop.Rows(); ++r) {  // error lags temperature by 30 min: a hysteresis loop
+    const double h = loop.time_s[static_cast<std::size_t>(r)] / 3600, cycle = std::fmod(h, 6);
+    const double t = cycle < 2 ? 20 + 2 * cycle : cycle < 3 ? 24 : cycle < 5 ? 24 - 2 * (cycle - 3) : 20;
+    lag += (t - lag) * 15.0 / 1800.0;
+    loop.temperatures_c(r, 0) = t;
+    loop.temperatures_c(r, 1) = 20 + 0.1 * std::sin(h);
+    loop.errors_um(r, 0) = 3.0 * (lag - 20);
+  }
+  ThermalFitOptions o;
+  o.kind = ModelKind::kAuto;
+  std::string report;
+  auto m = FitThermalModel(loop, o, &report);
+  EXPECT_EQ(m->Kind(), "hysteresis") << report;
+  EXPECT_NE(report.find("blocked 5-fold CV"), std::string::npos);
+  // A static linear relation: no interval structure to exploit.
+  ThermalSeries linear = Experiment(7, "lin.csv", 1200);
+  m = FitThermalModel(linear, o, &report);
+  EXPECT_EQ(m->Kind(), "linear") << report;
+}
+
+}  // namespace
+}  // namespace trueaxis::thermal
