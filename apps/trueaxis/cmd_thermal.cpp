@@ -1,5 +1,6 @@
 // trueaxis thermal fit|predict|evaluate — data-driven thermal error models
 // (docs/thermal-models.md, docs/thermal-series.md).
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -12,6 +13,7 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
+#include "trueaxis/thermal/lagged_inputs.hpp"
 #include "trueaxis/thermal/model_fitting.hpp"
 #include "trueaxis/thermal/thermal_series_csv.hpp"
 
@@ -23,6 +25,7 @@ struct CommonOptions {
   std::vector<std::string> series;  // several: one experiment each
   std::string channels;  // comma list; empty = all
   std::string sensors_list;  // comma list; empty = every sensor of the series
+  std::string lags_s = "auto";  // lagged inputs: auto (DefaultLagGridS), none, or a list of τ in s
   // cleaning
   int max_gap_samples = 4;
   bool strict = false;
@@ -59,7 +62,11 @@ void AddCommon(CLI::App* cmd, CommonOptions* o) {
       ->expected(1, -1);
   cmd->add_option("--channels", o->channels, "error channels to model, comma separated (default: all)");
   cmd->add_option("--sensors-list", o->sensors_list,
-                  "use exactly these temperature sensors, comma separated (no selection; e.g. t1,t4,t9)");
+                  "use exactly these inputs, comma separated (no selection; e.g. t1,t4,t9 or t4@lag1800s)");
+  cmd->add_option("--lags-s", o->lags_s,
+                  "offer each sensor also lagged by these time constants (first-order lag, s): auto "
+                  "(600,1800,5400,16200 up to a third of the recording), none, or a list such as 900,2700")
+      ->capture_default_str();
   cmd->add_option("--max-gap-samples", o->max_gap_samples, "interior gaps up to this many rows are interpolated")
       ->capture_default_str();
   cmd->add_flag("--strict", o->strict, "refuse a series with a dead/gappy temperature channel instead of dropping it");
@@ -84,6 +91,17 @@ void AddCommon(CLI::App* cmd, CommonOptions* o) {
   cmd->add_option("--window-s", o->window_s, "hysteresis: trailing window of the temperature trend")->capture_default_str();
   cmd->add_option("--threshold-c-per-h", o->threshold_c_per_h, "hysteresis: |trend| above this is heating/cooling")
       ->capture_default_str();
+}
+
+// The raw sensors behind a list of inputs (a lagged input "t4@lag1800s" needs t4).
+std::vector<std::string> BaseSensors(const std::vector<std::string>& inputs) {
+  std::vector<std::string> out;
+  for (const auto& name : inputs) {
+    std::string base = name;
+    ParseLaggedName(name, &base, nullptr);
+    if (std::find(out.begin(), out.end(), base) == out.end()) out.push_back(base);
+  }
+  return out;
 }
 
 // --sensors as a count: the number given, or for "auto" the upper bound of the CV's search.
@@ -136,7 +154,7 @@ ThermalSeries LoadSeries(const CommonOptions& o, SeriesCleaningReport* report) {
   for (const auto& path : o.series)
     for (ThermalSeries s : ReadThermalSeriesFile(path, &report->warnings)) {
       if (!o.channels.empty()) s = SelectErrorChannels(s, SplitList(o.channels));
-      if (!o.sensors_list.empty()) s = SelectTemperatureSensors(s, SplitList(o.sensors_list));
+      if (!o.sensors_list.empty()) s = SelectTemperatureSensors(s, BaseSensors(SplitList(o.sensors_list)));
       SeriesCleaningReport part_report;
       parts.push_back(CleanSeries(s, co, &part_report));
       for (const auto& w : part_report.warnings) report->warnings.push_back(w);
@@ -144,6 +162,24 @@ ThermalSeries LoadSeries(const CommonOptions& o, SeriesCleaningReport* report) {
       for (const auto& d : part_report.dropped_temperatures) report->dropped_temperatures.push_back(d);
     }
   ThermalSeries cleaned = ConcatenateExperiments(parts, &report->warnings);
+  if (o.lags_s != "none") {
+    std::vector<double> grid = DefaultLagGridS();
+    if (o.lags_s != "auto") {
+      grid.clear();
+      for (const auto& t : SplitList(o.lags_s)) {
+        const auto v = ParseDouble(t);
+        if (!v || !(*v > 0)) throw InputError("command line", 0, "--lags-s", fmt::format("'{}' is not a time constant in s", t));
+        grid.push_back(*v);
+      }
+    }
+    std::vector<double> skipped;
+    if (cleaned.has_time) cleaned = AddLaggedTemperatures(cleaned, grid, &skipped);
+    else if (o.lags_s != "auto") throw InputError(cleaned.source, 0, "--lags-s", "lagged inputs need time_s");
+    if (o.lags_s != "auto" && !skipped.empty())
+      report->warnings.push_back(fmt::format("--lags-s: {} s skipped: longer than a third of the recording",
+                                             fmt::join(skipped, ", ")));
+  }
+  if (!o.sensors_list.empty()) cleaned = SelectTemperatureSensors(cleaned, SplitList(o.sensors_list));
   for (const auto& w : report->warnings) fmt::print(stderr, "warning: {}\n", w);
   // More sensors asked for than the recording has: say so rather than silently use them all.
   const int available = static_cast<int>(cleaned.temperature_names.size());
@@ -223,7 +259,7 @@ void Setup(CLI::App& app) {
       ThermalSeries cleaned = ConcatenateExperiments(parts, &rep.warnings);
       for (const auto& w : rep.warnings) fmt::print(stderr, "warning: {}\n", w);
       Eigen::MatrixXd pred = PredictSeries(*model, cleaned);
-      std::vector<ThermalInterval> iv = model->ClassifyRows(cleaned);
+      std::vector<ThermalInterval> iv = model->ClassifyRows(WithLaggedInputs(cleaned, model->InputSensors()));
       std::string text = cleaned.has_time ? "time_s" : "row";
       if (cleaned.has_position) text += ",position_mm";
       if (model->UsesInterval()) text += ",interval";

@@ -98,6 +98,9 @@ LinearThermalModel LinearThermalModel::FromJson(const nlohmann::json& doc, const
 
 namespace {
 
+// The smallest count whose CV RMSE is within this factor of the best is taken.
+constexpr double kCountTolerance = 1.02;
+
 // One channel's least-squares (ridge) fit on the chosen sensors: intercept + k per sensor.
 struct ChannelSolution {
   std::vector<int> sensors;
@@ -204,7 +207,7 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
       // (the last candidate), so the default cannot lose to "all sensors" on the data it chose by.
       double best = std::numeric_limits<double>::infinity();
       for (const auto& [so, rms] : tried) best = std::min(best, rms);
-      const double limit = std::min(1.02 * best, tried.back().second);
+      const double limit = std::min(kCountTolerance * best, tried.back().second);
       for (const auto& [so, rms] : tried)
         if (rms <= limit) {
           chosen = so;

@@ -6,6 +6,7 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/thermal/hysteresis_model.hpp"
+#include "trueaxis/thermal/lagged_inputs.hpp"
 #include "trueaxis/thermal/linear_model.hpp"
 #include "trueaxis/thermal/pso_bp_network.hpp"
 
@@ -25,8 +26,9 @@ std::vector<ThermalInterval> ThermalErrorModel::ClassifyRows(const ThermalSeries
   return std::vector<ThermalInterval>(static_cast<std::size_t>(series.Rows()), ThermalInterval::kSteady);
 }
 
-Eigen::MatrixXd PredictSeries(const ThermalErrorModel& model, const ThermalSeries& s) {
+Eigen::MatrixXd PredictSeries(const ThermalErrorModel& model, const ThermalSeries& series) {
   const auto& need = model.InputSensors();
+  const ThermalSeries s = WithLaggedInputs(series, need);  // lagged inputs computed from their sensors
   std::vector<Eigen::Index> cols;
   for (const auto& name : need) {
     auto idx = s.TemperatureIndex(name);
