@@ -7,7 +7,12 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 # Tests and benchmarks are switched on explicitly: scripts/demo.sh configures the same build/
 # with them off, and CMake's cache would otherwise keep that (no tests built, none run).
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRUEAXIS_BUILD_TESTS=ON -DTRUEAXIS_BUILD_BENCH=ON
+# A compiler cache, when the machine has one, makes rebuilds of unchanged files free.
+LAUNCHER=()
+if command -v ccache >/dev/null 2>&1; then
+  LAUNCHER=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+fi
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRUEAXIS_BUILD_TESTS=ON -DTRUEAXIS_BUILD_BENCH=ON "${LAUNCHER[@]}"
 cmake --build build -j"$(nproc)"
 
 # Bounded libFuzzer run of the measurement readers (fuzz/): a separate clang
@@ -15,7 +20,7 @@ cmake --build build -j"$(nproc)"
 # most 12 s), so this adds < 30 s of fuzzing. Skipped, saying so, without clang.
 if command -v clang++ >/dev/null 2>&1 && command -v clang >/dev/null 2>&1; then
   CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DTRUEAXIS_BUILD_FUZZ=ON \
-    -DTRUEAXIS_BUILD_TESTS=OFF -DTRUEAXIS_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DTRUEAXIS_BUILD_TESTS=OFF -DTRUEAXIS_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo "${LAUNCHER[@]}" \
     "-DCMAKE_CXX_FLAGS=-fsanitize=fuzzer-no-link,address,undefined"
   cmake --build build-fuzz -j"$(nproc)" --target fuzz_measurement_csv fuzz_ecmc_dat
   scratch="$(mktemp -d)"
