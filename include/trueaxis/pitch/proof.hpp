@@ -1,0 +1,71 @@
+#pragma once
+// The seed-002 proof on the virtual machine (docs/pitch-error-file.md, "Proof"):
+// fine calibration on day 0 (laser zeroed at the reference after homing),
+// the once-per-lead table from it, then on day `verify_day` the axis is
+// re-homed and measured again at lead/per_lead spacing with the table applied
+// ahead of the motion by the interpolator. Figures before and after, as seed
+// 002 gives them (maximum positioning error, uncertainty = 3σ) and by
+// ISO 230-2:2014 (A, E, R, B), plus what is left and why: the table's
+// interpolation error (between its samples: the lead's periodic error a
+// once-per-lead table cannot see) against the repeatability (3σ).
+// Also the following error of the correction vs feed, ahead and late.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "trueaxis/analysis/evaluation.hpp"
+#include "trueaxis/pitch/fine_cycle.hpp"
+
+namespace trueaxis::pitch {
+
+struct PositioningFigures {
+  int targets = 0;
+  double max_error_um = 0;    // largest |deviation| of any reading (seed 002: 最大定位误差)
+  double uncertainty_um = 0;  // 3σ, σ pooled run-to-run (seed 002: 3σ 误差带, B-type)
+  analysis::AxisResult iso;   // ISO 230-2:2014
+};
+
+PositioningFigures Figures(const measure::Measurement& m);
+// The readings of `m` at targets on the grid reference + k·spacing (1 µm).
+measure::Measurement AtGrid(const measure::Measurement& m, double reference_mm, double spacing_mm);
+
+struct FollowingPoint {
+  double feed_mm_min = 0;
+  sim::MoveStats ahead, late;
+};
+
+// Following error of the correction (interpolator statistics) for one long
+// forward move across the table (at most 300 mm) at each feed, ahead and late.
+std::vector<FollowingPoint> FollowingErrorVsFeed(const sim::MachineDescription& machine, std::size_t axis,
+                                                 const PitchErrorTable& table, const std::vector<double>& feeds_mm_min,
+                                                 const sim::InterpolatorOptions& interpolator, std::uint64_t seed);
+
+struct PitchProofOptions {
+  std::uint64_t seed = 1;
+  FineCycleOptions cycle;            // per_lead 4: measured at lead/4
+  int samples_per_lead = 1;          // the table: once per lead
+  int verify_day = 1;                // re-homed and verified the next morning
+  sim::HomingMethod homing = sim::HomingMethod::kSwitchAndIndex;
+  sim::InterpolatorOptions interpolator;  // 2 ms, ahead
+  std::vector<double> feeds_mm_min = {1000, 5000, 10000, 20000, 40000};
+};
+
+struct PitchProofResult {
+  std::string machine, axis;
+  double lead_mm = 0, travel_mm = 0;
+  PitchErrorTable table;
+  measure::Measurement before_run, after_run;
+  PositioningFigures before, after;            // at every fine target
+  PositioningFigures before_at_lead, after_at_lead;  // at the lead points only (as seed 002 measured)
+  double interpolation_error_um = 0;  // max |fine calibration mean − table|, per direction
+  double homing_shift_um = 0;         // reference error after re-homing − on the calibration day (truth)
+  std::size_t outside_table_lookups = 0;
+  std::vector<FollowingPoint> following;
+  // "interpolation" or "repeatability": which of the two is the larger share of the residual.
+  std::string Dominant() const;
+  std::string Report() const;  // a few lines of text
+};
+
+PitchProofResult RunPitchProof(const sim::MachineDescription& machine, std::size_t axis, const PitchProofOptions& options);
+
+}  // namespace trueaxis::pitch
