@@ -33,12 +33,12 @@ std::string MarkdownRow(const pitch::PitchProofResult& r) {
   auto pair = [](double b, double a) { return fmt::format("{:.1f} → {:.1f}", b, a); };
   const auto& f = r.following.empty() ? pitch::FollowingPoint{} : r.following.back();
   return fmt::format("| {} {} | {:g} / {:g} | {} | {} | {} | {} | {} | {} | {} | {:.1f} / {:.1f} | {} | {:.2f} / {:.2f} @ {:g} |",
-                     r.machine, r.axis, r.travel_mm, r.lead_mm, pair(r.before.max_error_um, r.after.max_error_um),
-                     fmt::format("{:.2f} → {:.2f}", r.before.uncertainty_um, r.after.uncertainty_um),
-                     pair(r.before.iso.A_um, r.after.iso.A_um), pair(r.before.iso.E_um, r.after.iso.E_um),
-                     pair(r.before.iso.R_um, r.after.iso.R_um), pair(r.before.iso.B_um, r.after.iso.B_um),
-                     pair(r.before_at_lead.max_error_um, r.after_at_lead.max_error_um), r.interpolation_error_um,
-                     r.after.uncertainty_um, r.Dominant(), f.ahead.max_abs_following_um, f.late.max_abs_following_um,
+                     r.machine, r.axis, r.travel_mm, r.lead_mm, pair(r.c.before.max_error_um, r.c.after.max_error_um),
+                     fmt::format("{:.2f} → {:.2f}", r.c.before.uncertainty_um, r.c.after.uncertainty_um),
+                     pair(r.c.before.iso.A_um, r.c.after.iso.A_um), pair(r.c.before.iso.E_um, r.c.after.iso.E_um),
+                     pair(r.c.before.iso.R_um, r.c.after.iso.R_um), pair(r.c.before.iso.B_um, r.c.after.iso.B_um),
+                     pair(r.c.before_at_lead.max_error_um, r.c.after_at_lead.max_error_um), r.c.interpolation_error_um,
+                     r.c.after.repeatability_3s_um, r.c.Dominant(), f.ahead.max_abs_following_um, f.late.max_abs_following_um,
                      f.feed_mm_min);
 }
 

@@ -1,6 +1,7 @@
 // trueaxis sim fine --machine FILE --axis X --out FILE.csv [--day N] [--pitch-file F] ...
 // A fine calibration cycle (every lead/4) on the virtual machine, optionally
 // with a pitch error file applied by the interpolator (docs/pitch-error-file.md).
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
 
@@ -48,6 +49,8 @@ void Run(const Options& o) {
   } catch (const std::invalid_argument& e) {
     throw InputError(o.machine, e.what());  // machine and options do not fit together
   }
+  const auto dir = std::filesystem::path(o.out).parent_path();
+  if (!dir.empty()) std::filesystem::create_directories(dir);
   measure::WriteMeasurementCsv(r.measurement, o.out);
   const auto ev = analysis::Evaluate(r.measurement);
   fmt::print(stderr, "day {}: homed by {} (reference error {:.3f} um; day 0: {:.3f} um{})\n", o.day,
@@ -58,7 +61,9 @@ void Run(const Options& o) {
     fmt::print(stderr, "table applied ({} feed-forward, {} ms cycle){}\n", sim::FeedForwardName(so.interpolator.mode),
                o.fine.cycle_ms,
                r.outside_table_lookups > 0
-                   ? fmt::format("; warning: {} lookups beyond the table's ends held its end values", r.outside_table_lookups)
+                   ? fmt::format("\nwarning: the axis moved beyond the table's ends ({}…{} mm); its end values were held "
+                                 "there ({} interpolator lookups)",
+                                 table.position_mm.front(), table.position_mm.back(), r.outside_table_lookups)
                    : "");
   fmt::print("{}\n", o.out);
 }

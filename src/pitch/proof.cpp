@@ -20,7 +20,12 @@ PositioningFigures Figures(const measure::Measurement& m) {
     ss += (t.n_up - 1) * t.s_up_um * t.s_up_um + (t.n_down - 1) * t.s_down_um * t.s_down_um;
     dof += (t.n_up - 1) + (t.n_down - 1);
   }
-  f.uncertainty_um = dof > 0 ? 3 * std::sqrt(ss / dof) : 0.0;
+  f.repeatability_3s_um = dof > 0 ? 3 * std::sqrt(ss / dof) : 0.0;
+  double sum = 0, sum_sq = 0;
+  for (const auto& p : m.points) sum += p.deviation_um;
+  const double mean = sum / static_cast<double>(m.points.size());
+  for (const auto& p : m.points) sum_sq += (p.deviation_um - mean) * (p.deviation_um - mean);
+  f.uncertainty_um = m.points.size() > 1 ? 3 * std::sqrt(sum_sq / static_cast<double>(m.points.size() - 1)) : 0.0;
   return f;
 }
 
@@ -57,24 +62,35 @@ std::vector<FollowingPoint> FollowingErrorVsFeed(const sim::MachineDescription& 
   return out;
 }
 
-std::string PitchProofResult::Dominant() const {
-  return interpolation_error_um >= after.uncertainty_um ? "interpolation" : "repeatability";
+PitchComparison ComparePitch(const measure::Measurement& before, const measure::Measurement& after,
+                             const PitchErrorTable& table) {
+  PitchComparison c;
+  c.before = Figures(before);
+  c.after = Figures(after);
+  c.before_at_lead = Figures(AtGrid(before, table.reference_mm, table.lead_mm));
+  c.after_at_lead = Figures(AtGrid(after, table.reference_mm, table.lead_mm));
+  c.interpolation_error_um = MaxInterpolationErrorUm(table, before);
+  return c;
+}
+
+std::string PitchComparison::Dominant() const {
+  return interpolation_error_um >= after.repeatability_3s_um ? "interpolation" : "repeatability";
 }
 
 std::string PitchProofResult::Report() const {
   std::string s = fmt::format("{} axis {}: travel {} mm, lead {} mm, table {} points (once per {} mm), verified at {} targets\n",
-                              machine, axis, travel_mm, lead_mm, table.size(), table.SpacingMm(), after.targets);
+                              machine, axis, travel_mm, lead_mm, table.size(), table.SpacingMm(), c.after.targets);
   auto line = [](const char* what, const PositioningFigures& b, const PositioningFigures& a) {
-    return fmt::format("  {:<22} max error {:7.3f} -> {:6.3f} um   uncertainty 3s {:6.3f} -> {:6.3f} um   "
+    return fmt::format("  {:<22} max error {:7.3f} -> {:6.3f} um   error band 3s {:6.3f} -> {:6.3f} um   "
                        "A {:7.3f} -> {:6.3f}  E {:7.3f} -> {:6.3f}  R {:6.3f} -> {:6.3f}  B {:6.3f} -> {:6.3f} um\n",
                        what, b.max_error_um, a.max_error_um, b.uncertainty_um, a.uncertainty_um, b.iso.A_um, a.iso.A_um,
                        b.iso.E_um, a.iso.E_um, b.iso.R_um, a.iso.R_um, b.iso.B_um, a.iso.B_um);
   };
-  s += line("at lead/4 targets", before, after);
-  s += line("at lead points only", before_at_lead, after_at_lead);
-  s += fmt::format("  residual: table interpolation error {:.3f} um vs repeatability 3s {:.3f} um -> {} dominates; "
-                   "homing shift {:.3f} um\n",
-                   interpolation_error_um, after.uncertainty_um, Dominant(), homing_shift_um);
+  s += line("at every fine target", c.before, c.after);
+  s += line("at lead points only", c.before_at_lead, c.after_at_lead);
+  s += fmt::format("  residual: table interpolation error {:.3f} um vs repeatability 3s {:.3f} um (run to run) -> {} "
+                   "dominates; homing shift {:.3f} um\n",
+                   c.interpolation_error_um, c.after.repeatability_3s_um, c.Dominant(), homing_shift_um);
   for (const auto& f : following)
     s += fmt::format("  feed {:6.0f} mm/min: following error of the correction max {:.3f} (ahead) vs {:.3f} um (late)\n",
                      f.feed_mm_min, f.ahead.max_abs_following_um, f.late.max_abs_following_um);
@@ -106,11 +122,7 @@ PitchProofResult RunPitchProof(const sim::MachineDescription& machine, std::size
   r.after_run = after.measurement;
   r.outside_table_lookups = after.outside_table_lookups;
   r.homing_shift_um = after.homing.offset_um - after.calibration_homing.offset_um;
-  r.before = Figures(r.before_run);
-  r.after = Figures(r.after_run);
-  r.before_at_lead = Figures(AtGrid(r.before_run, ad.reference_mm, ad.lead_mm));
-  r.after_at_lead = Figures(AtGrid(r.after_run, ad.reference_mm, ad.lead_mm));
-  r.interpolation_error_um = MaxInterpolationErrorUm(r.table, r.before_run);
+  r.c = ComparePitch(r.before_run, r.after_run, r.table);
   r.following = FollowingErrorVsFeed(machine, axis, r.table, o.feeds_mm_min, o.interpolator, o.seed);
   return r;
 }

@@ -21,13 +21,28 @@ namespace trueaxis::pitch {
 struct PositioningFigures {
   int targets = 0;
   double max_error_um = 0;    // largest |deviation| of any reading (seed 002: 最大定位误差)
-  double uncertainty_um = 0;  // 3σ, σ pooled run-to-run (seed 002: 3σ 误差带, B-type)
+  double uncertainty_um = 0;  // seed 002's 3σ error band: 3 × the standard deviation of all readings
+                              //   (systematic curve and scatter together; what a table can shrink)
+  double repeatability_3s_um = 0;  // 3σ, σ pooled run-to-run: what no table can remove
   analysis::AxisResult iso;   // ISO 230-2:2014
 };
 
 PositioningFigures Figures(const measure::Measurement& m);
 // The readings of `m` at targets on the grid reference + k·spacing (1 µm).
 measure::Measurement AtGrid(const measure::Measurement& m, double reference_mm, double spacing_mm);
+
+// Before/after figures of one table: at every fine target and at the lead
+// points only (as seed 002 measured), and what is left and why.
+struct PitchComparison {
+  PositioningFigures before, after;                  // at every fine target
+  PositioningFigures before_at_lead, after_at_lead;  // at the lead points only
+  double interpolation_error_um = 0;  // max |before mean − table|, per direction (what the table cannot see)
+  // "interpolation" or "repeatability": the larger of interpolation_error_um and after.repeatability_3s_um.
+  std::string Dominant() const;
+};
+
+PitchComparison ComparePitch(const measure::Measurement& before, const measure::Measurement& after,
+                             const PitchErrorTable& table);
 
 struct FollowingPoint {
   double feed_mm_min = 0;
@@ -55,14 +70,10 @@ struct PitchProofResult {
   double lead_mm = 0, travel_mm = 0;
   PitchErrorTable table;
   measure::Measurement before_run, after_run;
-  PositioningFigures before, after;            // at every fine target
-  PositioningFigures before_at_lead, after_at_lead;  // at the lead points only (as seed 002 measured)
-  double interpolation_error_um = 0;  // max |fine calibration mean − table|, per direction
+  PitchComparison c;
   double homing_shift_um = 0;         // reference error after re-homing − on the calibration day (truth)
   std::size_t outside_table_lookups = 0;
   std::vector<FollowingPoint> following;
-  // "interpolation" or "repeatability": which of the two is the larger share of the residual.
-  std::string Dominant() const;
   std::string Report() const;  // a few lines of text
 };
 
