@@ -22,7 +22,7 @@ using namespace trueaxis;
 struct Options {
   std::string machine, axis, out;
   std::uint64_t seed = 1;
-  int day = 1;
+  int day = 0;
   int samples_per_lead = 1;
   std::vector<double> feeds = {1000, 5000, 10000, 20000, 40000};
   bool markdown = false;
@@ -32,13 +32,13 @@ struct Options {
 std::string MarkdownRow(const pitch::PitchProofResult& r) {
   auto pair = [](double b, double a) { return fmt::format("{:.1f} → {:.1f}", b, a); };
   const auto& f = r.following.empty() ? pitch::FollowingPoint{} : r.following.back();
-  return fmt::format("| {} {} | {:g} / {:g} | {} | {} | {} | {} | {} | {} | {} | {:.1f} / {:.1f} | {} | {:.2f} / {:.2f} @ {:g} |",
+  return fmt::format("| {} {} | {:g} / {:g} | {} | {} | {} | {} | {} | {} | {} | {:.1f} / {:.1f} / {:.1f} | {} | {:.2f} / {:.2f} @ {:g} |",
                      r.machine, r.axis, r.travel_mm, r.lead_mm, pair(r.c.before.max_error_um, r.c.after.max_error_um),
                      fmt::format("{:.2f} → {:.2f}", r.c.before.uncertainty_um, r.c.after.uncertainty_um),
                      pair(r.c.before.iso.A_um, r.c.after.iso.A_um), pair(r.c.before.iso.E_um, r.c.after.iso.E_um),
                      pair(r.c.before.iso.R_um, r.c.after.iso.R_um), pair(r.c.before.iso.B_um, r.c.after.iso.B_um),
                      pair(r.c.before_at_lead.max_error_um, r.c.after_at_lead.max_error_um), r.c.interpolation_error_um,
-                     r.c.after.repeatability_3s_um, r.c.Dominant(), f.ahead.max_abs_following_um, f.late.max_abs_following_um,
+                     r.c.after.repeatability_3s_um, r.c.drift_um, r.c.Dominant(), f.ahead.max_abs_following_um, f.late.max_abs_following_um,
                      f.feed_mm_min);
 }
 
@@ -83,7 +83,8 @@ void Setup(CLI::App& app) {
   cmd->add_option("--machine", o->machine, "Machine description (TOML)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--axis", o->axis, "Axis (default: every axis)");
   cmd->add_option("--seed", o->seed, "Run seed")->capture_default_str();
-  cmd->add_option("--day", o->day, "verification N days after the calibration (re-homed)")->capture_default_str()->check(CLI::Range(1, 3650));
+  cmd->add_option("--day", o->day, "0: verified right after the calibration (re-homed); N: N days later")
+      ->capture_default_str()->check(CLI::Range(0, 3650));
   cmd->add_option("--samples-per-lead", o->samples_per_lead, "table samples per lead (1: seed 002)")
       ->capture_default_str()->check(CLI::Range(1, 64));
   cmd->add_option("--feeds", o->feeds, "feeds of the following-error comparison, mm/min")->delimiter(',')->capture_default_str();

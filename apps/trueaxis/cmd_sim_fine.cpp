@@ -76,7 +76,8 @@ void Setup(CLI::App& app) {
   cmd->add_option("--axis", o->axis, "Axis to measure (default: the first)");
   cmd->add_option("--out", o->out, "Measurement CSV to write")->required();
   cmd->add_option("--seed", o->seed, "Run seed (same seed: same laser zero on day 0)")->capture_default_str();
-  cmd->add_option("--day", o->day, "0: calibration day; N: re-homed and measured N days later (laser zero kept)")
+  cmd->add_option("--day", o->day, "0: calibration day (with --pitch-file: right after the calibration, re-homed); "
+                  "N: re-homed and measured N days later (laser zero kept)")
       ->capture_default_str()->check(CLI::Range(0, 3650));
   cmd->add_option("--pitch-file", o->pitch_file, "Pitch error file to apply in the interpolator")->check(CLI::ExistingFile);
   o->fine.Add(cmd);

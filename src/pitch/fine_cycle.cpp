@@ -127,6 +127,16 @@ FineSessionResult RunFineSession(const sim::MachineDescription& machine, std::si
     vm.IdleUntil(o.day * 86400.0);
     std::mt19937_64 rehome_rng(Mix(o.seed, 0x40 + static_cast<std::uint64_t>(o.day)));
     r.homing = sim::HomeAxis(vm, axis, o.homing, rehome_rng);
+  } else if (o.table) {
+    // Day 0 with a table: the verification follows the calibration on the same
+    // day. The calibration cycle is replayed (deterministic, its readings are not
+    // kept), then the axis is re-homed — so only the table and re-homing differ.
+    sim::InterpolatorOptions plain_options = o.interpolator;
+    plain_options.mode = sim::FeedForward::kOff;
+    sim::CncInterpolator plain(vm, axis, plain_options, {});
+    RunFineCycle(vm, axis, laser, plain, o.cycle);
+    std::mt19937_64 rehome_rng(Mix(o.seed, 0x4000));
+    r.homing = sim::HomeAxis(vm, axis, o.homing, rehome_rng);
   }
   sim::InterpolatorOptions io = o.interpolator;
   sim::AxisCorrectionFn correction;

@@ -79,9 +79,10 @@ report::HtmlPage BuildPitchReport(const PitchReportInput& in) {
   page.AddTable(t);
   page.AddParagraph(fmt::format(
       "What is left: the table's interpolation error (largest difference between the calibration run's means and the "
-      "table, at the targets between its samples) is {} µm; the repeatability (3σ run to run) after is {} µm: {} "
-      "dominates the residual.",
-      F(c.interpolation_error_um), F(c.after.repeatability_3s_um), c.Dominant()));
+      "table, at the targets between its samples) is {} µm; the repeatability (3σ run to run) after is {} µm; the "
+      "drift (largest mean error after at the lead points, where the table is exact: thermal growth and reference "
+      "changes between calibration and use) is {} µm: {} dominates the residual.",
+      F(c.interpolation_error_um), F(c.after.repeatability_3s_um), F(c.drift_um), c.Dominant()));
   MeansChart(page, "Calibration run (before) and the table", before, &table);
   MeansChart(page, "Verification run (after): residual error", after, nullptr);
   if (!in.following.empty()) {

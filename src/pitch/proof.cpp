@@ -70,10 +70,13 @@ PitchComparison ComparePitch(const measure::Measurement& before, const measure::
   c.before_at_lead = Figures(AtGrid(before, table.reference_mm, table.lead_mm));
   c.after_at_lead = Figures(AtGrid(after, table.reference_mm, table.lead_mm));
   c.interpolation_error_um = MaxInterpolationErrorUm(table, before);
+  for (const auto& t : analysis::Evaluate(AtGrid(after, table.reference_mm, table.lead_mm)).targets)
+    c.drift_um = std::max(c.drift_um, std::abs(t.mean_um));
   return c;
 }
 
 std::string PitchComparison::Dominant() const {
+  if (drift_um > interpolation_error_um && drift_um > after.repeatability_3s_um) return "drift";
   return interpolation_error_um >= after.repeatability_3s_um ? "interpolation" : "repeatability";
 }
 
@@ -88,9 +91,9 @@ std::string PitchProofResult::Report() const {
   };
   s += line("at every fine target", c.before, c.after);
   s += line("at lead points only", c.before_at_lead, c.after_at_lead);
-  s += fmt::format("  residual: table interpolation error {:.3f} um vs repeatability 3s {:.3f} um (run to run) -> {} "
-                   "dominates; homing shift {:.3f} um\n",
-                   c.interpolation_error_um, c.after.repeatability_3s_um, c.Dominant(), homing_shift_um);
+  s += fmt::format("  residual: table interpolation error {:.3f} um, repeatability 3s {:.3f} um (run to run), drift at the "
+                   "lead points {:.3f} um (homing shift {:.3f} um) -> {} dominates\n",
+                   c.interpolation_error_um, c.after.repeatability_3s_um, c.drift_um, homing_shift_um, c.Dominant());
   for (const auto& f : following)
     s += fmt::format("  feed {:6.0f} mm/min: following error of the correction max {:.3f} (ahead) vs {:.3f} um (late)\n",
                      f.feed_mm_min, f.ahead.max_abs_following_um, f.late.max_abs_following_um);

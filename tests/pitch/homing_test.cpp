@@ -23,7 +23,7 @@ double StdDev(const std::vector<double>& v) {
   return std::sqrt(s / static_cast<double>(v.size() - 1));
 }
 
-std::vector<double> Offsets(sim::HomingMethod method, const std::string& extra = "", int n = 40) {
+std::vector<double> Offsets(sim::HomingMethod method, const std::string& extra = "home_switch_scatter_um = 30\n", int n = 40) {
   sim::VirtualMachine vm(testing::PitchMachine(extra), 5);
   std::mt19937_64 rng(9);
   std::vector<double> out;
@@ -49,7 +49,7 @@ TEST(Homing, SwitchPlusIndexRepeatsWithinTheIndexSwitchAloneScattersWithTheSwitc
 
 TEST(Homing, ASwitchTooCloseToTheIndexMarkSometimesTakesTheNextMark) {
   // Trip nominally 10 µm before the mark with 30 µm scatter: the index is a lead off now and then.
-  const auto o = Offsets(sim::HomingMethod::kSwitchAndIndex, "home_switch_to_index_mm = 0.01\n");
+  const auto o = Offsets(sim::HomingMethod::kSwitchAndIndex, "home_switch_scatter_um = 30\nhome_switch_to_index_mm = 0.01\n");
   int skipped = 0;
   for (double v : o)
     if (std::abs(std::abs(v) - 5000) < 2) ++skipped;  // one lead (5 mm) off
@@ -58,25 +58,38 @@ TEST(Homing, ASwitchTooCloseToTheIndexMarkSometimesTakesTheNextMark) {
 }
 
 TEST(Homing, ATableStaysValidAfterReHomingByIndexAndGoesWrongBySwitchAlone) {
-  const auto machine = testing::PitchMachine();
+  // Seed 002's switch scattered over 110 µm: σ 40 µm here. Three re-homings each way.
+  const auto machine = testing::PitchMachine("home_switch_scatter_um = 40\n");
   PitchProofOptions o;
-  o.seed = 4;
   o.cycle.runs = 2;
   o.feeds_mm_min = {};
-  o.homing = sim::HomingMethod::kSwitchAndIndex;
-  const PitchProofResult index = RunPitchProof(machine, 0, o);
-  o.homing = sim::HomingMethod::kSwitchOnly;
-  const PitchProofResult sw = RunPitchProof(machine, 0, o);
-  // Before: the raw pitch error; after, with the index: down to repeatability +
-  // interpolation (the 2 µm first harmonic a once-per-lead table cannot see).
-  EXPECT_GT(index.c.before.max_error_um, 10);
-  EXPECT_LT(std::abs(index.homing_shift_um), 1.0);
-  EXPECT_LT(index.c.after.max_error_um, index.c.interpolation_error_um + index.c.after.repeatability_3s_um + std::abs(index.homing_shift_um) + 0.5);
-  // Switch only: the reference moved by the switch's scatter, and every reading with it.
-  EXPECT_GT(std::abs(sw.homing_shift_um), 10);
-  EXPECT_GT(sw.c.after.max_error_um, index.c.after.max_error_um + 0.6 * std::abs(sw.homing_shift_um));
-  // ISO 230-2's A, E are blind to a shift of the whole axis; the maximum error is not.
-  EXPECT_NEAR(sw.c.after.iso.E_um, index.c.after.iso.E_um, 1.0);
+  double worst_switch_shift = 0;
+  for (std::uint64_t seed : {1, 2, 3}) {
+    o.seed = seed;
+    o.homing = sim::HomingMethod::kSwitchAndIndex;
+    const PitchProofResult index = RunPitchProof(machine, 0, o);
+    o.homing = sim::HomingMethod::kSwitchOnly;
+    const PitchProofResult sw = RunPitchProof(machine, 0, o);
+    // Before: the raw pitch error; after, with the index: down to repeatability +
+    // interpolation (the 2 µm first harmonic a once-per-lead table cannot see).
+    EXPECT_GT(index.c.before.max_error_um, 10);
+    EXPECT_LT(std::abs(index.homing_shift_um), 1.0);
+    EXPECT_LT(index.c.drift_um, 1.5);
+    EXPECT_LT(index.c.after.max_error_um,
+              index.c.interpolation_error_um + index.c.after.repeatability_3s_um + index.c.drift_um + 0.5);
+    // Switch only: the reference moved by the switch's scatter, and every reading with it
+    // (named as drift: at the lead points, where the table is exact).
+    EXPECT_NEAR(sw.c.drift_um, std::abs(sw.homing_shift_um), 1.5) << seed;
+    EXPECT_GT(sw.c.after.max_error_um, std::abs(sw.homing_shift_um) - index.c.after.max_error_um) << seed;
+    // ISO 230-2's E is blind to a shift of the whole axis; the maximum error is not.
+    EXPECT_NEAR(sw.c.after.iso.E_um, index.c.after.iso.E_um, 1.0) << seed;
+    if (std::abs(sw.homing_shift_um) > worst_switch_shift) {
+      worst_switch_shift = std::abs(sw.homing_shift_um);
+      EXPECT_GT(sw.c.after.max_error_um, 3 * index.c.after.max_error_um) << seed;
+      EXPECT_EQ(sw.c.Dominant(), "drift");
+    }
+  }
+  EXPECT_GT(worst_switch_shift, 30);
 }
 
 }  // namespace

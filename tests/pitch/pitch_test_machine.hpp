@@ -1,6 +1,7 @@
 #pragma once
 // A short, quiet test axis for the pitch tests: strong lead harmonics (so a
-// late correction shows), a home switch with a large scatter, fast to measure.
+// late correction shows), fast to measure; `axis_extra` adds [[axis]] keys
+// (e.g. the home switch's scatter).
 #include <string>
 
 #include "trueaxis/sim/machine_description.hpp"
@@ -26,7 +27,6 @@ travel_mm = 130
 lead_mm = 5
 backlash_um = 4
 homing_repeatability_um = 0.2
-home_switch_scatter_um = 30
 )" + axis_extra + R"(
 [axis.pitch]
 progressive_um = -15

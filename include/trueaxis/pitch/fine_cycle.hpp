@@ -9,7 +9,10 @@
 // is homed (sim/homing.hpp), the laser set up and zeroed at the reference on
 // day 0 (its tripod then stays), and on day `day` the axis is re-homed and
 // measured — so a session on a later day sees exactly what re-homing did to
-// a table made on day 0. Same machine file, seed and options: the same file.
+// a table made on day 0; on day 0 with a table, the calibration cycle is
+// replayed first and the axis re-homed, so the verification differs from the
+// calibration only by the table and the homing (the physical floor).
+// Same machine file, seed and options: the same file.
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -46,7 +49,8 @@ measure::Measurement RunFineCycle(sim::VirtualMachine& vm, std::size_t axis, sim
 
 struct FineSessionOptions {
   std::uint64_t seed = 1;
-  int day = 0;                 // 0: calibration day; > 0: re-homed and measured that many days later, 07:00
+  int day = 0;                 // 0: calibration day; > 0: re-homed and measured that many days later, 07:00.
+                               // 0 with a table: the same day, right after the calibration cycle (replayed), re-homed
   sim::HomingMethod homing = sim::HomingMethod::kSwitchAndIndex;
   FineCycleOptions cycle;
   sim::InterpolatorOptions interpolator;   // mode kOff without a table

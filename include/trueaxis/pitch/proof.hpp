@@ -1,8 +1,8 @@
 #pragma once
 // The seed-002 proof on the virtual machine (docs/pitch-error-file.md, "Proof"):
 // fine calibration on day 0 (laser zeroed at the reference after homing),
-// the once-per-lead table from it, then on day `verify_day` the axis is
-// re-homed and measured again at lead/per_lead spacing with the table applied
+// the once-per-lead table from it, then (right after, or on day `verify_day`)
+// the axis is re-homed and measured again at lead/per_lead spacing with the table applied
 // ahead of the motion by the interpolator. Figures before and after, as seed
 // 002 gives them (maximum positioning error, uncertainty = 3σ) and by
 // ISO 230-2:2014 (A, E, R, B), plus what is left and why: the table's
@@ -37,7 +37,10 @@ struct PitchComparison {
   PositioningFigures before, after;                  // at every fine target
   PositioningFigures before_at_lead, after_at_lead;  // at the lead points only
   double interpolation_error_um = 0;  // max |before mean − table|, per direction (what the table cannot see)
-  // "interpolation" or "repeatability": the larger of interpolation_error_um and after.repeatability_3s_um.
+  double drift_um = 0;  // max |after bidirectional mean| at the lead points, where the table was exact:
+                        // what moved between calibration and use (thermal growth, reference after re-homing)
+  // The largest share of the residual: "interpolation" (interpolation_error_um), "repeatability"
+  // (after.repeatability_3s_um) or "drift" (drift_um).
   std::string Dominant() const;
 };
 
@@ -59,7 +62,8 @@ struct PitchProofOptions {
   std::uint64_t seed = 1;
   FineCycleOptions cycle;            // per_lead 4: measured at lead/4
   int samples_per_lead = 1;          // the table: once per lead
-  int verify_day = 1;                // re-homed and verified the next morning
+  int verify_day = 0;                // 0: re-homed and verified right after the calibration (the floor);
+                                     // N: N days later, 07:00 (adds the drift of another day)
   sim::HomingMethod homing = sim::HomingMethod::kSwitchAndIndex;
   sim::InterpolatorOptions interpolator;  // 2 ms, ahead
   std::vector<double> feeds_mm_min = {1000, 5000, 10000, 20000, 40000};
