@@ -63,45 +63,22 @@ measure::Measurement RunFineCycle(sim::VirtualMachine& vm, std::size_t axis, sim
   const auto& ad = vm.description().axes.at(axis);
   const auto targets = FineTargets(ad, o);
   const double over = Overrun(ad, o);
-  measure::Measurement m;
-  m.source = "sim";
-  m.has_time = true;
-  for (std::size_t i = 0; i < vm.ChannelCount(); ++i) m.sensor_names.push_back(vm.ChannelName(i));
-  m.SetMeta("axis", ad.name);
-  m.SetMeta("machine", vm.description().name);
-  m.SetMeta("date", vm.IsoTime());
-  m.SetMeta("seed", std::to_string(vm.seed()));
-  m.SetMeta("instrument", "trueaxis virtual laser interferometer");
+  measure::Measurement m = laser.StartMeasurement(vm);
   m.SetMeta("cycle", fmt::format("fine: every lead/{} ({} mm)", o.per_lead, FormatShortest(ad.lead_mm / o.per_lead)));
-  m.SetMeta("travel_mm", FormatShortest(ad.travel_mm));
-  m.SetMeta("lead_mm", FormatShortest(ad.lead_mm));
-  m.SetMeta("reference_mm", FormatShortest(ad.reference_mm));
   m.SetMeta("runs", std::to_string(o.runs));
   m.SetMeta("feed_mm_min", FormatShortest(o.feed_mm_min));
   m.SetMeta("dwell_s", FormatShortest(o.dwell_s));
   m.SetMeta("overrun_mm", FormatShortest(over));
   m.SetMeta("interpolator", fmt::format("cycle {} ms, feed-forward {}", FormatShortest(ipo.options().cycle_s * 1000),
                                         sim::FeedForwardName(ipo.options().mode)));
-  m.SetMeta("coolant", std::string(CoolantStateName(vm.coolant())));
   m.SetMeta("ambient_start_c", fmt::format("{:.3f}", vm.AmbientC()));
   for (const auto& [k, v] : extra_metadata) m.SetMeta(k, v);
 
   const double t0 = vm.TimeS();
-  std::vector<hw::RawTemperature> raw(vm.ChannelCount());
   auto record = [&](int run, Direction dir, double target) {
     ipo.MoveTo(target, o.feed_mm_min);
     ipo.Dwell(o.dwell_s);
-    measure::MeasurementPoint p;
-    p.run = run;
-    p.direction = dir;
-    p.target_mm = target;
-    p.deviation_um = std::round((laser.ReadMm(vm) - target) * 1e6) / 1000.0;  // 1 nm resolution
-    p.time_s = std::round((vm.TimeS() - t0) * 10.0) / 10.0;
-    hw::TemperatureSource& ts = vm;
-    ts.Read(raw);
-    for (const auto& r : raw)
-      p.temperatures_c.push_back(r.hardware_fault ? std::numeric_limits<double>::quiet_NaN() : std::round(r.temp_c * 1e4) / 1e4);
-    m.points.push_back(std::move(p));
+    m.points.push_back(laser.Reading(vm, run, dir, target, t0));
   };
   for (int run = 1; run <= o.runs; ++run) {
     ipo.MoveTo(targets.front() - over, o.feed_mm_min);
