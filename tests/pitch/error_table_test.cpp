@@ -8,6 +8,7 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/export/linuxcnc_table.hpp"
+#include "export/example_model.hpp"
 #include "trueaxis/pitch/error_table.hpp"
 
 namespace trueaxis::pitch {
@@ -141,6 +142,28 @@ TEST(PitchExport, AtItsOwnPointsTheCorrectionIsMinusTheError) {
   for (std::size_t i = 0; i < t.size(); ++i) {
     EXPECT_DOUBLE_EQ(rr.table.forward_um[i], -t.error_up_um[i]);
     EXPECT_DOUBLE_EQ(rr.table.reverse_um[i], -t.error_down_um[i]);
+  }
+}
+
+}  // namespace
+}  // namespace trueaxis::pitch
+
+namespace trueaxis::pitch {
+namespace {
+
+TEST(PitchTableFromModel, SamplesTheColdModelOncePerLeadThroughItsReference) {
+  const model::AxisModel axis = exporter::testing::ExampleAxis();  // X, 0…400 mm, Px = 0
+  const PitchErrorTable t = TableFromModel(axis, 12, 1, {}, "example_model.json");
+  EXPECT_EQ(t.axis, "X");
+  ASSERT_EQ(t.size(), 34u);  // 0, 12, … 396
+  EXPECT_DOUBLE_EQ(t.position_mm.front(), 0);
+  EXPECT_DOUBLE_EQ(t.position_mm.back(), 396);
+  model::ThermalState cold;
+  cold.use_thermal = false;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const double x = t.position_mm[i];
+    EXPECT_NEAR(t.error_up_um[i], model::Predict(axis, x, Direction::kForward, cold).total_um, 1e-9) << x;
+    EXPECT_NEAR(t.error_down_um[i], model::Predict(axis, x, Direction::kReverse, cold).total_um, 1e-9) << x;
   }
 }
 
