@@ -41,7 +41,11 @@ void Run(const Options& o) {
     analysis::DecompositionOptions d;
     d.lead_mm = table.lead_mm;
     d.harmonics = o.harmonics;
-    fmt::print("{}", analysis::Decompose(analysis::Evaluate(m), d).BriefReport());
+    const auto dec = analysis::Decompose(analysis::Evaluate(m), d);
+    fmt::print("{}", dec.BriefReport());
+    for (const auto& h : dec.harmonics)
+      if (!h.resolved) fmt::print("  harmonic {} ({:.4g} mm): {}\n", h.order, h.period_mm, h.note);
+    for (const auto& n : dec.notes) fmt::print("  note: {}\n", n);
     fmt::print("table interpolation error against this run's targets: max {:.3f} um\n",
                pitch::MaxInterpolationErrorUm(table, m));
   } else {
