@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pitch_test_machine.hpp"
+#include "trueaxis/core/input_error.hpp"
 #include "trueaxis/pitch/fine_cycle.hpp"
 #include "trueaxis/pitch/proof.hpp"
 #include "trueaxis/sim/homing.hpp"
@@ -90,6 +91,26 @@ TEST(Homing, ATableStaysValidAfterReHomingByIndexAndGoesWrongBySwitchAlone) {
     }
   }
   EXPECT_GT(worst_switch_shift, 30);
+}
+
+}  // namespace
+}  // namespace trueaxis::pitch
+
+namespace trueaxis::pitch {
+namespace {
+
+TEST(HomingKeys, DefaultWhenAbsentAndRefusedOutOfRange) {
+  const auto d = testing::PitchMachine();
+  EXPECT_DOUBLE_EQ(d.axes[0].home_switch_scatter_um, 20);
+  EXPECT_TRUE(std::isnan(d.axes[0].home_switch_to_index_mm));  // half a lead
+  try {
+    testing::PitchMachine("home_switch_to_index_mm = 500\n");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("pitch-test.toml:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("axis[0].home_switch_to_index_mm"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(testing::PitchMachine("home_switch_scatter_um = -1\n"), InputError);
 }
 
 }  // namespace
