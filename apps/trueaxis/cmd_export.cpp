@@ -26,6 +26,7 @@
 #include "trueaxis/export/table_format.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
 #include "trueaxis/model/model_json.hpp"
+#include "trueaxis/pitch/error_file.hpp"
 
 namespace trueaxis::cli {
 namespace {
@@ -35,7 +36,7 @@ using namespace trueaxis::exporter;
 constexpr const char* kCli = "command line";
 
 struct ExportArgs {
-  std::string model_path, measurement_path, axis, format, out, read;
+  std::string model_path, measurement_path, pitch_path, axis, format, out, read;
   double start = ResampleOptions::kNaN, spacing = ResampleOptions::kNaN;
   int count = 0;
   std::string range;
@@ -197,15 +198,18 @@ void RunRead(const ExportArgs& a) {
 void RunExport(const ExportArgs& a) {
   const TableFormat f = FormatOf(a);
   if (a.out.empty()) Bad("--out", "required: the file to write");
-  if (a.model_path.empty() == a.measurement_path.empty())
-    Bad("--model", "give exactly one of --model (with --axis) or --measurement");
+  if (!a.model_path.empty() + !a.measurement_path.empty() + !a.pitch_path.empty() != 1)
+    Bad("--model", "give exactly one of --model (with --axis), --measurement or --pitch-file");
   const ValueSign sign = SignOf(a, f);
   const ResampleOptions ro = ResampleOf(a, f);
 
   model::CompositeModel cm;
   const model::AxisModel* axis = nullptr;
   measure::Measurement meas;
-  if (!a.model_path.empty()) {
+  pitch::PitchErrorTable pitch_table;  // --pitch-file (docs/pitch-error-file.md)
+  if (!a.pitch_path.empty()) {
+    pitch_table = pitch::ReadPitchErrorFile(a.pitch_path);
+  } else if (!a.model_path.empty()) {
     if (a.axis.empty()) Bad("--axis", "required with --model");
     cm = model::ReadModelFile(a.model_path);
     axis = cm.FindAxis(a.axis);
@@ -218,12 +222,16 @@ void RunExport(const ExportArgs& a) {
     meas = measure::ReadMeasurementCsv(a.measurement_path);
   }
   auto resample = [&](const ResampleOptions& o) {
+    if (!a.pitch_path.empty()) return pitch::ResamplePitchTable(pitch_table, o, a.pitch_path);
     return axis ? ResampleModel(*axis, o, a.model_path) : ResampleMeasurement(meas, o);
   };
   ResampleResult rr = resample(ro);
   if (!axis && !a.axis.empty()) rr.table.axis = a.axis;
   if (rr.table.axis.empty()) rr.table.axis = "X";
   fmt::print("{}\n", rr.BriefReport());
+  if (!a.pitch_path.empty())
+    for (const auto& p : rr.table.provenance)
+      if (p.rfind("resampled", 0) == 0) fmt::print("note: {}\n", p);
   if (a.mode == "auto" && !SupportsBidirectional(f))
     fmt::print("note: {} holds one curve per axis: exported unidirectional (mean curve + backlash)\n", TableFormatName(f));
   if (f == TableFormat::kSinumerik && !a.zero_at_reference) {
@@ -336,6 +344,7 @@ void Setup(CLI::App& app) {
   auto* cmd = app.add_subcommand("export", "Write (or --read back) a compensation table for a CNC controller");
   cmd->add_option("--model", a->model_path, "fitted model JSON (docs/model-file.md)");
   cmd->add_option("--measurement", a->measurement_path, "measurement CSV: per-target mean deviations per direction");
+  cmd->add_option("--pitch-file", a->pitch_path, "pitch error file (once per lead, docs/pitch-error-file.md)");
   cmd->add_option("--axis", a->axis, "axis name in the model (X, Y, Z, ...)");
   cmd->add_option("--format", a->format, "linuxcnc | sinumerik | fanuc | heidenhain | csv")->required();
   cmd->add_option("--out", a->out, "file to write (heidenhain: the .CMA; .COM files go next to it)");

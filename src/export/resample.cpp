@@ -122,8 +122,10 @@ double InterpolateAt(const std::vector<double>& xs, const std::vector<double>& y
   return ys[i - 1] + t * (ys[i] - ys[i - 1]);
 }
 
+}  // namespace
+
 // Shared tail: unidirectional reduction and zero at reference.
-void Finish(ResampleResult& r, const ResampleOptions& o, const std::string& source) {
+void FinishResample(ResampleResult& r, const ResampleOptions& o, const std::string& source) {
   auto& t = r.table;
   if (!o.bidirectional) {
     double sum = 0;
@@ -153,8 +155,6 @@ void Finish(ResampleResult& r, const ResampleOptions& o, const std::string& sour
   }
   ValidateTable(t, source);
 }
-
-}  // namespace
 
 ResampleResult ResampleModel(const model::AxisModel& axis, const ResampleOptions& o, const std::string& source) {
   ResampleResult r;
@@ -238,7 +238,7 @@ ResampleResult ResampleModel(const model::AxisModel& axis, const ResampleOptions
                                      Num(r.tan_beta_forward_um_per_mm), Num(r.tan_beta_reverse_um_per_mm),
                                      Num(axis.reference_position_mm),
                                      o.thermal_in_table ? "frozen into the values" : "kept out of the values"));
-  Finish(r, o, source);
+  FinishResample(r, o, source);
   return r;
 }
 
@@ -299,7 +299,7 @@ ResampleResult ResampleMeasurement(const measure::Measurement& m, const Resample
   }
   t.provenance.push_back(fmt::format("source: measurement {} ({} targets, mean over runs per direction)", source,
                                      targets.size()));
-  Finish(r, o, source);
+  FinishResample(r, o, source);
   return r;
 }
 

@@ -82,13 +82,9 @@ double LaserInterferometer::ReadMm(VirtualMachine& vm) {
   return zero_commanded_mm_ + nm * 1e-6;
 }
 
-measure::Measurement LaserInterferometer::Measure(VirtualMachine& vm, int runs,
-                                                  const std::vector<std::pair<std::string, std::string>>& extra_metadata) {
-  if (runs < 1 || runs > 20) throw std::invalid_argument("laser: runs must be 1–20");
+measure::Measurement LaserInterferometer::StartMeasurement(const VirtualMachine& vm) const {
   if (axis_ < 0) throw std::logic_error("laser: Setup() first");
-  const std::size_t axis = static_cast<std::size_t>(axis_);
-  const auto targets = Targets(vm, axis);
-  const auto& ad = vm.description().axes[axis];
+  const auto& ad = vm.description().axes[static_cast<std::size_t>(axis_)];
   measure::Measurement m;
   m.source = "sim";
   m.has_time = true;
@@ -105,6 +101,34 @@ measure::Measurement LaserInterferometer::Measure(VirtualMachine& vm, int runs,
   m.SetMeta("reference_mm", FormatShortest(ad.reference_mm));
   m.SetMeta("laser_zero_mm", FormatShortest(zero_commanded_mm_));
   m.SetMeta("coolant", std::string(CoolantStateName(vm.coolant())));
+  return m;
+}
+
+measure::MeasurementPoint LaserInterferometer::Reading(VirtualMachine& vm, int run, Direction direction, double target_mm,
+                                                       double t0_s) {
+  measure::MeasurementPoint p;
+  p.run = run;
+  p.direction = direction;
+  p.target_mm = target_mm;
+  const double pos_mm = ReadMm(vm);
+  p.deviation_um = std::round((pos_mm - target_mm) * 1e6) / 1000.0;  // laser resolution 1 nm: 3 decimals of µm
+  p.time_s = std::round((vm.TimeS() - t0_s) * 10.0) / 10.0;
+  std::vector<hw::RawTemperature> raw(vm.ChannelCount());
+  hw::TemperatureSource& ts = vm;
+  ts.Read(raw);
+  // Rounded to 0.1 mK: below every converter's step, and the file stays readable.
+  for (const auto& r : raw)
+    p.temperatures_c.push_back(r.hardware_fault ? std::numeric_limits<double>::quiet_NaN() : std::round(r.temp_c * 1e4) / 1e4);
+  return p;
+}
+
+measure::Measurement LaserInterferometer::Measure(VirtualMachine& vm, int runs,
+                                                  const std::vector<std::pair<std::string, std::string>>& extra_metadata) {
+  if (runs < 1 || runs > 20) throw std::invalid_argument("laser: runs must be 1–20");
+  if (axis_ < 0) throw std::logic_error("laser: Setup() first");
+  const std::size_t axis = static_cast<std::size_t>(axis_);
+  const auto targets = Targets(vm, axis);
+  measure::Measurement m = StartMeasurement(vm);
   m.SetMeta("runs", std::to_string(runs));
   m.SetMeta("feed_mm_min", FormatShortest(o_.feed_mm_min));
   m.SetMeta("dwell_s", FormatShortest(o_.dwell_s));
@@ -116,23 +140,10 @@ measure::Measurement LaserInterferometer::Measure(VirtualMachine& vm, int runs,
   for (const auto& [k, v] : extra_metadata) m.SetMeta(k, v);
 
   const double t0 = vm.TimeS();
-  std::vector<hw::RawTemperature> raw(vm.ChannelCount());
   auto record = [&](int run, Direction dir, double target) {
     vm.MoveTo(axis, target, o_.feed_mm_min);
     vm.Dwell(o_.dwell_s);
-    measure::MeasurementPoint p;
-    p.run = run;
-    p.direction = dir;
-    p.target_mm = target;
-    const double pos_mm = ReadMm(vm);
-    p.deviation_um = std::round((pos_mm - target) * 1e6) / 1000.0;  // laser resolution 1 nm: 3 decimals of µm
-    p.time_s = std::round((vm.TimeS() - t0) * 10.0) / 10.0;
-    hw::TemperatureSource& ts = vm;
-    ts.Read(raw);
-    // Rounded to 0.1 mK: below every converter's step, and the file stays readable.
-    for (const auto& r : raw)
-      p.temperatures_c.push_back(r.hardware_fault ? std::numeric_limits<double>::quiet_NaN() : std::round(r.temp_c * 1e4) / 1e4);
-    m.points.push_back(std::move(p));
+    m.points.push_back(Reading(vm, run, dir, target, t0));
   };
   for (int run = 1; run <= runs; ++run) {
     vm.MoveTo(axis, targets.front() - o_.overrun_mm, o_.feed_mm_min);

@@ -182,6 +182,8 @@ MachineDescription ParseMachineToml(const std::string& text, const std::string& 
       ar.Double("screw_cte_um_per_m_c", a.screw_cte_um_per_m_c, 0, 100);
       ar.Double("backlash_um", a.backlash_um, 0, 1e3);
       ar.Double("homing_repeatability_um", a.homing_repeatability_um, 0, 1e3);
+      ar.Double("home_switch_scatter_um", a.home_switch_scatter_um, 0, 1e4);
+      ar.Double("home_switch_to_index_mm", a.home_switch_to_index_mm, 0, 200);
       ar.Double("bed_anchor_mm", a.bed_anchor_mm, -1e4, 1e4);
       if (auto* pt = ar.Table("pitch")) {
         TomlTableReader pr(*pt, source, ar.Key("pitch"));

@@ -410,6 +410,9 @@ void VirtualMachine::Home(std::size_t axis) {
   a.homing_offset_um = nd(rng_) * a.d.homing_repeatability_um;
 }
 
+double VirtualMachine::HomingOffsetUm(std::size_t axis) const { return axes_.at(axis)->homing_offset_um; }
+void VirtualMachine::SetHomingOffsetUm(std::size_t axis, double offset_um) { axes_.at(axis)->homing_offset_um = offset_um; }
+
 double VirtualMachine::CommandedMm(std::size_t axis) const { return axes_.at(axis)->cmd_mm; }
 
 double VirtualMachine::ThermalGrowthUm(std::size_t axis, double x_mm) const {

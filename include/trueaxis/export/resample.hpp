@@ -66,6 +66,11 @@ ResampleResult ResampleModel(const model::AxisModel& axis, const ResampleOptions
 // otherwise the means are interpolated linearly onto the grid.
 ResampleResult ResampleMeasurement(const measure::Measurement& m, const ResampleOptions& options);
 
+// The shared tail of every resampler (also used by pitch/ for its error files):
+// the unidirectional reduction (mean curve + backlash) and the zero at the
+// reference point, as the options ask; then ValidateTable.
+void FinishResample(ResampleResult& result, const ResampleOptions& options, const std::string& source);
+
 // The grid alone (exposed for tests and for formats that constrain it).
 std::vector<double> MakeGrid(const ResampleOptions& options, double valid_min_mm, double valid_max_mm,
                              double reference_mm, const std::string& source);

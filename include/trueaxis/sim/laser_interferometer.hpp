@@ -52,6 +52,13 @@ class LaserInterferometer {
   void Setup(VirtualMachine& vm, std::size_t axis, double datum_mm);
   // One averaged reading of the axis position, mm (needs Setup on that axis).
   double ReadMm(VirtualMachine& vm);
+  // A measurement of the set-up axis with the instrument's and the machine's
+  // metadata (axis, machine, date, seed, instrument, travel, lead, cte, fixed
+  // end, reference, laser zero, coolant) and the sensor columns; no points yet.
+  measure::Measurement StartMeasurement(const VirtualMachine& vm) const;
+  // One reading at `target_mm` where the axis stands now: deviation (1 nm),
+  // time since t0_s (0.1 s) and every sensor (NaN when the hardware flags it).
+  measure::MeasurementPoint Reading(VirtualMachine& vm, int run, Direction direction, double target_mm, double t0_s);
   // Target positions for the axis (ascending).
   std::vector<double> Targets(const VirtualMachine& vm, std::size_t axis) const;
   // Runs the full bidirectional test; metadata: axis, machine, date, seed,

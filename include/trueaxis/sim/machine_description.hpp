@@ -69,7 +69,11 @@ struct AxisDescription {
   double screw_overhang_mm = 120;   // screw length beyond the travel (nut length, bearings)
   double screw_cte_um_per_m_c = 11.5;
   double backlash_um = 4;           // lost motion on reversal (reversal value B of ISO 230-2)
-  double homing_repeatability_um = 0.5;  // 1 sigma of the reference position after homing
+  double homing_repeatability_um = 0.5;  // 1 sigma of the reference position after homing (switch + encoder index)
+  // Home switch (sim/homing.hpp): 1 sigma scatter of its trip point, and the nominal distance from
+  // the trip point to the next motor index mark in the homing direction (NaN: half a lead).
+  double home_switch_scatter_um = 20;
+  double home_switch_to_index_mm = std::numeric_limits<double>::quiet_NaN();
   double bed_anchor_mm = 0;         // distance fixed bearing → bed's thermal anchor (levelling centre); the bed's growth over it shifts the whole axis
   PitchErrorDescription pitch;
   DriveThermalDescription thermal;

@@ -84,6 +84,10 @@ class VirtualMachine : public hw::CncLink, public hw::TemperatureSource {
   void Dwell(double dwell_s) { Advance(dwell_s); }
   // Homes the axis: new homing offset drawn with the homing repeatability.
   void Home(std::size_t axis);
+  // The reference error left by the last homing (µm, added to every position
+  // of the axis). sim/homing.hpp sets it from its switch / index model.
+  double HomingOffsetUm(std::size_t axis) const;
+  void SetHomingOffsetUm(std::size_t axis, double offset_um);
 
   void SetCoolant(CoolantState state) { coolant_ = state; }
   CoolantState coolant() const { return coolant_; }

@@ -1,0 +1,83 @@
+// trueaxis pitch table --measurement FILE | --model FILE --axis X  --out FILE.pitch.csv
+// Writes the once-per-lead pitch error file (docs/pitch-error-file.md) and
+// prints the seed-002 decomposition of the run it came from.
+#include <cmath>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "command.hpp"
+#include "pitch_command.hpp"
+#include "trueaxis/analysis/decomposition.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/measure/measurement_file.hpp"
+#include "trueaxis/model/model_json.hpp"
+#include "trueaxis/pitch/error_file.hpp"
+
+namespace {
+
+using namespace trueaxis;
+
+struct Options {
+  std::string measurement, model, axis, out;
+  double lead_mm = 0;
+  double reference_mm = std::nan("");
+  int samples_per_lead = 1;
+  int harmonics = 2;
+};
+
+void Run(const Options& o) {
+  if (o.measurement.empty() == o.model.empty())
+    throw InputError("command line", 0, "--measurement", "give exactly one of --measurement or --model (with --axis)");
+  pitch::PitchErrorTable table;
+  if (!o.measurement.empty()) {
+    const auto m = measure::ReadMeasurementFile(o.measurement);
+    pitch::TableFromMeasurementOptions to;
+    to.lead_mm = o.lead_mm;
+    to.samples_per_lead = o.samples_per_lead;
+    to.reference_mm = o.reference_mm;
+    table = pitch::TableFromMeasurement(m, to);
+    if (!o.axis.empty()) table.axis = o.axis;
+    analysis::DecompositionOptions d;
+    d.lead_mm = table.lead_mm;
+    d.harmonics = o.harmonics;
+    const auto dec = analysis::Decompose(analysis::Evaluate(m), d);
+    fmt::print("{}", dec.BriefReport());
+    for (const auto& h : dec.harmonics)
+      if (!h.resolved) fmt::print("  harmonic {} ({:.4g} mm): {}\n", h.order, h.period_mm, h.note);
+    for (const auto& n : dec.notes) fmt::print("  note: {}\n", n);
+    fmt::print("table interpolation error against this run's targets: max {:.3f} um\n",
+               pitch::MaxInterpolationErrorUm(table, m));
+  } else {
+    if (o.axis.empty()) throw InputError("command line", 0, "--axis", "required with --model");
+    if (!(o.lead_mm > 0)) throw InputError("command line", 0, "--lead-mm", "required with --model (the model has no lead)");
+    const auto cm = model::ReadModelFile(o.model);
+    const auto* axis = cm.FindAxis(o.axis);
+    if (!axis) throw InputError(o.model, 0, "--axis", fmt::format("the model has no axis '{}'", o.axis));
+    table = pitch::TableFromModel(*axis, o.lead_mm, o.samples_per_lead, {}, o.model);
+  }
+  pitch::WritePitchErrorFile(table, o.out);
+  fmt::print("axis {}: {} samples every {} mm ({} per lead of {} mm), {}…{} mm -> {}\n", table.axis, table.size(),
+             table.SpacingMm(), table.samples_per_lead, table.lead_mm, table.position_mm.front(), table.position_mm.back(),
+             o.out);
+}
+
+void Setup(CLI::App& app) {
+  auto o = std::make_shared<Options>();
+  CLI::App* cmd = cli::PitchCommand(app)->add_subcommand("table", "Write a pitch error file (once per lead) from a fine laser run or a fitted model");
+  cmd->add_option("--measurement", o->measurement, "laser run (canonical CSV or ecmc .dat) with targets at lead spacing or finer")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--model", o->model, "fitted model JSON (cold state)")->check(CLI::ExistingFile);
+  cmd->add_option("--axis", o->axis, "axis name (required with --model; overrides the run's)");
+  cmd->add_option("--lead-mm", o->lead_mm, "screw lead (default: the run's lead_mm metadata)")->check(CLI::PositiveNumber);
+  cmd->add_option("--reference-mm", o->reference_mm, "grid origin (default: the run's reference_mm, else its first target)");
+  cmd->add_option("--samples-per-lead", o->samples_per_lead, "samples per lead (1: seed 002)")
+      ->capture_default_str()->check(CLI::Range(1, 64));
+  cmd->add_option("--harmonics", o->harmonics, "lead harmonics tried by the decomposition")->capture_default_str()->check(CLI::Range(0, 8));
+  cmd->add_option("--out", o->out, "pitch error file to write")->required();
+  cmd->callback([o] { Run(*o); });
+}
+
+cli::CommandRegistrar reg("pitch_table", Setup);
+
+}  // namespace

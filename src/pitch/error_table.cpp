@@ -1,0 +1,222 @@
+#include "trueaxis/pitch/error_table.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "trueaxis/analysis/evaluation.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/plausibility.hpp"
+
+namespace trueaxis::pitch {
+
+namespace {
+
+constexpr double kGridTolMm = 1e-3;  // 1 µm: positions printed to the µm are on the grid
+
+std::string Num(double v) { return FormatShortest(std::round(v * 1e6) / 1e6); }
+
+double Interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
+  if (x <= xs.front()) return ys.front();
+  if (x >= xs.back()) return ys.back();
+  const auto it = std::upper_bound(xs.begin(), xs.end(), x);
+  const std::size_t i = static_cast<std::size_t>(it - xs.begin());
+  const double t = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
+  return ys[i - 1] + t * (ys[i] - ys[i - 1]);
+}
+
+// Grid positions reference + k·spacing inside [lo, hi] (within the tolerance).
+std::vector<double> GridInside(double reference, double spacing, double lo, double hi) {
+  std::vector<double> g;
+  const long long k0 = static_cast<long long>(std::ceil((lo - reference) / spacing - kGridTolMm / spacing));
+  for (long long k = k0;; ++k) {
+    const double x = reference + static_cast<double>(k) * spacing;
+    if (x > hi + kGridTolMm) break;
+    g.push_back(std::round(x * 1e6) / 1e6);
+  }
+  return g;
+}
+
+}  // namespace
+
+TableLookup LookupError(const PitchErrorTable& t, double x_mm, Direction direction) {
+  const auto& ys = direction == Direction::kForward ? t.error_up_um : t.error_down_um;
+  TableLookup r;
+  r.outside = x_mm < t.position_mm.front() - 1e-9 || x_mm > t.position_mm.back() + 1e-9;
+  r.error_um = Interpolate(t.position_mm, ys, x_mm);
+  return r;
+}
+
+double CorrectionUm(const PitchErrorTable& table, double x_mm, int direction) {
+  return -LookupError(table, x_mm, direction < 0 ? Direction::kReverse : Direction::kForward).error_um;
+}
+
+void ValidatePitchTable(const PitchErrorTable& t, const std::string& source) {
+  if (!(t.lead_mm >= 0.5 && t.lead_mm <= 200)) throw InputError(source, 0, "lead_mm", fmt::format("{} is outside 0.5…200 mm", t.lead_mm));
+  if (t.samples_per_lead < 1 || t.samples_per_lead > 64)
+    throw InputError(source, 0, "samples_per_lead", fmt::format("{} is outside 1…64", t.samples_per_lead));
+  if (t.position_mm.size() < 2) throw InputError(source, 0, "position_mm", "a table needs at least 2 points");
+  if (t.error_up_um.size() != t.size() || t.error_down_um.size() != t.size())
+    throw InputError(source, 0, "error_up_um", "the columns differ in length");
+  const double s = t.SpacingMm();
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const double x = t.position_mm[i];
+    if (auto why = ImplausiblePositionMm(x)) throw InputError(source, 0, fmt::format("position_mm[{}]", i), *why);
+    for (const auto* col : {&t.error_up_um, &t.error_down_um})
+      if (auto why = ImplausibleDeviationUm((*col)[i]))
+        throw InputError(source, 0, fmt::format("{}[{}]", col == &t.error_up_um ? "error_up_um" : "error_down_um", i), *why);
+    const double k = (x - t.reference_mm) / s;
+    if (std::abs(k - std::round(k)) * s > kGridTolMm)
+      throw InputError(source, 0, fmt::format("position_mm[{}]", i),
+                       fmt::format("{} mm is not on the grid {} + k·{} mm (lead {} mm / {} per lead)", Num(x),
+                                   Num(t.reference_mm), Num(s), Num(t.lead_mm), t.samples_per_lead));
+    if (i > 0 && std::abs(x - t.position_mm[i - 1] - s) > kGridTolMm)
+      throw InputError(source, 0, fmt::format("position_mm[{}]", i),
+                       fmt::format("{} mm follows {} mm: the samples must be {} mm apart (lead {} mm / {} per lead), "
+                                   "ascending, none missing",
+                                   Num(x), Num(t.position_mm[i - 1]), Num(s), Num(t.lead_mm), t.samples_per_lead));
+  }
+}
+
+PitchErrorTable TableFromMeasurement(const measure::Measurement& m, const TableFromMeasurementOptions& o) {
+  const std::string& source = m.source;
+  double lead = o.lead_mm;
+  if (!(lead > 0)) {
+    auto meta = m.Meta("lead_mm");
+    auto v = meta ? ParseDouble(*meta) : std::nullopt;
+    if (!v) throw InputError(source, 0, "lead_mm", "the screw lead is needed: give --lead-mm or a '# lead_mm:' line");
+    lead = *v;
+  }
+  const analysis::Evaluation ev = analysis::Evaluate(m);
+  std::vector<double> xs, up, down;
+  for (const auto& tr : ev.targets) {
+    xs.push_back(tr.target_mm);
+    up.push_back(tr.mean_up_um);
+    down.push_back(tr.mean_down_um);
+  }
+  PitchErrorTable t;
+  t.axis = m.Meta("axis").value_or("X");
+  t.lead_mm = lead;
+  t.samples_per_lead = o.samples_per_lead;
+  double ref = o.reference_mm;
+  if (std::isnan(ref)) {
+    auto meta = m.Meta("reference_mm");
+    auto v = meta ? ParseDouble(*meta) : std::nullopt;
+    ref = v ? *v : xs.front();
+  }
+  t.reference_mm = ref;
+  const double spacing = t.SpacingMm();
+  double max_gap = 0;
+  for (std::size_t i = 1; i < xs.size(); ++i) max_gap = std::max(max_gap, xs[i] - xs[i - 1]);
+  if (max_gap > spacing + kGridTolMm)
+    throw InputError(source, 0, "target_mm",
+                     fmt::format("targets up to {} mm apart cannot give a table every {} mm (lead {} mm / {} per lead): "
+                                 "the lead's harmonics alias; measure at lead spacing or finer (trueaxis sim fine, "
+                                 "docs/pitch-error-file.md)",
+                                 Num(max_gap), Num(spacing), Num(lead), o.samples_per_lead));
+  int on_target = 0;
+  for (double x : GridInside(ref, spacing, xs.front(), xs.back())) {
+    t.position_mm.push_back(x);
+    t.error_up_um.push_back(Interpolate(xs, up, x));
+    t.error_down_um.push_back(Interpolate(xs, down, x));
+    const auto it = std::lower_bound(xs.begin(), xs.end(), x - kGridTolMm);
+    if (it != xs.end() && std::abs(*it - x) <= kGridTolMm) ++on_target;
+  }
+  if (t.size() < 2)
+    throw InputError(source, 0, "target_mm",
+                     fmt::format("the measured range {}…{} mm holds fewer than 2 points of the grid {} + k·{} mm",
+                                 Num(xs.front()), Num(xs.back()), Num(ref), Num(spacing)));
+  t.provenance.push_back(fmt::format("source: measurement {} ({} targets, {} runs, mean per target and direction)", source,
+                                     xs.size(), ev.runs));
+  t.provenance.push_back(fmt::format("{} of {} samples on measured targets, the others linear between neighbours",
+                                     on_target, t.size()));
+  ValidatePitchTable(t, source);
+  return t;
+}
+
+PitchErrorTable TableFromModel(const model::AxisModel& axis, double lead_mm, int samples_per_lead,
+                               const exporter::ThermalFreeze& freeze, const std::string& source) {
+  exporter::ResampleOptions o;
+  o.spacing_mm = lead_mm / samples_per_lead;
+  o.max_points = 1 << 20;  // the error file has no controller's limit
+  o.thermal = freeze;
+  const exporter::ResampleResult rr = exporter::ResampleModel(axis, o, source);
+  PitchErrorTable t;
+  t.axis = axis.axis;
+  t.lead_mm = lead_mm;
+  t.samples_per_lead = samples_per_lead;
+  t.reference_mm = axis.reference_position_mm;
+  t.position_mm = rr.table.position_mm;
+  for (std::size_t i = 0; i < rr.table.size(); ++i) {
+    t.error_up_um.push_back(-rr.table.forward_um[i]);
+    t.error_down_um.push_back(-rr.table.reverse_um[i]);
+  }
+  t.provenance = rr.table.provenance;
+  ValidatePitchTable(t, source);
+  return t;
+}
+
+exporter::ResampleResult ResamplePitchTable(const PitchErrorTable& t, const exporter::ResampleOptions& o,
+                                            const std::string& source) {
+  exporter::ResampleResult r;
+  r.valid_min_mm = t.position_mm.front();
+  r.valid_max_mm = t.position_mm.back();
+  auto& ct = r.table;
+  ct.axis = t.axis;
+  ct.reference_position_mm = std::isnan(o.reference_position_mm) ? t.reference_mm : o.reference_position_mm;
+  const bool derived = std::isnan(o.start_mm) && std::isnan(o.spacing_mm) && o.count == 0 &&
+                       std::isnan(o.range_min_mm) && std::isnan(o.range_max_mm);
+  if (derived) {
+    if (static_cast<int>(t.size()) > o.max_points) {
+      // The smallest whole number of samples per controller point that fits.
+      const int every = static_cast<int>((t.size() - 1 + o.max_points - 2) / (o.max_points - 1));
+      throw InputError(source, 0, "--spacing",
+                       fmt::format("{} samples ({} mm apart, lead {} mm) exceed the format's limit of {} points; nothing "
+                                   "is truncated. Resample with --spacing {} (one controller point every {} samples; the "
+                                   "controller interpolates between them) or split the axis with --range",
+                                   t.size(), Num(t.SpacingMm()), Num(t.lead_mm), o.max_points,
+                                   Num(t.SpacingMm() * every), every));
+    }
+    ct.position_mm = t.position_mm;
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      ct.forward_um.push_back(-t.error_up_um[i]);
+      ct.reverse_um.push_back(-t.error_down_um[i]);
+    }
+  } else {
+    ct.position_mm = exporter::MakeGrid(o, r.valid_min_mm, r.valid_max_mm, ct.reference_position_mm, source);
+    double worst = 0;  // what the coarser grid loses at the table's own samples
+    for (double x : ct.position_mm) {
+      ct.forward_um.push_back(CorrectionUm(t, x, 1));
+      ct.reverse_um.push_back(CorrectionUm(t, x, -1));
+    }
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      const double x = t.position_mm[i];
+      if (x < ct.position_mm.front() || x > ct.position_mm.back()) continue;
+      auto at = [&](const std::vector<double>& ys) { return Interpolate(ct.position_mm, ys, x); };
+      worst = std::max({worst, std::abs(at(ct.forward_um) + t.error_up_um[i]), std::abs(at(ct.reverse_um) + t.error_down_um[i])});
+    }
+    ct.provenance.push_back(fmt::format("resampled from {} pitch samples every {} mm: up to {} um lost at the samples "
+                                        "between the controller's points",
+                                        t.size(), Num(t.SpacingMm()), fmt::format("{:.3f}", worst)));
+  }
+  ct.provenance.push_back(fmt::format("source: pitch error file {} (lead {} mm, {} per lead)", source, Num(t.lead_mm),
+                                      t.samples_per_lead));
+  for (const auto& p : t.provenance) ct.provenance.push_back(p);
+  exporter::FinishResample(r, o, source);
+  return r;
+}
+
+double MaxInterpolationErrorUm(const PitchErrorTable& table, const measure::Measurement& fine) {
+  const analysis::Evaluation ev = analysis::Evaluate(fine);
+  double worst = 0;
+  for (const auto& tr : ev.targets) {
+    if (tr.target_mm < table.position_mm.front() || tr.target_mm > table.position_mm.back()) continue;
+    worst = std::max({worst, std::abs(tr.mean_up_um - LookupError(table, tr.target_mm, Direction::kForward).error_um),
+                      std::abs(tr.mean_down_um - LookupError(table, tr.target_mm, Direction::kReverse).error_um)});
+  }
+  return worst;
+}
+
+}  // namespace trueaxis::pitch
