@@ -1,0 +1,74 @@
+// Axis sine tests and the least-squares fit of seed 004's coefficients.
+#include "trueaxis/fiveaxis/axis_identification.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Dense>
+
+#include "trueaxis/fiveaxis/servo_drive.hpp"
+
+namespace trueaxis::fiveaxis {
+
+std::vector<double> AxisTestCommand(const DriveParams& d, double servo_rate_hz, const AxisTestOptions& o) {
+  const double dt = 1.0 / servo_rate_hz;
+  std::vector<double> r;
+  auto rest = [&] {
+    for (int i = 0; i < static_cast<int>(o.rest_s / dt); ++i) r.push_back(0.0);
+  };
+  rest();
+  for (double f : o.frequencies_hz) {
+    const double w = 2 * std::numbers::pi * f;
+    // Peak velocity of A(1 − cos wt) is A·w.
+    const double amplitude = std::min(o.max_amplitude, o.velocity_fraction * d.max_velocity_per_s / w);
+    const int n = static_cast<int>(std::lround(o.periods / f / dt));
+    for (int i = 0; i < n; ++i) r.push_back(amplitude * (1 - std::cos(w * i * dt)));
+    rest();
+  }
+  return r;
+}
+
+std::array<double, 3> FitTrackingCoefficients(const AxisTrace& trace, double dt_s, double window_s, double* fit_rms,
+                                              double* signal_rms) {
+  const Derivatives d = SavitzkyGolay(trace.command, dt_s, HalfWindowSamples(window_s, dt_s));
+  const Eigen::Index n = static_cast<Eigen::Index>(trace.command.size());
+  Eigen::MatrixXd x(n, 3);
+  Eigen::VectorXd e(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    x(i, 0) = d.v[i];
+    x(i, 1) = d.a[i];
+    x(i, 2) = d.j[i];
+    e(i) = trace.command[i] - trace.measured[i];
+  }
+  // Column scaling keeps the normal equations well conditioned (v, a, j differ by decades).
+  Eigen::Vector3d scale;
+  for (int c = 0; c < 3; ++c) scale(c) = std::max(1e-300, x.col(c).norm());
+  const Eigen::MatrixXd xs = x * scale.cwiseInverse().asDiagonal();
+  const Eigen::Vector3d cs = xs.colPivHouseholderQr().solve(e);
+  const Eigen::Vector3d c = cs.cwiseQuotient(scale);
+  if (fit_rms) *fit_rms = std::sqrt((e - x * c).squaredNorm() / std::max<Eigen::Index>(1, n));
+  if (signal_rms) *signal_rms = std::sqrt(e.squaredNorm() / std::max<Eigen::Index>(1, n));
+  return {c(0), c(1), c(2)};
+}
+
+TrackingErrorModel IdentifyTrackingModel(const FiveAxisMachine& m, const AxisTestOptions& o, const AxisTestRunner& run) {
+  TrackingErrorModel model;
+  model.derivative_window_s = o.derivative_window_s;
+  const double dt = 1.0 / m.servo_rate_hz;
+  for (int a = 0; a < kAxisCount; ++a) {
+    const std::vector<double> command = AxisTestCommand(m.drives[a], m.servo_rate_hz, o);
+    auto& ax = model.axes[a];
+    ax.without_ff = FitTrackingCoefficients({command, run(a, 0.0, command)}, dt, o.derivative_window_s, nullptr, nullptr);
+    ax.full_ff = FitTrackingCoefficients({command, run(a, 1.0, command)}, dt, o.derivative_window_s, &ax.fit_rms,
+                                         &ax.signal_rms);
+  }
+  return model;
+}
+
+AxisTestRunner VirtualMachineRunner(const FiveAxisMachine& m) {
+  return [m](int axis, double kf, const std::vector<double>& command) {
+    return RunDrive(m.drives[axis], m.servo_rate_hz, FeedForward{kf, 0.0}, command);
+  };
+}
+
+}  // namespace trueaxis::fiveaxis

@@ -1,0 +1,61 @@
+// Command correction through the kinematics (seed 004).
+#include "trueaxis/fiveaxis/command_correction.hpp"
+
+namespace trueaxis::fiveaxis {
+
+std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErrorModel& model,
+                                        const std::vector<AxisVector>& command, double dt_s, double kf, int iterations) {
+  const std::size_t n = command.size();
+  std::vector<Eigen::Vector3d> target_tip(n), virtual_tip(n);
+  std::vector<std::array<double, 2>> virtual_rotary(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    target_tip[i] = virtual_tip[i] = kin.Forward(command[i]).tip_mm;
+    virtual_rotary[i] = {command[i][kTilt], command[i][kRot]};
+  }
+  std::vector<AxisVector> corrected = command;
+  for (int it = 0; it < iterations; ++it) {
+    const std::vector<AxisVector> error = PredictTrackingError(model, corrected, dt_s, kf);
+    for (std::size_t i = 0; i < n; ++i) {
+      AxisVector predicted_actual;
+      for (int a = 0; a < kAxisCount; ++a) predicted_actual[a] = corrected[i][a] - error[i][a];
+      const Eigen::Vector3d tip_actual = kin.Forward(predicted_actual).tip_mm;
+      virtual_tip[i] -= tip_actual - target_tip[i];
+      virtual_rotary[i][0] -= predicted_actual[kTilt] - command[i][kTilt];
+      virtual_rotary[i][1] -= predicted_actual[kRot] - command[i][kRot];
+      corrected[i] = kin.Inverse(virtual_tip[i], virtual_rotary[i][0], virtual_rotary[i][1]);
+    }
+  }
+  return corrected;
+}
+
+ToolPath CommandsToProgram(const std::vector<AxisVector>& joints, const Kinematics& kin, double dt_s,
+                           int samples_per_block, const std::string& name) {
+  ToolPath path;
+  path.name = name;
+  const int step = std::max(1, samples_per_block);
+  for (std::size_t i = 0; i < joints.size(); i += (i == 0 ? 1 : step)) {
+    const std::size_t k = i;
+    PathVertex v;
+    const ToolPose pose = kin.Forward(joints[k]);
+    v.tip_mm = pose.tip_mm;
+    v.tilt_deg = joints[k][kTilt];
+    v.rot_deg = joints[k][kRot];
+    v.move = k == 0 ? MoveKind::kStart : MoveKind::kInverseTime;
+    v.duration_s = k == 0 ? 0.0 : step * dt_s;
+    path.vertices.push_back(v);
+    if (k + step >= joints.size() && k + 1 < joints.size() && k != 0) {
+      // Close on the last sample.
+      PathVertex last = v;
+      const ToolPose end = kin.Forward(joints.back());
+      last.tip_mm = end.tip_mm;
+      last.tilt_deg = joints.back()[kTilt];
+      last.rot_deg = joints.back()[kRot];
+      last.duration_s = static_cast<double>(joints.size() - 1 - k) * dt_s;
+      path.vertices.push_back(last);
+      break;
+    }
+  }
+  return path;
+}
+
+}  // namespace trueaxis::fiveaxis

@@ -1,0 +1,129 @@
+// Seed 004 tracking-error model: derivatives, prediction, feed-forward choice, JSON.
+#include "trueaxis/fiveaxis/tracking_model.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "trueaxis/core/input_error.hpp"
+
+namespace trueaxis::fiveaxis {
+
+std::array<double, 3> AxisErrorModel::At(double kf) const {
+  std::array<double, 3> c;
+  for (int i = 0; i < 3; ++i) c[i] = without_ff[i] + kf * (full_ff[i] - without_ff[i]);
+  return c;
+}
+
+int HalfWindowSamples(double window_s, double dt_s) { return std::max(2, static_cast<int>(std::lround(window_s / dt_s / 2))); }
+
+Derivatives SavitzkyGolay(const std::vector<double>& x, double dt_s, int m) {
+  // Least-squares cubic over t = −m..m: rows of the pseudo-inverse give the
+  // derivatives at the centre.
+  Eigen::MatrixXd vander(2 * m + 1, 4);
+  for (int i = -m; i <= m; ++i)
+    for (int p = 0; p < 4; ++p) vander(i + m, p) = std::pow(static_cast<double>(i), p);
+  const Eigen::MatrixXd pinv = (vander.transpose() * vander).ldlt().solve(vander.transpose());
+  const std::size_t n = x.size();
+  Derivatives d;
+  d.v.assign(n, 0.0);
+  d.a.assign(n, 0.0);
+  d.j.assign(n, 0.0);
+  if (n == 0) return d;
+  for (std::size_t k = 0; k < n; ++k) {
+    double c1 = 0, c2 = 0, c3 = 0;
+    for (int i = -m; i <= m; ++i) {
+      const long idx = std::clamp<long>(static_cast<long>(k) + i, 0, static_cast<long>(n) - 1);
+      c1 += pinv(1, i + m) * x[idx];
+      c2 += pinv(2, i + m) * x[idx];
+      c3 += pinv(3, i + m) * x[idx];
+    }
+    d.v[k] = c1 / dt_s;
+    d.a[k] = 2 * c2 / (dt_s * dt_s);
+    d.j[k] = 6 * c3 / (dt_s * dt_s * dt_s);
+  }
+  return d;
+}
+
+namespace {
+std::vector<double> Column(const std::vector<AxisVector>& q, int axis) {
+  std::vector<double> c(q.size());
+  for (std::size_t i = 0; i < q.size(); ++i) c[i] = q[i][axis];
+  return c;
+}
+}  // namespace
+
+std::vector<AxisVector> PredictTrackingError(const TrackingErrorModel& model, const std::vector<AxisVector>& command,
+                                             double dt_s, double kf) {
+  std::vector<AxisVector> e(command.size());
+  const int m = HalfWindowSamples(model.derivative_window_s, dt_s);
+  for (int a = 0; a < kAxisCount; ++a) {
+    const Derivatives d = SavitzkyGolay(Column(command, a), dt_s, m);
+    const auto c = model.axes[a].At(kf);
+    for (std::size_t i = 0; i < command.size(); ++i) e[i][a] = c[0] * d.v[i] + c[1] * d.a[i] + c[2] * d.j[i];
+  }
+  return e;
+}
+
+FeedForwardChoice ChooseFeedForward(const TrackingErrorModel& model, const std::vector<AxisVector>& command, double dt_s) {
+  FeedForwardChoice choice;
+  const int m = HalfWindowSamples(model.derivative_window_s, dt_s);
+  double sum = 0;
+  int count = 0;
+  for (int a = 0; a < kAxisCount; ++a) {
+    const Derivatives d = SavitzkyGolay(Column(command, a), dt_s, m);
+    const auto& ax = model.axes[a];
+    double num = 0, den = 0;
+    for (std::size_t i = 0; i < command.size(); ++i) {
+      const double e0 = ax.without_ff[0] * d.v[i] + ax.without_ff[1] * d.a[i] + ax.without_ff[2] * d.j[i];
+      const double e1 = ax.full_ff[0] * d.v[i] + ax.full_ff[1] * d.a[i] + ax.full_ff[2] * d.j[i];
+      num += e0 * (e1 - e0);
+      den += (e1 - e0) * (e1 - e0);
+    }
+    choice.per_axis[a] = std::numeric_limits<double>::quiet_NaN();
+    if (den <= 1e-30) continue;  // axis does not move
+    choice.per_axis[a] = -num / den;
+    sum += choice.per_axis[a];
+    ++count;
+  }
+  choice.averaged = count > 0 ? sum / count : 0.0;
+  return choice;
+}
+
+std::string ModelToJson(const TrackingErrorModel& model, const std::array<std::string, kAxisCount>& names) {
+  nlohmann::ordered_json j;
+  j["format"] = "trueaxis five-axis tracking-error model (seed 004)";
+  j["derivative_window_s"] = model.derivative_window_s;
+  for (int a = 0; a < kAxisCount; ++a) {
+    const auto& ax = model.axes[a];
+    j["axes"].push_back({{"axis", names[a]}, {"without_ff_cv_ca_cj", ax.without_ff}, {"full_ff_cv_ca_cj", ax.full_ff},
+                         {"fit_rms", ax.fit_rms}, {"test_rms", ax.signal_rms}});
+  }
+  return j.dump(2) + "\n";
+}
+
+TrackingErrorModel ModelFromJson(const std::string& text, const std::string& source) {
+  TrackingErrorModel model;
+  try {
+    const auto j = nlohmann::json::parse(text);
+    model.derivative_window_s = j.at("derivative_window_s").get<double>();
+    const auto& axes = j.at("axes");
+    if (!axes.is_array() || axes.size() != kAxisCount) throw InputError(source, 0, "axes", "needs five axes");
+    int a = 0;
+    for (const auto& ax : axes) {
+      model.axes[a].without_ff = ax.at("without_ff_cv_ca_cj").get<std::array<double, 3>>();
+      model.axes[a].full_ff = ax.at("full_ff_cv_ca_cj").get<std::array<double, 3>>();
+      model.axes[a].fit_rms = ax.value("fit_rms", 0.0);
+      model.axes[a].signal_rms = ax.value("test_rms", 0.0);
+      ++a;
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(source, 0, "", fmt::format("not a five-axis tracking-error model: {}", e.what()));
+  }
+  return model;
+}
+
+}  // namespace trueaxis::fiveaxis
