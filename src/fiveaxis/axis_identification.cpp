@@ -20,7 +20,8 @@ std::vector<double> AxisTestCommand(const DriveParams& d, double servo_rate_hz, 
   for (double f : o.frequencies_hz) {
     const double w = 2 * std::numbers::pi * f;
     // Peak velocity of A(1 − cos wt) is A·w.
-    const double amplitude = std::min(o.max_amplitude, o.velocity_fraction * d.max_velocity_per_s / w);
+    const double amplitude = std::min({o.max_amplitude, o.velocity_fraction * d.max_velocity_per_s / w,
+                                       o.max_acceleration / (w * w)});
     const int n = static_cast<int>(std::lround(o.periods / f / dt));
     for (int i = 0; i < n; ++i) r.push_back(amplitude * (1 - std::cos(w * i * dt)));
     rest();
@@ -28,38 +29,41 @@ std::vector<double> AxisTestCommand(const DriveParams& d, double servo_rate_hz, 
   return r;
 }
 
-std::array<double, 3> FitTrackingCoefficients(const AxisTrace& trace, double dt_s, double window_s, double* fit_rms,
-                                              double* signal_rms) {
-  const Derivatives d = SavitzkyGolay(trace.command, dt_s, HalfWindowSamples(window_s, dt_s));
+ModelCoefficients FitTrackingCoefficients(const AxisTrace& trace, double dt_s, double window_s, bool with_extensions,
+                                          double* fit_rms, double* signal_rms) {
+  const auto r = ModelRegressors(trace.command, dt_s, window_s);
+  const int terms = with_extensions ? kModelTerms : kSeedTerms;
   const Eigen::Index n = static_cast<Eigen::Index>(trace.command.size());
-  Eigen::MatrixXd x(n, 3);
+  Eigen::MatrixXd x(n, terms);
   Eigen::VectorXd e(n);
   for (Eigen::Index i = 0; i < n; ++i) {
-    x(i, 0) = d.v[i];
-    x(i, 1) = d.a[i];
-    x(i, 2) = d.j[i];
+    for (int t = 0; t < terms; ++t) x(i, t) = r[t][i];
     e(i) = trace.command[i] - trace.measured[i];
   }
-  // Column scaling keeps the normal equations well conditioned (v, a, j differ by decades).
-  Eigen::Vector3d scale;
-  for (int c = 0; c < 3; ++c) scale(c) = std::max(1e-300, x.col(c).norm());
+  // Column scaling keeps the problem well conditioned (v, a, j differ by decades).
+  Eigen::VectorXd scale(terms);
+  for (int c = 0; c < terms; ++c) scale(c) = std::max(1e-300, x.col(c).norm());
   const Eigen::MatrixXd xs = x * scale.cwiseInverse().asDiagonal();
-  const Eigen::Vector3d cs = xs.colPivHouseholderQr().solve(e);
-  const Eigen::Vector3d c = cs.cwiseQuotient(scale);
+  const Eigen::VectorXd c = xs.colPivHouseholderQr().solve(e).cwiseQuotient(scale);
   if (fit_rms) *fit_rms = std::sqrt((e - x * c).squaredNorm() / std::max<Eigen::Index>(1, n));
   if (signal_rms) *signal_rms = std::sqrt(e.squaredNorm() / std::max<Eigen::Index>(1, n));
-  return {c(0), c(1), c(2)};
+  ModelCoefficients out{};
+  for (int t = 0; t < terms; ++t) out[t] = c(t);
+  return out;
 }
 
 TrackingErrorModel IdentifyTrackingModel(const FiveAxisMachine& m, const AxisTestOptions& o, const AxisTestRunner& run) {
   TrackingErrorModel model;
   model.derivative_window_s = o.derivative_window_s;
+  model.with_extensions = o.with_extensions;
   const double dt = 1.0 / m.servo_rate_hz;
   for (int a = 0; a < kAxisCount; ++a) {
     const std::vector<double> command = AxisTestCommand(m.drives[a], m.servo_rate_hz, o);
     auto& ax = model.axes[a];
-    ax.without_ff = FitTrackingCoefficients({command, run(a, 0.0, command)}, dt, o.derivative_window_s, nullptr, nullptr);
-    ax.full_ff = FitTrackingCoefficients({command, run(a, 1.0, command)}, dt, o.derivative_window_s, &ax.fit_rms,
+    ax.without_ff = FitTrackingCoefficients({command, run(a, 0.0, command)}, dt, o.derivative_window_s, o.with_extensions,
+                                            nullptr, nullptr);
+    ax.full_ff = FitTrackingCoefficients({command, run(a, 1.0, command)}, dt, o.derivative_window_s, o.with_extensions,
+                                         &ax.fit_rms,
                                          &ax.signal_rms);
   }
   return model;

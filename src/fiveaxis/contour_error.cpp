@@ -22,11 +22,10 @@ NearestPointTracker::NearestPointTracker(const ToolPath& path, const Kinematics&
 NearestPointTracker::Match NearestPointTracker::Next(const ToolPose& pose) {
   const double travel = first_ ? 0.0 : (pose.tip_mm - previous_tip_).norm();
   const double window = std::max(1.0, 4 * previous_distance_ + 4 * travel);
-  if (first_) {
-    // First sample: the whole path (the machine may start anywhere on it).
-    previous_arc_ = 0;
-  }
-  const double lo = first_ ? -1.0 : previous_arc_ - window, hi = first_ ? arc_.back() + 1 : previous_arc_ + window;
+  // The first sample is matched near the path's start (a closed path ends
+  // where it starts), within 4× its distance from the start.
+  const double start_window = std::max(1.0, 4 * (pose.tip_mm - tip_.front()).norm());
+  const double lo = first_ ? -1.0 : previous_arc_ - window, hi = first_ ? start_window : previous_arc_ + window;
   // Segments whose arc range meets [lo, hi].
   std::size_t begin = std::upper_bound(arc_.begin(), arc_.end(), lo) - arc_.begin();
   begin = std::max<std::size_t>(1, begin == 0 ? 1 : begin);

@@ -42,7 +42,11 @@ Experiment RunExperiment(const FiveAxisMachine& m, const TrackingErrorModel& mod
                                         "trueaxis fiveaxis: " + path.name + ", corrected for FF kf=" + std::to_string(kf));
   // The corrected program as the CNC would run it: read back, interpolated, simulated.
   const ToolPath replay = ParseGcodeProgram(x.corrected_gcode, "corrected program", m);
-  x.corrected = SimulateRun(m, Interpolate(replay, m).joints, kf);
+  // No rest added: the program's first block reaches the second sample, so
+  // with the start sample in front the replay lines up with the original.
+  std::vector<AxisVector> replay_joints = Interpolate(replay, m, 0.0).joints;
+  replay_joints.insert(replay_joints.begin(), VertexJoints(replay, kin).front());
+  x.corrected = SimulateRun(m, replay_joints, kf);
   x.corrected.label = "FF + correction";
 
   for (SimulatedRun* run : {&x.without_ff, &x.with_ff, &x.corrected}) run->contour = EvaluateContour(path, kin, run->actual);

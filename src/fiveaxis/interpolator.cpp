@@ -66,14 +66,28 @@ Trajectory Interpolate(const ToolPath& path, const FiveAxisMachine& m, double se
     duration[k] = d;
     speed[k] = feed;
   }
+  // Each axis's speed at full rate, as a fraction of its limit: a jump of
+  // more than kJointJump between segments (a corner in joint space, e.g. a
+  // rotary swing near a singular orientation) is an exact stop too.
+  constexpr double kJointJump = 0.2;
+  auto joint_jump = [&](std::size_t s) {
+    if (duration[s] <= 0 || duration[s - 1] <= 0) return false;
+    for (int a = 0; a < kAxisCount; ++a) {
+      const double before = (q[s - 1][a] - q[s - 2][a]) / duration[s - 1] / m.drives[a].max_velocity_per_s;
+      const double after = (q[s][a] - q[s - 1][a]) / duration[s] / m.drives[a].max_velocity_per_s;
+      if (std::abs(after - before) > kJointJump) return true;
+    }
+    return false;
+  };
   // Pieces: a new one where the kind of move or the feed changes, or at a sharp corner.
   std::size_t k = 1;
   while (k < n) {
     std::size_t end = k + 1;
     while (end < n && v[end].move == v[k].move && v[end].feed_mm_per_min == v[k].feed_mm_per_min &&
            (v[k].move == MoveKind::kInverseTime ||
-            CornerDeg(v[end - 1].tip_mm - v[end - 2].tip_mm, v[end].tip_mm - v[end - 1].tip_mm) <=
-                m.interpolator.corner_stop_deg))
+            (CornerDeg(v[end - 1].tip_mm - v[end - 2].tip_mm, v[end].tip_mm - v[end - 1].tip_mm) <=
+                 m.interpolator.corner_stop_deg &&
+             !joint_jump(end))))
       ++end;
     double total = 0;
     for (std::size_t s = k; s < end; ++s) total += duration[s];

@@ -22,7 +22,9 @@ ServoDrive::ServoDrive(const DriveParams& p, double servo_rate_hz, FeedForward f
       r_prev_(start_position) {}
 
 double ServoDrive::Step(double r) {
-  // Controller: sampled at the start of the period, held for the period.
+  // Controller: samples the position at the start of the period (what a drive
+  // trace records with the command of that period), holds its output.
+  const double measured = position_unit_;
   const double v_ref = first_ ? 0.0 : (r - r_prev_) / dt_s_;  // unit/s, backward difference
   const double a_ref = first_ ? 0.0 : (v_ref - v_ref_prev_) / dt_s_;
   first_ = false;
@@ -50,7 +52,7 @@ double ServoDrive::Step(double r) {
     omega_ = rhs / (1.0 + h * (b_ + friction_slope) / j_);
     position_unit_ += h * omega_ / n_unit_;
   }
-  return position_unit_;
+  return measured;
 }
 
 std::vector<double> RunDrive(const DriveParams& p, double servo_rate_hz, FeedForward ff,

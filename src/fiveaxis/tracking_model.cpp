@@ -12,9 +12,9 @@
 
 namespace trueaxis::fiveaxis {
 
-std::array<double, 3> AxisErrorModel::At(double kf) const {
-  std::array<double, 3> c;
-  for (int i = 0; i < 3; ++i) c[i] = without_ff[i] + kf * (full_ff[i] - without_ff[i]);
+ModelCoefficients AxisErrorModel::At(double kf) const {
+  ModelCoefficients c;
+  for (int i = 0; i < kModelTerms; ++i) c[i] = without_ff[i] + kf * (full_ff[i] - without_ff[i]);
   return c;
 }
 
@@ -48,38 +48,78 @@ Derivatives SavitzkyGolay(const std::vector<double>& x, double dt_s, int m) {
   return d;
 }
 
+std::array<std::vector<double>, kModelTerms> ModelRegressors(const std::vector<double>& command, double dt_s,
+                                                             double derivative_window_s) {
+  Derivatives d = SavitzkyGolay(command, dt_s, HalfWindowSamples(derivative_window_s, dt_s));
+  std::array<std::vector<double>, kModelTerms> r;
+  const std::size_t n = command.size();
+  // Direction of motion: a sign with a dead band at standstill.
+  double peak = 0;
+  for (double v : d.v) peak = std::max(peak, std::abs(v));
+  const double dead_band = std::max(1e-9, 1e-4 * peak);
+  std::vector<double> sign(n);
+  for (std::size_t i = 0; i < n; ++i) sign[i] = d.v[i] > dead_band ? 1.0 : d.v[i] < -dead_band ? -1.0 : 0.0;
+  for (int k = 0; k < kLagTerms; ++k) {
+    const double alpha = 1.0 - std::exp(-dt_s / kLagTimeConstantsS[k]);
+    auto& lag = r[kSeedTerms + k];
+    lag.resize(n);
+    double low = 0;
+    for (std::size_t i = 0; i < n; ++i) lag[i] = low += alpha * (d.a[i] - low);
+  }
+  for (int k = 0; k < kFrictionTerms; ++k) {
+    const double alpha = 1.0 - std::exp(-dt_s / kFrictionTimeConstantsS[k]);
+    auto& h = r[kSeedTerms + kLagTerms + k];
+    h.resize(n);
+    double low = n ? sign[0] : 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      low += alpha * (sign[i] - low);
+      h[i] = sign[i] - low;  // decays to 0 after each change of direction
+    }
+  }
+  r[0] = std::move(d.v);
+  r[1] = std::move(d.a);
+  r[2] = std::move(d.j);
+  return r;
+}
+
 namespace {
+
 std::vector<double> Column(const std::vector<AxisVector>& q, int axis) {
   std::vector<double> c(q.size());
   for (std::size_t i = 0; i < q.size(); ++i) c[i] = q[i][axis];
   return c;
 }
+
+int UsedTerms(const TrackingErrorModel& model) { return model.with_extensions ? kModelTerms : kSeedTerms; }
+
 }  // namespace
 
 std::vector<AxisVector> PredictTrackingError(const TrackingErrorModel& model, const std::vector<AxisVector>& command,
                                              double dt_s, double kf) {
-  std::vector<AxisVector> e(command.size());
-  const int m = HalfWindowSamples(model.derivative_window_s, dt_s);
+  std::vector<AxisVector> e(command.size(), AxisVector{});
   for (int a = 0; a < kAxisCount; ++a) {
-    const Derivatives d = SavitzkyGolay(Column(command, a), dt_s, m);
+    const auto r = ModelRegressors(Column(command, a), dt_s, model.derivative_window_s);
     const auto c = model.axes[a].At(kf);
-    for (std::size_t i = 0; i < command.size(); ++i) e[i][a] = c[0] * d.v[i] + c[1] * d.a[i] + c[2] * d.j[i];
+    for (int t = 0; t < UsedTerms(model); ++t)
+      for (std::size_t i = 0; i < command.size(); ++i) e[i][a] += c[t] * r[t][i];
   }
   return e;
 }
 
 FeedForwardChoice ChooseFeedForward(const TrackingErrorModel& model, const std::vector<AxisVector>& command, double dt_s) {
   FeedForwardChoice choice;
-  const int m = HalfWindowSamples(model.derivative_window_s, dt_s);
   double sum = 0;
   int count = 0;
   for (int a = 0; a < kAxisCount; ++a) {
-    const Derivatives d = SavitzkyGolay(Column(command, a), dt_s, m);
+    const auto r = ModelRegressors(Column(command, a), dt_s, model.derivative_window_s);
     const auto& ax = model.axes[a];
     double num = 0, den = 0;
     for (std::size_t i = 0; i < command.size(); ++i) {
-      const double e0 = ax.without_ff[0] * d.v[i] + ax.without_ff[1] * d.a[i] + ax.without_ff[2] * d.j[i];
-      const double e1 = ax.full_ff[0] * d.v[i] + ax.full_ff[1] * d.a[i] + ax.full_ff[2] * d.j[i];
+      double e0 = 0, e1 = 0;
+      for (int t = 0; t < UsedTerms(model); ++t) {
+        e0 += ax.without_ff[t] * r[t][i];
+        e1 += ax.full_ff[t] * r[t][i];
+      }
       num += e0 * (e1 - e0);
       den += (e1 - e0) * (e1 - e0);
     }
@@ -97,9 +137,11 @@ std::string ModelToJson(const TrackingErrorModel& model, const std::array<std::s
   nlohmann::ordered_json j;
   j["format"] = "trueaxis five-axis tracking-error model (seed 004)";
   j["derivative_window_s"] = model.derivative_window_s;
+  j["with_extensions"] = model.with_extensions;
+  j["terms"] = "v, a, j, LP_2ms(a), LP_8ms(a), LP_30ms(a), friction 5/20/80 ms";
   for (int a = 0; a < kAxisCount; ++a) {
     const auto& ax = model.axes[a];
-    j["axes"].push_back({{"axis", names[a]}, {"without_ff_cv_ca_cj", ax.without_ff}, {"full_ff_cv_ca_cj", ax.full_ff},
+    j["axes"].push_back({{"axis", names[a]}, {"without_ff", ax.without_ff}, {"full_ff", ax.full_ff},
                          {"fit_rms", ax.fit_rms}, {"test_rms", ax.signal_rms}});
   }
   return j.dump(2) + "\n";
@@ -110,12 +152,13 @@ TrackingErrorModel ModelFromJson(const std::string& text, const std::string& sou
   try {
     const auto j = nlohmann::json::parse(text);
     model.derivative_window_s = j.at("derivative_window_s").get<double>();
+    model.with_extensions = j.value("with_extensions", true);
     const auto& axes = j.at("axes");
     if (!axes.is_array() || axes.size() != kAxisCount) throw InputError(source, 0, "axes", "needs five axes");
     int a = 0;
     for (const auto& ax : axes) {
-      model.axes[a].without_ff = ax.at("without_ff_cv_ca_cj").get<std::array<double, 3>>();
-      model.axes[a].full_ff = ax.at("full_ff_cv_ca_cj").get<std::array<double, 3>>();
+      model.axes[a].without_ff = ax.at("without_ff").get<ModelCoefficients>();
+      model.axes[a].full_ff = ax.at("full_ff").get<ModelCoefficients>();
       model.axes[a].fit_rms = ax.value("fit_rms", 0.0);
       model.axes[a].signal_rms = ax.value("test_rms", 0.0);
       ++a;

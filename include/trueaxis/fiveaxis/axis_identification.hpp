@@ -16,12 +16,16 @@
 namespace trueaxis::fiveaxis {
 
 struct AxisTestOptions {
-  std::vector<double> frequencies_hz = {0.5, 1, 2, 4, 8};
+  // Well below the position-loop bandwidth, where the model (a low-frequency
+  // expansion) holds and where tool paths live.
+  std::vector<double> frequencies_hz = {0.25, 0.5, 1, 2, 3};
   int periods = 2;
   double velocity_fraction = 0.5;   // peak velocity / the axis's velocity limit
+  double max_acceleration = 2000;   // mm/s² or deg/s²
   double max_amplitude = 50;        // mm or deg
   double rest_s = 0.1;              // standing between frequencies
   double derivative_window_s = 0.01;
+  bool with_extensions = true;
 };
 
 // The test command of one axis (one sample per servo period).
@@ -32,8 +36,9 @@ struct AxisTrace {
   std::vector<double> command, measured;
 };
 // Fits one axis's coefficients from a trace.
-std::array<double, 3> FitTrackingCoefficients(const AxisTrace& trace, double dt_s, double window_s, double* fit_rms,
-                                              double* signal_rms);
+// with_extensions = false fits the seed's three terms only.
+ModelCoefficients FitTrackingCoefficients(const AxisTrace& trace, double dt_s, double window_s, bool with_extensions,
+                                          double* fit_rms, double* signal_rms);
 
 // Runs the tests on the virtual machine's drives (any `run` — e.g. a real
 // machine's trace recorder — may be passed instead) and fits the model.

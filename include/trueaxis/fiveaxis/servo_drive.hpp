@@ -21,7 +21,7 @@ class ServoDrive {
  public:
   ServoDrive(const DriveParams& p, double servo_rate_hz, FeedForward ff, double start_position);
   // One servo period with position command r (mm or deg); returns the
-  // measured position at the end of the period.
+  // position measured at the start of the period (the sample that goes with r).
   double Step(double r);
   double position() const { return position_unit_; }
   std::int64_t saturated_periods() const { return saturated_; }

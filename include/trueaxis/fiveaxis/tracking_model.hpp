@@ -9,6 +9,14 @@
 // all linear in kf. The model keeps the three lumped coefficients at kf = 0
 // and at kf = 1 (what an axis test can identify); any kf in between is the
 // linear blend.
+//
+// Extensions (not in seed 004), switched off by `with_extensions = false`:
+// the acceleration through first-order lags LP_τ(a) (τ = 2, 8, 30 ms: the
+// error's own dynamics, which the truncated v/a/j series misses after a
+// change of acceleration), and Coulomb friction. A PI velocity loop cancels
+// a constant friction force, but each reversal of the velocity leaves a
+// transient; the model adds it as f_k · (s − LP_τk(s)), s = sign(v), for
+// three fixed time constants τk. All coefficients are identified together.
 #include <array>
 #include <string>
 #include <vector>
@@ -17,17 +25,26 @@
 
 namespace trueaxis::fiveaxis {
 
+inline constexpr int kSeedTerms = 3;     // v, a, j
+inline constexpr int kLagTerms = 3;      // LP_τ(a)
+inline constexpr int kFrictionTerms = 3; // sign(v) − LP_τ(sign(v))
+inline constexpr int kModelTerms = kSeedTerms + kLagTerms + kFrictionTerms;
+inline constexpr std::array<double, kLagTerms> kLagTimeConstantsS = {0.002, 0.008, 0.03};
+inline constexpr std::array<double, kFrictionTerms> kFrictionTimeConstantsS = {0.005, 0.02, 0.08};
+using ModelCoefficients = std::array<double, kModelTerms>;
+
 struct AxisErrorModel {
-  std::array<double, 3> without_ff{};  // c_v (s), c_a (s²), c_j (s³) at kf = 0
-  std::array<double, 3> full_ff{};     // at kf = 1
-  double fit_rms = 0;                  // identification residual (mm or deg)
-  double signal_rms = 0;               // rms tracking error of the identification runs
-  std::array<double, 3> At(double kf) const;
+  ModelCoefficients without_ff{};  // c_v (s), c_a (s²), c_j (s³), lag and friction terms at kf = 0
+  ModelCoefficients full_ff{};     // at kf = 1
+  double fit_rms = 0;              // identification residual at kf = 1 (mm or deg)
+  double signal_rms = 0;           // rms tracking error of that identification run
+  ModelCoefficients At(double kf) const;
 };
 
 struct TrackingErrorModel {
   std::array<AxisErrorModel, kAxisCount> axes;
   double derivative_window_s = 0.01;  // Savitzky–Golay window of v, a, j
+  bool with_extensions = true;
 };
 
 // Velocity, acceleration and jerk of a sampled signal: a cubic
@@ -38,10 +55,13 @@ struct Derivatives {
 Derivatives SavitzkyGolay(const std::vector<double>& x, double dt_s, int half_window);
 int HalfWindowSamples(double window_s, double dt_s);
 
+// The model's regressors of one axis command: v, a, j, the lagged accelerations, the friction transients.
+std::array<std::vector<double>, kModelTerms> ModelRegressors(const std::vector<double>& command, double dt_s,
+                                                             double derivative_window_s);
+
 // Predicted tracking error of each axis for joint commands at kf.
 std::vector<AxisVector> PredictTrackingError(const TrackingErrorModel& model, const std::vector<AxisVector>& command,
                                              double dt_s, double kf);
-
 // Seed 004's feed-forward coefficient: per moving axis the kf that minimises
 // the model's tracking error over that axis's reference command (e is linear
 // in kf, so a closed form), then the mean over the axes.
