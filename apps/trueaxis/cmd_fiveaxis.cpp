@@ -163,12 +163,16 @@ void Setup(CLI::App& app) {
     auto variants = std::make_shared<int>(0);
     auto seed = std::make_shared<unsigned>(1);
     auto markdown = std::make_shared<std::string>();
+    auto iterations = std::make_shared<int>(ExperimentOptions{}.correction_iterations);
+    cmd->add_option("--iterations", *iterations, "correction iterations")->capture_default_str();
     cmd->add_option("--machine", *machine, "five-axis machine TOML")->required();
     cmd->add_option("--feeds", *feeds, "feeds (mm/min), comma separated")->delimiter(',')->capture_default_str();
     cmd->add_option("--variants", *variants, "also this many machines with randomly varied drives")->capture_default_str();
     cmd->add_option("--seed", *seed, "random seed of the variations")->capture_default_str();
     cmd->add_option("--markdown", *markdown, "write the table as Markdown");
-    cmd->callback([machine, feeds, variants, seed, markdown] {
+    cmd->callback([machine, feeds, variants, seed, markdown, iterations] {
+      ExperimentOptions eo;
+      eo.correction_iterations = *iterations;
       const FiveAxisMachine base = ReadFiveAxisMachineFile(*machine);
       std::string md = "| machine | path | feed (mm/min) | kf | no FF rms / max (µm) | FF rms / max (µm) | FF + corr. rms / max (µm) | rms reduction vs FF | max reduction vs FF |\n|---|---|---|---|---|---|---|---|---|\n";
       double worst = INFINITY;
@@ -179,7 +183,7 @@ void Setup(CLI::App& app) {
         for (const std::string& name : TestPathNames())
           for (double feed : *feeds) {
             const ToolPath path = MakeTestPath(name, Kinematics(m.kinematics), feed);
-            const Experiment x = RunExperiment(m, model, path);
+            const Experiment x = RunExperiment(m, model, path, eo);
             const double red = ReductionPercent(x.with_ff.contour.rms_um, x.corrected.contour.rms_um);
             const std::string row = fmt::format(
                 "| {} | {} | {:g} | {:.3f} | {:.2f} / {:.2f} | {:.3f} / {:.3f} | {:.3f} / {:.3f} | {:.1f} % | {:.1f} % |",

@@ -17,6 +17,12 @@ std::vector<double> AxisTestCommand(const DriveParams& d, double servo_rate_hz, 
     for (int i = 0; i < static_cast<int>(o.rest_s / dt); ++i) r.push_back(0.0);
   };
   rest();
+  {
+    const double w = 2 * std::numbers::pi * o.slow_frequency_hz;
+    const int n = static_cast<int>(std::lround(o.periods / o.slow_frequency_hz / dt));
+    for (int i = 0; i < n; ++i) r.push_back(o.slow_peak_velocity / w * (1 - std::cos(w * i * dt)));
+    rest();
+  }
   for (double f : o.frequencies_hz) {
     const double w = 2 * std::numbers::pi * f;
     // Peak velocity of A(1 − cos wt) is A·w.
@@ -30,8 +36,8 @@ std::vector<double> AxisTestCommand(const DriveParams& d, double servo_rate_hz, 
 }
 
 ModelCoefficients FitTrackingCoefficients(const AxisTrace& trace, double dt_s, double window_s, bool with_extensions,
-                                          double* fit_rms, double* signal_rms) {
-  const auto r = ModelRegressors(trace.command, dt_s, window_s);
+                                          double friction_band, double* fit_rms, double* signal_rms) {
+  const auto r = ModelRegressors(trace.command, dt_s, window_s, friction_band);
   const int terms = with_extensions ? kModelTerms : kSeedTerms;
   const Eigen::Index n = static_cast<Eigen::Index>(trace.command.size());
   Eigen::MatrixXd x(n, terms);
@@ -59,12 +65,25 @@ TrackingErrorModel IdentifyTrackingModel(const FiveAxisMachine& m, const AxisTes
   const double dt = 1.0 / m.servo_rate_hz;
   for (int a = 0; a < kAxisCount; ++a) {
     const std::vector<double> command = AxisTestCommand(m.drives[a], m.servo_rate_hz, o);
+    const AxisTrace without{command, run(a, 0.0, command)}, full{command, run(a, 1.0, command)};
     auto& ax = model.axes[a];
-    ax.without_ff = FitTrackingCoefficients({command, run(a, 0.0, command)}, dt, o.derivative_window_s, o.with_extensions,
-                                            nullptr, nullptr);
-    ax.full_ff = FitTrackingCoefficients({command, run(a, 1.0, command)}, dt, o.derivative_window_s, o.with_extensions,
-                                         &ax.fit_rms,
-                                         &ax.signal_rms);
+    double best = INFINITY;
+    // The friction band that explains the feed-forward run best — the regime the
+    // correction works in (without extensions it plays no part).
+    const std::vector<double> bands = o.with_extensions ? o.friction_bands : std::vector<double>{ax.friction_band};
+    for (double band : bands) {
+      double rms0 = 0, rms1 = 0, signal1 = 0;
+      const auto c0 = FitTrackingCoefficients(without, dt, o.derivative_window_s, o.with_extensions, band, &rms0, nullptr);
+      const auto c1 = FitTrackingCoefficients(full, dt, o.derivative_window_s, o.with_extensions, band, &rms1, &signal1);
+      if (rms1 < best) {
+        best = rms1;
+        ax.without_ff = c0;
+        ax.full_ff = c1;
+        ax.friction_band = band;
+        ax.fit_rms = rms1;
+        ax.signal_rms = signal1;
+      }
+    }
   }
   return model;
 }

@@ -48,34 +48,41 @@ Derivatives SavitzkyGolay(const std::vector<double>& x, double dt_s, int m) {
   return d;
 }
 
+namespace {
+
+// Outputs of `count` discrete Laguerre filters (pole exp(−dt/τ)) driven by x:
+// an orthonormal basis of stable impulse responses — lags and ringing alike.
+void LaguerreBank(const std::vector<double>& x, double dt_s, std::vector<double>* out, int count) {
+  const double p = std::exp(-dt_s / kLaguerreTimeConstantS), gain = std::sqrt(1 - p * p);
+  const std::size_t n = x.size();
+  std::vector<double> in(n);
+  for (int k = 0; k < count; ++k) {
+    std::vector<double>& y = out[k];
+    y.assign(n, 0.0);
+    double prev_y = 0, prev_in = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (k == 0) y[i] = prev_y = p * prev_y + gain * x[i];
+      else {
+        y[i] = prev_y = p * prev_y + prev_in - p * in[i];
+        prev_in = in[i];
+      }
+    }
+    in = y;
+  }
+}
+
+}  // namespace
+
 std::array<std::vector<double>, kModelTerms> ModelRegressors(const std::vector<double>& command, double dt_s,
-                                                             double derivative_window_s) {
+                                                             double derivative_window_s, double friction_band) {
   Derivatives d = SavitzkyGolay(command, dt_s, HalfWindowSamples(derivative_window_s, dt_s));
   std::array<std::vector<double>, kModelTerms> r;
   const std::size_t n = command.size();
-  // Direction of motion: a sign with a dead band at standstill.
-  double peak = 0;
-  for (double v : d.v) peak = std::max(peak, std::abs(v));
-  const double dead_band = std::max(1e-9, 1e-4 * peak);
+  // Direction of motion, turning over within the friction band.
   std::vector<double> sign(n);
-  for (std::size_t i = 0; i < n; ++i) sign[i] = d.v[i] > dead_band ? 1.0 : d.v[i] < -dead_band ? -1.0 : 0.0;
-  for (int k = 0; k < kLagTerms; ++k) {
-    const double alpha = 1.0 - std::exp(-dt_s / kLagTimeConstantsS[k]);
-    auto& lag = r[kSeedTerms + k];
-    lag.resize(n);
-    double low = 0;
-    for (std::size_t i = 0; i < n; ++i) lag[i] = low += alpha * (d.a[i] - low);
-  }
-  for (int k = 0; k < kFrictionTerms; ++k) {
-    const double alpha = 1.0 - std::exp(-dt_s / kFrictionTimeConstantsS[k]);
-    auto& h = r[kSeedTerms + kLagTerms + k];
-    h.resize(n);
-    double low = n ? sign[0] : 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      low += alpha * (sign[i] - low);
-      h[i] = sign[i] - low;  // decays to 0 after each change of direction
-    }
-  }
+  for (std::size_t i = 0; i < n; ++i) sign[i] = std::tanh(d.v[i] / friction_band);
+  LaguerreBank(d.a, dt_s, &r[kSeedTerms], kLagTerms);
+  LaguerreBank(sign, dt_s, &r[kSeedTerms + kLagTerms], kFrictionTerms);
   r[0] = std::move(d.v);
   r[1] = std::move(d.a);
   r[2] = std::move(d.j);
@@ -98,7 +105,7 @@ std::vector<AxisVector> PredictTrackingError(const TrackingErrorModel& model, co
                                              double dt_s, double kf) {
   std::vector<AxisVector> e(command.size(), AxisVector{});
   for (int a = 0; a < kAxisCount; ++a) {
-    const auto r = ModelRegressors(Column(command, a), dt_s, model.derivative_window_s);
+    const auto r = ModelRegressors(Column(command, a), dt_s, model.derivative_window_s, model.axes[a].friction_band);
     const auto c = model.axes[a].At(kf);
     for (int t = 0; t < UsedTerms(model); ++t)
       for (std::size_t i = 0; i < command.size(); ++i) e[i][a] += c[t] * r[t][i];
@@ -111,7 +118,7 @@ FeedForwardChoice ChooseFeedForward(const TrackingErrorModel& model, const std::
   double sum = 0;
   int count = 0;
   for (int a = 0; a < kAxisCount; ++a) {
-    const auto r = ModelRegressors(Column(command, a), dt_s, model.derivative_window_s);
+    const auto r = ModelRegressors(Column(command, a), dt_s, model.derivative_window_s, model.axes[a].friction_band);
     const auto& ax = model.axes[a];
     double num = 0, den = 0;
     for (std::size_t i = 0; i < command.size(); ++i) {
@@ -138,11 +145,11 @@ std::string ModelToJson(const TrackingErrorModel& model, const std::array<std::s
   j["format"] = "trueaxis five-axis tracking-error model (seed 004)";
   j["derivative_window_s"] = model.derivative_window_s;
   j["with_extensions"] = model.with_extensions;
-  j["terms"] = "v, a, j, LP_2ms(a), LP_8ms(a), LP_30ms(a), friction 5/20/80 ms";
+  j["terms"] = "v, a, j, 10 Laguerre filters of a, 8 of tanh(v / friction_band), pole 10 ms";
   for (int a = 0; a < kAxisCount; ++a) {
     const auto& ax = model.axes[a];
     j["axes"].push_back({{"axis", names[a]}, {"without_ff", ax.without_ff}, {"full_ff", ax.full_ff},
-                         {"fit_rms", ax.fit_rms}, {"test_rms", ax.signal_rms}});
+                         {"friction_band", ax.friction_band}, {"fit_rms", ax.fit_rms}, {"test_rms", ax.signal_rms}});
   }
   return j.dump(2) + "\n";
 }
@@ -160,6 +167,8 @@ TrackingErrorModel ModelFromJson(const std::string& text, const std::string& sou
       model.axes[a].without_ff = ax.at("without_ff").get<ModelCoefficients>();
       model.axes[a].full_ff = ax.at("full_ff").get<ModelCoefficients>();
       model.axes[a].fit_rms = ax.value("fit_rms", 0.0);
+      model.axes[a].friction_band = ax.at("friction_band").get<double>();
+      if (!(model.axes[a].friction_band > 0)) throw InputError(source, 0, "friction_band", "must be positive");
       model.axes[a].signal_rms = ax.value("test_rms", 0.0);
       ++a;
     }

@@ -24,6 +24,11 @@ struct AxisTestOptions {
   double max_acceleration = 2000;   // mm/s² or deg/s²
   double max_amplitude = 50;        // mm or deg
   double rest_s = 0.1;              // standing between frequencies
+  // A slow test with gentle reversals (where friction turns over slowly):
+  // this frequency at this peak velocity (mm/s or deg/s).
+  double slow_frequency_hz = 0.25;
+  double slow_peak_velocity = 1.0;
+  std::vector<double> friction_bands = {0.01, 0.03, 0.1, 0.3, 1, 3};  // candidates, mm/s or deg/s
   double derivative_window_s = 0.01;
   bool with_extensions = true;
 };
@@ -38,7 +43,7 @@ struct AxisTrace {
 // Fits one axis's coefficients from a trace.
 // with_extensions = false fits the seed's three terms only.
 ModelCoefficients FitTrackingCoefficients(const AxisTrace& trace, double dt_s, double window_s, bool with_extensions,
-                                          double* fit_rms, double* signal_rms);
+                                          double friction_band, double* fit_rms, double* signal_rms);
 
 // Runs the tests on the virtual machine's drives (any `run` — e.g. a real
 // machine's trace recorder — may be passed instead) and fits the model.

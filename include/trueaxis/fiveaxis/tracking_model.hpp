@@ -11,12 +11,13 @@
 // linear blend.
 //
 // Extensions (not in seed 004), switched off by `with_extensions = false`:
-// the acceleration through first-order lags LP_τ(a) (τ = 2, 8, 30 ms: the
+// the acceleration through first-order lags LP_τ(a) (τ = 1 … 100 ms: the
 // error's own dynamics, which the truncated v/a/j series misses after a
 // change of acceleration), and Coulomb friction. A PI velocity loop cancels
 // a constant friction force, but each reversal of the velocity leaves a
-// transient; the model adds it as f_k · (s − LP_τk(s)), s = sign(v), for
-// three fixed time constants τk. All coefficients are identified together.
+// transient; the model adds it as f_k · (s − LP_τk(s)), s = tanh(v / band),
+// for seven fixed time constants τk (2 … 160 ms); the band (how sharply friction turns
+// over at a reversal) is chosen per axis by the identification.
 #include <array>
 #include <string>
 #include <vector>
@@ -26,11 +27,10 @@
 namespace trueaxis::fiveaxis {
 
 inline constexpr int kSeedTerms = 3;     // v, a, j
-inline constexpr int kLagTerms = 3;      // LP_τ(a)
-inline constexpr int kFrictionTerms = 3; // sign(v) − LP_τ(sign(v))
+inline constexpr int kLagTerms = 10;     // Laguerre filters of a
+inline constexpr int kFrictionTerms = 8; // Laguerre filters of s = tanh(v / band)
 inline constexpr int kModelTerms = kSeedTerms + kLagTerms + kFrictionTerms;
-inline constexpr std::array<double, kLagTerms> kLagTimeConstantsS = {0.002, 0.008, 0.03};
-inline constexpr std::array<double, kFrictionTerms> kFrictionTimeConstantsS = {0.005, 0.02, 0.08};
+inline constexpr double kLaguerreTimeConstantS = 0.01;  // pole of the Laguerre filters
 using ModelCoefficients = std::array<double, kModelTerms>;
 
 struct AxisErrorModel {
@@ -38,6 +38,7 @@ struct AxisErrorModel {
   ModelCoefficients full_ff{};     // at kf = 1
   double fit_rms = 0;              // identification residual at kf = 1 (mm or deg)
   double signal_rms = 0;           // rms tracking error of that identification run
+  double friction_band = 0.1;      // mm/s or deg/s
   ModelCoefficients At(double kf) const;
 };
 
@@ -57,7 +58,7 @@ int HalfWindowSamples(double window_s, double dt_s);
 
 // The model's regressors of one axis command: v, a, j, the lagged accelerations, the friction transients.
 std::array<std::vector<double>, kModelTerms> ModelRegressors(const std::vector<double>& command, double dt_s,
-                                                             double derivative_window_s);
+                                                             double derivative_window_s, double friction_band);
 
 // Predicted tracking error of each axis for joint commands at kf.
 std::vector<AxisVector> PredictTrackingError(const TrackingErrorModel& model, const std::vector<AxisVector>& command,
