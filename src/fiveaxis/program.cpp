@@ -182,14 +182,14 @@ ToolPath ParseCsvProgram(const std::string& text, const std::string& source, con
       }
       for (const char* need : {"x_mm", "y_mm", "z_mm"})
         if (!column.count(need)) throw InputError(source, number, need, "missing column (header: x_mm,y_mm,z_mm,i,j,k or " + tilt_column + ",c_deg)");
-      const bool vector = column.count("i") && column.count("j") && column.count("k");
-      const bool angles = column.count(tilt_column) && column.count("c_deg");
-      if (vector == angles)
-        throw InputError(source, number, "header", "give the tool axis as i,j,k or the angles " + tilt_column + ",c_deg (one of them)");
       for (const auto& h : header)
         if (!(h == "x_mm" || h == "y_mm" || h == "z_mm" || h == "i" || h == "j" || h == "k" || h == tilt_column ||
               h == "c_deg" || h == "feed_mm_per_min" || h == "duration_s"))
           throw InputError(source, number, h, "unknown column for a " + FamilyName(m.kinematics.family) + " machine");
+      const bool vector = column.count("i") && column.count("j") && column.count("k");
+      const bool angles = column.count(tilt_column) && column.count("c_deg");
+      if (vector == angles)
+        throw InputError(source, number, "header", "give the tool axis as i,j,k or the angles " + tilt_column + ",c_deg (one of them)");
       continue;
     }
     if (fields.size() != header.size())
