@@ -50,7 +50,10 @@ ModelCoefficients FitTrackingCoefficients(const AxisTrace& trace, double dt_s, d
   Eigen::VectorXd scale(terms);
   for (int c = 0; c < terms; ++c) scale(c) = std::max(1e-300, x.col(c).norm());
   const Eigen::MatrixXd xs = x * scale.cwiseInverse().asDiagonal();
-  const Eigen::VectorXd c = xs.colPivHouseholderQr().solve(e).cwiseQuotient(scale);
+  // Normal equations of the scaled columns (small, terms × terms); the
+  // complete orthogonal decomposition copes with nearly collinear terms.
+  const Eigen::MatrixXd gram = xs.transpose() * xs;
+  const Eigen::VectorXd c = gram.completeOrthogonalDecomposition().solve(xs.transpose() * e).cwiseQuotient(scale);
   if (fit_rms) *fit_rms = std::sqrt((e - x * c).squaredNorm() / std::max<Eigen::Index>(1, n));
   if (signal_rms) *signal_rms = std::sqrt(e.squaredNorm() / std::max<Eigen::Index>(1, n));
   ModelCoefficients out{};
