@@ -129,17 +129,21 @@ void Setup(CLI::App& app) {
     auto out = std::make_shared<std::string>();
     auto report = std::make_shared<std::string>();
     auto block = std::make_shared<int>(1);
+    auto iterations = std::make_shared<int>(ExperimentOptions{}.correction_iterations);
     AddPathOptions(cmd, o.get());
+    cmd->add_option("--iterations", *iterations, "correction passes (1 = the seed's one-shot correction)")->capture_default_str();
     cmd->add_option("--model", *model_path, "tracking-error model from `fiveaxis identify` (default: identify now)");
     cmd->add_option("--out,-o", *out, "corrected program to write (.csv for CSV, else G-code)");
     cmd->add_option("--report", *report, "HTML report to write");
     cmd->add_option("--block-samples", *block, "servo periods per block of the corrected program")->capture_default_str();
-    cmd->callback([o, model_path, out, report, block] {
+    cmd->callback([o, model_path, out, report, block, iterations] {
       const FiveAxisMachine m = ReadFiveAxisMachineFile(o->machine);
       const ToolPath path = LoadPath(*o, m);
       const TrackingErrorModel model = LoadOrIdentify(*model_path, m);
       ExperimentOptions eo;
       eo.samples_per_block = *block;
+      eo.correction_iterations = *iterations;
+      if (*iterations < 1) throw InputError("command line", 0, "--iterations", "must be at least 1");
       if (*block < 1) throw InputError("command line", 0, "--block-samples", "must be at least 1");
       const Experiment x = RunExperiment(m, model, path, eo);
       fmt::print("{} on {} ({:.3f} s)\n", path.name, m.name, x.trajectory.joints.size() * x.trajectory.dt_s);

@@ -14,7 +14,9 @@ std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErr
   }
   std::vector<AxisVector> corrected = command;
   for (int it = 0; it < iterations; ++it) {
-    const std::vector<AxisVector> error = PredictTrackingError(model, corrected, dt_s, kf);
+    // The friction's direction of motion stays the programmed one: a tiny
+    // correction must not flip it at a reversal.
+    const std::vector<AxisVector> error = PredictTrackingError(model, corrected, dt_s, kf, &command);
     for (std::size_t i = 0; i < n; ++i) {
       AxisVector predicted_actual;
       for (int a = 0; a < kAxisCount; ++a) predicted_actual[a] = corrected[i][a] - error[i][a];

@@ -74,13 +74,16 @@ void LaguerreBank(const std::vector<double>& x, double dt_s, std::vector<double>
 }  // namespace
 
 std::array<std::vector<double>, kModelTerms> ModelRegressors(const std::vector<double>& command, double dt_s,
-                                                             double derivative_window_s, double friction_band) {
-  Derivatives d = SavitzkyGolay(command, dt_s, HalfWindowSamples(derivative_window_s, dt_s));
+                                                             double derivative_window_s, double friction_band,
+                                                             const std::vector<double>* direction_from) {
+  const int half_window = HalfWindowSamples(derivative_window_s, dt_s);
+  Derivatives d = SavitzkyGolay(command, dt_s, half_window);
+  const std::vector<double> direction_v = direction_from ? SavitzkyGolay(*direction_from, dt_s, half_window).v : d.v;
   std::array<std::vector<double>, kModelTerms> r;
   const std::size_t n = command.size();
   // Direction of motion, turning over within the friction band.
   std::vector<double> sign(n);
-  for (std::size_t i = 0; i < n; ++i) sign[i] = std::tanh(d.v[i] / friction_band);
+  for (std::size_t i = 0; i < n; ++i) sign[i] = std::tanh(direction_v[i] / friction_band);
   LaguerreBank(d.a, dt_s, &r[kSeedTerms], kLagTerms);
   LaguerreBank(sign, dt_s, &r[kSeedTerms + kLagTerms], kFrictionTerms);
   r[0] = std::move(d.v);
@@ -102,10 +105,12 @@ int UsedTerms(const TrackingErrorModel& model) { return model.with_extensions ? 
 }  // namespace
 
 std::vector<AxisVector> PredictTrackingError(const TrackingErrorModel& model, const std::vector<AxisVector>& command,
-                                             double dt_s, double kf) {
+                                             double dt_s, double kf, const std::vector<AxisVector>* direction_from) {
   std::vector<AxisVector> e(command.size(), AxisVector{});
   for (int a = 0; a < kAxisCount; ++a) {
-    const auto r = ModelRegressors(Column(command, a), dt_s, model.derivative_window_s, model.axes[a].friction_band);
+    const std::vector<double> direction = direction_from ? Column(*direction_from, a) : std::vector<double>{};
+    const auto r = ModelRegressors(Column(command, a), dt_s, model.derivative_window_s, model.axes[a].friction_band,
+                                   direction_from ? &direction : nullptr);
     const auto c = model.axes[a].At(kf);
     for (int t = 0; t < UsedTerms(model); ++t)
       for (std::size_t i = 0; i < command.size(); ++i) e[i][a] += c[t] * r[t][i];

@@ -15,7 +15,7 @@
 namespace trueaxis::fiveaxis {
 
 std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErrorModel& model,
-                                        const std::vector<AxisVector>& command, double dt_s, double kf, int iterations = 1);
+                                        const std::vector<AxisVector>& command, double dt_s, double kf, int iterations = 3);
 
 // The joint commands as a program (tool tip + rotary angles by forward
 // kinematics), one inverse-time block per `samples_per_block` servo periods.

@@ -28,7 +28,7 @@ struct SimulatedRun {
 SimulatedRun SimulateRun(const FiveAxisMachine& m, const std::vector<AxisVector>& command, double kf);
 
 struct ExperimentOptions {
-  int correction_iterations = 1;  // more converge to the model inverse, but amplify what the model gets wrong at high frequency
+  int correction_iterations = 3;  // towards the model inverse; more amplify where the drive cannot follow
   int samples_per_block = 1;  // corrected program: one G93 block per this many servo periods
 };
 

@@ -57,12 +57,16 @@ Derivatives SavitzkyGolay(const std::vector<double>& x, double dt_s, int half_wi
 int HalfWindowSamples(double window_s, double dt_s);
 
 // The model's regressors of one axis command: v, a, j, the lagged accelerations, the friction transients.
+// `direction_from` (same length), when given, supplies the direction of
+// motion instead of `command` (the correction keeps the programmed one).
 std::array<std::vector<double>, kModelTerms> ModelRegressors(const std::vector<double>& command, double dt_s,
-                                                             double derivative_window_s, double friction_band);
+                                                             double derivative_window_s, double friction_band,
+                                                             const std::vector<double>* direction_from = nullptr);
 
 // Predicted tracking error of each axis for joint commands at kf.
 std::vector<AxisVector> PredictTrackingError(const TrackingErrorModel& model, const std::vector<AxisVector>& command,
-                                             double dt_s, double kf);
+                                             double dt_s, double kf,
+                                             const std::vector<AxisVector>* direction_from = nullptr);
 // Seed 004's feed-forward coefficient: per moving axis the kf that minimises
 // the model's tracking error over that axis's reference command (e is linear
 // in kf, so a closed form), then the mean over the axes.
