@@ -39,23 +39,23 @@ void ReadDrive(TomlTableReader& r, DriveParams& d) {
   r.Double("current_limit_a", d.current_limit_a, 1e-3, 1e4);
   r.Double("motor_inertia_kg_m2", d.motor_inertia_kg_m2, 1e-7, 100);
   r.Double("motor_viscous_n_m_s_per_rad", d.motor_viscous_n_m_s_per_rad, 0, 100);
-  if (d.rotary) {
-    r.Double("load_inertia_kg_m2", d.load_inertia, 0, 1e5);
-    r.Double("load_viscous_n_m_s_per_rad", d.load_viscous, 0, 1e6);
-    r.Double("coulomb_n_m", d.coulomb, 0, 1e5);
-    r.Double("gear_ratio", d.transmission, 1, 1e4);
-    double v = d.max_velocity_per_s * 60;
-    r.Double("max_velocity_deg_per_min", v, 1, 1e6);
-    d.max_velocity_per_s = v / 60;
-  } else {
-    r.Double("load_mass_kg", d.load_inertia, 0, 1e5);
-    r.Double("load_viscous_n_s_per_m", d.load_viscous, 0, 1e7);
-    r.Double("coulomb_n", d.coulomb, 0, 1e6);
-    r.Double("lead_mm", d.transmission, 0.1, 1000);
-    double v = d.max_velocity_per_s * 60;
-    r.Double("max_velocity_mm_per_min", v, 1, 1e6);
-    d.max_velocity_per_s = v / 60;
-  }
+  // The load keys differ by unit only.
+  struct LoadKeys {
+    const char *inertia, *viscous, *coulomb, *transmission, *velocity;
+    double viscous_max, coulomb_max, transmission_min, transmission_max;
+  };
+  static constexpr LoadKeys kLinear{"load_mass_kg", "load_viscous_n_s_per_m", "coulomb_n", "lead_mm",
+                                    "max_velocity_mm_per_min", 1e7, 1e6, 0.1, 1000};
+  static constexpr LoadKeys kRotary{"load_inertia_kg_m2", "load_viscous_n_m_s_per_rad", "coulomb_n_m", "gear_ratio",
+                                    "max_velocity_deg_per_min", 1e6, 1e5, 1, 1e4};
+  const LoadKeys& k = d.rotary ? kRotary : kLinear;
+  r.Double(k.inertia, d.load_inertia, 0, 1e5);
+  r.Double(k.viscous, d.load_viscous, 0, k.viscous_max);
+  r.Double(k.coulomb, d.coulomb, 0, k.coulomb_max);
+  r.Double(k.transmission, d.transmission, k.transmission_min, k.transmission_max);
+  double per_min = d.max_velocity_per_s * 60;
+  r.Double(k.velocity, per_min, 1, 1e6);
+  d.max_velocity_per_s = per_min / 60;
   r.RejectUnknown();
 }
 
