@@ -28,13 +28,13 @@ const Setup& Get() {
 void BM_CorrectionPerBlock(benchmark::State& state) {
   const Setup& s = Get();
   for (auto _ : state) {
-    auto c = CorrectCommands(s.kin, s.model, s.trajectory.joints, s.trajectory.dt_s, 1.0, 1);
+    auto c = CorrectCommands(s.kin, s.model, s.trajectory.joints, s.trajectory.dt_s, 1.0, static_cast<int>(state.range(0)));
     benchmark::DoNotOptimize(c.data());
   }
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(s.trajectory.joints.size()));
   state.counters["blocks"] = static_cast<double>(s.trajectory.joints.size());
 }
-BENCHMARK(BM_CorrectionPerBlock)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CorrectionPerBlock)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond);  // passes
 
 void BM_PredictionPerBlock(benchmark::State& state) {
   const Setup& s = Get();
