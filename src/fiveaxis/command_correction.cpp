@@ -1,10 +1,13 @@
 // Command correction through the kinematics (seed 004).
 #include "trueaxis/fiveaxis/command_correction.hpp"
 
+#include <cmath>
+
 namespace trueaxis::fiveaxis {
 
 std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErrorModel& model,
-                                        const std::vector<AxisVector>& command, double dt_s, double kf, int iterations) {
+                                        const std::vector<AxisVector>& command, double dt_s, double kf, int iterations,
+                                        double update_filter_s) {
   const std::size_t n = command.size();
   std::vector<Eigen::Vector3d> target_tip(n), virtual_tip(n);
   std::vector<std::array<double, 2>> virtual_rotary(n);
@@ -13,6 +16,7 @@ std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErr
     virtual_rotary[i] = {command[i][kTilt], command[i][kRot]};
   }
   std::vector<AxisVector> corrected = command;
+  std::vector<std::array<double, 5>> update(n);  // tip x, y, z, tilt, rot
   for (int it = 0; it < iterations; ++it) {
     // The friction's direction of motion stays the programmed one: a tiny
     // correction must not flip it at a reversal.
@@ -20,10 +24,26 @@ std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErr
     for (std::size_t i = 0; i < n; ++i) {
       AxisVector predicted_actual;
       for (int a = 0; a < kAxisCount; ++a) predicted_actual[a] = corrected[i][a] - error[i][a];
-      const Eigen::Vector3d tip_actual = kin.Forward(predicted_actual).tip_mm;
-      virtual_tip[i] -= tip_actual - target_tip[i];
-      virtual_rotary[i][0] -= predicted_actual[kTilt] - command[i][kTilt];
-      virtual_rotary[i][1] -= predicted_actual[kRot] - command[i][kRot];
+      const Eigen::Vector3d tip_error = kin.Forward(predicted_actual).tip_mm - target_tip[i];
+      update[i] = {-tip_error.x(), -tip_error.y(), -tip_error.z(), -(predicted_actual[kTilt] - command[i][kTilt]),
+                   -(predicted_actual[kRot] - command[i][kRot])};
+    }
+    // Passes after the first: the update through a zero-phase low-pass (a
+    // forward and a backward first-order lag), so the passes converge where
+    // the model is right and leave alone what the drive cannot follow.
+    if (it > 0 && update_filter_s > 0) {
+      const double alpha = 1.0 - std::exp(-dt_s / update_filter_s);
+      for (int c = 0; c < 5; ++c) {
+        double low = 0;
+        for (std::size_t i = 0; i < n; ++i) update[i][c] = low += alpha * (update[i][c] - low);
+        low = 0;
+        for (std::size_t i = n; i-- > 0;) update[i][c] = low += alpha * (update[i][c] - low);
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      virtual_tip[i] += Eigen::Vector3d(update[i][0], update[i][1], update[i][2]);
+      virtual_rotary[i][0] += update[i][3];
+      virtual_rotary[i][1] += update[i][4];
       corrected[i] = kin.Inverse(virtual_tip[i], virtual_rotary[i][0], virtual_rotary[i][1]);
     }
   }

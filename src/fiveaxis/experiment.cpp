@@ -36,7 +36,8 @@ Experiment RunExperiment(const FiveAxisMachine& m, const TrackingErrorModel& mod
   x.with_ff = SimulateRun(m, x.trajectory.joints, kf);
   x.with_ff.label = "FF";
 
-  const std::vector<AxisVector> corrected = CorrectCommands(kin, model, x.trajectory.joints, dt, kf, o.correction_iterations);
+  const std::vector<AxisVector> corrected = CorrectCommands(kin, model, x.trajectory.joints, dt, kf, o.correction_iterations,
+                                                             o.correction_filter_s);
   x.corrected_program = CommandsToProgram(corrected, kin, dt, o.samples_per_block, path.name + " (corrected)");
   x.corrected_gcode = WriteGcodeProgram(x.corrected_program, m,
                                         "trueaxis fiveaxis: " + path.name + ", corrected for FF kf=" + std::to_string(kf));

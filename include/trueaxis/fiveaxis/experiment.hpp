@@ -28,7 +28,8 @@ struct SimulatedRun {
 SimulatedRun SimulateRun(const FiveAxisMachine& m, const std::vector<AxisVector>& command, double kf);
 
 struct ExperimentOptions {
-  int correction_iterations = 3;  // towards the model inverse; more amplify where the drive cannot follow
+  int correction_iterations = 6;        // 1 = seed 004's one-shot correction
+  double correction_filter_s = 0.005;   // zero-phase low-pass of the later passes' updates
   int samples_per_block = 1;  // corrected program: one G93 block per this many servo periods
 };
 
