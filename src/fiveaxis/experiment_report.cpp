@@ -99,21 +99,32 @@ report::HtmlPage BuildExperimentReport(const Experiment& x, const FiveAxisMachin
     }
   }
   page.AddHeading("Per-axis tracking error (programmed command − actual)");
+  // The corrected run is compared with the original command (what was programmed).
+  const auto& cmd = x.trajectory.joints;
+  auto tracking = [&](const SimulatedRun& run, int a, std::size_t i) { return (cmd[i][a] - run.actual[i][a]) * 1e3; };
+  report::HtmlTable rms({"axis", "unit", "no FF rms", "FF rms", "FF + correction rms"}, "RMS tracking error per axis");
   for (int a = 0; a < kAxisCount; ++a) {
-    const bool rotary = a >= kTilt;
+    std::vector<std::string> row = {names[a], a >= kTilt ? "mdeg" : "µm"};
+    for (const SimulatedRun* run : {&x.without_ff, &x.with_ff, &x.corrected}) {
+      double sum2 = 0;
+      const std::size_t n = std::min(cmd.size(), run->actual.size());
+      for (std::size_t i = 0; i < n; ++i) sum2 += tracking(*run, a, i) * tracking(*run, a, i);
+      row.push_back(fmt::format("{:.3f}", n ? std::sqrt(sum2 / n) : 0.0));
+    }
+    rms.AddRow(row);
+  }
+  page.AddTable(rms);
+  for (int a = 0; a < kAxisCount; ++a) {
     report::SvgChartOptions o;
-    o.title = names[a] + " tracking error";
+    o.title = names[a] + " tracking error with feed-forward (no FF: table above)";
     o.x_label = "time (s)";
-    o.y_label = rotary ? "error (mdeg)" : "error (µm)";
+    o.y_label = a >= kTilt ? "error (mdeg)" : "error (µm)";
     o.height_px = 260;
     report::SvgChart chart(o);
-    const double scale = 1e3;
-    for (const SimulatedRun* run : {&x.without_ff, &x.with_ff, &x.corrected}) {
-      // The corrected run is compared with the original command (what was programmed).
-      const auto& cmd = x.trajectory.joints;
+    for (const SimulatedRun* run : {&x.with_ff, &x.corrected}) {
       const std::size_t n = std::min(cmd.size(), run->actual.size());
       chart.AddLine(run->label, Thin(n, [&](std::size_t i) { return i * x.trajectory.dt_s; }),
-                    Thin(n, [&](std::size_t i) { return (cmd[i][a] - run->actual[i][a]) * scale; }));
+                    Thin(n, [&](std::size_t i) { return tracking(*run, a, i); }));
     }
     page.AddChart(chart);
   }
