@@ -45,7 +45,7 @@ TrackingErrorModel LoadOrIdentify(const std::string& model_path, const FiveAxisM
   return IdentifyTrackingModel(m, AxisTestOptions{}, VirtualMachineRunner(m));
 }
 
-void PrintRuns(const Experiment& x) {
+void PrintRuns(const Experiment& x, const FiveAxisMachine& m) {
   fmt::print("{:<18} {:>10} {:>10} {:>14} {:>14}\n", "run", "rms (µm)", "max (µm)", "orient. rms", "orient. max");
   for (const SimulatedRun* r : {&x.without_ff, &x.with_ff, &x.corrected})
     fmt::print("{:<18} {:>10.3f} {:>10.3f} {:>9.2f} µrad {:>9.2f} µrad\n", r->label, r->contour.rms_um, r->contour.max_um,
@@ -56,7 +56,7 @@ void PrintRuns(const Experiment& x) {
   for (const SimulatedRun* r : {&x.without_ff, &x.with_ff, &x.corrected})
     for (int a = 0; a < kAxisCount; ++a)
       if (r->saturated_periods[a] > 0)
-        fmt::print(stderr, "warning: {}: drive {} at its current limit for {} servo periods\n", r->label, a,
+        fmt::print(stderr, "warning: {}: drive {} at its current limit for {} servo periods\n", r->label, m.axis_names()[a],
                    r->saturated_periods[a]);
 }
 
@@ -88,19 +88,27 @@ void Setup(CLI::App& app) {
     auto* cmd = five->add_subcommand("simulate", "Run a tool path on the virtual machine and print its contour error");
     auto o = std::make_shared<PathOptions>();
     auto kf = std::make_shared<double>(0.0);
+    auto aff = std::make_shared<double>(0.0);
     auto reference = std::make_shared<std::string>();
     auto csv = std::make_shared<std::string>();
     AddPathOptions(cmd, o.get());
     cmd->add_option("--kf", *kf, "velocity feed-forward coefficient of every drive")->capture_default_str();
+    cmd->add_option("--aff", *aff, "acceleration (torque) feed-forward, 0..1 of the drive's inertia")->capture_default_str();
     cmd->add_option("--reference", *reference, "judge against this program's path (e.g. the original of a corrected program)");
     cmd->add_option("--csv", *csv, "write time, commanded and actual joints, contour error per servo period");
-    cmd->callback([o, kf, reference, csv] {
+    cmd->callback([o, kf, aff, reference, csv] {
+      if (*kf < 0 || *kf > 1.5 || *aff < 0 || *aff > 1.5)
+        throw InputError("command line", 0, "--kf", "feed-forward coefficients must lie in 0 … 1.5");
       const FiveAxisMachine m = ReadFiveAxisMachineFile(o->machine);
       const ToolPath path = LoadPath(*o, m);
       const ToolPath judge = reference->empty() ? path : ReadProgramFile(*reference, m, o->feed);
       const Kinematics kin(m.kinematics);
       const Trajectory t = Interpolate(path, m);
-      SimulatedRun run = SimulateRun(m, t.joints, *kf);
+      SimulatedRun run = SimulateRun(m, t.joints, *kf, *aff);
+      for (int a = 0; a < kAxisCount; ++a)
+        if (run.saturated_periods[a] > 0)
+          fmt::print(stderr, "warning: drive {} at its current limit for {} servo periods\n", m.axis_names()[a],
+                     run.saturated_periods[a]);
       run.contour = EvaluateContour(judge, kin, run.actual);
       fmt::print("{} on {}: {:.3f} s, kf = {:g}\ncontour error rms {:.3f} µm, max {:.3f} µm; orientation rms {:.2f} µrad, max {:.2f} µrad\n",
                  path.name, m.name, t.joints.size() * t.dt_s, *kf, run.contour.rms_um, run.contour.max_um,
@@ -147,7 +155,7 @@ void Setup(CLI::App& app) {
       if (*block < 1) throw InputError("command line", 0, "--block-samples", "must be at least 1");
       const Experiment x = RunExperiment(m, model, path, eo);
       fmt::print("{} on {} ({:.3f} s)\n", path.name, m.name, x.trajectory.joints.size() * x.trajectory.dt_s);
-      PrintRuns(x);
+      PrintRuns(x, m);
       if (!out->empty()) {
         const bool csv = out->size() >= 4 && out->substr(out->size() - 4) == ".csv";
         WriteTextFile(*out, csv ? WriteCsvProgram(x.corrected_program, m) : x.corrected_gcode);

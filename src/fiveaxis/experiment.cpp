@@ -6,7 +6,8 @@
 
 namespace trueaxis::fiveaxis {
 
-SimulatedRun SimulateRun(const FiveAxisMachine& m, const std::vector<AxisVector>& command, double kf) {
+SimulatedRun SimulateRun(const FiveAxisMachine& m, const std::vector<AxisVector>& command, double kf,
+                         double acceleration_ff) {
   SimulatedRun run;
   run.kf = kf;
   run.command = command;
@@ -14,7 +15,7 @@ SimulatedRun SimulateRun(const FiveAxisMachine& m, const std::vector<AxisVector>
   std::vector<double> column(command.size());
   for (int a = 0; a < kAxisCount; ++a) {
     for (std::size_t i = 0; i < command.size(); ++i) column[i] = command[i][a];
-    const std::vector<double> y = RunDrive(m.drives[a], m.servo_rate_hz, FeedForward{kf, 0.0}, column,
+    const std::vector<double> y = RunDrive(m.drives[a], m.servo_rate_hz, FeedForward{kf, acceleration_ff}, column,
                                            &run.saturated_periods[a]);
     for (std::size_t i = 0; i < y.size(); ++i) run.actual[i][a] = y[i];
   }

@@ -24,8 +24,9 @@ struct SimulatedRun {
   ContourErrors contour;
 };
 
-// Runs every drive over its command column.
-SimulatedRun SimulateRun(const FiveAxisMachine& m, const std::vector<AxisVector>& command, double kf);
+// Runs every drive over its command column (velocity FF kf, optional acceleration FF).
+SimulatedRun SimulateRun(const FiveAxisMachine& m, const std::vector<AxisVector>& command, double kf,
+                         double acceleration_ff = 0);
 
 struct ExperimentOptions {
   int correction_iterations = 6;        // 1 = seed 004's one-shot correction
