@@ -11,7 +11,7 @@ namespace trueaxis::fiveaxis {
 
 report::HtmlPage BuildExperimentReport(const Experiment& x, const FiveAxisMachine& m, const TrackingErrorModel& model);
 
-// "12.3 µm rms, 45.6 µm max" rows of the three runs, as Markdown or text table lines.
+// 100 · (1 − after / before); 0 when before is 0.
 double ReductionPercent(double before, double after);
 
 }  // namespace trueaxis::fiveaxis

@@ -11,13 +11,13 @@
 // linear blend.
 //
 // Extensions (not in seed 004), switched off by `with_extensions = false`:
-// the acceleration through first-order lags LP_τ(a) (τ = 1 … 100 ms: the
-// error's own dynamics, which the truncated v/a/j series misses after a
-// change of acceleration), and Coulomb friction. A PI velocity loop cancels
-// a constant friction force, but each reversal of the velocity leaves a
-// transient; the model adds it as f_k · (s − LP_τk(s)), s = tanh(v / band),
-// for seven fixed time constants τk (2 … 160 ms); the band (how sharply friction turns
-// over at a reversal) is chosen per axis by the identification.
+// 10 discrete Laguerre filters (pole 10 ms) of the acceleration — the error's
+// own dynamics (lags and ringing) after a change of acceleration, which the
+// truncated v/a/j series misses — and 8 Laguerre filters of the direction of
+// motion s = tanh(v / band) for Coulomb friction: a PI velocity loop cancels a
+// constant friction force, but each reversal leaves a transient. The band
+// (how sharply friction turns over at a reversal) is chosen per axis by the
+// identification.
 #include <array>
 #include <string>
 #include <vector>
