@@ -54,28 +54,20 @@ ToolPath CommandsToProgram(const std::vector<AxisVector>& joints, const Kinemati
                            int samples_per_block, const std::string& name) {
   ToolPath path;
   path.name = name;
-  const int step = std::max(1, samples_per_block);
-  for (std::size_t i = 0; i < joints.size(); i += (i == 0 ? 1 : step)) {
-    const std::size_t k = i;
+  const std::size_t step = static_cast<std::size_t>(std::max(1, samples_per_block));
+  std::size_t previous = 0;
+  // Samples 0, step, 2·step, …, and the last one; each block lasts the samples since the previous.
+  for (std::size_t k = 0; k < joints.size();) {
     PathVertex v;
-    const ToolPose pose = kin.Forward(joints[k]);
-    v.tip_mm = pose.tip_mm;
+    v.tip_mm = kin.Forward(joints[k]).tip_mm;
     v.tilt_deg = joints[k][kTilt];
     v.rot_deg = joints[k][kRot];
     v.move = k == 0 ? MoveKind::kStart : MoveKind::kInverseTime;
-    v.duration_s = k == 0 ? 0.0 : step * dt_s;
+    v.duration_s = static_cast<double>(k - previous) * dt_s;
     path.vertices.push_back(v);
-    if (k + step >= joints.size() && k + 1 < joints.size() && k != 0) {
-      // Close on the last sample.
-      PathVertex last = v;
-      const ToolPose end = kin.Forward(joints.back());
-      last.tip_mm = end.tip_mm;
-      last.tilt_deg = joints.back()[kTilt];
-      last.rot_deg = joints.back()[kRot];
-      last.duration_s = static_cast<double>(joints.size() - 1 - k) * dt_s;
-      path.vertices.push_back(last);
-      break;
-    }
+    previous = k;
+    if (k + 1 == joints.size()) break;
+    k = std::min(k + step, joints.size() - 1);
   }
   return path;
 }

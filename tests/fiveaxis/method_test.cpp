@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "trueaxis/fiveaxis/axis_identification.hpp"
+#include "trueaxis/fiveaxis/command_correction.hpp"
 #include "trueaxis/fiveaxis/contour_error.hpp"
 #include "trueaxis/fiveaxis/experiment.hpp"
 #include "trueaxis/fiveaxis/machine_variation.hpp"
@@ -197,6 +198,28 @@ TEST(FiveAxisDrive, AccelerationFeedForwardReducesTheResidual) {
   };
   EXPECT_LT(rms({1.0, 1.0}), 0.9 * rms({1.0, 0.0}));
   EXPECT_LT(rms({1.0, 0.0}), 0.1 * rms({0.0, 0.0}));
+}
+
+// Joint commands as an inverse-time program: every block lasts its samples,
+// the last block ends on the last sample, and replaying it gives the joints back.
+TEST(FiveAxisExperiment, CommandsToProgramKeepsTimeAndEnd) {
+  FiveAxisMachine m = Machine("table_ac.toml");
+  const Kinematics kin(m.kinematics);
+  const Trajectory t = Interpolate(MakeTestPath("cone", kin, 3000), m);
+  for (int block : {1, 7}) {
+    const ToolPath p = CommandsToProgram(t.joints, kin, t.dt_s, block, "p");
+    double total = 0;
+    for (const auto& v : p.vertices) total += v.duration_s;
+    EXPECT_NEAR(total, (t.joints.size() - 1) * t.dt_s, 1e-9) << block;
+    const AxisVector end = VertexJoints(p, kin).back();
+    for (int a = 0; a < kAxisCount; ++a) EXPECT_NEAR(end[a], t.joints.back()[a], 1e-9);
+    if (block == 1) {
+      const auto replay = Interpolate(p, m, 0.0).joints;
+      ASSERT_EQ(replay.size() + 1, t.joints.size());
+      for (std::size_t i = 0; i < replay.size(); i += 97)
+        for (int a = 0; a < kAxisCount; ++a) EXPECT_NEAR(replay[i][a], t.joints[i + 1][a], 1e-9);
+    }
+  }
 }
 
 // The whole method on the example A/C machine and on a varied one: the
