@@ -176,15 +176,19 @@ void Setup(CLI::App& app) {
     auto seed = std::make_shared<unsigned>(1);
     auto markdown = std::make_shared<std::string>();
     auto iterations = std::make_shared<int>(ExperimentOptions{}.correction_iterations);
-    cmd->add_option("--iterations", *iterations, "correction iterations")->capture_default_str();
+    auto filter_ms = std::make_shared<double>(ExperimentOptions{}.correction_filter_s * 1e3);
+    cmd->add_option("--iterations", *iterations, "correction passes")->capture_default_str();
+    cmd->add_option("--filter-ms", *filter_ms, "zero-phase low-pass of the later passes' updates (0 = none)")->capture_default_str();
     cmd->add_option("--machine", *machine, "five-axis machine TOML")->required();
     cmd->add_option("--feeds", *feeds, "feeds (mm/min), comma separated")->delimiter(',')->capture_default_str();
     cmd->add_option("--variants", *variants, "also this many machines with randomly varied drives")->capture_default_str();
     cmd->add_option("--seed", *seed, "random seed of the variations")->capture_default_str();
     cmd->add_option("--markdown", *markdown, "write the table as Markdown");
-    cmd->callback([machine, feeds, variants, seed, markdown, iterations] {
+    cmd->callback([machine, feeds, variants, seed, markdown, iterations, filter_ms] {
       ExperimentOptions eo;
       eo.correction_iterations = *iterations;
+      eo.correction_filter_s = *filter_ms * 1e-3;
+      if (*iterations < 1 || *filter_ms < 0) throw InputError("command line", 0, "--iterations", "passes >= 1, filter >= 0");
       const FiveAxisMachine base = ReadFiveAxisMachineFile(*machine);
       std::string md = "| machine | path | feed (mm/min) | kf | no FF rms / max (µm) | FF rms / max (µm) | FF + corr. rms / max (µm) | rms reduction vs FF | max reduction vs FF |\n|---|---|---|---|---|---|---|---|---|\n";
       double worst = INFINITY;
