@@ -1,0 +1,55 @@
+#pragma once
+// Identification of the tracking-error model from axis tests (docs/fiveaxis.md,
+// "Identification"): each axis alone runs a sine test — A·(1 − cos 2πft) for a
+// few whole periods at several frequencies, amplitude within the axis's
+// velocity limit — once without feed-forward and once with kf = 1, as a
+// commissioning engineer records them with the drive's trace. The model's
+// coefficients are the least-squares fit of the measured tracking error
+// (command − measured position) to the command's velocity, acceleration and
+// jerk. Only the traces are used, never the drive's parameters.
+#include <functional>
+#include <vector>
+
+#include "trueaxis/fiveaxis/machine.hpp"
+#include "trueaxis/fiveaxis/tracking_model.hpp"
+
+namespace trueaxis::fiveaxis {
+
+struct AxisTestOptions {
+  // Well below the position-loop bandwidth, where the model (a low-frequency
+  // expansion) holds and where tool paths live.
+  std::vector<double> frequencies_hz = {0.25, 0.5, 1, 2, 3};
+  int periods = 2;
+  double velocity_fraction = 0.5;   // peak velocity / the axis's velocity limit
+  double max_acceleration = 2000;   // mm/s² or deg/s²
+  double max_amplitude = 50;        // mm or deg
+  double rest_s = 0.1;              // standing between frequencies
+  // A slow test with gentle reversals (where friction turns over slowly):
+  // this frequency at this peak velocity (mm/s or deg/s).
+  double slow_frequency_hz = 0.25;
+  double slow_peak_velocity = 1.0;
+  std::vector<double> friction_bands = {0.01, 0.03, 0.1, 0.3, 1, 3};  // candidates, mm/s or deg/s
+  double derivative_window_s = 0.01;
+  bool with_extensions = true;
+};
+
+// The test command of one axis (one sample per servo period).
+std::vector<double> AxisTestCommand(const DriveParams& d, double servo_rate_hz, const AxisTestOptions& o);
+
+// A recorded axis test: command and measured position.
+struct AxisTrace {
+  std::vector<double> command, measured;
+};
+// Fits one axis's coefficients from a trace.
+// with_extensions = false fits the seed's three terms only.
+ModelCoefficients FitTrackingCoefficients(const AxisTrace& trace, double dt_s, double window_s, bool with_extensions,
+                                          double friction_band, double* fit_rms, double* signal_rms);
+
+// Runs the tests on the virtual machine's drives (any `run` — e.g. a real
+// machine's trace recorder — may be passed instead) and fits the model.
+using AxisTestRunner = std::function<std::vector<double>(int axis, double kf, const std::vector<double>& command)>;
+TrackingErrorModel IdentifyTrackingModel(const FiveAxisMachine& m, const AxisTestOptions& o, const AxisTestRunner& run);
+// The runner that drives the virtual machine's servo drives.
+AxisTestRunner VirtualMachineRunner(const FiveAxisMachine& m);
+
+}  // namespace trueaxis::fiveaxis

@@ -1,0 +1,28 @@
+#pragma once
+// Seed 004's command correction (docs/fiveaxis.md, "Correction"): the model
+// predicts each axis's residual tracking error under feed-forward; the
+// predicted actual joints give, by forward kinematics, the predicted actual
+// tool tip and axis; their difference from the commanded tip and rotary
+// angles moves a virtual target the other way, whose inverse kinematics is
+// the corrected axis command (= command + axis compensation). The first pass
+// is seed 004's correction; further passes predict the error of the corrected
+// command itself, their updates low-passed without phase (time constant
+// update_filter_s), and converge towards the command whose predicted motion
+// is the programmed one (docs/fiveaxis.md, "Correction").
+#include <vector>
+
+#include "trueaxis/fiveaxis/tool_path.hpp"
+#include "trueaxis/fiveaxis/tracking_model.hpp"
+
+namespace trueaxis::fiveaxis {
+
+std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErrorModel& model,
+                                        const std::vector<AxisVector>& command, double dt_s, double kf, int iterations = 6,
+                                        double update_filter_s = 0.005);
+
+// The joint commands as a program (tool tip + rotary angles by forward
+// kinematics), one inverse-time block per `samples_per_block` servo periods.
+ToolPath CommandsToProgram(const std::vector<AxisVector>& joints, const Kinematics& kin, double dt_s,
+                           int samples_per_block, const std::string& name);
+
+}  // namespace trueaxis::fiveaxis

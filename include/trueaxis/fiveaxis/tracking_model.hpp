@@ -1,0 +1,83 @@
+#pragma once
+// Seed 004's servo tracking-error model (docs/fiveaxis.md, "Tracking-error
+// model"). For a P position loop with velocity feed-forward kf over a PI
+// velocity loop driving inertia with viscous friction, the tracking error
+// e = r − y of each axis, expanded at low frequency, is
+//     e ≈ c_v·v + c_a·a + c_j·j      (v, a, j: velocity, acceleration, jerk of the command)
+// with c_v = (1 − kf)/Kp, and c_a, c_j combining Kp, Kv, Ti, kt, the motor +
+// screw inertia j and friction b, the load m and c and the transmission —
+// all linear in kf. The model keeps the three lumped coefficients at kf = 0
+// and at kf = 1 (what an axis test can identify); any kf in between is the
+// linear blend.
+//
+// Extensions (not in seed 004), switched off by `with_extensions = false`:
+// 10 discrete Laguerre filters (pole 10 ms) of the acceleration — the error's
+// own dynamics (lags and ringing) after a change of acceleration, which the
+// truncated v/a/j series misses — and 8 Laguerre filters of the direction of
+// motion s = tanh(v / band) for Coulomb friction: a PI velocity loop cancels a
+// constant friction force, but each reversal leaves a transient. The band
+// (how sharply friction turns over at a reversal) is chosen per axis by the
+// identification.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "trueaxis/fiveaxis/kinematics.hpp"
+
+namespace trueaxis::fiveaxis {
+
+inline constexpr int kSeedTerms = 3;     // v, a, j
+inline constexpr int kLagTerms = 10;     // Laguerre filters of a
+inline constexpr int kFrictionTerms = 8; // Laguerre filters of s = tanh(v / band)
+inline constexpr int kModelTerms = kSeedTerms + kLagTerms + kFrictionTerms;
+inline constexpr double kLaguerreTimeConstantS = 0.01;  // pole of the Laguerre filters
+using ModelCoefficients = std::array<double, kModelTerms>;
+
+struct AxisErrorModel {
+  ModelCoefficients without_ff{};  // c_v (s), c_a (s²), c_j (s³), lag and friction terms at kf = 0
+  ModelCoefficients full_ff{};     // at kf = 1
+  double fit_rms = 0;              // identification residual at kf = 1 (mm or deg)
+  double signal_rms = 0;           // rms tracking error of that identification run
+  double friction_band = 0.1;      // mm/s or deg/s
+  ModelCoefficients At(double kf) const;
+};
+
+struct TrackingErrorModel {
+  std::array<AxisErrorModel, kAxisCount> axes;
+  double derivative_window_s = 0.01;  // Savitzky–Golay window of v, a, j
+  bool with_extensions = true;
+};
+
+// Velocity, acceleration and jerk of a sampled signal: a cubic
+// Savitzky–Golay fit over ±half_window samples (ends held).
+struct Derivatives {
+  std::vector<double> v, a, j;
+};
+Derivatives SavitzkyGolay(const std::vector<double>& x, double dt_s, int half_window);
+int HalfWindowSamples(double window_s, double dt_s);
+
+// The model's regressors of one axis command: v, a, j, the lagged accelerations, the friction transients.
+// `direction_from` (same length), when given, supplies the direction of
+// motion instead of `command` (the correction keeps the programmed one).
+std::array<std::vector<double>, kModelTerms> ModelRegressors(const std::vector<double>& command, double dt_s,
+                                                             double derivative_window_s, double friction_band,
+                                                             const std::vector<double>* direction_from = nullptr);
+
+// Predicted tracking error of each axis for joint commands at kf.
+std::vector<AxisVector> PredictTrackingError(const TrackingErrorModel& model, const std::vector<AxisVector>& command,
+                                             double dt_s, double kf,
+                                             const std::vector<AxisVector>* direction_from = nullptr);
+// Seed 004's feed-forward coefficient: per moving axis the kf that minimises
+// the model's tracking error over that axis's reference command (e is linear
+// in kf, so a closed form), then the mean over the axes.
+struct FeedForwardChoice {
+  std::array<double, kAxisCount> per_axis{};  // NaN for an axis that does not move
+  double averaged = 0;
+};
+FeedForwardChoice ChooseFeedForward(const TrackingErrorModel& model, const std::vector<AxisVector>& command, double dt_s);
+
+std::string ModelToJson(const TrackingErrorModel& model, const std::array<std::string, kAxisCount>& names);
+// InputError naming the source for a malformed model.
+TrackingErrorModel ModelFromJson(const std::string& text, const std::string& source);
+
+}  // namespace trueaxis::fiveaxis

@@ -1,0 +1,75 @@
+// Command correction through the kinematics (seed 004).
+#include "trueaxis/fiveaxis/command_correction.hpp"
+
+#include <cmath>
+
+namespace trueaxis::fiveaxis {
+
+std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErrorModel& model,
+                                        const std::vector<AxisVector>& command, double dt_s, double kf, int iterations,
+                                        double update_filter_s) {
+  const std::size_t n = command.size();
+  std::vector<Eigen::Vector3d> target_tip(n), virtual_tip(n);
+  std::vector<std::array<double, 2>> virtual_rotary(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    target_tip[i] = virtual_tip[i] = kin.Forward(command[i]).tip_mm;
+    virtual_rotary[i] = {command[i][kTilt], command[i][kRot]};
+  }
+  std::vector<AxisVector> corrected = command;
+  std::vector<std::array<double, 5>> update(n);  // tip x, y, z, tilt, rot
+  for (int it = 0; it < iterations; ++it) {
+    // The friction's direction of motion stays the programmed one: a tiny
+    // correction must not flip it at a reversal.
+    const std::vector<AxisVector> error = PredictTrackingError(model, corrected, dt_s, kf, &command);
+    for (std::size_t i = 0; i < n; ++i) {
+      AxisVector predicted_actual;
+      for (int a = 0; a < kAxisCount; ++a) predicted_actual[a] = corrected[i][a] - error[i][a];
+      const Eigen::Vector3d tip_error = kin.Forward(predicted_actual).tip_mm - target_tip[i];
+      update[i] = {-tip_error.x(), -tip_error.y(), -tip_error.z(), -(predicted_actual[kTilt] - command[i][kTilt]),
+                   -(predicted_actual[kRot] - command[i][kRot])};
+    }
+    // Passes after the first: the update through a zero-phase low-pass (a
+    // forward and a backward first-order lag), so the passes converge where
+    // the model is right and leave alone what the drive cannot follow.
+    if (it > 0 && update_filter_s > 0) {
+      const double alpha = 1.0 - std::exp(-dt_s / update_filter_s);
+      for (int c = 0; c < 5; ++c) {
+        double low = 0;
+        for (std::size_t i = 0; i < n; ++i) update[i][c] = low += alpha * (update[i][c] - low);
+        low = 0;
+        for (std::size_t i = n; i-- > 0;) update[i][c] = low += alpha * (update[i][c] - low);
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      virtual_tip[i] += Eigen::Vector3d(update[i][0], update[i][1], update[i][2]);
+      virtual_rotary[i][0] += update[i][3];
+      virtual_rotary[i][1] += update[i][4];
+      corrected[i] = kin.Inverse(virtual_tip[i], virtual_rotary[i][0], virtual_rotary[i][1]);
+    }
+  }
+  return corrected;
+}
+
+ToolPath CommandsToProgram(const std::vector<AxisVector>& joints, const Kinematics& kin, double dt_s,
+                           int samples_per_block, const std::string& name) {
+  ToolPath path;
+  path.name = name;
+  const std::size_t step = static_cast<std::size_t>(std::max(1, samples_per_block));
+  std::size_t previous = 0;
+  // Samples 0, step, 2·step, …, and the last one; each block lasts the samples since the previous.
+  for (std::size_t k = 0; k < joints.size();) {
+    PathVertex v;
+    v.tip_mm = kin.Forward(joints[k]).tip_mm;
+    v.tilt_deg = joints[k][kTilt];
+    v.rot_deg = joints[k][kRot];
+    v.move = k == 0 ? MoveKind::kStart : MoveKind::kInverseTime;
+    v.duration_s = static_cast<double>(k - previous) * dt_s;
+    path.vertices.push_back(v);
+    previous = k;
+    if (k + 1 == joints.size()) break;
+    k = std::min(k + step, joints.size() - 1);
+  }
+  return path;
+}
+
+}  // namespace trueaxis::fiveaxis
