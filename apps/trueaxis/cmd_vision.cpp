@@ -302,7 +302,7 @@ void Setup(CLI::App& app) {
             .Save(*report);
         fmt::print("report written to {}\n", *report);
       }
-      if (monitor.stop()) throw CLI::RuntimeError(kExitFailure);
+      if (monitor.stop()) throw std::runtime_error("the stop rule tripped (exit code 1): " + monitor.message());
     });
   }
   {  // run

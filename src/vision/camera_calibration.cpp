@@ -67,7 +67,7 @@ std::vector<std::pair<cv::Vec3d, cv::Vec3d>> CalibrationPoses(const ChessboardSp
   const double w = (b.cols - 1) * b.square_mm, h = (b.rows - 1) * b.square_mm;
   for (int i = 0; i < count; ++i) {
     const double a = 2 * 3.14159265358979 * i / count;
-    const double tilt = 0.35 * (0.4 + 0.6 * ((i % 3) / 2.0));
+    const double tilt = 0.55 * (0.4 + 0.6 * ((i % 3) / 2.0));
     const cv::Vec3d rvec(tilt * std::cos(a), tilt * std::sin(a), 0.1 * std::sin(3 * a));
     // The board's centre lands at `centre` (camera frame): t = centre − R·board_centre.
     const double spread = 0.06 * distance_mm;

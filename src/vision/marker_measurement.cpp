@@ -270,10 +270,10 @@ MarkerReading MeasureMarker(const cv::Mat& input, const CameraModel& cam, const 
   const int between0 = ring_run[0].end + reach, between1 = ring_run[1].begin - reach;
   if (between1 - between0 < 5) return fail(ReadingStatus::kNoMarker, "rings too close together");
   cv::morphologyEx(mask8, vert, cv::MORPH_OPEN,
-                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(1, std::max(5, (between1 - between0) / 2))));
+                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(1, std::max(5, (between1 - between0) / 8))));
   std::vector<int> col_count(W, 0);
   for (int u = 0; u < W; ++u) col_count[u] = cv::countNonZero(vert.col(u).rowRange(between0, between1));
-  auto line_runs = Runs(col_count, std::max(3, (between1 - between0) / 3));
+  auto line_runs = Runs(col_count, std::max(3, (between1 - between0) / 4));
 
   // 3. Sub-pixel strokes.
   const double min_step = 3.0;  // grey levels per pixel
@@ -290,7 +290,7 @@ MarkerReading MeasureMarker(const cv::Mat& input, const CameraModel& cam, const 
       pts.emplace_back(u0 + s->centre, v);
       line_widths.push_back(s->right_edge - s->left_edge);
     }
-    if (static_cast<int>(pts.size()) >= std::max(5, (between1 - between0) / 3)) line_px.push_back(std::move(pts));
+    if (static_cast<int>(pts.size()) >= std::max(5, (between1 - between0) / 4)) line_px.push_back(std::move(pts));
   }
   std::vector<cv::Point2d> ring_px[2];
   std::vector<double> ring_widths;
