@@ -154,6 +154,21 @@ MeanSe RobustMean(const std::vector<double>& v) {
   return r;
 }
 
+// Scatter of single sub-pixel positions sampled along a smooth edge: from the
+// second difference e[i] − (e[i−1] + e[i+1])/2 of neighbouring samples (which
+// removes the edge's own smooth course), σ² = mean(d²)/1.5; outliers (3 MAD) dropped.
+void AddSecondDifferences(const std::vector<std::pair<int, double>>& e, std::vector<double>& out) {
+  for (std::size_t i = 1; i + 1 < e.size(); ++i)
+    if (e[i - 1].first + 1 == e[i].first && e[i].first + 1 == e[i + 1].first)
+      out.push_back((e[i].second - 0.5 * (e[i - 1].second + e[i + 1].second)) / std::sqrt(1.5));
+}
+double RmsOfInliers(const std::vector<double>& v) {
+  double ss = 0;
+  const auto keep = Inliers(v);
+  for (auto i : keep) ss += v[i] * v[i];
+  return keep.empty() ? 0 : std::sqrt(ss / keep.size());
+}
+
 // Ray angle γ from the axis direction of a point on the cylinder at ψ (units of D).
 double RayAngle(double r, double psi) { return std::atan2(r * std::sin(psi), 1 - r * std::cos(psi)); }
 
@@ -277,26 +292,30 @@ MarkerReading MeasureMarker(const cv::Mat& input, const CameraModel& cam, const 
 
   // 3. Sub-pixel strokes.
   const double min_step = 3.0;  // grey levels per pixel
-  std::vector<double> edge_dev;  // stroke width minus the median width: scatter of single edges
+  std::vector<double> edge_d2;  // second differences of single edges along each ring and line
   std::vector<std::vector<cv::Point2d>> line_px;
-  std::vector<double> line_widths;
   for (const auto& lr : line_runs) {
     std::vector<cv::Point2d> pts;
-    const int u0 = std::max(0, static_cast<int>(lr.centre()) - reach - 8);
-    const int u1 = std::min(W, static_cast<int>(lr.centre()) + reach + 9);
+    std::vector<std::pair<int, double>> le, re;
+    const int u0 = std::max(0, static_cast<int>(lr.centre()) - reach - 10);
+    const int u1 = std::min(W, static_cast<int>(lr.centre()) + reach + 11);
     for (int v = between0; v < between1; ++v) {
       auto s = FindStroke(Row(img, v, u0, u1), lr.centre() - u0, ink_px, min_step);
       if (!s) continue;
       pts.emplace_back(u0 + s->centre, v);
-      line_widths.push_back(s->right_edge - s->left_edge);
+      le.emplace_back(v, s->left_edge), re.emplace_back(v, s->right_edge);
     }
-    if (static_cast<int>(pts.size()) >= std::max(5, (between1 - between0) / 4)) line_px.push_back(std::move(pts));
+    if (static_cast<int>(pts.size()) >= std::max(5, (between1 - between0) / 4)) {
+      line_px.push_back(std::move(pts));
+      AddSecondDifferences(le, edge_d2);
+      AddSecondDifferences(re, edge_d2);
+    }
   }
   std::vector<cv::Point2d> ring_px[2];
-  std::vector<double> ring_widths;
   for (int k2 = 0; k2 < 2; ++k2) {
-    const int v0 = std::max(0, static_cast<int>(ring_run[k2].centre()) - reach - 8);
-    const int v1 = std::min(H, static_cast<int>(ring_run[k2].centre()) + reach + 9);
+    std::vector<std::pair<int, double>> le, re;
+    const int v0 = std::max(0, static_cast<int>(ring_run[k2].centre()) - reach - 10);
+    const int v1 = std::min(H, static_cast<int>(ring_run[k2].centre()) + reach + 11);
     for (int u = left + margin; u < right - margin; ++u) {
       bool near_line = false;
       for (const auto& lr : line_runs) near_line |= std::abs(u - lr.centre()) < reach + 2;
@@ -304,24 +323,17 @@ MarkerReading MeasureMarker(const cv::Mat& input, const CameraModel& cam, const 
       auto s = FindStroke(Column(img, u, v0, v1), ring_run[k2].centre() - v0, ink_px, min_step);
       if (!s) continue;
       ring_px[k2].emplace_back(u, v0 + s->centre);
-      ring_widths.push_back(s->right_edge - s->left_edge);
+      le.emplace_back(u, s->left_edge), re.emplace_back(u, s->right_edge);
     }
+    AddSecondDifferences(le, edge_d2);
+    AddSecondDifferences(re, edge_d2);
     if (static_cast<int>(ring_px[k2].size()) < std::max(8, band / 8))
       return fail(ReadingStatus::kNoMarker, fmt::format("ring {} has only {} measurable points", k2 + 1, ring_px[k2].size()));
   }
   out.ring_pixels[0] = ring_px[0];
   out.ring_pixels[1] = ring_px[1];
   out.line_pixels = line_px;
-  {
-    const double wr = Median(ring_widths);
-    for (double w : ring_widths) edge_dev.push_back((w - wr) / std::sqrt(2.0));
-    const double wl = Median(line_widths);
-    for (double w : line_widths) edge_dev.push_back((w - wl) / std::sqrt(2.0));
-    double ss = 0;
-    const auto keep = Inliers(edge_dev);
-    for (auto i : keep) ss += edge_dev[i] * edge_dev[i];
-    out.edge_rms_px = keep.empty() ? 0 : std::sqrt(ss / keep.size());
-  }
+  out.edge_rms_px = RmsOfInliers(edge_d2);
 
   // Limb points per row (outside the marker), for the axis direction.
   std::vector<cv::Point2d> limb_px[2];
@@ -482,6 +494,12 @@ MarkerReading MeasureMarker(const cv::Mat& input, const CameraModel& cam, const 
       out.ring_points += m.n;
     }
     k1_raw = (ring_h[1] - ring_h[0]) * marker.distance_mm / marker.Cbb1Mm();
+  }
+  out.line_points = static_cast<int>(line_residuals.size());
+  {
+    std::vector<double> all = ring_residuals;
+    all.insert(all.end(), line_residuals.begin(), line_residuals.end());
+    out.stroke_rms_px = RmsOfInliers(all);
   }
   out.cb1_mm = (ring_h[1] - ring_h[0]) * marker.distance_mm;
   out.cb2_mm = 2 * r * std::sin(kPi / marker.line_count) * marker.distance_mm;

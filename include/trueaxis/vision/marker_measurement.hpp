@@ -50,8 +50,8 @@ struct MarkerReading {
   double ring_height_se_px[2] = {0, 0}; // their standard errors from the residuals
   std::vector<double> line_x_px;        // each line's position (px from the principal point)
   std::vector<double> line_x_se_px;
-  double stroke_rms_px = 0;         // RMS of single stroke centres about the fitted model
-  double edge_rms_px = 0;           // RMS of single edges about their fitted stroke edges
+  double stroke_rms_px = 0;         // RMS of single stroke centres about the fitted model (rings and lines)
+  double edge_rms_px = 0;           // scatter of single sub-pixel edges along each ring and line (σ, px)
   int ring_points = 0, line_points = 0;
   // for drawing (pixel coordinates)
   std::vector<cv::Point2d> ring_pixels[2];
