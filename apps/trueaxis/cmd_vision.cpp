@@ -33,6 +33,7 @@ struct DayArgs {
   std::string disturb = "clean";
   std::string program;  // empty: the heating/cooling day
   std::uint64_t seed = 1;
+  int average = 1;
 };
 
 void AddDayArgs(CLI::App* cmd, DayArgs* a) {
@@ -46,6 +47,7 @@ void AddDayArgs(CLI::App* cmd, DayArgs* a) {
       ->capture_default_str();
   cmd->add_option("--speeds", a->program, "spindle speed program seconds:rpm,… (default: heating/steady/cooling day)");
   cmd->add_option("--seed", a->seed, "random seed (same seed, same images)")->capture_default_str();
+  cmd->add_option("--average", a->average, "run: the Z term is the mean of the last N credible readings")->capture_default_str();
 }
 
 VisionDayOptions MakeDayOptions(const DayArgs& a) {
@@ -56,6 +58,8 @@ VisionDayOptions MakeDayOptions(const DayArgs& a) {
   o.hours = a.hours;
   o.frame_interval_s = a.interval_s;
   o.seed = a.seed;
+  if (a.average < 1 || a.average > 1000) throw InputError("command line", 0, "--average", "must be 1…1000");
+  o.average_frames = a.average;
   o.program = sim::SpindleSpeedProgram::HeatingCoolingDay(a.hours);
   if (!a.program.empty()) {
     try {
@@ -329,9 +333,12 @@ void Setup(CLI::App& app) {
       const auto summary = std::vector<std::pair<std::string, std::string>>{
           {"disturbances", a->disturb},
           {"frames", fmt::format("{} ({} credible, {} rejected)", r.frames.size(), r.credible, r.rejected)},
+          {"rejections", fmt::format("{} of {} rejected frames were bad (unmeasurable or off by > {:g} µm); {} credible "
+                                     "frames were off by > {:g} µm",
+                                     r.rejected_bad, r.rejected, o.bad_um, r.accepted_bad, o.bad_um)},
           {"Δz − truth (credible)", fmt::format("RMS {:.2f} µm, max {:.2f} µm", r.rms_um, r.max_um)},
           {"Δz − Czb·(K_true − 1) (camera part)", fmt::format("RMS {:.2f} µm, max {:.2f} µm", r.rms_vs_marker_um, r.max_vs_marker_um)},
-          {"Z error at the tool, RMS", fmt::format("without vision {:.2f} µm, with the vision term {:.2f} µm", r.z_error_without_rms_um, r.z_error_with_rms_um)},
+          {"Z error at the tool, RMS", fmt::format("without vision {:.2f} µm, with the vision term {:.2f} µm (mean of the last {} credible)", r.z_error_without_rms_um, r.z_error_with_rms_um, o.average_frames)},
           {"reference raw K1, K2", fmt::format("{:.7f}, {:.7f}", r.reference_k1, r.reference_k2)},
           {"stop rule", r.stop_frame >= 0 ? r.stop_message : "not tripped"}};
       for (const auto& [k, v] : summary) fmt::print("{}: {}\n", k, v);

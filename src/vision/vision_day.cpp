@@ -2,6 +2,8 @@
 #include "trueaxis/vision/vision_day.hpp"
 
 #include <cmath>
+#include <deque>
+#include <numeric>
 #include <numbers>
 #include <random>
 #include <stdexcept>
@@ -47,6 +49,7 @@ std::pair<double, double> ReferenceK(const std::vector<MarkerReading>& readings)
 VisionDayResult RunVisionDay(const MarkerDescription& marker_in, const CameraModel& camera, const VisionDayOptions& o,
                              const std::function<void(const VisionFrame&, const cv::Mat&)>& sink) {
   if (!(o.frame_interval_s > 0) || !(o.hours > 0)) throw std::invalid_argument("hours and frame interval must be > 0");
+  if (o.average_frames < 1) throw std::invalid_argument("average_frames must be ≥ 1");
   sim::SpindleDescription sd = o.spindle;
   sd.diameter_mm = marker_in.diameter_mm;
   sd.length_mm = marker_in.spindle_length_mm;
@@ -76,6 +79,7 @@ VisionDayResult RunVisionDay(const MarkerDescription& marker_in, const CameraMod
   const int frames = static_cast<int>(std::floor(o.hours * 3600.0 / o.frame_interval_s)) + 1;
   constexpr double kMountExpansionPerK = 23e-6;  // aluminium bracket
   double ss = 0, ssm = 0, ss_without = 0, ss_with = 0;
+  std::deque<double> recent;  // last credible readings, for the averaged Z term
   for (int i = 0; i < frames; ++i) {
     const double t = i * o.frame_interval_s;
     spindle.AdvanceTo(t);
@@ -102,8 +106,14 @@ VisionDayResult RunVisionDay(const MarkerDescription& marker_in, const CameraMod
       out.stop_frame = i;
       out.stop_message = monitor.message();
     }
-    f.growth_in_force_um = monitor.growth_um();
     if (f.reading.credible()) {
+      recent.push_back(f.reading.growth_um);
+      if (static_cast<int>(recent.size()) > o.average_frames) recent.pop_front();
+    }
+    f.growth_in_force_um = recent.empty() ? 0.0 : std::accumulate(recent.begin(), recent.end(), 0.0) / recent.size();
+    const bool bad = !f.reading.measured() || std::abs(f.reading.growth_um - f.marker_growth_um) > o.bad_um;
+    if (f.reading.credible()) {
+      out.accepted_bad += bad;
       ++out.credible;
       const double e = f.reading.growth_um - f.true_growth_um;
       const double em = f.reading.growth_um - f.marker_growth_um;
@@ -112,9 +122,7 @@ VisionDayResult RunVisionDay(const MarkerDescription& marker_in, const CameraMod
       out.max_vs_marker_um = std::max(out.max_vs_marker_um, std::abs(em));
     } else {
       ++out.rejected;
-      if (!f.reading.measured() ||
-          std::abs(f.reading.growth_um - f.marker_growth_um) > marker.epsilon * marker.spindle_length_mm * 1000.0)
-        ++out.rejected_bad;
+      out.rejected_bad += bad;
     }
     // Z error at the tool (vertical spindle: −Δz); the vision term corrects by the Δz in force.
     const double z_without = -f.true_growth_um;

@@ -30,6 +30,8 @@ struct VisionDayOptions {
   double mount_length_mm = 100.0;
   double wear_per_hour = 0.0;       // marker wear grows by this per hour (1 = worn away)
   std::uint64_t seed = 1;
+  int average_frames = 1;           // the Z term is the mean of the last N credible readings
+  double bad_um = 5.0;              // a reading off by more than this (vs Czb·(K_true − 1)) is "bad"
   sim::SpindleSpeedProgram program = sim::SpindleSpeedProgram::HeatingCoolingDay(10.0);
   sim::SpindleDescription spindle;  // its diameter and length are set from the marker file
 };
@@ -44,7 +46,7 @@ struct VisionFrame {
   double true_k = 1, true_growth_um = 0;  // marker scale and the spindle's real Δz
   double marker_growth_um = 0;            // Czb·(K_true − 1): what a perfect reading would give
   MarkerReading reading;
-  double growth_in_force_um = 0;          // the Z term the compensator gets (last credible)
+  double growth_in_force_um = 0;          // the Z term the compensator gets (mean of the last credible readings)
   bool stop = false;                      // the stop rule tripped at this frame
 };
 
@@ -57,7 +59,8 @@ struct VisionDayResult {
   double rms_um = 0, max_um = 0;
   double rms_vs_marker_um = 0, max_vs_marker_um = 0;  // reading − Czb·(K_true − 1): the camera's part
   int credible = 0, rejected = 0;
-  int rejected_bad = 0;  // rejected frames whose reading was off by more than ε·Czb (correct rejections)
+  int rejected_bad = 0;   // rejected frames that were bad (unmeasurable or off by > bad_um): correct rejections
+  int accepted_bad = 0;   // credible frames off by > bad_um: what the ε test let through
   double z_error_without_rms_um = 0, z_error_with_rms_um = 0;  // Z error at the tool without / with the vision term
 };
 
