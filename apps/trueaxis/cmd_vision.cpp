@@ -76,6 +76,18 @@ VisionDayOptions MakeDayOptions(const DayArgs& a) {
   return o;
 }
 
+// Images measured against a marker file and a camera file (reference, measure).
+struct ImageArgs {
+  std::vector<std::string> images;
+  std::string marker, camera;
+};
+
+void AddImageArgs(CLI::App* cmd, ImageArgs* a, const std::string& images_help) {
+  cmd->add_option("images", a->images, images_help)->required();
+  cmd->add_option("--marker", a->marker, "marker TOML")->required();
+  cmd->add_option("--camera", a->camera, "camera YAML")->required();
+}
+
 cv::Mat ReadImage(const std::string& path) {
   if (!fs::exists(path)) throw InputError(path, "no such image file");
   cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
@@ -226,17 +238,14 @@ void Setup(CLI::App& app) {
   }
   {  // reference
     auto* cmd = vision->add_subcommand("reference", "Read the marker at the standard temperature: the raw K1, K2 every later reading is divided by");
-    auto images = std::make_shared<std::vector<std::string>>();
-    auto marker_path = std::make_shared<std::string>();
-    auto camera_path = std::make_shared<std::string>();
+    auto a = std::make_shared<ImageArgs>();
     auto out = std::make_shared<std::string>();
-    cmd->add_option("images", *images, "images taken at the standard temperature")->required();
-    cmd->add_option("--marker", *marker_path, "marker TOML")->required();
-    cmd->add_option("--camera", *camera_path, "camera YAML")->required();
+    AddImageArgs(cmd, a.get(), "images taken at the standard temperature");
     cmd->add_option("--out", *out, "marker TOML to write, with [reference] k1, k2")->required();
-    cmd->callback([images, marker_path, camera_path, out] {
-      MarkerDescription m = ReadMarkerFile(*marker_path);
-      const CameraModel cam = ReadCameraFile(*camera_path);
+    cmd->callback([a, out] {
+      const auto* images = &a->images;
+      MarkerDescription m = ReadMarkerFile(a->marker);
+      const CameraModel cam = ReadCameraFile(a->camera);
       m.reference_k1 = m.reference_k2 = 1.0;
       std::vector<MarkerReading> readings;
       for (const auto& p : *images) {
@@ -257,23 +266,20 @@ void Setup(CLI::App& app) {
   }
   {  // measure
     auto* cmd = vision->add_subcommand("measure", "Measure the marker in images: K1, K2, credibility, Δz, the stop rule");
-    auto images = std::make_shared<std::vector<std::string>>();
-    auto marker_path = std::make_shared<std::string>();
-    auto camera_path = std::make_shared<std::string>();
+    auto a = std::make_shared<ImageArgs>();
     auto truth_path = std::make_shared<std::string>();
     auto csv = std::make_shared<std::string>();
     auto report = std::make_shared<std::string>();
     auto alarm = std::make_shared<std::string>();
-    cmd->add_option("images", *images, "images, in time order")->required();
-    cmd->add_option("--marker", *marker_path, "marker TOML")->required();
-    cmd->add_option("--camera", *camera_path, "camera YAML")->required();
+    AddImageArgs(cmd, a.get(), "images, in time order");
     cmd->add_option("--truth", *truth_path, "truth.csv from `vision render` (adds the true Δz)");
     cmd->add_option("--csv", *csv, "write the readings as CSV");
     cmd->add_option("--report", *report, "write an HTML report");
     cmd->add_option("--alarm-out", *alarm, "write the stop rule's state as JSON (feed_hold, message) for a CNC bridge");
     cmd->callback([=] {
-      const MarkerDescription m = ReadMarkerFile(*marker_path);
-      const CameraModel cam = ReadCameraFile(*camera_path);
+      const auto* images = &a->images;
+      const MarkerDescription m = ReadMarkerFile(a->marker);
+      const CameraModel cam = ReadCameraFile(a->camera);
       std::map<std::string, std::pair<double, double>> truth;
       if (!truth_path->empty()) truth = ReadTruth(*truth_path);
       CredibilityMonitor monitor(m.max_rejected_in_row);

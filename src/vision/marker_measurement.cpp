@@ -335,35 +335,25 @@ MarkerReading MeasureMarker(const cv::Mat& input, const CameraModel& cam, const 
   out.line_pixels = line_px;
   out.edge_rms_px = RmsOfInliers(edge_d2);
 
-  // Limb points per row (outside the marker), for the axis direction.
+  // Limb points per row (outside the marker), for the axis direction: the
+  // sub-pixel peak of the background→spindle gradient near each band edge.
   std::vector<cv::Point2d> limb_px[2];
-  for (int v = 0; v < H; v += 2) {
-    if (v > ring_run[0].begin - reach && v < ring_run[1].end + reach) continue;
+  auto add_limb_points = [&](int v) {
     for (int side = 0; side < 2; ++side) {
       const int c = side == 0 ? left : right;
       const int u0 = std::max(0, c - 8), u1 = std::min(W, c + 9);
-      auto p = Row(img, v, u0, u1);
+      const auto p = Row(img, v, u0, u1);
       std::vector<double> g(p.size() - 1);
       for (std::size_t i = 0; i + 1 < p.size(); ++i) g[i] = (side == 0 ? 1 : -1) * (p[i + 1] - p[i]);
       const int peak = static_cast<int>(std::max_element(g.begin(), g.end()) - g.begin());
       if (g[peak] < min_step || peak == 0 || peak + 1 >= static_cast<int>(g.size())) continue;
       limb_px[side].emplace_back(u0 + PeakPosition(g, peak) + 0.5, v);
     }
-  }
-  if (limb_px[0].size() < 5 || limb_px[1].size() < 5) {
-    // The marker fills the height: use the rows between the rings away from lines.
-    for (int v = between0; v < between1; v += 2)
-      for (int side = 0; side < 2; ++side) {
-        const int c = side == 0 ? left : right;
-        const int u0 = std::max(0, c - 8), u1 = std::min(W, c + 9);
-        auto p = Row(img, v, u0, u1);
-        std::vector<double> g(p.size() - 1);
-        for (std::size_t i = 0; i + 1 < p.size(); ++i) g[i] = (side == 0 ? 1 : -1) * (p[i + 1] - p[i]);
-        const int peak = static_cast<int>(std::max_element(g.begin(), g.end()) - g.begin());
-        if (g[peak] < min_step || peak == 0 || peak + 1 >= static_cast<int>(g.size())) continue;
-        limb_px[side].emplace_back(u0 + PeakPosition(g, peak) + 0.5, v);
-      }
-  }
+  };
+  for (int v = 0; v < H; v += 2)
+    if (v <= ring_run[0].begin - reach || v >= ring_run[1].end + reach) add_limb_points(v);
+  if (limb_px[0].size() < 5 || limb_px[1].size() < 5)  // the marker fills the height: rows between the rings
+    for (int v = between0; v < between1; v += 2) add_limb_points(v);
   if (limb_px[0].size() < 5 || limb_px[1].size() < 5)
     return fail(ReadingStatus::kNoMarker, "the spindle's outline (limbs) could not be measured");
 
