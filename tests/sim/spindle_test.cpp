@@ -66,3 +66,25 @@ TEST(Spindle, SpeedProgramParsesAndRefusesNonsense) {
 
 }  // namespace
 }  // namespace trueaxis::sim
+
+#include "sim_test_util.hpp"
+#include "trueaxis/sim/virtual_machine.hpp"
+
+namespace trueaxis::sim {
+namespace {
+
+TEST(Spindle, GrowthReachesTheVirtualMachinesZErrorThroughTheHook) {
+  VirtualMachine vm(testing::TestMachine(), 1);
+  const std::size_t z = vm.AxisCount() - 1;
+  const double before = vm.ErrorAtUm(z, 10.0, +1);
+  const double actual_before = vm.ActualMm(z);
+  VirtualSpindle s({}, SpindleSpeedProgram({{0, 10000}}), 20.0);
+  s.Advance(3600);
+  ASSERT_GT(s.GrowthUm(), 5.0);
+  vm.SetExtraErrorUm(z, s.ZErrorUm());
+  EXPECT_NEAR(vm.ErrorAtUm(z, 10.0, +1) - before, -s.GrowthUm(), 1e-9);
+  EXPECT_NEAR((vm.ActualMm(z) - actual_before) * 1000.0, -s.GrowthUm(), 1e-6);
+}
+
+}  // namespace
+}  // namespace trueaxis::sim
