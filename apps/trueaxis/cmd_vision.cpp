@@ -90,7 +90,8 @@ void AddImageArgs(CLI::App* cmd, ImageArgs* a, const std::string& images_help) {
 
 cv::Mat ReadImage(const std::string& path) {
   if (!fs::exists(path)) throw InputError(path, "no such image file");
-  cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
+  // Grey, keeping 16-bit depth (colour and alpha are converted by OpenCV).
+  cv::Mat img = cv::imread(path, cv::IMREAD_GRAYSCALE | cv::IMREAD_ANYDEPTH);
   if (img.empty()) throw InputError(path, "empty or unreadable image (not a PNG/JPEG/TIFF/BMP OpenCV can decode)");
   return img;
 }
@@ -330,7 +331,7 @@ void Setup(CLI::App& app) {
       std::vector<ReportRow> rows;
       std::vector<std::pair<int, cv::Mat>> images;
       const auto r = RunVisionDay(m, cam, o, [&](const VisionFrame& f, const cv::Mat& img) {
-        ReportRow row{fmt::format("frame {}", rows.size()), f.time_s, f.reading, f.true_growth_um, f.stop};
+        ReportRow row{fmt::format("frame {}", rows.size()), f.time_s, f.reading, f.true_growth_um, f.stop, f.marker_growth_um};
         rows.push_back(row);
         if (!report->empty()) images.emplace_back(static_cast<int>(rows.size()) - 1, img.clone());
       });

@@ -28,6 +28,8 @@ CalibrationResult CalibrateCamera(const std::vector<std::pair<std::string, cv::M
       throw InputError(name, 0, "image size", fmt::format("{}×{} px, but the first image is {}×{}", img.cols, img.rows, size.width, size.height));
     cv::Mat gray = img;
     if (img.channels() == 3) cv::cvtColor(img, gray, cv::COLOR_BGR2GRAY);
+    else if (img.channels() == 4) cv::cvtColor(img, gray, cv::COLOR_BGRA2GRAY);
+    if (gray.depth() == CV_16U) gray.convertTo(gray, CV_8U, 255.0 / 65535.0);
     std::vector<cv::Point2f> corners;
     const bool found = cv::findChessboardCorners(gray, cv::Size(b.cols, b.rows), corners,
                                                  cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);

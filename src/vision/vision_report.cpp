@@ -29,12 +29,13 @@ report::HtmlPage BuildVisionReport(const std::string& title, const MarkerDescrip
       "Czs = Czb·K1, Δz = Czs − Czb.");
   page.AddKeyValueTable(summary, "summary");
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  std::vector<double> t, dz, truth, k1, k2, rejected_t, rejected_y;
+  std::vector<double> t, dz, truth, marker_truth, k1, k2, rejected_t, rejected_y;
   for (const auto& r : rows) {
     const double th = r.time_s / 3600.0;
     t.push_back(th);
     dz.push_back(r.reading.credible() ? r.reading.growth_um : nan);
     truth.push_back(r.true_growth_um ? *r.true_growth_um : nan);
+    marker_truth.push_back(r.marker_growth_um ? *r.marker_growth_um : nan);
     k1.push_back(r.reading.measured() ? (r.reading.k1 - 1) * 1e6 : nan);
     k2.push_back(r.reading.measured() ? (r.reading.k2 - 1) * 1e6 : nan);
     if (!r.reading.credible()) rejected_t.push_back(th), rejected_y.push_back(0.0);
@@ -44,7 +45,9 @@ report::HtmlPage BuildVisionReport(const std::string& title, const MarkerDescrip
   o.x_label = "time (h)";
   o.y_label = "Δz (µm)";
   report::SvgChart c(o);
-  if (rows.size() > 0 && rows.front().true_growth_um) c.AddLine("truth (virtual spindle)", t, truth);
+  if (!rows.empty() && rows.front().true_growth_um) c.AddLine("truth (virtual spindle)", t, truth);
+  if (!rows.empty() && rows.front().marker_growth_um)
+    c.AddLine("perfect marker reading Czb·(K_true − 1)", t, marker_truth, report::SeriesStyle{.dashed = true});
   c.AddPoints("camera, credible readings", t, dz);
   if (!rejected_t.empty()) c.AddPoints("rejected frames", rejected_t, rejected_y, report::SeriesStyle{.color = "#c0392b"});
   page.AddChart(c);

@@ -124,3 +124,31 @@ TEST(VisionCli, SixFramesWithoutAMarkerRaiseTheAlarm) {
 
 }  // namespace
 }  // namespace trueaxis::vision
+
+namespace trueaxis::vision {
+namespace {
+
+TEST(VisionCli, RunWritesAReportWithExampleFramesAndTheTruth) {
+  const auto dir = std::filesystem::temp_directory_path() / "trueaxis_vision_cli_report";
+  std::filesystem::create_directories(dir);
+  const auto html = (dir / "run.html").string(), csv = (dir / "run.csv").string();
+  const auto r = trueaxis::testing::RunCli("vision run --hours 1 --interval-s 900 --disturb chips --marker " +
+                                           std::string(TRUEAXIS_SOURCE_DIR) + "/examples/vision/marker.toml --camera " +
+                                           std::string(TRUEAXIS_SOURCE_DIR) + "/examples/vision/camera.yml --report " +
+                                           html + " --csv " + csv);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream f(html);
+  const std::string page((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  EXPECT_NE(page.find("data:image/png;base64,"), std::string::npos);
+  EXPECT_NE(page.find("truth (virtual spindle)"), std::string::npos);
+  std::ifstream c(csv);
+  std::string header;
+  std::getline(c, header);
+  EXPECT_NE(header.find("true_growth_um"), std::string::npos);
+  int rows = 0;
+  for (std::string line; std::getline(c, line);) ++rows;
+  EXPECT_EQ(rows, 5);  // 0, 15, 30, 45, 60 min
+}
+
+}  // namespace
+}  // namespace trueaxis::vision

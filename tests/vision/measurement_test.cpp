@@ -60,6 +60,7 @@ struct DisturbanceCase {
   double wear;
   int min_credible;     // of 6 frames
   double tolerance_um;  // |Δz − Czb·(K−1)| of every credible frame
+  double angle_jitter_deg = 0;  // trigger jitter around 45° (the spindle turning)
 };
 
 class MarkerDisturbance : public ::testing::TestWithParam<DisturbanceCase> {};
@@ -70,7 +71,7 @@ TEST_P(MarkerDisturbance, CredibleReadingsStayNearTheTruth) {
   for (int i = 0; i < 6; ++i) {
     MarkerScene s;
     s.scale = 1.0 + 5e-5 * i;
-    s.angle_deg = 44.0 + i + 90.0 * i;
+    s.angle_deg = 44.0 + i + 90.0 * i + c.angle_jitter_deg * ((i * 7) % 5 - 2) / 2.0;
     s.light = c.light;
     s.wear = c.wear;
     const auto r = Read(s, c.d, 100 + i);
@@ -100,7 +101,8 @@ INSTANTIATE_TEST_SUITE_P(
         DisturbanceCase{"glints", With([](ImageDisturbances& d) { d.glints = 1; }), 1, 0, 3, 8},
         DisturbanceCase{"droplets", With([](ImageDisturbances& d) { d.droplets = 3; }), 1, 0, 4, 8},
         DisturbanceCase{"chips", With([](ImageDisturbances& d) { d.chips = 2; }), 1, 0, 4, 8},
-        DisturbanceCase{"worn marker", ImageDisturbances{}, 1, 0.25, 3, 8}),
+        DisturbanceCase{"worn marker", ImageDisturbances{}, 1, 0.25, 3, 8},
+        DisturbanceCase{"rotation", ImageDisturbances{}, 1, 0, 2, 4, 20.0}),
     [](const auto& info) {
       std::string n = info.param.name;
       for (auto& ch : n)

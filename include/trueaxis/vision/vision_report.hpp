@@ -20,6 +20,7 @@ struct ReportRow {
   MarkerReading reading;
   std::optional<double> true_growth_um;  // the spindle's real Δz, when known
   bool stop = false;
+  std::optional<double> marker_growth_um;  // Czb·(K_true − 1): a perfect reading of the marker, when known
 };
 
 struct ReportFrame {
