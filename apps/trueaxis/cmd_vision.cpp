@@ -34,6 +34,7 @@ struct DayArgs {
   std::string program;  // empty: the heating/cooling day
   std::uint64_t seed = 1;
   int average = 1;
+  int scale_average = 12;
 };
 
 void AddDayArgs(CLI::App* cmd, DayArgs* a) {
@@ -48,6 +49,8 @@ void AddDayArgs(CLI::App* cmd, DayArgs* a) {
   cmd->add_option("--speeds", a->program, "spindle speed program seconds:rpm,… (default: heating/steady/cooling day)");
   cmd->add_option("--seed", a->seed, "random seed (same seed, same images)")->capture_default_str();
   cmd->add_option("--average", a->average, "run: the Z term is the mean of the last N credible readings")->capture_default_str();
+  cmd->add_option("--scale-average", a->scale_average, "with a reference scale ([scale]): mean of its last N readings")
+      ->capture_default_str();
 }
 
 VisionDayOptions MakeDayOptions(const DayArgs& a) {
@@ -60,6 +63,8 @@ VisionDayOptions MakeDayOptions(const DayArgs& a) {
   o.seed = a.seed;
   if (a.average < 1 || a.average > 1000) throw InputError("command line", 0, "--average", "must be 1…1000");
   o.average_frames = a.average;
+  if (a.scale_average < 1 || a.scale_average > 1000) throw InputError("command line", 0, "--scale-average", "must be 1…1000");
+  o.scale_average_frames = a.scale_average;
   o.program = sim::SpindleSpeedProgram::HeatingCoolingDay(a.hours);
   if (!a.program.empty()) {
     try {
@@ -272,7 +277,10 @@ void Setup(CLI::App& app) {
     auto csv = std::make_shared<std::string>();
     auto report = std::make_shared<std::string>();
     auto alarm = std::make_shared<std::string>();
+    auto scale_average = std::make_shared<int>(12);
     AddImageArgs(cmd, a.get(), "images, in time order");
+    cmd->add_option("--scale-average", *scale_average, "with a reference scale ([scale]): mean of its last N readings")
+        ->capture_default_str();
     cmd->add_option("--truth", *truth_path, "truth.csv from `vision render` (adds the true Δz)");
     cmd->add_option("--csv", *csv, "write the readings as CSV");
     cmd->add_option("--report", *report, "write an HTML report");
@@ -284,6 +292,8 @@ void Setup(CLI::App& app) {
       std::map<std::string, std::pair<double, double>> truth;
       if (!truth_path->empty()) truth = ReadTruth(*truth_path);
       CredibilityMonitor monitor(m.max_rejected_in_row);
+      if (*scale_average < 1) throw InputError("command line", 0, "--scale-average", "must be ≥ 1");
+      ScaleAverager scale_avg(*scale_average);
       std::vector<ReportRow> rows;
       std::vector<cv::Mat> kept;
       for (std::size_t i = 0; i < images->size(); ++i) {
@@ -293,6 +303,7 @@ void Setup(CLI::App& app) {
         row.time_s = static_cast<double>(i);
         const cv::Mat img = ReadImage(p);
         row.reading = MeasureMarker(img, cam, m, p);
+        scale_avg.Apply(row.reading, m);
         if (auto it = truth.find(row.name); it != truth.end()) row.time_s = it->second.first, row.true_growth_um = it->second.second;
         row.stop = monitor.Add(row.reading);
         PrintReading(row);

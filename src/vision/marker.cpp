@@ -26,6 +26,8 @@ bool MarkerDescription::IsValid(std::string* why) const {
   if (!(distance_mm > 0.5 * diameter_mm)) return fail("distance_mm must exceed the spindle radius");
   if (!(epsilon > 0 && epsilon <= 0.05)) return fail("epsilon must be in (0, 0.05] (seed: 0.1 % … 5 %)");
   if (max_rejected_in_row < 1) return fail("max_rejected_in_row must be ≥ 1");
+  if (has_scale() && std::abs(scale_x_mm) < 0.5 * diameter_mm + 0.5 * scale_width_mm + 2 + 2 * ink_width_mm)
+    return fail("the reference scale (scale.x_mm) must lie beside the spindle, clear of its outline by 2 mm + 2 ink widths");
   return true;
 }
 
@@ -55,6 +57,12 @@ MarkerDescription ParseMarkerToml(const std::string& text, const std::string& so
     r.Double("epsilon", m.epsilon, 1e-6, 0.05);
     r.Int("max_rejected_in_row", m.max_rejected_in_row, 1, 1000);
   });
+  section("scale", [&](TomlTableReader& r) {
+    r.Double("spacing_mm", m.scale_spacing_mm, 1, 2000, true);
+    r.Double("x_mm", m.scale_x_mm, -5000, 5000, true);
+    r.Double("width_mm", m.scale_width_mm, 0.5, 500);
+    r.Double("tilt_deg", m.scale_tilt_deg, -30, 30);
+  });
   section("reference", [&](TomlTableReader& r) {
     r.Double("k1", m.reference_k1, 0.9, 1.1);
     r.Double("k2", m.reference_k2, 0.9, 1.1);
@@ -75,9 +83,14 @@ std::string MarkerToml(const MarkerDescription& m) {
       "line_count = {}\nink_width_mm = {}\n\n[spindle]\nlength_mm = {}           # Czb\nstandard_temp_c = {}\n\n"
       "[camera]\ndistance_mm = {}         # camera centre to spindle axis\n\n"
       "[credibility]\nepsilon = {}             # credible when |K1/K2 - 1| <= epsilon\nmax_rejected_in_row = {}\n\n"
+      "{}"
       "[reference]              # raw K1, K2 at the standard temperature (trueaxis vision reference)\nk1 = {:.9f}\nk2 = {:.9f}\n",
       m.circle_spacing_mm, m.diameter_mm, m.Cbb2Mm(), m.line_count, m.ink_width_mm, m.spindle_length_mm,
-      m.standard_temp_c, m.distance_mm, m.epsilon, m.max_rejected_in_row, m.reference_k1, m.reference_k2);
+      m.standard_temp_c, m.distance_mm, m.epsilon, m.max_rejected_in_row,
+      m.has_scale() ? fmt::format("[scale]                  # invar reference scale beside the spindle\nspacing_mm = {}\nx_mm = {}\nwidth_mm = {}\ntilt_deg = {}\n\n",
+                                  m.scale_spacing_mm, m.scale_x_mm, m.scale_width_mm, m.scale_tilt_deg)
+                    : std::string(),
+      m.reference_k1, m.reference_k2);
 }
 
 }  // namespace trueaxis::vision

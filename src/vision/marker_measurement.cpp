@@ -6,6 +6,7 @@
 #include <numbers>
 #include <numeric>
 #include <optional>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
@@ -105,9 +106,8 @@ std::optional<Stroke> FindStroke(const std::vector<double>& p, double guess, dou
     const double xl = ia - 2.5, xr = ib + 2.5;
     double sw = 0, swx = 0;
     for (int i = ia; i <= ib; ++i) {
-      double w = 1.0;
-      if (i == ia) w = 1.0 - (a - ia) - 0.5 < 0 ? 0 : std::min(1.0, ia + 0.5 - a);
-      if (i == ib) w = std::clamp(b - (ib - 0.5), 0.0, 1.0);
+      // Overlap of pixel i ([i − ½, i + ½]) with the window [a, b].
+      const double w = std::clamp(std::min(b, i + 0.5) - std::max(a, i - 0.5), 0.0, 1.0);
       const double base = bl + (br - bl) * (i - xl) / (xr - xl);
       const double d = base - p[i];
       sw += w * d, swx += w * d * i;
@@ -224,9 +224,19 @@ MarkerReading MeasureMarker(const cv::Mat& input, const CameraModel& cam, const 
   const double dark = sorted[W / 20], bright = sorted[W - 1 - W / 10];
   if (bright - dark < 20) return fail(ReadingStatus::kNoMarker, "no spindle: the image has no bright band (contrast < 20 grey levels)");
   const double level = 0.5 * (dark + bright);
-  int left = 0, right = W - 1;
-  while (left < W && colmean[left] < level) ++left;
-  while (right >= 0 && colmean[right] < level) --right;
+  // The spindle is the widest bright run (a reference scale is a narrow one beside it).
+  std::vector<int> above(W);
+  for (int u = 0; u < W; ++u) above[u] = colmean[u] >= level ? 1 : 0;
+  // Merge runs split by the dark axial lines (gaps narrower than a few ink widths).
+  std::vector<Run> bright_runs;
+  for (const auto& r : Runs(above, 1)) {
+    if (!bright_runs.empty() && r.begin - bright_runs.back().end < 4 * ink_px + 6) bright_runs.back().end = r.end;
+    else bright_runs.push_back(r);
+  }
+  Run spindle_run{0, 0};
+  for (const auto& r : bright_runs)
+    if (r.end - r.begin > spindle_run.end - spindle_run.begin) spindle_run = r;
+  const int left = spindle_run.begin, right = spindle_run.end - 1;
   if (right - left < 20) return fail(ReadingStatus::kNoMarker, "no spindle band found");
   if (left <= 2 || right >= W - 3)
     return fail(ReadingStatus::kOutOfFrame, std::string("the spindle's outline runs out of the image at the ") +
@@ -491,20 +501,86 @@ MarkerReading MeasureMarker(const cv::Mat& input, const CameraModel& cam, const 
     all.insert(all.end(), line_residuals.begin(), line_residuals.end());
     out.stroke_rms_px = RmsOfInliers(all);
   }
+  // Reference scale: the two bars on the strip beside the spindle (plane of the axis).
+  if (marker.has_scale()) {
+    Run strip{0, 0};
+    const double expect_u = cam.cx + cam.fx * marker.scale_x_mm / marker.distance_mm;
+    for (const auto& r : bright_runs)
+      if (r.begin > right || r.end <= left)
+        if (strip.end == 0 || std::abs(r.centre() - expect_u) < std::abs(strip.centre() - expect_u)) strip = r;
+    const double strip_px = marker.scale_width_mm * cam.fx / marker.distance_mm;
+    if (strip.end - strip.begin < 4 || std::abs(strip.centre() - expect_u) > strip_px + 10)
+      return fail(ReadingStatus::kNoMarker,
+                  fmt::format("the reference scale is not where [scale] x_mm puts it (around column {:.0f})", expect_u));
+    const double scale_spacing_px = marker.scale_spacing_mm * cam.fy / marker.distance_mm;
+    std::vector<cv::Point2d> bar_n[2];  // undistorted, roll removed
+    for (int u = strip.begin + 2; u < strip.end - 2; ++u) {
+      for (int b = 0; b < 2; ++b) {
+        const double guess_v = 0.5 * (ring_run[0].centre() + ring_run[1].centre()) + (b == 0 ? -0.5 : 0.5) * scale_spacing_px;
+        const int v0 = std::max(0, static_cast<int>(guess_v - 0.2 * scale_spacing_px));
+        const int v1 = std::min(H, static_cast<int>(guess_v + 0.2 * scale_spacing_px));
+        if (v1 - v0 < 8) continue;
+        const auto p = Column(img, u, v0, v1);
+        const int darkest = static_cast<int>(std::min_element(p.begin(), p.end()) - p.begin());
+        auto st = FindStroke(p, darkest, ink_px, min_step);
+        if (!st) continue;
+        const auto n = UndistortToNormalised(cam, {cv::Point2d(u, v0 + st->centre)}).front();
+        bar_n[b].emplace_back(cr * n.x - sr * n.y, sr * n.x + cr * n.y);
+      }
+    }
+    if (bar_n[0].size() < 5 || bar_n[1].size() < 5)
+      return fail(ReadingStatus::kNoMarker, "the reference scale's bars could not be measured");
+    // Each (slanted) bar: a straight line y = a + b·x fitted to its points; heights compared at one x.
+    double x_mid = 0;
+    for (const auto& bar : bar_n)
+      for (const auto& p : bar) x_mid += p.x;
+    x_mid /= static_cast<double>(bar_n[0].size() + bar_n[1].size());
+    double bar_y[2];
+    for (int b = 0; b < 2; ++b) {
+      cv::Vec4f fit;
+      std::vector<cv::Point2f> f;
+      for (const auto& p : bar_n[b]) f.emplace_back(static_cast<float>(p.x - x_mid), static_cast<float>(p.y));
+      cv::fitLine(f, fit, cv::DIST_HUBER, 0, 1e-9, 1e-9);
+      bar_y[b] = fit[3] - fit[2] * fit[1] / fit[0];  // y at x = x_mid
+    }
+    const double plane_depth = std::cos(beta0);  // the axis plane, in units of D
+    out.scale_raw = (bar_y[1] - bar_y[0]) * plane_depth * marker.distance_mm /
+                    marker.scale_spacing_mm;
+  }
+
   out.cb1_mm = (ring_h[1] - ring_h[0]) * marker.distance_mm;
   out.cb2_mm = 2 * r * std::sin(kPi / marker.line_count) * marker.distance_mm;
-  out.k1 = out.cb1_mm / marker.Cbb1Mm() / marker.reference_k1;
-  out.k2 = out.cb2_mm / marker.Cbb2Mm() / marker.reference_k2;
+  ApplyScale(out, out.scale_raw, marker);
+  return out;
+}
+
+void ApplyScale(MarkerReading& out, double scale, const MarkerDescription& marker) {
+  if (!(out.status == ReadingStatus::kCredible || out.status == ReadingStatus::kNotCredible || out.cb1_mm > 0)) return;
+  out.k1 = out.cb1_mm / marker.Cbb1Mm() / scale / marker.reference_k1;
+  out.k2 = out.cb2_mm / marker.Cbb2Mm() / scale / marker.reference_k2;
   out.czs_mm = marker.spindle_length_mm * out.k1;
   out.growth_um = (out.czs_mm - marker.spindle_length_mm) * 1000.0;
   const double disagreement = std::abs(out.k1 / out.k2 - 1);
   if (disagreement <= marker.epsilon) {
     out.status = ReadingStatus::kCredible;
+    out.reason.clear();
   } else {
     out.status = ReadingStatus::kNotCredible;
     out.reason = fmt::format("|K1/K2 − 1| = {:.3g} % > ε = {:.3g} %", 100 * disagreement, 100 * marker.epsilon);
   }
-  return out;
+}
+
+ScaleAverager::ScaleAverager(int frames) : frames_(frames) {
+  if (frames_ < 1) throw std::invalid_argument("the reference scale average needs ≥ 1 frame");
+}
+
+void ScaleAverager::Apply(MarkerReading& reading, const MarkerDescription& marker) {
+  if (!marker.has_scale() || !reading.measured()) return;
+  recent_.push_back(reading.scale_raw);
+  if (static_cast<int>(recent_.size()) > frames_) recent_.pop_front();
+  double sum = 0;
+  for (double v : recent_) sum += v;
+  ApplyScale(reading, sum / static_cast<double>(recent_.size()), marker);
 }
 
 cv::Mat DrawReading(const cv::Mat& gray, const MarkerReading& reading) {

@@ -89,6 +89,18 @@ cv::Mat VirtualCamera::RenderMarker(const MarkerDescription& m, const MarkerScen
       const double footprint = D * std::sqrt(a) / camera_.fx;  // mm per pixel across the ray near the axis
       const double silhouette = Ramp(R - dist_axis, footprint);
       double value = kBackgroundGrey * (0.9 + 0.2 * std::sin(0.05 * u + 0.03 * v));
+      if (m.has_scale()) {  // the invar scale: a light strip with two dark bars, in the axis plane (z = D)
+        const double X = xr * D, Y = yr * D, fp = D * std::sqrt(a) / camera_.fx;
+        const double strip = Ramp(0.5 * m.scale_width_mm - std::abs(X - ax - m.scale_x_mm), fp);
+        if (strip > 0) {
+          double bar = 0;
+          const double slope = std::tan(m.scale_tilt_deg * kPi / 180);
+          const double along = X - ax - m.scale_x_mm;  // from the strip's centre line
+          for (double yb : {s.drift_y_mm - 0.5 * m.scale_spacing_mm, s.drift_y_mm + 0.5 * m.scale_spacing_mm})
+            bar = std::max(bar, Ramp(0.5 * m.ink_width_mm * std::sqrt(1 + slope * slope) - std::abs(Y - yb - slope * along), fp));
+          value = (1 - strip) * value + strip * (kSurfaceGrey * (1 - bar) + kInkGrey * bar);
+        }
+      }
       if (silhouette > 0) {
         const double b = -2 * (xr * ax + D);
         const double c = ax * ax + D * D - R * R;

@@ -76,6 +76,7 @@ VisionDayResult RunVisionDay(const MarkerDescription& marker_in, const CameraMod
     marker.reference_k2 = out.reference_k2;
   }
   CredibilityMonitor monitor(marker.max_rejected_in_row);
+  ScaleAverager scale_average(o.scale_average_frames);
   const int frames = static_cast<int>(std::floor(o.hours * 3600.0 / o.frame_interval_s)) + 1;
   constexpr double kMountExpansionPerK = 23e-6;  // aluminium bracket
   double ss = 0, ssm = 0, ss_without = 0, ss_with = 0;
@@ -101,6 +102,7 @@ VisionDayResult RunVisionDay(const MarkerDescription& marker_in, const CameraMod
     s.wear = std::min(1.0, o.wear_per_hour * t / 3600.0);
     const cv::Mat img = cam.RenderMarker(marker, s, o.disturbances, o.seed * 1000003ull + static_cast<std::uint64_t>(i));
     f.reading = MeasureMarker(img, camera, marker, "frame " + std::to_string(i));
+    scale_average.Apply(f.reading, marker);
     f.stop = monitor.Add(f.reading);
     if (f.stop) {
       out.stop_frame = i;

@@ -188,3 +188,58 @@ TEST(MarkerMeasurement, BadImagesGiveClearErrors) {
 
 }  // namespace
 }  // namespace trueaxis::vision
+
+namespace trueaxis::vision {
+namespace {
+
+TEST(MarkerMeasurement, AReferenceScaleInViewRemovesTheCameraMountDrift) {
+  MarkerDescription m = ReadMarkerFile(std::string(TRUEAXIS_SOURCE_DIR) + "/examples/vision/marker_with_scale.toml");
+  ASSERT_TRUE(m.has_scale());
+  const auto cam = testing::TestCamera();
+  const VirtualCamera& vc = testing::TestVirtualCamera();
+  std::vector<MarkerReading> ref;
+  for (double a : {42.0, 45.0, 48.0}) {
+    MarkerScene s;
+    s.angle_deg = a;
+    ref.push_back(MeasureMarker(vc.RenderMarker(m, s, {}, 7), cam, m, "ref"));
+  }
+  std::tie(m.reference_k1, m.reference_k2) = ReferenceK(ref);
+  for (double drift_mm : {0.010, 0.020}) {
+    MarkerScene s;
+    s.scale = 1.0001;
+    s.drift_distance_mm = drift_mm;
+    s.drift_y_mm = 0.4 * drift_mm;  // and a sub-pixel shift of everything
+    const auto r = MeasureMarker(vc.RenderMarker(m, s, {}, 3), cam, m, "drift");
+    ASSERT_TRUE(r.credible()) << r.reason;
+    // Without the scale this is −12 / −24 µm off (CameraMountDriftIsCredibleButWrong…).
+    EXPECT_NEAR(r.growth_um, 30.0, 2.0) << drift_mm;
+    EXPECT_NEAR(r.scale_raw, 1.0 - drift_mm / 250.0, 2e-5);
+  }
+  // The scale out of the field of view: a clear reason, not a silent reading without it.
+  MarkerDescription far = m;
+  far.scale_x_mm = 70;  // beyond the 55 mm half-field
+  const auto r = MeasureMarker(vc.RenderMarker(m, {}, {}, 1), cam, far, "noscale");
+  EXPECT_FALSE(r.measured());
+}
+
+TEST(MarkerMeasurement, ScaleAveragerAppliesTheMeanOfTheLastReadings) {
+  MarkerDescription m = testing::TestMarker();
+  m.scale_spacing_mm = 40;
+  MarkerReading r;
+  r.status = ReadingStatus::kCredible;
+  r.cb1_mm = 40.0;
+  r.cb2_mm = m.Cbb2Mm();
+  ScaleAverager avg(2);
+  r.scale_raw = 1.0;
+  avg.Apply(r, m);
+  EXPECT_NEAR(r.k1, 1.0, 1e-12);
+  MarkerReading r2 = r;
+  r2.scale_raw = 1.0002;
+  avg.Apply(r2, m);  // mean of 1.0 and 1.0002
+  EXPECT_NEAR(r2.k1, 1.0 / 1.0001, 1e-12);
+  EXPECT_NEAR(r2.growth_um, (1.0 / 1.0001 - 1) * 300e3, 1e-6);
+  EXPECT_THROW(ScaleAverager(0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace trueaxis::vision

@@ -21,6 +21,17 @@ struct MarkerDescription {
   // [credibility]
   double epsilon = 0.001;      // credible when |K1/K2 − 1| ≤ ε (seed: 0.1 % ≤ ε ≤ 5 %)
   int max_rejected_in_row = 5;  // more than this many non-credible readings in a row: stop
+  // [scale] optional reference scale of low expansion (invar) in the field of view,
+  // beside the spindle in the plane of its axis: two bars scale_spacing_mm apart on
+  // a light strip scale_width_mm wide, centred scale_x_mm to the right of the axis
+  // (spacing measured vertically at the strip's centre line).
+  // K1 and K2 are divided by its reading, which removes changes of magnification
+  // (camera-mount drift, focus) that the ε test cannot see. 0 = no scale.
+  double scale_spacing_mm = 0.0;
+  double scale_x_mm = 50.0;
+  double scale_width_mm = 8.0;
+  double scale_tilt_deg = 5.0;  // bars slanted against the pixel rows (spreads the sub-pixel phase, as a slanted-edge target)
+  bool has_scale() const { return scale_spacing_mm > 0; }
   // [reference] raw K1, K2 read from images at the standard temperature
   // (`trueaxis vision reference`); readings are divided by them, which removes
   // the set-up's constant bias (camera distance, perspective of the ink width).

@@ -12,10 +12,12 @@
 //      point is mapped back onto the cylinder and the ring heights averaged,
 //   6. CB1 = ring spacing, CB2 = chord between adjacent lines (√2·R),
 //      K1 = CB1/CBb1, K2 = CB2/CBb2, credible when |K1/K2 − 1| ≤ ε,
-//      Czs = Czb·K1, Δz = Czs − Czb.
+//      Czs = Czb·K1, Δz = Czs − Czb; with a reference scale in view ([scale]),
+//      K1 and K2 are divided by its reading first.
 // Bad input (empty image, wrong size) throws InputError; a frame without a
 // usable marker returns a reading whose status says why (it counts towards the
 // stop rule, CredibilityMonitor).
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -42,6 +44,7 @@ struct MarkerReading {
   double k1 = 0, k2 = 0;
   double czs_mm = 0, growth_um = 0;  // Czs = Czb·K1, Δz = Czs − Czb
   // geometry and precision (pixels)
+  double scale_raw = 1;             // reference scale: measured spacing / scale_spacing_mm (1 without a scale)
   double roll_deg = 0;
   double radius_ratio = 0;          // r = R / D from the lines
   double radius_ratio_limb = 0;     // r from the silhouette (a cross-check)
@@ -65,6 +68,22 @@ struct MarkerReading {
 // gray: CV_8U (or CV_32F grey levels; a colour image is converted). `source` names the image in errors.
 MarkerReading MeasureMarker(const cv::Mat& gray, const CameraModel& camera, const MarkerDescription& marker,
                             const std::string& source);
+
+// Recomputes K1, K2, Czs, Δz and the credibility of a measured reading against
+// another reading of the reference scale (MeasureMarker applies the frame's own).
+void ApplyScale(MarkerReading& reading, double scale_raw, const MarkerDescription& marker);
+
+// The reference scale moves slowly (a camera mount warming), but one frame reads
+// it from few points: the mean of its last `frames` readings is applied instead.
+class ScaleAverager {
+ public:
+  explicit ScaleAverager(int frames);
+  void Apply(MarkerReading& reading, const MarkerDescription& marker);  // no-op without a scale
+
+ private:
+  int frames_;
+  std::deque<double> recent_;
+};
 
 // The image with what was found drawn on it (colour, for reports).
 cv::Mat DrawReading(const cv::Mat& gray, const MarkerReading& reading);

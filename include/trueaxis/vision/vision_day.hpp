@@ -31,6 +31,7 @@ struct VisionDayOptions {
   double wear_per_hour = 0.0;       // marker wear grows by this per hour (1 = worn away)
   std::uint64_t seed = 1;
   int average_frames = 1;           // the Z term is the mean of the last N credible readings
+  int scale_average_frames = 12;    // with a reference scale: mean of its last N readings
   double bad_um = 5.0;              // a reading off by more than this (vs Czb·(K_true − 1)) is "bad"
   sim::SpindleSpeedProgram program = sim::SpindleSpeedProgram::HeatingCoolingDay(10.0);
   sim::SpindleDescription spindle;  // its diameter and length are set from the marker file
