@@ -243,3 +243,38 @@ TEST(MarkerMeasurement, ScaleAveragerAppliesTheMeanOfTheLastReadings) {
 
 }  // namespace
 }  // namespace trueaxis::vision
+
+namespace trueaxis::vision {
+namespace {
+
+TEST(MarkerMeasurement, RandomImagesNeverCrashAndAreNeverCredible) {
+  const auto cam = testing::TestCamera();
+  const auto& m = testing::ReferencedMarker();
+  cv::RNG rng(42);
+  for (int i = 0; i < 24; ++i) {
+    cv::Mat img(480, 640, CV_8U);
+    switch (i % 4) {
+      case 0: rng.fill(img, cv::RNG::UNIFORM, 0, 256); break;
+      case 1: img.setTo(rng.uniform(0, 256)); break;
+      case 2:  // bright band with random dark strokes: spindle-like, but no marker
+        img.setTo(30);
+        cv::rectangle(img, cv::Point(100, 0), cv::Point(540, 479), cv::Scalar(190), cv::FILLED);
+        for (int k = 0; k < 6; ++k)
+          cv::line(img, cv::Point(rng.uniform(100, 540), rng.uniform(0, 480)),
+                   cv::Point(rng.uniform(100, 540), rng.uniform(0, 480)), cv::Scalar(30), rng.uniform(2, 8));
+        break;
+      default:  // blobs and gradients
+        for (int v = 0; v < 480; ++v) img.row(v).setTo(v / 2);
+        for (int k = 0; k < 10; ++k)
+          cv::circle(img, cv::Point(rng.uniform(0, 640), rng.uniform(0, 480)), rng.uniform(5, 80),
+                     cv::Scalar(rng.uniform(0, 256)), cv::FILLED);
+    }
+    MarkerReading r;
+    ASSERT_NO_THROW(r = MeasureMarker(img, cam, m, "random")) << i;
+    EXPECT_FALSE(r.credible()) << "image " << i << " read as a marker: K1 " << r.k1 << " K2 " << r.k2;
+    EXPECT_FALSE(r.reason.empty()) << i;
+  }
+}
+
+}  // namespace
+}  // namespace trueaxis::vision
