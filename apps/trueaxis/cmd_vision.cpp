@@ -93,6 +93,13 @@ void AddImageArgs(CLI::App* cmd, ImageArgs* a, const std::string& images_help) {
   cmd->add_option("--camera", a->camera, "camera YAML")->required();
 }
 
+MarkerDescription ReadMarker(const std::string& path) {
+  MarkerDescription m = ReadMarkerFile(path);
+  if (!m.EpsilonInSeedRange())
+    fmt::print(stderr, "warning: {}: credibility.epsilon = {:g} is outside seed 001's range 0.1 %…5 %\n", path, m.epsilon);
+  return m;
+}
+
 cv::Mat ReadImage(const std::string& path) {
   if (!fs::exists(path)) throw InputError(path, "no such image file");
   // Grey, keeping 16-bit depth (colour and alpha are converted by OpenCV).
@@ -187,7 +194,7 @@ void Setup(CLI::App& app) {
     cmd->add_option("--calibration-images", *boards, "also render this many 9×6 chessboards (8 mm squares)")
         ->capture_default_str();
     cmd->callback([a, out, boards] {
-      const MarkerDescription marker = ReadMarkerFile(a->marker);
+      const MarkerDescription marker = ReadMarker(a->marker);
       const CameraModel camera = ReadCameraFile(a->camera);
       VisionDayOptions o = MakeDayOptions(*a);
       fs::create_directories(*out);
@@ -250,7 +257,7 @@ void Setup(CLI::App& app) {
     cmd->add_option("--out", *out, "marker TOML to write, with [reference] k1, k2")->required();
     cmd->callback([a, out] {
       const auto* images = &a->images;
-      MarkerDescription m = ReadMarkerFile(a->marker);
+      MarkerDescription m = ReadMarker(a->marker);
       const CameraModel cam = ReadCameraFile(a->camera);
       m.reference_k1 = m.reference_k2 = 1.0;
       std::vector<MarkerReading> readings;
@@ -287,7 +294,7 @@ void Setup(CLI::App& app) {
     cmd->add_option("--alarm-out", *alarm, "write the stop rule's state as JSON (feed_hold, message) for a CNC bridge");
     cmd->callback([=] {
       const auto* images = &a->images;
-      const MarkerDescription m = ReadMarkerFile(a->marker);
+      const MarkerDescription m = ReadMarker(a->marker);
       const CameraModel cam = ReadCameraFile(a->camera);
       std::map<std::string, std::pair<double, double>> truth;
       if (!truth_path->empty()) truth = ReadTruth(*truth_path);
@@ -336,7 +343,7 @@ void Setup(CLI::App& app) {
     cmd->add_option("--csv", *csv, "write the readings and the truth as CSV");
     cmd->add_option("--report", *report, "write an HTML report");
     cmd->callback([a, csv, report] {
-      const MarkerDescription m = ReadMarkerFile(a->marker);
+      const MarkerDescription m = ReadMarker(a->marker);
       const CameraModel cam = ReadCameraFile(a->camera);
       const VisionDayOptions o = MakeDayOptions(*a);
       std::vector<ReportRow> rows;
