@@ -125,7 +125,7 @@ void VirtualSpindle::Advance(double dt_s) {
 }
 
 void VirtualSpindle::Step(double h) {
-  const double target = program_.RpmAt(t_s_ + h);
+  const double target = hold_ ? 0.0 : program_.RpmAt(t_s_ + h);
   const double max_change = d_.ramp_rpm_per_s * h;
   const double rpm0 = rpm_;
   rpm_ = rpm0 + std::clamp(target - rpm0, -max_change, max_change);

@@ -104,9 +104,10 @@ VisionDayResult RunVisionDay(const MarkerDescription& marker_in, const CameraMod
     f.reading = MeasureMarker(img, camera, marker, "frame " + std::to_string(i));
     scale_average.Apply(f.reading, marker);
     f.stop = monitor.Add(f.reading);
-    if (f.stop) {
+    if (f.stop) {  // feed hold: the machine (and its spindle) stops until the marker is redrawn
       out.stop_frame = i;
       out.stop_message = monitor.message();
+      spindle.Hold(true);
     }
     if (f.reading.credible()) {
       recent.push_back(f.reading.growth_um);

@@ -50,6 +50,18 @@ TEST(Spindle, HeatsWhileTurningCoolsWhenStoppedAndRotates) {
   EXPECT_NEAR(std::fmod(w.AngleDeg() - a0 + 360.0, 360.0), 60.0, 1e-6);
 }
 
+TEST(Spindle, HoldStopsTheSpindleWhateverTheProgram) {
+  VirtualSpindle s({}, SpindleSpeedProgram({{0, 8000}}), 20.0);
+  s.Advance(60);
+  EXPECT_EQ(s.Rpm(), 8000);
+  s.Hold(true);
+  s.Advance(60);
+  EXPECT_EQ(s.Rpm(), 0);
+  s.Hold(false);
+  s.Advance(60);
+  EXPECT_EQ(s.Rpm(), 8000);
+}
+
 TEST(Spindle, SpeedProgramParsesAndRefusesNonsense) {
   const auto p = SpindleSpeedProgram::Parse("0:0,600:8000,1200:0");
   EXPECT_EQ(p.RpmAt(599), 0);

@@ -66,6 +66,8 @@ TEST(VisionDay, AWearingMarkerTripsTheStopAndACleanDayDoesNot) {
   int in_row = 0;
   for (int i = 0; i <= w.stop_frame; ++i) in_row = w.frames[i].reading.credible() ? 0 : in_row + 1;
   EXPECT_EQ(in_row, 6);
+  // Feed hold: the spindle runs down and stays stopped for the rest of the day.
+  for (std::size_t i = w.stop_frame + 1; i < w.frames.size(); ++i) EXPECT_EQ(w.frames[i].rpm, 0.0) << i;
   // After the stop the Δz in force is the last credible reading.
   EXPECT_DOUBLE_EQ(w.frames[w.stop_frame].growth_in_force_um, w.frames[w.stop_frame - 6].reading.growth_um);
 }

@@ -89,6 +89,10 @@ class VirtualSpindle {
   void Advance(double dt_s);
   void AdvanceTo(double t_s) { if (t_s > t_s_) Advance(t_s - t_s_); }
   void SetAmbientC(double ambient_c);
+  // Feed hold / machine stop: the spindle runs down to 0 rpm and stays there
+  // (whatever the program says) until released.
+  void Hold(bool on) { hold_ = on; }
+  bool held() const { return hold_; }
 
   double TimeS() const { return t_s_; }
   double Rpm() const { return rpm_; }
@@ -117,6 +121,7 @@ class VirtualSpindle {
   std::size_t ambient_ = 0, housing_ = 0, front_bearing_ = 0, rear_bearing_ = 0, motor_ = 0, shaft_front_ = 0,
               shaft_rear_ = 0, convection_front_ = 0, convection_rear_ = 0;
   double t_s_ = 0, rpm_ = 0, angle_deg_ = 0;
+  bool hold_ = false;
 };
 
 }  // namespace trueaxis::sim

@@ -48,7 +48,7 @@ struct VisionFrame {
   double marker_growth_um = 0;            // Czb·(K_true − 1): what a perfect reading would give
   MarkerReading reading;
   double growth_in_force_um = 0;          // the Z term the compensator gets (mean of the last credible readings)
-  bool stop = false;                      // the stop rule tripped at this frame
+  bool stop = false;                      // the stop rule tripped at this frame (the spindle is held from here on)
 };
 
 struct VisionDayResult {
