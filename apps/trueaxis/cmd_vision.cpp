@@ -285,7 +285,10 @@ void Setup(CLI::App& app) {
     auto report = std::make_shared<std::string>();
     auto alarm = std::make_shared<std::string>();
     auto scale_average = std::make_shared<int>(12);
+    auto interval = std::make_shared<double>(60.0);
     AddImageArgs(cmd, a.get(), "images, in time order");
+    cmd->add_option("--interval-s", *interval, "time between the images (the report's time axis; --truth overrides)")
+        ->capture_default_str();
     cmd->add_option("--scale-average", *scale_average, "with a reference scale ([scale]): mean of its last N readings")
         ->capture_default_str();
     cmd->add_option("--truth", *truth_path, "truth.csv from `vision render` (adds the true Δz)");
@@ -300,6 +303,7 @@ void Setup(CLI::App& app) {
       if (!truth_path->empty()) truth = ReadTruth(*truth_path);
       CredibilityMonitor monitor(m.max_rejected_in_row);
       if (*scale_average < 1) throw InputError("command line", 0, "--scale-average", "must be ≥ 1");
+      if (!(*interval > 0)) throw InputError("command line", 0, "--interval-s", "must be > 0");
       ScaleAverager scale_avg(*scale_average);
       std::vector<ReportRow> rows;
       std::vector<cv::Mat> kept;
@@ -307,7 +311,7 @@ void Setup(CLI::App& app) {
         const std::string& p = (*images)[i];
         ReportRow row;
         row.name = fs::path(p).filename().string();
-        row.time_s = static_cast<double>(i);
+        row.time_s = static_cast<double>(i) * *interval;
         const cv::Mat img = ReadImage(p);
         row.reading = MeasureMarker(img, cam, m, p);
         scale_avg.Apply(row.reading, m);
