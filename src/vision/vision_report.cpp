@@ -46,10 +46,18 @@ report::HtmlPage BuildVisionReport(const std::string& title, const MarkerDescrip
   o.y_label = "Δz (µm)";
   report::SvgChart c(o);
   if (!rows.empty() && rows.front().true_growth_um) c.AddLine("truth (virtual spindle)", t, truth);
-  if (!rows.empty() && rows.front().marker_growth_um)
-    c.AddLine("perfect marker reading Czb·(K_true − 1)", t, marker_truth, report::SeriesStyle{.dashed = true});
+  {
+    report::SeriesStyle dashed;
+    dashed.dashed = true;
+    if (!rows.empty() && rows.front().marker_growth_um)
+      c.AddLine("perfect marker reading Czb·(K_true − 1)", t, marker_truth, dashed);
+  }
   c.AddPoints("camera, credible readings", t, dz);
-  if (!rejected_t.empty()) c.AddPoints("rejected frames", rejected_t, rejected_y, report::SeriesStyle{.color = "#c0392b"});
+  if (!rejected_t.empty()) {
+    report::SeriesStyle red;
+    red.color = "#c0392b";
+    c.AddPoints("rejected frames", rejected_t, rejected_y, red);
+  }
   page.AddChart(c);
   report::SvgChartOptions ko;
   ko.title = "Marker strain: K1 − 1 and K2 − 1";
