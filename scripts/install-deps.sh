@@ -9,6 +9,7 @@ PACKAGES=(
   libfmt-dev libspdlog-dev libcpp-httplib-dev libsodium-dev libsqlite3-dev
   libxlsxwriter-dev libminizip-dev libpugixml-dev libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
+  libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-calib3d-dev  # vision: camera calibration, marker images (issue 17)
   mbpoll python3-pymodbus python3-serial-asyncio sqlite3 curl
 )
 

@@ -47,6 +47,7 @@ struct VirtualMachine::Axis {
   double correction_um = 0;
   double play_mm = 0, last_motor_mm = 0;
   double homing_offset_um = 0;
+  double extra_error_um = 0;  // SetExtraErrorUm: e.g. the spindle's growth at the tool on Z
   // accumulated over the current thermal step
   double dist_mm = 0;
   std::vector<double> occupancy_s;
@@ -432,7 +433,7 @@ double VirtualMachine::ErrorAtUm(std::size_t axis, double x_mm, int direction) c
   const Axis& a = *axes_.at(axis);
   const double bed_um = a.away * a.d.bed_anchor_mm * d_.bed.cte_um_per_m_c * 1e-3 * (net_.Temperature(bed_node_) - kReferenceC);
   return a.pitch.ErrorUm(x_mm, direction) - direction * a.d.backlash_um / 2 + ThermalGrowthUm(axis, x_mm) + bed_um +
-         a.homing_offset_um;
+         a.homing_offset_um + a.extra_error_um;
 }
 
 double VirtualMachine::ActualMm(std::size_t axis) const {
@@ -443,11 +444,12 @@ double VirtualMachine::ActualMm(std::size_t axis) const {
   if (half > 0 && a.play_mm <= -half + 1e-12) flank = 1;
   else if (half > 0 && a.play_mm >= half - 1e-12) flank = -1;
   const double bed_um = a.away * a.d.bed_anchor_mm * d_.bed.cte_um_per_m_c * 1e-3 * (net_.Temperature(bed_node_) - kReferenceC);
-  const double err_um = a.pitch.ErrorUm(m, flank) + ThermalGrowthUm(axis, m) + bed_um + a.homing_offset_um;
+  const double err_um = a.pitch.ErrorUm(m, flank) + ThermalGrowthUm(axis, m) + bed_um + a.homing_offset_um + a.extra_error_um;
   return m + a.play_mm + err_um * 1e-3;
 }
 
 double VirtualMachine::CorrectionUm(std::size_t axis) const { return axes_.at(axis)->correction_um; }
+void VirtualMachine::SetExtraErrorUm(std::size_t axis, double error_um) { axes_.at(axis)->extra_error_um = error_um; }
 int VirtualMachine::ServoDirection(std::size_t axis) const { return axes_.at(axis)->servo_dir; }
 double VirtualMachine::FeedNowMmMin(std::size_t axis) const { return axes_.at(axis)->speed_now; }
 

@@ -103,6 +103,10 @@ class VirtualMachine : public hw::CncLink, public hw::TemperatureSource {
   // approached in `direction`, at the present temperatures.
   double ErrorAtUm(std::size_t axis, double x_mm, int direction) const;
   double ThermalGrowthUm(std::size_t axis, double x_mm) const;  // α∫(T−20)ds part only
+  // An error from outside the axis model, added to what the laser and the tool
+  // see on that axis (error sign): e.g. VirtualSpindle::ZErrorUm() on Z, set by
+  // the caller as the spindle's clock advances (docs/vision.md).
+  void SetExtraErrorUm(std::size_t axis, double error_um);
 
   // True temperatures of the thermal nodes ("x_nut", "x_bearing",
   // "x_floating_bearing", "x_motor", "x_screw_07", "bed", "ambient", "coolant").
