@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "synthetic_machine.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/model/fit_input.hpp"
 #include "trueaxis/model/model_fit.hpp"
@@ -72,51 +73,22 @@ struct CoolantMemoryAxis {
   double noise_um = 0.1;
   double dt_s = 12;
   std::vector<FitState> MakeStates(unsigned seed) const {
-    std::mt19937 rng(seed);
-    std::normal_distribution<double> noise(0, noise_um);
-    struct Profile { std::string label, coolant; double start, slope_c_per_s, step_c; };
-    const std::vector<Profile> profiles = {
+    const std::vector<testing::TimedProfile> profiles = {
         {"cold", "off", 20, 0, 0},           {"warm-1", "off", 20.5, 0.004, 0},  {"warm-2", "off", 22, 0.002, 1.5},
         {"cooldown-1", "off", 27, -0.003, -2}, {"warm-3", "off", 24, 0.0015, 3},  {"coolant-1", "flood", 24, 0.002, 0},
         {"coolant-2", "flood", 26, -0.002, 2}, {"coolant-3", "flood", 23, 0.003, -1.5}};
-    std::vector<FitState> out;
-    for (const auto& pr : profiles) {
-      measure::Measurement m;
-      m.source = pr.label + ".csv";
-      m.metadata = {{"axis", "X"}, {"state", pr.label}, {"coolant", pr.coolant}};
-      m.sensor_names = {"nut"};
-      const double loss = pr.coolant == "flood" ? tau_loss_s : 0.0;
-      double screw = std::nan(""), t = 0;
-      int line = 1;
-      for (int run = 1; run <= 4; ++run)
-        for (int d = 0; d < 2; ++d)
-          for (int i = 0; i <= 10; ++i, t += dt_s) {
-            const double x = (d == 0 ? i : 10 - i) * 50.0;
-            const double nut = pr.start + pr.slope_c_per_s * t + (t > 200 ? pr.step_c : 0.0);
-            screw = std::isnan(screw) ? nut : ObserverStep(screw, nut, 20.0, dt_s, tau_lag_s, loss);
-            measure::MeasurementPoint p;
-            p.run = run;
-            p.direction = d == 0 ? Direction::kForward : Direction::kReverse;
-            p.target_mm = x;
-            p.time_s = t;
-            p.temperatures_c = {nut};
-            p.deviation_um = 2.0 + 0.004 * x + k * (screw - 20.0) * (0.0 - x) + noise(rng);
-            p.source_line = ++line;
-            m.points.push_back(p);
-          }
-      out.push_back(MakeFitState(m));
-    }
-    return out;
+    double screw = std::nan("");
+    return testing::MakeTimedStates(profiles, dt_s, noise_um, seed,
+                                    [&](const testing::TimedProfile& pr, double nut, double x, bool first) {
+                                      const double loss = pr.coolant == "flood" ? tau_loss_s : 0.0;
+                                      screw = first ? nut : ObserverStep(screw, nut, 20.0, dt_s, tau_lag_s, loss);
+                                      return k * (screw - 20.0) * (0.0 - x);
+                                    });
   }
 };
 
 FitOptions MemoryFitOptions() {
-  FitOptions o;
-  o.geometric = FitOptions::Geometric::kPolynomial;
-  o.key_sensors = {"nut"};
-  o.reference_position_mm = 0;
-  o.ambient_sensor = "none";
-  o.key_lag_grid_s = {0, 150, 300, 600, 1200, 2400};
+  FitOptions o = testing::TimedFitOptions();
   o.coolant_loss_grid_s = {0, 300, 600, 1200, 2400, 4800};
   return o;
 }
