@@ -868,8 +868,13 @@ class AxisFitter {
       for (int dir = 0; dir < 2; ++dir)
         model_.directions[dir].thermal.push_back({CoolantState::kOff, fits[dir].k, 0});
       if (shared_gains_) {
-        for (std::size_t c = 0; c < key_loss.size(); ++c)
-          if (key_loss[c] > 0) model_.key_loss_s[c].assign(keys.size(), key_loss[c]);
+        // Every coolant of the data is recorded, with 0 when the shared gains cover it without a
+        // loss: the file says which coolant states the one set of gains was fitted on.
+        for (std::size_t si = 0; si < thermal_.size(); ++si) {
+          const auto c = static_cast<std::size_t>(thermal_[si]->coolant);
+          if (thermal_[si]->coolant != CoolantState::kOff && model_.key_loss_s[c].empty())
+            model_.key_loss_s[c].assign(keys.size(), key_loss[c]);
+        }
       } else {
         FitCoolant(pts, keys, rho, fits, sum);
       }
