@@ -215,3 +215,25 @@ TEST(FittedEnvelope, TheFitRecordsTheRangeOfItsStates) {
 
 }  // namespace
 }  // namespace trueaxis::model
+
+namespace trueaxis::model {
+namespace {
+
+TEST(CoolantMemoryOptions, BadValuesAreInvalid) {
+  std::string why;
+  FitOptions o;
+  EXPECT_TRUE(o.IsValid(&why)) << why;
+  o.coolant_loss_grid_s = {0, -600};
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("coolant_loss_grid_s"), std::string::npos);
+  o = FitOptions{};
+  o.coolant_memory_off_tolerance = -0.5;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("coolant_memory_off_tolerance"), std::string::npos);
+  o = FitOptions{};
+  o.tan_beta_margin = std::nan("");
+  EXPECT_FALSE(o.IsValid(&why));
+}
+
+}  // namespace
+}  // namespace trueaxis::model
