@@ -42,6 +42,8 @@ struct FitCliOptions {
   bool reuse_sources = false;
   bool full = false;
   std::vector<double> lag_grid_s = model::FitOptions{}.key_lag_grid_s;
+  std::vector<double> coolant_loss_grid_s = model::FitOptions{}.coolant_loss_grid_s;
+  double envelope_margin = model::FitOptions{}.tan_beta_margin;
 };
 
 // How much the geometric part moved against the previous revision, per axis and direction.
@@ -97,6 +99,9 @@ void RunFit(const FitCliOptions& o) {
   fo.ambient_sensor = o.ambient_sensor;
   fo.default_axis = o.axis;
   fo.key_lag_grid_s = o.lag_grid_s;
+  fo.coolant_loss_grid_s = o.coolant_loss_grid_s;
+  if (o.coolant_loss_grid_s.size() == 1 && o.coolant_loss_grid_s[0] < 0) fo.coolant_loss_grid_s.clear();
+  fo.tan_beta_margin = o.envelope_margin;
   std::string why;
   if (!fo.IsValid(&why)) throw InputError("command line", 0, "options", why);
 
@@ -154,6 +159,15 @@ void Setup(CLI::App& app) {
   cmd->add_option("--keys", opts->keys, "Key sensors to use instead of selecting them (comma separated)")
       ->delimiter(',')
       ->allow_extra_args(false);  // --keys a,b file.csv: the file stays an input
+  cmd->add_option("--coolant-loss-grid-s", opts->coolant_loss_grid_s,
+                  "Coolant memory: loss time constants (s) tried with one set of gains for every state (comma "
+                  "separated; -1: none, gains per coolant state as before)")
+      ->delimiter(',')
+      ->allow_extra_args(false)
+      ->capture_default_str();
+  cmd->add_option("--envelope-margin", opts->envelope_margin,
+                  "Fitted envelope of key rises and tanβ, widened by this fraction of its width (negative: none)")
+      ->capture_default_str();
   cmd->add_option("--lag-grid-s", opts->lag_grid_s,
                   "Key-sensor lag time constants τ (s) tried by cross-validation (comma separated); 0 alone: no lag")
       ->delimiter(',')

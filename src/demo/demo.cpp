@@ -60,8 +60,10 @@ std::string DemoResult::BriefReport() const {
   std::string bounds;
   for (std::size_t i = 0; i < machine_axes.size() && i < bound_um.size(); ++i) {
     const std::uint64_t n = i < clamped_cycles.size() ? clamped_cycles[i] : 0;
-    bounds += fmt::format("{}{} ±{:g} µm{}", bounds.empty() ? "" : ", ", machine_axes[i], bound_um[i],
-                          n ? fmt::format(" (SATURATED in {} cycles)", n) : "");
+    const std::uint64_t e = i < extrapolated_cycles.size() ? extrapolated_cycles[i] : 0;
+    bounds += fmt::format("{}{} ±{:g} µm{}{}", bounds.empty() ? "" : ", ", machine_axes[i], bound_um[i],
+                          n ? fmt::format(" (SATURATED in {} cycles)", n) : "",
+                          e ? fmt::format(" (held at the model's fitted envelope in {} cycles)", e) : "");
   }
   if (!bounds.empty()) s += "bounds: " + bounds + "\n";
   return s;
@@ -96,8 +98,11 @@ class DayObserver : public runtime::CycleObserver {
     alarms_ |= s.alarms;
     ++result_.day_cycles;
     if (result_.clamped_cycles.size() < s.axes.size()) result_.clamped_cycles.resize(s.axes.size(), 0);
-    for (std::size_t i = 0; i < s.axes.size(); ++i)
+    if (result_.extrapolated_cycles.size() < s.axes.size()) result_.extrapolated_cycles.resize(s.axes.size(), 0);
+    for (std::size_t i = 0; i < s.axes.size(); ++i) {
       if (s.axes[i].clamped) ++result_.clamped_cycles[i];
+      if (s.axes[i].prediction.tan_beta_limited) ++result_.extrapolated_cycles[i];
+    }
     if (s.alarms != last_alarms_ && result_.alarm_log.size() < 200)
       result_.alarm_log.push_back(fmt::format("{} {}", vm_.IsoTime(), s.alarms ? runtime::AlarmNames(s.alarms) : "cleared"));
     last_alarms_ = s.alarms;
@@ -519,6 +524,10 @@ DemoResult RunDemo(const DemoOptions& o) {
       fo.key_sensors = {nut, bearing};
     if (o.geometric == "table") fo.geometric = model::FitOptions::Geometric::kTable;
     if (!o.thermal_lag) fo.key_lag_grid_s = {0};
+    if (!o.coolant_memory) {
+      fo.coolant_loss_grid_s.clear();
+      fo.tan_beta_margin = -1;
+    }
     model::FitResult one = model::FitCompositeModel(axis_states, fo);
     // Er(x): the seed-000 polynomial, unless the seed-002 table (linear
     // interpolation between the measured targets) cross-validates better over

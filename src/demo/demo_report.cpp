@@ -91,13 +91,15 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
 
   // Saturation is never silent: each axis's bound, and how often the model asked for more.
   page.AddHeading("Compensation bounds and saturation");
-  report::HtmlTable bt({"axis", "bound (µm)", "how it was set", "cycles saturated", "share of the day"});
+  report::HtmlTable bt({"axis", "bound (µm)", "how it was set", "cycles saturated", "share of the day",
+                        "cycles beyond the fitted envelope"});
   for (std::size_t i = 0; i < r.machine_axes.size() && i < r.bound_um.size(); ++i) {
     const std::uint64_t n = i < r.clamped_cycles.size() ? r.clamped_cycles[i] : 0;
     bt.AddRow({r.machine_axes[i], fmt::format("±{:g}", r.bound_um[i]),
                i < r.bound_source.size() ? r.bound_source[i] : "", std::to_string(n),
                r.day_cycles ? fmt::format("{:.3f} %", 100.0 * static_cast<double>(n) / static_cast<double>(r.day_cycles))
-                            : "-"});
+                            : "-",
+               std::to_string(i < r.extrapolated_cycles.size() ? r.extrapolated_cycles[i] : 0)});
   }
   page.AddTable(bt);
   std::uint64_t saturated = 0;
@@ -105,6 +107,12 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
   page.AddNote(saturated ? fmt::format("WARNING: the correction saturated at its bound in {} axis-cycles "
                                        "(alarm correction_clamped): the figures above include that.", saturated)
                          : "No axis saturated: every correction the model asked for was applied within its bound.");
+  std::uint64_t extrapolated = 0;
+  for (auto n : r.extrapolated_cycles) extrapolated += n;
+  if (extrapolated)
+    page.AddNote(fmt::format("WARNING: in {} axis-cycles the temperatures lay beyond the model's fitted envelope "
+                             "(alarm model_extrapolated): its thermal slope was held at the envelope's edge "
+                             "instead of extrapolated (docs/model-file.md).", extrapolated));
 
   page.AddHeading("Setup");
   const auto& so = o.compensator.shaper;

@@ -56,10 +56,24 @@ Prediction Predict(const AxisModel& axis, double position_mm, Direction directio
         ambient_shift_c = state.ambient_c - axis.ambient_baseline_c;
       for (std::size_t i = 0; ok && i < g->k_um_per_mm_per_c.size(); ++i) {
         const double t = state.key_temp_c[i];
-        if (std::isnan(t)) ok = false;
-        else tan_beta += g->k_um_per_mm_per_c[i] * (t - axis.baseline_temp_c[i] - ambient_shift_c);
+        if (std::isnan(t)) {
+          ok = false;
+          continue;
+        }
+        double rise = t - axis.baseline_temp_c[i] - ambient_shift_c;
+        if (i < g->key_rise_range_c.size() &&
+            (rise < g->key_rise_range_c[i][0] || rise > g->key_rise_range_c[i][1])) {
+          rise = std::clamp(rise, g->key_rise_range_c[i][0], g->key_rise_range_c[i][1]);
+          p.tan_beta_limited = true;
+        }
+        tan_beta += g->k_um_per_mm_per_c[i] * rise;
       }
+      if (!ok) p.tan_beta_limited = false;
       if (ok) {
+        if (tan_beta < g->min_tan_beta_um_per_mm || tan_beta > g->max_tan_beta_um_per_mm) {
+          tan_beta = std::clamp(tan_beta, g->min_tan_beta_um_per_mm, g->max_tan_beta_um_per_mm);
+          p.tan_beta_limited = true;
+        }
         p.tan_beta_um_per_mm = tan_beta;
         p.thermal_um = tan_beta * lever_mm;
       }

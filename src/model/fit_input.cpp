@@ -106,6 +106,7 @@ struct TemperatureLog {
   std::vector<std::string> sensors;
   std::vector<double> time_s;
   std::vector<std::vector<double>> rows;  // parallel to sensors
+  std::vector<CoolantState> coolant;      // per row; empty when the log has no coolant column
 };
 
 // Every row must have the header's field count, a time after the previous
@@ -115,7 +116,7 @@ TemperatureLog ReadTemperatureLog(const std::string& path) {
   const std::string text = ReadTextFile(path);
   TemperatureLog log;
   std::vector<int> col_sensor;  // per column: index into sensors, -1 other
-  int time_col = -1;
+  int time_col = -1, coolant_col = -1;
   std::size_t columns = 0;
   const std::string canonical = CanonicalCsv(text);  // ';' + decimal-comma exports read as CSV
   LineCursor cursor(canonical);
@@ -128,6 +129,7 @@ TemperatureLog ReadTemperatureLog(const std::string& path) {
       for (std::size_t c = 0; c < cells.size(); ++c) {
         const std::string h(cells[c]);
         if (h == "time_s") time_col = static_cast<int>(c);
+        if (h == "coolant") coolant_col = static_cast<int>(c);
         if (h.size() > 4 && h.rfind("t_", 0) == 0 && h.substr(h.size() - 2) == "_c") {
           col_sensor.push_back(static_cast<int>(log.sensors.size()));
           log.sensors.push_back(h.substr(2, h.size() - 4));
@@ -157,6 +159,12 @@ TemperatureLog ReadTemperatureLog(const std::string& path) {
       if (auto why = ImplausibleTemperatureC(*v)) throw InputError(path, line, field, *why);
       vals[col_sensor[c]] = *v;
     }
+    if (coolant_col >= 0) {
+      const std::string name(cells[static_cast<std::size_t>(coolant_col)]);
+      const auto c = ParseCoolantState(name);
+      if (!c) throw InputError(path, line, "coolant", fmt::format("unknown coolant state '{}'", name));
+      log.coolant.push_back(*c);
+    }
     log.time_s.push_back(*t);
     log.rows.push_back(std::move(vals));
   }
@@ -181,6 +189,7 @@ TemperatureHistory HistoryBefore(const TemperatureLog& log, const measure::Measu
       if (map[k] >= 0) vals[k] = log.rows[r][static_cast<std::size_t>(map[k])];
     h.time_s.push_back(rel);
     h.temps_c.push_back(std::move(vals));
+    if (!log.coolant.empty()) h.coolant.push_back(log.coolant[r]);
   }
   return h;
 }

@@ -29,6 +29,10 @@ bool FitOptions::IsValid(std::string* why) const {
     if (!(tau >= 0) || !std::isfinite(tau)) return fail("key_lag_grid_s values must be finite seconds >= 0");
   if (!(min_lag_cv_improvement >= 0 && min_lag_cv_improvement < 1))
     return fail("min_lag_cv_improvement must be within [0, 1)");
+  if (!(coolant_memory_off_tolerance >= 0)) return fail("coolant_memory_off_tolerance must be >= 0");
+  for (double tau : coolant_loss_grid_s)
+    if (!(tau >= 0) || !std::isfinite(tau)) return fail("coolant_loss_grid_s values must be finite seconds >= 0");
+  if (std::isnan(tan_beta_margin) || tan_beta_margin > 10) return fail("tan_beta_margin must be <= 10 (negative: no envelope)");
   std::set<std::string> seen;
   for (const auto& k : key_sensors) {
     if (k.empty()) return fail("key_sensors has an empty name");

@@ -1,5 +1,6 @@
 #include "trueaxis/model/model_fit.hpp"
 #include "trueaxis/model/thermal_lag.hpp"
+#include "trueaxis/model/thermal_state.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -164,12 +165,16 @@ bool RowUsable(const ThermalPoint& p, const std::vector<std::size_t>& keys, bool
 }
 
 // Leave-one-state-out CV RMS over both directions, on the states in `states`.
+// `scored` (optional): only those states are held out and scored, the fits still use every other
+// state of `states`.
 double CrossValidate(const std::vector<ThermalPoint>& pts, const std::set<std::size_t>& states,
-                     const std::vector<std::size_t>& keys, bool fit_rho, double fixed_rho) {
+                     const std::vector<std::size_t>& keys, bool fit_rho, double fixed_rho,
+                     const std::set<std::size_t>* scored = nullptr) {
   double ss = 0;
   std::size_t n = 0;
   for (int dir = 0; dir < 2; ++dir) {
     for (std::size_t s : states) {
+      if (scored && !scored->count(s)) continue;
       auto g = SolveGains(
           pts, [&](const ThermalPoint& p) { return p.dir == dir && p.state != s && states.count(p.state); }, keys,
           fit_rho, fixed_rho);
@@ -182,6 +187,20 @@ double CrossValidate(const std::vector<ThermalPoint>& pts, const std::set<std::s
     }
   }
   return n ? std::sqrt(ss / static_cast<double>(n)) : kNaN;
+}
+
+// ρ fitted jointly with the gains of `keys` on the off-coolant states: one ρ per axis (one screw),
+// the mean of the two directions' estimates.
+double JointRho(const std::vector<ThermalPoint>& pts, const std::set<std::size_t>& off_states,
+                const std::vector<std::size_t>& keys) {
+  double rs = 0;
+  int rn = 0;
+  for (int dir = 0; dir < 2; ++dir) {
+    auto g = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); }, keys,
+                        true, 0);
+    if (g.ok) rs += g.rho, ++rn;
+  }
+  return rn ? rs / rn : 0.0;
 }
 
 double Correlation(const std::vector<ThermalPoint>& pts, const std::set<std::size_t>& states, std::size_t a,
@@ -495,6 +514,7 @@ class AxisFitter {
     }
     if (!o_.key_sensors.empty()) candidates = o_.key_sensors;
     sum.candidate_sensors = candidates;
+    candidates_ = candidates;
     if (!other_axis.empty())
       sum.candidate_note = fmt::format("sensors of other axes are not candidates (own_axis_sensors_only): {}",
                                        fmt::join(other_axis, ", "));
@@ -505,8 +525,8 @@ class AxisFitter {
     if (!amb.empty() && !std::isfinite(amb_base))
       throw InputError(cold_.source, 0, fmt::format("t_{}_c", amb), "the ambient sensor has no reading in the cold state");
 
-    // Thermal points; the key-sensor rises lagged by tau_s (0: each point's own reading).
-    auto build_points = [&](double tau_s) {
+    // Thermal points; each candidate's rise lagged by its own τ (0: each point's own reading).
+    auto build_points = [&](const std::vector<double>& tau_s, const std::array<double, kCoolantStateCount>& loss_s = {}) {
     std::vector<ThermalPoint> pts;
     for (std::size_t si = 0; si < thermal_.size(); ++si) {
       const auto& m = thermal_[si]->measurement;
@@ -514,9 +534,16 @@ class AxisFitter {
       for (const auto& n : candidates) idx.push_back(m.SensorIndex(n));
       const auto amb_idx = amb.empty() ? std::nullopt : m.SensorIndex(amb);
       std::vector<std::vector<double>> lagged(candidates.size());
-      if (tau_s > 0)
-        for (std::size_t j = 0; j < candidates.size(); ++j)
-          if (idx[j]) lagged[j] = LaggedSensorSeries(m, *idx[j], tau_s, &thermal_[si]->history);
+      for (std::size_t j = 0; j < candidates.size(); ++j)
+        if (idx[j] && j < tau_s.size() && tau_s[j] > 0) {
+          KeySeriesDynamics d;
+          d.tau_lag_s = tau_s[j];
+          d.tau_loss_s = loss_s;
+          d.baseline_c = base[j];
+          if (amb_idx) d.ambient_index = amb_idx, d.ambient_baseline_c = amb_base;
+          d.coolant = thermal_[si]->coolant;
+          lagged[j] = ObservedSensorSeries(m, *idx[j], d, &thermal_[si]->history);
+        }
       for (std::size_t pi = 0; pi < m.points.size(); ++pi) {
         const auto& p = m.points[pi];
         ThermalPoint t;
@@ -538,7 +565,7 @@ class AxisFitter {
     }
     return pts;
     };
-    std::vector<ThermalPoint> pts = build_points(0);
+    std::vector<ThermalPoint> pts = build_points({});
 
     // Px: the common pivot of the residual lines r_s(x) = a + b·x (both directions, every state).
     if (std::isnan(px)) {
@@ -646,16 +673,7 @@ class AxisFitter {
     // such a state out would leave ρ undetermined: for the selection ρ is held
     // at a preliminary estimate (all candidates + ρ fitted jointly), then
     // refitted jointly with the chosen keys.
-    auto joint_rho = [&](const std::vector<std::size_t>& with_keys) {
-      double rs = 0;
-      int rn = 0;
-      for (int dir = 0; dir < 2; ++dir) {
-        auto g = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
-                            with_keys, true, 0);
-        if (g.ok) rs += g.rho, ++rn;
-      }
-      return rn ? rs / rn : 0.0;  // one ρ per axis (one screw): the mean of the two directions' estimates
-    };
+    auto joint_rho = [&](const std::vector<std::size_t>& with_keys) { return JointRho(pts, off_states, with_keys); };
     if (thermal && fit_rho) {
       std::vector<std::size_t> all_keys;
       for (std::size_t j = 0; j < candidates.size(); ++j) all_keys.push_back(j);
@@ -677,37 +695,142 @@ class AxisFitter {
         thermal = false;
       }
     }
-    // Thermal lag: one τ for the axis' key sensors, from the grid, by the same LOSO CV; kept only
-    // when it lowers the CV by min_cv_improvement (τ = 0 leaves the points exactly as before).
-    double key_lag_s = 0;
+    // Thermal lag: first one τ for all the axis' key sensors, from the grid, by the same LOSO CV;
+    // then each key's own τ in turn (coordinate descent over the grid, two passes: the nut and the
+    // bearing reach the screw on different time scales). Each step is kept only when it lowers the
+    // CV by min_lag_cv_improvement (τ = 0 everywhere leaves the points exactly as before).
+    std::vector<double> key_lag_s(candidates.size(), 0.0);
     bool lag_grid = false;
     for (double tau : o_.key_lag_grid_s) lag_grid = lag_grid || tau > 0;
     if (thermal && lag_grid) {
+      auto cv_of = [&](const std::vector<double>& taus, std::vector<ThermalPoint>* out) {
+        auto trial = build_points(taus);
+        for (auto& p : trial) p.lever_mm = px - p.x;
+        const double cv = CrossValidate(trial, off_states, keys, false, fit_rho ? JointRho(trial, off_states, keys) : rho);
+        if (out) *out = std::move(trial);
+        return cv;
+      };
       const double cv0 = CrossValidate(pts, off_states, keys, false, fit_rho ? joint_rho(keys) : rho);
       sum.lag_candidates.push_back({0, cv0});
       double best_cv = cv0, best_tau = 0;
-      std::vector<ThermalPoint> raw = pts, best;
       for (double tau : o_.key_lag_grid_s) {
         if (!(tau > 0)) continue;
-        pts = build_points(tau);
-        for (auto& p : pts) p.lever_mm = px - p.x;
-        const double cv = CrossValidate(pts, off_states, keys, false, fit_rho ? joint_rho(keys) : rho);
+        std::vector<double> taus(candidates.size(), 0.0);
+        for (auto k : keys) taus[k] = tau;
+        const double cv = cv_of(taus, nullptr);
         sum.lag_candidates.push_back({tau, cv});
-        if (cv < best_cv) best_cv = cv, best_tau = tau, best = pts;
+        if (cv < best_cv) best_cv = cv, best_tau = tau;
       }
-      if (best_tau > 0 && best_cv <= (1 - o_.min_lag_cv_improvement) * cv0) {
-        pts = std::move(best);
-        key_lag_s = best_tau;
-        sum.lag_reason = fmt::format("τ = {} s lowers the LOSO CV from {:.3f} to {:.3f} µm", FormatShortest(best_tau),
-                                     cv0, best_cv);
+      const double gain = 1 - o_.min_lag_cv_improvement;
+      double cur_cv = cv0;
+      if (best_tau > 0 && best_cv <= gain * cv0) {
+        for (auto k : keys) key_lag_s[k] = best_tau;
+        cur_cv = best_cv;
+      }
+      std::string per_key;
+      if (keys.size() > 1 && o_.per_key_lag)
+        for (int pass = 0; pass < 2; ++pass)
+          for (auto k : keys)
+            for (double tau : o_.key_lag_grid_s) {
+              if (tau == key_lag_s[k]) continue;
+              auto trial = key_lag_s;
+              trial[k] = tau;
+              const double cv = cv_of(trial, nullptr);
+              if (cv <= gain * cur_cv) {
+                per_key += fmt::format("; {} τ {} → {} s: {:.3f} → {:.3f} µm", candidates[k],
+                                       FormatShortest(key_lag_s[k]), FormatShortest(tau), cur_cv, cv);
+                key_lag_s[k] = tau;
+                cur_cv = cv;
+              }
+            }
+      if (cur_cv < cv0) {
+        cv_of(key_lag_s, &pts);
+        sum.lag_reason = fmt::format("{}{}", best_tau > 0 && best_cv <= gain * cv0
+                                                 ? fmt::format("τ = {} s lowers the LOSO CV from {:.3f} to {:.3f} µm",
+                                                               FormatShortest(best_tau), cv0, best_cv)
+                                                 : std::string("one τ for all keys: none helps"),
+                                     per_key);
       } else {
-        pts = std::move(raw);
         sum.lag_reason = best_tau > 0 ? fmt::format("no lag: the best τ = {} s lowers the LOSO CV by less than {:.0f} % "
                                                     "({:.3f} → {:.3f} µm)",
                                                     FormatShortest(best_tau), 100 * o_.min_lag_cv_improvement, cv0, best_cv)
                                       : "no lag: no τ of the grid lowers the LOSO CV";
       }
-      sum.key_lag_s = key_lag_s;
+      double largest = 0;
+      for (auto k : keys) largest = std::max(largest, key_lag_s[k]);
+      sum.key_lag_s = largest;
+    }
+    // The coolant's memory (thermal_state.hpp): the key states drawn to the room with a loss τ while
+    // a coolant runs, and ONE set of gains for every state, against today's table (own gains per
+    // coolant state). Judged by the same LOSO CV, now over the off AND the coolant states.
+    std::array<double, kCoolantStateCount> key_loss{};
+    shared_gains_ = false;
+    {
+      std::set<std::size_t> all_states = off_states;
+      std::map<CoolantState, std::set<std::size_t>> by_coolant;
+      for (std::size_t si = 0; si < thermal_.size(); ++si)
+        if (thermal_[si]->coolant != CoolantState::kOff) by_coolant[thermal_[si]->coolant].insert(si), all_states.insert(si);
+      bool any_lag = false;
+      for (auto k : keys) any_lag = any_lag || key_lag_s[k] > 0;
+      bool grid = false;
+      for (double t : o_.coolant_loss_grid_s) grid = grid || t >= 0;
+      if (thermal && any_lag && grid && !by_coolant.empty()) {
+        auto count = [&](const std::vector<ThermalPoint>& v, const std::set<std::size_t>& st) {
+          double n = 0;
+          for (const auto& p : v) n += st.count(p.state) && RowUsable(p, keys, false) ? 1 : 0;
+          return n;
+        };
+        GainFit off_fits[2];
+        for (int dir = 0; dir < 2; ++dir)
+          off_fits[dir] = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
+                                     keys, false, rho);
+        const double cv_off = CrossValidate(pts, off_states, keys, false, rho);
+        double ss = cv_off * cv_off * count(pts, off_states), n = count(pts, off_states);
+        for (const auto& [c, st] : by_coolant) {
+          const double cvc = CoolantCv(pts, keys, rho, off_fits, st, st.size() >= keys.size() + 1);
+          ss += cvc * cvc * count(pts, st), n += count(pts, st);
+        }
+        const double cv_table = n > 0 ? std::sqrt(ss / n) : kNaN;
+        double best_cv = std::numeric_limits<double>::infinity(), best_off_cv = kNaN;
+        std::array<double, kCoolantStateCount> best_loss{};
+        for (const auto& [c, st] : by_coolant) {
+          auto loss = best_loss;
+          for (double tau : o_.coolant_loss_grid_s) {
+            if (!(tau >= 0)) continue;
+            loss[static_cast<std::size_t>(c)] = tau;
+            auto trial = build_points(key_lag_s, loss);
+            for (auto& p : trial) p.lever_mm = px - p.x;
+            const double cv = CrossValidate(trial, all_states, keys, false, rho);
+            if (cv < best_cv)
+              best_cv = cv, best_loss = loss, best_off_cv = CrossValidate(trial, all_states, keys, false, rho, &off_states);
+          }
+        }
+        std::string losses;
+        for (const auto& [c, st] : by_coolant)
+          losses += fmt::format("{}{} {} s", losses.empty() ? "" : ", ", CoolantStateName(c),
+                                FormatShortest(best_loss[static_cast<std::size_t>(c)]));
+        // One set of gains must also keep the dry states as good as their own gains do: it is a
+        // compromise over every state, and the dry states are most of a working day.
+        const double off_limit = (1 + o_.coolant_memory_off_tolerance) * cv_off;
+        if (best_cv < cv_table && best_off_cv <= off_limit) {
+          shared_gains_ = true;
+          key_loss = best_loss;
+          pts = build_points(key_lag_s, key_loss);
+          for (auto& p : pts) p.lever_mm = px - p.x;
+          off_states = all_states;
+          sum.coolant_notes.push_back(fmt::format(
+              "coolant memory: one set of gains for every state, the key states drawn to the room with loss τ {} "
+              "(LOSO CV over all {} states {:.3f} µm against {:.3f} µm with gains per coolant state; on the dry "
+              "states {:.3f} µm against their own gains' {:.3f} µm)",
+              losses, all_states.size(), best_cv, cv_table, best_off_cv, cv_off));
+        } else {
+          sum.coolant_notes.push_back(fmt::format(
+              "gains per coolant state: one set of gains with a coolant loss ({}) gives LOSO CV {:.3f} µm over all "
+              "states against {:.3f} µm, and {:.3f} µm on the dry states against their own gains' {:.3f} µm (limit "
+              "{:.3f} µm)",
+              losses, best_cv, cv_table, best_off_cv, cv_off, off_limit));
+        }
+      }
     }
     if (thermal) {
       GainFit fits[2];
@@ -725,7 +848,10 @@ class AxisFitter {
         model_.key_sensors.push_back(candidates[k]);
         model_.baseline_temp_c.push_back(base[k]);
       }
-      if (key_lag_s > 0) model_.key_lag_s.assign(keys.size(), key_lag_s);
+      bool any_lag = false;
+      for (auto k : keys) any_lag = any_lag || key_lag_s[k] > 0;
+      if (any_lag)
+        for (auto k : keys) model_.key_lag_s.push_back(key_lag_s[k]);
       for (const auto& name : model_.key_sensors) {
         std::array<double, 2> range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
         for (const auto* st : all_) {
@@ -741,7 +867,18 @@ class AxisFitter {
       sum.key_sensors = model_.key_sensors;
       for (int dir = 0; dir < 2; ++dir)
         model_.directions[dir].thermal.push_back({CoolantState::kOff, fits[dir].k, 0});
-      FitCoolant(pts, keys, rho, fits, sum);
+      if (shared_gains_) {
+        // Every coolant of the data is recorded, with 0 when the shared gains cover it without a
+        // loss: the file says which coolant states the one set of gains was fitted on.
+        for (std::size_t si = 0; si < thermal_.size(); ++si) {
+          const auto c = static_cast<std::size_t>(thermal_[si]->coolant);
+          if (thermal_[si]->coolant != CoolantState::kOff && model_.key_loss_s[c].empty())
+            model_.key_loss_s[c].assign(keys.size(), key_loss[c]);
+        }
+      } else {
+        FitCoolant(pts, keys, rho, fits, sum);
+      }
+      SetTanBetaEnvelopes(pts, keys, sum);
     } else if (!thermal_.empty() && sum.key_selection_reason.empty()) {
       sum.key_selection_reason = "no thermal part fitted";
     }
@@ -811,46 +948,135 @@ class AxisFitter {
                                            sum.candidate_note.empty() ? "" : "; " + sum.candidate_note);
   }
 
+  // The off-coolant gains times one factor fitted on `use`'s points of direction `dir` (the
+  // coolant fallback: one parameter, so it cannot swing far from what the off states showed).
+  template <typename Use>
+  double CoolantFactor(const std::vector<ThermalPoint>& pts, const std::vector<std::size_t>& keys, double rho,
+                       const GainFit& off_fit, int dir, Use use) const {
+    double num = 0, den = 0;
+    GainFit no_rho = off_fit;
+    no_rho.rho = 0;
+    for (const auto& p : pts) {
+      if (p.dir != dir || !use(p) || !RowUsable(p, keys, false)) continue;
+      const double pred = PredictThermal(p, keys, no_rho);
+      const double y = p.r - (std::isfinite(p.amb_rise) ? rho * p.amb_rise * p.lever_mm : 0);
+      num += y * pred, den += pred * pred;
+    }
+    return den > 0 ? num / den : 1;
+  }
+
+  // Leave-one-state-out CV RMS over the coolant's states of the two coolant forms: its own gains
+  // (`own`) or the off gains × one factor.
+  double CoolantCv(const std::vector<ThermalPoint>& pts, const std::vector<std::size_t>& keys, double rho,
+                   const GainFit* off_fits, const std::set<std::size_t>& states, bool own) const {
+    double ss = 0;
+    std::size_t n = 0;
+    for (int dir = 0; dir < 2; ++dir)
+      for (std::size_t s : states) {
+        auto train = [&](const ThermalPoint& p) { return p.dir == dir && p.state != s && states.count(p.state); };
+        GainFit g;
+        if (own) {
+          g = SolveGains(pts, train, keys, false, rho);
+          if (!g.ok) return std::numeric_limits<double>::infinity();
+        } else {
+          g = off_fits[dir];
+          const double f = CoolantFactor(pts, keys, rho, off_fits[dir], dir, train);
+          for (double& k : g.k) k *= f;
+        }
+        g.rho = rho;
+        for (const auto& p : pts) {
+          if (p.dir != dir || p.state != s || !RowUsable(p, keys, false)) continue;
+          ss += std::pow(p.r - PredictThermal(p, keys, g), 2);
+          ++n;
+        }
+      }
+    return n ? std::sqrt(ss / static_cast<double>(n)) : std::numeric_limits<double>::infinity();
+  }
+
   void FitCoolant(const std::vector<ThermalPoint>& pts, const std::vector<std::size_t>& keys, double rho,
                   const GainFit* off_fits, AxisFitSummary& sum) {
     std::map<CoolantState, std::set<std::size_t>> by_coolant;
     for (std::size_t si = 0; si < thermal_.size(); ++si)
       if (thermal_[si]->coolant != CoolantState::kOff) by_coolant[thermal_[si]->coolant].insert(si);
     for (const auto& [coolant, states] : by_coolant) {
-      const bool full = states.size() >= keys.size() + 1 && !keys.empty();
+      // Own gains need keys + 1 states, and must predict a held-out coolant state better than the
+      // one-factor form: with a few states of one warm-up the key rises move together, and own
+      // gains fitted on them can be large and of opposite sign — they then extrapolate wildly on
+      // any other mix of nut and bearing temperatures (issue 10: gantry2000 X with flood coolant).
+      bool own = states.size() >= keys.size() + 1 && !keys.empty();
+      std::string why;
+      if (own && states.size() >= 2 && o_.coolant_form_by_cv) {
+        const double cv_own = CoolantCv(pts, keys, rho, off_fits, states, true);
+        const double cv_factor = CoolantCv(pts, keys, rho, off_fits, states, false);
+        own = cv_own < (1 - o_.min_cv_improvement) * cv_factor;
+        why = fmt::format(" (leave-one-state-out CV: own gains {:.3f} µm, off gains × factor {:.3f} µm)", cv_own,
+                          cv_factor);
+      }
       for (int dir = 0; dir < 2; ++dir) {
         ThermalGains tg;
         tg.coolant = coolant;
-        if (full) {
+        if (own) {
           auto g = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && states.count(p.state); }, keys,
                               false, rho);
           tg.k_um_per_mm_per_c = g.ok ? g.k : off_fits[dir].k;
         } else {
-          // Fallback: the off-coolant gains scaled by one factor fitted on this coolant's states.
-          double num = 0, den = 0;
-          for (const auto& p : pts) {
-            if (p.dir != dir || !states.count(p.state) || !RowUsable(p, keys, false)) continue;
-            GainFit no_rho = off_fits[dir];
-            no_rho.rho = 0;
-            const double pred = PredictThermal(p, keys, no_rho);
-            const double y = p.r - (std::isfinite(p.amb_rise) ? rho * p.amb_rise * p.lever_mm : 0);
-            num += y * pred, den += pred * pred;
-          }
-          const double f = den > 0 ? num / den : 1;
+          // The off-coolant gains scaled by one factor fitted on this coolant's states.
+          const double f = CoolantFactor(pts, keys, rho, off_fits[dir], dir,
+                                         [&](const ThermalPoint& p) { return states.count(p.state) > 0; });
           for (double k : off_fits[dir].k) tg.k_um_per_mm_per_c.push_back(f * k);
           if (dir == 0)
-            sum.coolant_notes.push_back(fmt::format(
-                "coolant {}: {} state(s) < keys + 1 = {}: off-coolant gains × one fitted factor ({:.3f} forward)",
-                CoolantStateName(coolant), states.size(), keys.size() + 1, f));
+            sum.coolant_notes.push_back(fmt::format("coolant {}: {} state(s){}: off-coolant gains × one fitted factor "
+                                                    "({:.3f} forward",
+                                                    CoolantStateName(coolant), states.size(),
+                                                    why.empty() ? fmt::format(" < keys + 1 = {}", keys.size() + 1) : why,
+                                                    f));
           else
-            sum.coolant_notes.back() += fmt::format(", {:.3f} reverse", f);
+            sum.coolant_notes.back() += fmt::format(", {:.3f} reverse)", f);
         }
         model_.directions[dir].thermal.push_back(std::move(tg));
       }
-      if (full)
-        sum.coolant_notes.push_back(fmt::format("coolant {}: gains fitted on its own {} state(s)",
-                                                CoolantStateName(coolant), states.size()));
+      if (own)
+        sum.coolant_notes.push_back(fmt::format("coolant {}: gains fitted on its own {} state(s){}",
+                                                CoolantStateName(coolant), states.size(), why));
     }
+  }
+
+  // The thermal slope Σ k_i·ΔT_i each gains entry gave over the fit's states it describes (off: the
+  // off-coolant states, a coolant: that coolant's states; 0 for the cold state), widened on both
+  // sides by tan_beta_margin × its width: Predict holds tanβ there and flags it (issue 10).
+  void SetTanBetaEnvelopes(const std::vector<ThermalPoint>& pts, const std::vector<std::size_t>& keys,
+                           AxisFitSummary& sum) {
+    if (!(o_.tan_beta_margin >= 0)) return;
+    for (int dir = 0; dir < 2; ++dir)
+      for (auto& g : model_.directions[dir].thermal) {
+        double lo = 0, hi = 0;
+        std::vector<std::array<double, 2>> rise(keys.size(), {0.0, 0.0});
+        for (const auto& p : pts) {
+          if (p.dir != dir || (!shared_gains_ && thermal_[p.state]->coolant != g.coolant) || !RowUsable(p, keys, false))
+            continue;
+          double tb = g.offset_um_per_mm;
+          for (std::size_t j = 0; j < keys.size() && j < g.k_um_per_mm_per_c.size(); ++j) {
+            tb += g.k_um_per_mm_per_c[j] * p.rise[keys[j]];
+            rise[j] = {std::min(rise[j][0], p.rise[keys[j]]), std::max(rise[j][1], p.rise[keys[j]])};
+          }
+          lo = std::min(lo, tb), hi = std::max(hi, tb);
+        }
+        const double m = o_.tan_beta_margin * (hi - lo);
+        g.min_tan_beta_um_per_mm = lo - m;
+        g.max_tan_beta_um_per_mm = hi + m;
+        g.key_rise_range_c.clear();
+        std::string rises;
+        for (std::size_t j = 0; j < keys.size(); ++j) {
+          const double mr = o_.tan_beta_margin * (rise[j][1] - rise[j][0]);
+          g.key_rise_range_c.push_back({rise[j][0] - mr, rise[j][1] + mr});
+          rises += fmt::format(", {} rise [{:.2f}, {:.2f}] °C", candidates_[keys[j]], rise[j][0] - mr, rise[j][1] + mr);
+        }
+        sum.coolant_notes.push_back(fmt::format("envelope {} coolant {}: tanβ [{:.4f}, {:.4f}] µm/mm{} (fitted "
+                                                "states ± {:.0f} %)",
+                                                dir == 0 ? "forward" : "reverse", CoolantStateName(g.coolant),
+                                                g.min_tan_beta_um_per_mm, g.max_tan_beta_um_per_mm, rises,
+                                                100 * o_.tan_beta_margin));
+      }
   }
 
   std::vector<const measure::Measurement*> AllMeasurements() const {
@@ -879,7 +1105,7 @@ class AxisFitter {
       if (!model_.ambient_sensor.empty())
         st.mean_ambient_rise_c = MeanOfSensor(m, model_.ambient_sensor) - model_.ambient_baseline_c;
       double su = 0, sg = 0, sr = 0;
-      const auto lagged = LaggedKeyTemperatures(model_, m, &s.history);
+      const auto lagged = LaggedKeyTemperatures(model_, m, &s.history, s.coolant);
       for (std::size_t pi = 0; pi < m.points.size(); ++pi) {
         const auto& p = m.points[pi];
         const auto& t = lagged[pi];
@@ -913,6 +1139,8 @@ class AxisFitter {
   std::vector<const FitState*> cold_states_;
   std::vector<const FitState*> thermal_;
   std::vector<std::array<double, 2>> stage1_;
+  std::vector<std::string> candidates_;  // the key-sensor candidates of PrepareThermal (for notes)
+  bool shared_gains_ = false;            // one gains entry for every coolant state (coolant memory)
   measure::Measurement cold_;
   AxisModel model_;
 };
@@ -932,8 +1160,8 @@ PointTemperatures TemperaturesForPoint(const AxisModel& axis, const measure::Mea
   return t;
 }
 
-std::vector<double> LaggedSensorSeries(const measure::Measurement& m, std::size_t sensor_index, double tau_s,
-                                       const TemperatureHistory* history) {
+std::vector<double> ObservedSensorSeries(const measure::Measurement& m, std::size_t sensor_index,
+                                         const KeySeriesDynamics& d, const TemperatureHistory* history) {
   const auto& pts = m.points;
   std::vector<double> out(pts.size(), kNaN);
   std::vector<std::size_t> order(pts.size());
@@ -942,13 +1170,22 @@ std::vector<double> LaggedSensorSeries(const measure::Measurement& m, std::size_
   const bool all_timed = std::all_of(pts.begin(), pts.end(), [](const auto& p) { return p.time_s.has_value(); });
   if (all_timed)
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return *pts[a].time_s < *pts[b].time_s; });
-  double lagged = kNaN, last_t = kNaN;
-  if (history && tau_s > 0 && all_timed)
+  // The temperature a coolant draws the key to: its baseline, moved with the room when known.
+  auto sink = [&](const std::vector<double>& row) {
+    if (!d.ambient_index || *d.ambient_index >= row.size() || !std::isfinite(d.ambient_baseline_c)) return d.baseline_c;
+    const double amb = row[*d.ambient_index];
+    return std::isfinite(amb) ? d.baseline_c + (amb - d.ambient_baseline_c) : d.baseline_c;
+  };
+  auto loss = [&](CoolantState c) { return d.tau_loss_s[static_cast<std::size_t>(c) % d.tau_loss_s.size()]; };
+  double state = kNaN, last_t = kNaN;
+  if (history && d.tau_lag_s > 0 && all_timed)
     for (std::size_t r = 0; r < history->time_s.size(); ++r) {
       const auto& row = history->temps_c[r];
       const double raw = sensor_index < row.size() ? row[sensor_index] : kNaN;
-      if (std::isnan(raw)) continue;  // a flagged reading: the lag carries on over the gap
-      lagged = std::isnan(last_t) ? raw : LagStep(lagged, raw, history->time_s[r] - last_t, tau_s);
+      if (std::isnan(raw)) continue;  // a flagged reading: the filter carries on over the gap
+      const CoolantState c = r < history->coolant.size() ? history->coolant[r] : CoolantState::kOff;
+      state = std::isnan(last_t) ? raw
+                                 : ObserverStep(state, raw, sink(row), history->time_s[r] - last_t, d.tau_lag_s, loss(c));
       last_t = history->time_s[r];
     }
   for (std::size_t i : order) {
@@ -956,16 +1193,25 @@ std::vector<double> LaggedSensorSeries(const measure::Measurement& m, std::size_
     const double raw = sensor_index < p.temperatures_c.size() ? p.temperatures_c[sensor_index] : kNaN;
     const double now = p.time_s ? *p.time_s : kNaN;
     // No time stamp: no lag can be applied, the filter restarts at the reading.
-    lagged = std::isnan(now) || std::isnan(last_t) ? raw : LagStep(lagged, raw, now - last_t, tau_s);
-    if (std::isnan(lagged)) lagged = raw;
+    state = std::isnan(now) || std::isnan(last_t)
+                ? raw
+                : ObserverStep(state, raw, sink(p.temperatures_c), now - last_t, d.tau_lag_s, loss(d.coolant));
+    if (std::isnan(state)) state = raw;
     last_t = now;
-    out[i] = lagged;
+    out[i] = state;
   }
   return out;
 }
 
+std::vector<double> LaggedSensorSeries(const measure::Measurement& m, std::size_t sensor_index, double tau_s,
+                                       const TemperatureHistory* history) {
+  KeySeriesDynamics d;
+  d.tau_lag_s = tau_s;
+  return ObservedSensorSeries(m, sensor_index, d, history);
+}
+
 std::vector<PointTemperatures> LaggedKeyTemperatures(const AxisModel& axis, const measure::Measurement& m,
-                                                     const TemperatureHistory* history) {
+                                                     const TemperatureHistory* history, CoolantState coolant) {
   std::vector<PointTemperatures> out;
   out.reserve(m.points.size());
   for (const auto& p : m.points) out.push_back(TemperaturesForPoint(axis, m, p));
@@ -973,7 +1219,16 @@ std::vector<PointTemperatures> LaggedKeyTemperatures(const AxisModel& axis, cons
     if (!(axis.KeyLagS(k) > 0)) continue;
     const auto idx = m.SensorIndex(axis.key_sensors[k]);
     if (!idx) continue;
-    const auto series = LaggedSensorSeries(m, *idx, axis.KeyLagS(k), history);
+    KeySeriesDynamics d;
+    d.tau_lag_s = axis.KeyLagS(k);
+    for (std::size_t c = 0; c < d.tau_loss_s.size(); ++c) d.tau_loss_s[c] = axis.KeyLossS(k, static_cast<CoolantState>(c));
+    d.baseline_c = k < axis.baseline_temp_c.size() ? axis.baseline_temp_c[k] : kNaN;
+    if (axis.key_rise_above_ambient) {
+      d.ambient_index = m.SensorIndex(axis.ambient_sensor);
+      d.ambient_baseline_c = axis.ambient_baseline_c;
+    }
+    d.coolant = coolant;
+    const auto series = ObservedSensorSeries(m, *idx, d, history);
     for (std::size_t i = 0; i < out.size(); ++i) out[i].key_temp_c[k] = series[i];
   }
   return out;
@@ -982,7 +1237,7 @@ std::vector<PointTemperatures> LaggedKeyTemperatures(const AxisModel& axis, cons
 measure::Measurement PredictedMeasurement(const AxisModel& axis, const measure::Measurement& m, CoolantState coolant,
                                           const TemperatureHistory* history) {
   measure::Measurement out = m;
-  const auto temps = LaggedKeyTemperatures(axis, m, history);
+  const auto temps = LaggedKeyTemperatures(axis, m, history, coolant);
   for (std::size_t i = 0; i < out.points.size(); ++i) {
     auto& p = out.points[i];
     const auto& t = temps[i];

@@ -28,10 +28,20 @@ json GeometricToJson(const GeometricError& g) {
 
 json DirectionToJson(const DirectionModel& d) {
   json thermal = json::array();
-  for (const auto& g : d.thermal)
-    thermal.push_back({{"coolant", std::string(CoolantStateName(g.coolant))},
-                       {"k_um_per_mm_per_c", g.k_um_per_mm_per_c},
-                       {"offset_um_per_mm", g.offset_um_per_mm}});
+  for (const auto& g : d.thermal) {
+    json e = {{"coolant", std::string(CoolantStateName(g.coolant))},
+              {"k_um_per_mm_per_c", g.k_um_per_mm_per_c},
+              {"offset_um_per_mm", g.offset_um_per_mm}};
+    // Absent = no envelope (older files read as before); an open end is written as null.
+    auto end = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+    if (g.HasTanBetaRange()) e["tan_beta_range_um_per_mm"] = {end(g.min_tan_beta_um_per_mm), end(g.max_tan_beta_um_per_mm)};
+    if (!g.key_rise_range_c.empty()) {
+      json ranges = json::array();
+      for (const auto& r : g.key_rise_range_c) ranges.push_back({r[0], r[1]});
+      e["key_rise_range_c"] = std::move(ranges);
+    }
+    thermal.push_back(std::move(e));
+  }
   return {{"geometric", GeometricToJson(d.geometric)}, {"thermal", thermal}};
 }
 
@@ -129,6 +139,33 @@ DirectionModel DirectionFromJson(const Reader& r, const json& j, const std::stri
         r.Fail(Reader::Join(ep, "k_um_per_mm_per_c"),
                fmt::format("has {} gains but the axis has {} key sensors", g.k_um_per_mm_per_c.size(), n_keys));
       g.offset_um_per_mm = r.NumberOr(t[i], ep, "offset_um_per_mm", 0);
+      if (t[i].contains("tan_beta_range_um_per_mm")) {
+        const std::string rp = Reader::Join(ep, "tan_beta_range_um_per_mm");
+        const json& range = t[i]["tan_beta_range_um_per_mm"];
+        if (!range.is_array() || range.size() != 2) r.Fail(rp, "expected [low, high] (µm/mm; null = open)");
+        for (std::size_t e = 0; e < 2; ++e) {
+          if (range[e].is_null()) continue;
+          if (!range[e].is_number() || !std::isfinite(range[e].get<double>()))
+            r.Fail(fmt::format("{}[{}]", rp, e), "expected a finite number or null");
+          (e == 0 ? g.min_tan_beta_um_per_mm : g.max_tan_beta_um_per_mm) = range[e].get<double>();
+        }
+        if (!(g.min_tan_beta_um_per_mm <= g.max_tan_beta_um_per_mm)) r.Fail(rp, "low must not exceed high");
+      }
+      if (t[i].contains("key_rise_range_c")) {
+        const std::string rp = Reader::Join(ep, "key_rise_range_c");
+        const json& ranges = t[i]["key_rise_range_c"];
+        if (!ranges.is_array() || ranges.size() != n_keys)
+          r.Fail(rp, fmt::format("expected one [low, high] °C per key sensor ({})", n_keys));
+        for (std::size_t k = 0; k < ranges.size(); ++k) {
+          const json& e = ranges[k];
+          const std::string kp = fmt::format("{}[{}]", rp, k);
+          if (!e.is_array() || e.size() != 2 || !e[0].is_number() || !e[1].is_number())
+            r.Fail(kp, "expected [low, high] in °C");
+          const double lo = e[0].get<double>(), hi = e[1].get<double>();
+          if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo <= hi)) r.Fail(kp, "expected finite low <= high");
+          g.key_rise_range_c.push_back({lo, hi});
+        }
+      }
       d.thermal.push_back(std::move(g));
     }
   }
@@ -153,6 +190,10 @@ nlohmann::json ModelToJson(const CompositeModel& model) {
     }
     ja["key_temperature_rise"] = a.key_rise_above_ambient ? "above_ambient" : "from_baseline";
     if (a.HasKeyLag()) ja["key_lag_s"] = a.key_lag_s;  // absent = no lag (older readers see today's model)
+    json loss = json::object();  // absent = no coolant loss
+    for (std::size_t c = 0; c < a.key_loss_s.size(); ++c)
+      if (!a.key_loss_s[c].empty()) loss[std::string(CoolantStateName(static_cast<CoolantState>(c)))] = a.key_loss_s[c];
+    if (!loss.empty()) ja["key_loss_s"] = std::move(loss);
     if (!a.key_fitted_range_c.empty()) ja["key_fitted_range_c"] = a.key_fitted_range_c;
     axes.push_back(std::move(ja));
   }
@@ -250,6 +291,20 @@ CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& sourc
         if (!e.is_array() || e.size() != 2 || !e[0].is_number() || !e[1].is_number() || e[0].get<double>() > e[1].get<double>())
           r.Fail(where, "each entry is [low °C, high °C] with low <= high");
         a.key_fitted_range_c.push_back({e[0].get<double>(), e[1].get<double>()});
+      }
+    }
+    if (ja.contains("key_loss_s")) {
+      const std::string lp = Reader::Join(p, "key_loss_s");
+      const json& loss = ja["key_loss_s"];
+      if (!loss.is_object()) r.Fail(lp, "expected an object {\"<coolant>\": [seconds per key sensor]}");
+      for (const auto& [name, values] : loss.items()) {
+        const auto c = ParseCoolantState(name);
+        if (!c) r.Fail(Reader::Join(lp, name.c_str()), fmt::format("unknown coolant state '{}'", name));
+        auto v = r.Numbers(loss, lp, name.c_str());
+        if (v.size() != a.key_sensors.size()) r.Fail(Reader::Join(lp, name.c_str()), "needs one time constant per key sensor");
+        for (double t : v)
+          if (!(t >= 0) || !std::isfinite(t)) r.Fail(Reader::Join(lp, name.c_str()), "must be finite seconds >= 0");
+        a.key_loss_s[static_cast<std::size_t>(*c)] = std::move(v);
       }
     }
     if (ja.contains("key_lag_s")) {

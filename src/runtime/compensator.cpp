@@ -4,15 +4,18 @@
 #include <stdexcept>
 
 #include "trueaxis/core/input_error.hpp"
-#include "trueaxis/model/thermal_lag.hpp"
+#include "trueaxis/model/thermal_state.hpp"
 
 namespace trueaxis::runtime {
 
+static_assert(kMaxKeySensors <= model::kMaxStateKeys, "the model's thermal state must hold every key sensor");
+
 std::string AlarmNames(std::uint32_t alarms) {
-  static const char* const kNames[] = {"sensor_held", "sensor_fallback", "temperature_source", "link_read",
-                                       "link_write",  "no_model_for_axis", "correction_clamped", "no_model"};
+  static const char* const kNames[] = {"sensor_held",       "sensor_fallback",    "temperature_source",
+                                       "link_read",         "link_write",         "no_model_for_axis",
+                                       "correction_clamped", "no_model",          "model_extrapolated"};
   std::string out;
-  for (int i = 0; i < 8; ++i) {
+  for (int i = 0; i < 9; ++i) {
     if (alarms & (1u << i)) {
       if (!out.empty()) out += '|';
       out += kNames[i];
@@ -41,7 +44,7 @@ Compensator::Compensator(CompensatorOptions options, std::vector<AxisInterface> 
   proposed_.resize(n);
   write_buffer_.assign(n, 0);
   axis_status_.resize(n);
-  lag_c_.resize(n);
+  thermal_state_.resize(n);
   lag_time_s_.assign(n, 0);
   lag_model_id_.assign(n, 0);
   good_reads_in_row_ = options_.link_recovery_cycles;  // start as if connected; the first read decides
@@ -117,8 +120,9 @@ const CycleStatus& Compensator::RunCycle(hw::CncLink& link, hw::TemperatureSourc
   const bool cnc_on = !options_.follow_cnc_enable || cnc_state_.compensation_enabled;
   const OutputShaperOptions& so = options_.shaper;
 
-  // Thermal lag: advanced every cycle for every axis with a model, enabled or not, so the lagged
-  // temperature tracks the machine's history and not only the time compensation was on.
+  // The model's thermal state (model::AdvanceThermalState: lagged / observed key temperatures):
+  // advanced every cycle for every axis with a model, enabled or not, so it tracks the machine's
+  // history and not only the time compensation was on.
   for (std::size_t i = 0; bound && i < axes_.size(); ++i) {
     const BoundAxis& ba = bound->axes[i];
     if (!ba.has_model) continue;
@@ -126,11 +130,14 @@ const CycleStatus& Compensator::RunCycle(hw::CncLink& link, hw::TemperatureSourc
     for (std::size_t k = 0; k < ba.key_channel.size(); ++k) {
       const ChannelStatus& c = channels_[static_cast<std::size_t>(ba.key_channel[k])];
       if (c.health == ChannelHealth::kLost) fresh = true;  // restart at the readings once they return
+      key_raw_[k] = c.value_c;
     }
-    for (std::size_t k = 0; k < ba.key_channel.size(); ++k) {
-      const double raw = channels_[static_cast<std::size_t>(ba.key_channel[k])].value_c;
-      lag_c_[i][k] = fresh ? raw : model::LagStep(lag_c_[i][k], raw, now_s - lag_time_s_[i], ba.model.KeyLagS(k));
-    }
+    const double ambient =
+        ba.ambient_channel >= 0 ? channels_[static_cast<std::size_t>(ba.ambient_channel)].value_c : std::nan("");
+    if (fresh) thermal_state_[i].valid = false;
+    model::AdvanceThermalState(ba.model, thermal_state_[i],
+                               {std::span<const double>(key_raw_, ba.key_channel.size()), ambient, cnc_state_.coolant},
+                               now_s - lag_time_s_[i]);
     lag_time_s_[i] = now_s;
     // A lost key leaves the state marked stale (id 0), so the next good cycle restarts the filter.
     bool any_lost = false;
@@ -166,7 +173,7 @@ const CycleStatus& Compensator::RunCycle(hw::CncLink& link, hw::TemperatureSourc
           const ChannelStatus& c = channels_[static_cast<std::size_t>(ba->key_channel[k])];
           if (c.health == ChannelHealth::kHeld) alarms |= kAlarmSensorHeld;
           if (c.health == ChannelHealth::kLost) keys_ok = false;
-          key_temps_[k] = lag_c_[i][k];  // = c.value_c when the model has no lag
+          key_temps_[k] = thermal_state_[i].key_c[k];  // = c.value_c when the model has no lag
         }
         double ambient = std::nan("");
         if (ba->ambient_channel >= 0) {
@@ -183,6 +190,7 @@ const CycleStatus& Compensator::RunCycle(hw::CncLink& link, hw::TemperatureSourc
                                  cnc_state_.coolant, keys_ok};
           st.prediction = model::Predict(ba->model, st.model_position_mm, st.direction, ts);
           st.thermal_used = keys_ok;
+          if (st.prediction.tan_beta_limited) alarms |= kAlarmModelExtrapolated;  // held at the fitted envelope
           desired = model::CorrectionUm(st.prediction);
           if (!std::isfinite(desired)) desired = 0;  // a broken model never drives the axis
         }

@@ -8,6 +8,7 @@
 
 #include "trueaxis/measure/measurement.hpp"
 #include "trueaxis/model/fit_input.hpp"
+#include "trueaxis/model/fit_options.hpp"
 
 namespace trueaxis::model::testing {
 
@@ -100,5 +101,61 @@ struct SyntheticMachine {
     return out;
   }
 };
+
+// States whose nut temperature moves DURING the measurement (the thermal-lag and coolant-memory
+// tests): one file per profile, 4 bidirectional runs over 0…500 mm every 50 mm, a point every
+// dt_s, nut = start + slope·t (+ step after 200 s). The deviation is 2 + 0.004·x µm plus
+// `thermal_um(profile, nut_c, x_mm, first)` (called in time order; `first` at each file's start,
+// so a stateful truth can restart) plus noise.
+struct TimedProfile {
+  std::string label;
+  std::string coolant = "off";
+  double start_c = 20, slope_c_per_s = 0, step_c = 0;
+};
+
+template <typename Thermal>
+std::vector<FitState> MakeTimedStates(const std::vector<TimedProfile>& profiles, double dt_s, double noise_um,
+                                      unsigned seed, Thermal thermal_um) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0, noise_um);
+  std::vector<FitState> out;
+  for (const auto& pr : profiles) {
+    measure::Measurement m;
+    m.source = pr.label + ".csv";
+    m.metadata = {{"axis", "X"}, {"state", pr.label}, {"coolant", pr.coolant}};
+    m.sensor_names = {"nut"};
+    double t = 0;
+    int line = 1;
+    for (int run = 1; run <= 4; ++run)
+      for (int d = 0; d < 2; ++d)
+        for (int i = 0; i <= 10; ++i, t += dt_s) {
+          const double x = (d == 0 ? i : 10 - i) * 50.0;
+          const double nut = pr.start_c + pr.slope_c_per_s * t + (t > 200 ? pr.step_c : 0.0);
+          measure::MeasurementPoint p;
+          p.run = run;
+          p.direction = d == 0 ? Direction::kForward : Direction::kReverse;
+          p.target_mm = x;
+          p.time_s = t;
+          p.temperatures_c = {nut};
+          p.deviation_um = 2.0 + 0.004 * x + thermal_um(pr, nut, x, t == 0) + noise(rng);
+          p.source_line = ++line;
+          m.points.push_back(p);
+        }
+    out.push_back(MakeFitState(m));
+  }
+  return out;
+}
+
+// Fit options for the timed states: a polynomial Er(x), the nut forced as key, Px = 0, no
+// ambient sensor, a lag grid around the tests' true τ.
+inline FitOptions TimedFitOptions() {
+  FitOptions o;
+  o.geometric = FitOptions::Geometric::kPolynomial;
+  o.key_sensors = {"nut"};
+  o.reference_position_mm = 0;
+  o.ambient_sensor = "none";
+  o.key_lag_grid_s = {0, 150, 300, 600, 1200, 2400};
+  return o;
+}
 
 }  // namespace trueaxis::model::testing

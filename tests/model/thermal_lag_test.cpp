@@ -80,51 +80,19 @@ struct LaggedMachine {
   double noise_um = 0.1;
   double dt_s = 12;
   std::vector<FitState> MakeStates(unsigned seed) const {
-    std::mt19937 rng(seed);
-    std::normal_distribution<double> noise(0, noise_um);
-    struct Profile { std::string label; double start, slope_c_per_s, step_c; };
-    const std::vector<Profile> profiles = {{"cold", 20, 0, 0},         {"warm-1", 20.5, 0.004, 0},
-                                           {"warm-2", 22, 0.002, 1.5}, {"cooldown-1", 27, -0.003, -2.0},
-                                           {"warm-3", 24, 0.0015, 3.0}, {"cooldown-2", 25, -0.001, -3.0}};
-    std::vector<FitState> out;
-    for (const auto& pr : profiles) {
-      measure::Measurement m;
-      m.source = pr.label + ".csv";
-      m.metadata = {{"axis", "X"}, {"state", pr.label}};
-      m.sensor_names = {"nut"};
-      double lagged = std::nan(""), t = 0;
-      int line = 1;
-      for (int run = 1; run <= 4; ++run)
-        for (int d = 0; d < 2; ++d)
-          for (int i = 0; i <= 10; ++i, t += dt_s) {
-            const double x = (d == 0 ? i : 10 - i) * 50.0;
-            const double nut = pr.start + pr.slope_c_per_s * t + (t > 200 ? pr.step_c : 0.0);
-            lagged = LagStep(lagged, nut, dt_s, tau_true_s);
-            measure::MeasurementPoint p;
-            p.run = run;
-            p.direction = d == 0 ? Direction::kForward : Direction::kReverse;
-            p.target_mm = x;
-            p.time_s = t;
-            p.temperatures_c = {nut};
-            p.deviation_um = 2.0 + 0.004 * x + k * (lagged - 20.0) * (0.0 - x) + noise(rng);
-            p.source_line = ++line;
-            m.points.push_back(p);
-          }
-      out.push_back(MakeFitState(m));
-    }
-    return out;
+    const std::vector<testing::TimedProfile> profiles = {
+        {"cold", "off", 20, 0, 0},          {"warm-1", "off", 20.5, 0.004, 0},   {"warm-2", "off", 22, 0.002, 1.5},
+        {"cooldown-1", "off", 27, -0.003, -2.0}, {"warm-3", "off", 24, 0.0015, 3.0}, {"cooldown-2", "off", 25, -0.001, -3.0}};
+    double lagged = std::nan("");
+    return testing::MakeTimedStates(profiles, dt_s, noise_um, seed,
+                                    [&](const testing::TimedProfile&, double nut, double x, bool first) {
+                                      lagged = first ? nut : LagStep(lagged, nut, dt_s, tau_true_s);
+                                      return k * (lagged - 20.0) * (0.0 - x);
+                                    });
   }
 };
 
-FitOptions LagFitOptions() {
-  FitOptions o;
-  o.geometric = FitOptions::Geometric::kPolynomial;
-  o.key_sensors = {"nut"};
-  o.reference_position_mm = 0;
-  o.ambient_sensor = "none";
-  o.key_lag_grid_s = {0, 150, 300, 600, 1200, 2400};
-  return o;
-}
+FitOptions LagFitOptions() { return testing::TimedFitOptions(); }
 
 TEST(LagFit, RecoversAKnownTimeConstantAndItsGain) {
   LaggedMachine mach;

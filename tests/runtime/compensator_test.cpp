@@ -240,3 +240,46 @@ TEST(Compensator, AlarmNamesAreReadable) {
 
 }  // namespace
 }  // namespace trueaxis::runtime
+
+namespace trueaxis::runtime {
+namespace {
+
+// Issue 10: the model's thermal state (model::AdvanceThermalState) advanced at the compensator's
+// lag site with the CNC's coolant state, and a prediction beyond the fitted envelope raising
+// model_extrapolated.
+TEST(Compensator, ThermalStateFollowsTheCoolantAndTheEnvelopeRaisesAnAlarm) {
+  auto m = std::make_shared<model::CompositeModel>(*testing::TestModel());
+  auto& ax = m->axes[0];
+  ax.key_lag_s = {600, 600};
+  ax.key_loss_s[static_cast<std::size_t>(CoolantState::kFlood)] = {300, 300};
+  Rig r;
+  r.comp->PublishModel(m, "memory");
+  r.cnc.axes[0] = {400, +1, true};
+  r.temps.Set("ambient", 20);
+  r.temps.Set("nut", 26);
+  r.temps.Set("bearing", 20);
+  r.Cycle();  // the state starts at the readings
+  r.cnc.machine.coolant = CoolantState::kFlood;
+  const double dt = 0.01;
+  r.Cycle(100);
+  // The nut's effective temperature after 1 s under flood, from the model's own step.
+  double expected = 26;
+  for (int i = 0; i < 100; ++i) expected = model::ObserverStep(expected, 26, 20, dt, 600, 300);
+  const auto& st = r.comp->LastStatus().axes[0];
+  const double k_flood = ax.directions[0].thermal[1].k_um_per_mm_per_c[0];
+  EXPECT_NEAR(st.prediction.tan_beta_um_per_mm, k_flood * (expected - 20), 1e-9);
+  EXPECT_LT(expected, 26 - 1e-4);  // the flood drew it below the reading
+  EXPECT_FALSE(r.comp->LastStatus().alarms & kAlarmModelExtrapolated);
+  // An envelope the current rise lies beyond: held, flagged, alarmed.
+  auto held = std::make_shared<model::CompositeModel>(*m);
+  for (auto& d : held->axes[0].directions)
+    for (auto& g : d.thermal) g.key_rise_range_c = {{-1.0, 2.0}, {-1.0, 2.0}};
+  r.comp->PublishModel(held, "envelope");
+  const auto& s = r.Cycle(2);
+  EXPECT_TRUE(s.alarms & kAlarmModelExtrapolated) << AlarmNames(s.alarms);
+  EXPECT_TRUE(s.axes[0].prediction.tan_beta_limited);
+  EXPECT_NE(AlarmNames(kAlarmModelExtrapolated).find("model_extrapolated"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace trueaxis::runtime

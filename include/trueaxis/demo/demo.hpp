@@ -42,6 +42,10 @@ struct DemoOptions {
   // Thermal lag of the key sensors (model/thermal_lag.hpp): τ chosen by the fit's LOSO CV
   // (FitOptions::key_lag_grid_s). false: the static model (no lag), for comparison.
   bool thermal_lag = true;
+  // Issue 10's coolant memory and fitted envelope (model/thermal_state.hpp, FitOptions::
+  // coolant_loss_grid_s, tan_beta_margin). false: gains per coolant state and no envelope, the
+  // model as before them (the baseline of bench/results/zoo.md).
+  bool coolant_memory = true;
   // The working day over MODBUS TCP on 127.0.0.1: the virtual machine behind
   // a ModbusMachineServer (PMC window + ADAM-6015 modules, docs/protocols.md),
   // the compensator on ModbusCncLink / ModbusTemperatureSource. Each cycle is a
@@ -93,6 +97,9 @@ struct DemoResult {
   std::vector<double> bound_um;
   std::vector<std::string> bound_source;
   std::vector<std::uint64_t> clamped_cycles;
+  // Per machine axis: cycles in which the model's thermal slope was held at its fitted envelope
+  // (model::Prediction::tan_beta_limited, alarm model_extrapolated).
+  std::vector<std::uint64_t> extrapolated_cycles;
   std::uint64_t day_cycles = 0;
   std::string interface_used;      // "in-process CncLink" or "MODBUS TCP 127.0.0.1:<port>"
   std::vector<std::string> alarm_log;  // "<date> <alarms>" at each change

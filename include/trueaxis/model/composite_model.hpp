@@ -15,6 +15,7 @@
 // Predict() is pure, allocation-free and safe to call from the real-time
 // cycle. The JSON form is docs/model-file.md (model_json.hpp).
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -50,6 +51,18 @@ struct ThermalGains {
   CoolantState coolant = CoolantState::kOff;
   std::vector<double> k_um_per_mm_per_c;  // parallel to AxisModel::key_sensors
   double offset_um_per_mm = 0;            // constant term of tanβ (0 in the seed's form)
+  // The envelope these gains were fitted in (issue 10), both optional:
+  //  - key_rise_range_c (JSON "key_rise_range_c", [low, high] °C per key sensor): the rises ΔT_i
+  //    over the fit's states of this coolant (and 0, the cold state), widened by a margin;
+  //  - min/max_tan_beta (JSON "tan_beta_range_um_per_mm"): the range of Σ k_i·ΔT_i over them.
+  // Beyond them the gains would extrapolate past anything measured (a few states of one warm-up
+  // can give large gains of opposite sign that swing on hotter or other mixes of temperatures):
+  // Predict holds each rise, then tanβ, at the nearer end and flags the prediction
+  // (Prediction::tan_beta_limited), which the runtime raises as an alarm. Empty / ±inf: none.
+  std::vector<std::array<double, 2>> key_rise_range_c;
+  double min_tan_beta_um_per_mm = -std::numeric_limits<double>::infinity();
+  double max_tan_beta_um_per_mm = std::numeric_limits<double>::infinity();
+  bool HasTanBetaRange() const { return std::isfinite(min_tan_beta_um_per_mm) || std::isfinite(max_tan_beta_um_per_mm); }
 };
 
 struct DirectionModel {
@@ -78,6 +91,10 @@ struct AxisModel {
   // Empty or 0: no lag. The caller (runtime, predict --measurement) lags the readings
   // with LagStep() before they enter Predict(); Predict itself takes the lagged values.
   std::vector<double> key_lag_s;
+  // Per coolant state (indexed by CoolantState), per key sensor: the time constant (s) with which
+  // that coolant draws the key's effective temperature towards the room (thermal_state.hpp,
+  // JSON "key_loss_s": {"flood": [...]}). Empty or 0: no loss (the plain lag).
+  std::array<std::vector<double>, 4> key_loss_s;
   // Per key sensor: the lowest and highest reading in the fit's measurements (°C). A prediction
   // outside this range is an extrapolation and is flagged (predict warns). Empty: not recorded.
   std::vector<std::array<double, 2>> key_fitted_range_c;
@@ -85,6 +102,10 @@ struct AxisModel {
 
   // τ of key sensor i (0 when not given).
   double KeyLagS(std::size_t i) const { return i < key_lag_s.size() ? key_lag_s[i] : 0.0; }
+  double KeyLossS(std::size_t i, CoolantState c) const {
+    const auto& v = key_loss_s[static_cast<std::size_t>(c) % key_loss_s.size()];
+    return i < v.size() ? v[i] : 0.0;
+  }
   bool HasKeyLag() const {
     for (double t : key_lag_s)
       if (t > 0) return true;
@@ -145,6 +166,10 @@ struct Prediction {
   double ambient_um = 0;
   double tan_beta_um_per_mm = 0;
   double total_um = 0;  // error = geometric + thermal + ambient
+  // A key rise or tanβ lay outside its gains' fitted envelope (ThermalGains::key_rise_range_c,
+  // min/max_tan_beta_um_per_mm) and was held at the nearer end: the model was asked to
+  // extrapolate (an alarm for the user).
+  bool tan_beta_limited = false;
 };
 
 // Predicted error at `position_mm` approached in `direction`. Pure; no allocation.

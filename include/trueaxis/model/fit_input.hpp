@@ -33,6 +33,7 @@ struct TemperatureHistory {
   static constexpr double kWindowS = 6 * 3600.0;  // kept before the start: > 6·τ for τ ≤ 1 h
   std::vector<double> time_s;                // relative to the measurement's start (< 0), ascending
   std::vector<std::vector<double>> temps_c;  // per row, parallel to the measurement's sensor_names (NaN: absent)
+  std::vector<CoolantState> coolant;         // per row, when the log has a coolant column (else empty: off)
   bool empty() const { return time_s.empty(); }
 };
 

@@ -50,6 +50,28 @@ struct FitOptions {
   // Lower than min_cv_improvement because τ is one parameter per axis, where a key sensor adds a
   // gain per direction and coolant state (set after the VMC-850 study, bench/results/modelfit.md).
   double min_lag_cv_improvement = 0.01;
+  // After the common τ, try each key's own τ (coordinate descent over the grid, two passes). Off by
+  // default: on the machine zoo the per-key τ chosen by the campaign's LOSO CV did not carry over
+  // to the held-out working day (gantry2000 X afternoon 51 → 70 µm, bench/results/zoo.md).
+  bool per_key_lag = false;
+  // Coolant gains: with keys + 1 states or more a coolant gets its own gains; when true, only if
+  // they predict a held-out coolant state better than the off gains × one factor (off by default:
+  // on the machine zoo both forms extrapolate badly from 4 states of one session, and the factor
+  // form was worse; the prediction's slope envelope guards against the wild case instead).
+  bool coolant_form_by_cv = false;
+  // The envelope of the thermal slope each gains entry may give (ThermalGains::min/max_tan_beta):
+  // the range over the fit's states of that coolant (and 0, the cold state), widened on both sides
+  // by this fraction of its width. Negative: no envelope (the model extrapolates freely).
+  double tan_beta_margin = 0.25;
+  // The coolant's memory (thermal_state.hpp, AxisModel::key_loss_s): the loss time constants (s)
+  // tried for each coolant state in the data, with the lagged keys and one set of gains for every
+  // state; kept when its LOSO CV over all states beats gains per coolant state. 0 = shared gains
+  // without loss. {}: gains per coolant state as before.
+  std::vector<double> coolant_loss_grid_s = {0, 600, 1200, 2400, 4800, 9600};
+  // ... and only when, held out, the dry states are predicted within this fraction of their own
+  // gains' LOSO CV (one set of gains is a compromise over every state). 1 = twice their CV: on the
+  // machine zoo (seeds 1, 3, 5) 0.25 kept fewer rows under the must line (bench/results/zoo.md).
+  double coolant_memory_off_tolerance = 1.0;
   // Fewer heated (or ambient) off-coolant states than this → geometric-only model with a warning.
   int min_thermal_states = 2;
 

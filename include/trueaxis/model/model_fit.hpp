@@ -23,6 +23,8 @@
 //   5. Coolant: per coolant state, the same keys refitted on that coolant's
 //      states (≥ keys + 1 states), else the off-coolant gains times one fitted
 //      factor (documented fallback).
+#include <array>
+#include <optional>
 #include <vector>
 
 #include "trueaxis/model/composite_model.hpp"
@@ -57,10 +59,28 @@ PointTemperatures TemperaturesForPoint(const AxisModel& axis, const measure::Mea
 // tau_s <= 0: the raw readings.
 std::vector<double> LaggedSensorSeries(const measure::Measurement& m, std::size_t sensor_index, double tau_s,
                                        const TemperatureHistory* history = nullptr);
-// TemperaturesForPoint for every point, the key sensors lagged by axis.key_lag_s along the
-// file's time series: what Predict() is fed for a measurement (predict --measurement, fit summary).
+// How one key sensor's effective temperature moves (thermal_state.hpp's ObserverStep): its lag,
+// the loss time constant per coolant state (0: none) towards its sink, the baseline + the room's
+// change when `ambient_index` (m's ambient sensor) and `ambient_baseline_c` are given, else the
+// baseline; `coolant` the measurement's own coolant state (the history's rows carry theirs).
+struct KeySeriesDynamics {
+  double tau_lag_s = 0;
+  std::array<double, kCoolantStateCount> tau_loss_s{};
+  double baseline_c = kNaN;
+  double ambient_baseline_c = kNaN;
+  std::optional<std::size_t> ambient_index;
+  CoolantState coolant = CoolantState::kOff;
+};
+// The readings of sensor `sensor_index` of `m` at each point (file order) through those dynamics
+// in time order, after the `history` when given (as LaggedSensorSeries, which is its loss-free case).
+std::vector<double> ObservedSensorSeries(const measure::Measurement& m, std::size_t sensor_index,
+                                         const KeySeriesDynamics& dynamics, const TemperatureHistory* history = nullptr);
+// TemperaturesForPoint for every point, the key sensors through the model's thermal state
+// (axis.key_lag_s, axis.key_loss_s for `coolant`, the file's coolant state) along the file's time
+// series: what Predict() is fed for a measurement (predict --measurement, fit summary).
 std::vector<PointTemperatures> LaggedKeyTemperatures(const AxisModel& axis, const measure::Measurement& m,
-                                                     const TemperatureHistory* history = nullptr);
+                                                     const TemperatureHistory* history = nullptr,
+                                                     CoolantState coolant = CoolantState::kOff);
 
 // measured − predicted, point by point (same runs, directions, targets): the
 // error that would remain after compensation with `axis`. Deviation replaced,

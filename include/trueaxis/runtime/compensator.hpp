@@ -30,6 +30,7 @@
 #include "trueaxis/hw/cnc_link.hpp"
 #include "trueaxis/hw/temperature_source.hpp"
 #include "trueaxis/model/composite_model.hpp"
+#include "trueaxis/model/thermal_state.hpp"
 #include "trueaxis/runtime/axis_interface.hpp"
 #include "trueaxis/runtime/bound_model.hpp"
 #include "trueaxis/runtime/compensator_options.hpp"
@@ -48,6 +49,8 @@ enum Alarm : std::uint32_t {
   kAlarmNoModelForAxis = 1u << 5,      // an enabled axis has no model (correction ramps to 0)
   kAlarmCorrectionClamped = 1u << 6,   // the model asks for more than max_correction_um
   kAlarmNoModel = 1u << 7,             // no model published yet
+  kAlarmModelExtrapolated = 1u << 8,   // the temperatures lie beyond the model's fitted envelope: its
+                                       // thermal slope is held at the envelope (model::Prediction::tan_beta_limited)
 };
 std::string AlarmNames(std::uint32_t alarms);  // "sensor_held|link_read", "" when none (not for the RT thread)
 
@@ -139,10 +142,12 @@ class Compensator {
   std::vector<double> write_buffer_;
   std::vector<AxisStatus> axis_status_;
   double key_temps_[kMaxKeySensors] = {};
-  // Thermal lag state per axis (model::LagStep, AxisModel::key_lag_s): the lagged key temperatures,
-  // the time of the last update and the model they belong to. Restarted at the current readings
-  // when the model changes (a new model may have other keys or τ) and while a key sensor is lost.
-  std::vector<std::array<double, kMaxKeySensors>> lag_c_;
+  double key_raw_[kMaxKeySensors] = {};
+  // The model's thermal state per axis (model::AxisThermalState, advanced by
+  // model::AdvanceThermalState: the lagged / observed key temperatures), the time of its last
+  // update and the model it belongs to. Restarted at the current readings when the model changes
+  // (a new model may have other keys or τ) and while a key sensor is lost.
+  std::vector<model::AxisThermalState> thermal_state_;
   std::vector<double> lag_time_s_;
   std::vector<std::uint64_t> lag_model_id_;
   int good_reads_in_row_ = 0;
