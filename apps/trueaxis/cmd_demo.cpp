@@ -60,6 +60,9 @@ void Setup(CLI::App& app) {
   cmd->add_option("--modbus-port", opts->demo.modbus_port, "Port of that terminal (default: first free from 15020)");
   cmd->add_flag_function("--no-lag", [opts](std::int64_t) { opts->demo.thermal_lag = false; },
                 "Fit the static thermal model (no key-sensor lag), for comparison with the default");
+  cmd->add_flag_function("--raw-temperatures", [opts](std::int64_t) { opts->demo.signal_processing = false; },
+                         "Feed the compensator the raw sensor readings instead of the temperature pipeline "
+                         "(filter + fault status, on by default as in `trueaxis run`), for comparison");
   cmd->add_option("--geometric", opts->demo.geometric,
                   "Er(x) model: auto (polynomial or table by cross-validation), polynomial (seed 000), table (seed 002)")
       ->check(CLI::IsMember({"auto", "polynomial", "table"}))

@@ -23,7 +23,9 @@
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/runtime/history_logger.hpp"
+#include "trueaxis/runtime/loop_runner.hpp"
 #include "trueaxis/sim/campaign.hpp"
+#include "trueaxis/station/machine_connection.hpp"
 #include "trueaxis/sim/laser_interferometer.hpp"
 #include "trueaxis/sim/machine_description.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
@@ -202,6 +204,12 @@ class WorkingDay {
       link = cnc_client_.get();
       source = temp_client_.get();
     }
+    if (o.signal_processing) {  // the one temperature pipeline, timed by the machine's clock
+      monitored_ = std::make_unique<signal::MonitoredTemperatureSource>(
+          *source, station::MonitorOptionsFor(o.compensator.sensor), [this] { return vm_.TimeS(); });
+      source = monitored_.get();
+      result_.interface_used += "; temperatures through signal::MonitoredTemperatureSource";
+    }
     comp_ = runtime::Compensator::ForHardware(o.compensator, *link, *source, interfaces);
     if (writer) history_ = std::make_unique<runtime::HistoryLogger>(*writer, all_axes_, result_.channel_names);
     observer_ = std::make_unique<DayObserver>(vm_, result_, history_.get());
@@ -264,25 +272,20 @@ class WorkingDay {
       if (o_.modbus_port) break;
     }
     if (!server_) throw std::runtime_error("demo: cannot start the MODBUS terminal on 127.0.0.1: " + error);
-    drivers::ModbusEndpoint ep;
-    ep.host = "127.0.0.1";
-    ep.port = port;
-    ep.response_timeout_s = 0.5;
-    drivers::ModbusCncLinkOptions co;
-    co.endpoint = ep;
-    co.axis_names = all_axes_;
-    co.stale_after_s = 2.0;
-    cnc_client_ = std::make_unique<drivers::ModbusCncLink>(co);
-    drivers::ModbusTemperatureSourceOptions to;
-    to.endpoint = ep;
-    to.channel_names = result_.channel_names;
-    to.unit_ids.clear();
-    for (std::size_t k = 0; k * 7 < to.channel_names.size(); ++k) to.unit_ids.push_back(so.first_rtd_unit_id + static_cast<int>(k));
-    temp_client_ = std::make_unique<drivers::ModbusTemperatureSource>(to);
+    runtime::ModbusConfig mc;
+    mc.port = port;
+    mc.response_timeout_s = 0.5;
+    mc.cnc_unit_id = so.pmc_unit_id;
+    mc.first_rtd_unit_id = so.first_rtd_unit_id;
+    mc.axis_names = all_axes_;
+    mc.channel_names = result_.channel_names;
+    auto clients = station::MakeModbusClients(mc, "demo", 2.0);
+    cnc_client_ = std::move(clients.cnc);
+    temp_client_ = std::move(clients.temperatures);
     cnc_client_->Connect();
     temp_client_->Connect();
     result_.interface_used = fmt::format("MODBUS TCP 127.0.0.1:{} (PMC window unit {}, {} ADAM-6015 modules)", port,
-                                         so.pmc_unit_id, to.unit_ids.size());
+                                         so.pmc_unit_id, drivers::RtdModuleUnitIds(mc.first_rtd_unit_id, mc.channel_names.size()).size());
     // From here on the demo thread holds the machine except while a cycle
     // talks to the terminal (whose machine thread then reads and writes it).
     vm_lock_ = std::unique_lock<std::mutex>(vm_mutex_);
@@ -453,6 +456,7 @@ class WorkingDay {
   std::unique_ptr<drivers::ModbusMachineServer> server_;
   std::unique_ptr<drivers::ModbusCncLink> cnc_client_;
   std::unique_ptr<drivers::ModbusTemperatureSource> temp_client_;
+  std::unique_ptr<signal::MonitoredTemperatureSource> monitored_;
 };
 
 }  // namespace

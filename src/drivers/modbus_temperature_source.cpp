@@ -10,6 +10,12 @@
 
 namespace trueaxis::drivers {
 
+std::vector<int> RtdModuleUnitIds(int first_unit_id, std::size_t channel_count) {
+  std::vector<int> ids;
+  for (std::size_t k = 0; k * adam6015::kChannelCount < channel_count; ++k) ids.push_back(first_unit_id + static_cast<int>(k));
+  return ids;
+}
+
 bool ModbusTemperatureSourceOptions::IsValid(std::string* why) const {
   auto fail = [&](std::string msg) {
     if (why) *why = std::move(msg);

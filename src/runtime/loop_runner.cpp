@@ -14,8 +14,8 @@ bool LoopOptions::IsValid(std::string* why) const {
     if (why) *why = fmt::format("period_s must be in [0.0001, 10] s, got {}", period_s);
     return false;
   }
-  if (!(temperature_period_s >= period_s && temperature_period_s <= 60)) {
-    if (why) *why = fmt::format("temperature_period_s must be in [period_s, 60] s, got {}", temperature_period_s);
+  if (!(temperature_period_s > 0 && temperature_period_s <= 60)) {
+    if (why) *why = fmt::format("temperature_period_s must be in (0, 60] s, got {}", temperature_period_s);
     return false;
   }
   return true;
@@ -53,7 +53,7 @@ LoopRunner::LoopRunner(Compensator& compensator, hw::CncLink& link, hw::Temperat
               }
             }),
       cnc_worker_(options.period_s, epoch_, [this](double) { CncWorkerCall(); }),
-      temperature_worker_(options.temperature_period_s, epoch_, [this](double) { TemperatureWorkerCall(); }) {
+      temperature_worker_(std::max(options.temperature_period_s, options.period_s), epoch_, [this](double) { TemperatureWorkerCall(); }) {
   std::string why;
   if (!options_.IsValid(&why)) throw std::invalid_argument("loop options: " + why);
 }

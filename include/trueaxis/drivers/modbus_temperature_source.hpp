@@ -20,6 +20,10 @@
 
 namespace trueaxis::drivers {
 
+// The unit ids of the RTD modules holding `channel_count` channels, adam6015::kChannelCount per
+// module, numbered from `first_unit_id` (the layout ModbusMachineServer serves).
+std::vector<int> RtdModuleUnitIds(int first_unit_id, std::size_t channel_count);
+
 struct ModbusTemperatureSourceOptions {
   ModbusEndpoint endpoint;
   std::vector<int> unit_ids = {2};          // one per ADAM-6015

@@ -36,7 +36,8 @@ namespace trueaxis::runtime {
 
 struct LoopOptions {
   double period_s = 0.010;
-  // Temperatures change over seconds: they are read at this interval (10 Hz by default).
+  // Temperatures change over seconds: they are read at this interval (10 Hz by default; never
+  // more often than once per cycle).
   double temperature_period_s = 0.1;
   bool IsValid(std::string* why) const;
 };
