@@ -188,6 +188,7 @@ void Run(const Options& o) {
     if (c.duration_s > 0 && elapsed >= c.duration_s) break;
   }
   runner.Stop();
+  m.Close();
   drain();
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);

@@ -142,7 +142,7 @@ void RunServe(const ServeOptions& o) {
   status.sensor_c.assign(sensor_names.size(), 0.0);
   std::vector<hw::RawTemperature> temps(sensor_names.size());
   auto snapshot = [&] {
-    static_cast<hw::TemperatureSource&>(vm).Read(temps);  // the overload set is ambiguous by name
+    vm.Read(temps);
     std::lock_guard<std::mutex> l(mu);
     status.machine_time_s = vm.TimeS();
     status.iso_time = vm.IsoTime();

@@ -146,7 +146,7 @@ class LockedMachine : public hw::CncLink, public hw::TemperatureSource {
   std::string AxisName(std::size_t i) const override { return vm_.AxisName(i); }
   bool Read(std::span<hw::AxisState> axes, hw::CncState& m) override {
     std::lock_guard<std::mutex> lock(mu_);
-    return static_cast<hw::CncLink&>(vm_).Read(axes, m);
+    return vm_.Read(axes, m);
   }
   bool WriteCompensation(std::span<const double> c) override {
     std::lock_guard<std::mutex> lock(mu_);
@@ -156,7 +156,7 @@ class LockedMachine : public hw::CncLink, public hw::TemperatureSource {
   std::string ChannelName(std::size_t i) const override { return vm_.ChannelName(i); }
   bool Read(std::span<hw::RawTemperature> out) override {
     std::lock_guard<std::mutex> lock(mu_);
-    return static_cast<hw::TemperatureSource&>(vm_).Read(out);
+    return vm_.Read(out);
   }
 
  private:
@@ -282,8 +282,9 @@ class WorkingDay {
     auto clients = station::MakeModbusClients(mc, "demo", 2.0);
     cnc_client_ = std::move(clients.cnc);
     temp_client_ = std::move(clients.temperatures);
-    cnc_client_->Connect();
-    temp_client_->Connect();
+    std::string why;  // hw lifecycle: options checked by MakeModbusClients; activate = connect
+    cnc_client_->Activate(&why);
+    temp_client_->Activate(&why);
     result_.interface_used = fmt::format("MODBUS TCP 127.0.0.1:{} (PMC window unit {}, {} ADAM-6015 modules)", port,
                                          so.pmc_unit_id, drivers::RtdModuleUnitIds(mc.first_rtd_unit_id, mc.channel_names.size()).size());
     // From here on the demo thread holds the machine except while a cycle
@@ -391,7 +392,7 @@ class WorkingDay {
       p.target_mm = target;
       p.deviation_um = std::round((laser_.ReadMm(vm_) - target) * 1e6) / 1000.0;
       p.time_s = std::round((vm_.TimeS() - t0) * 10.0) / 10.0;
-      static_cast<hw::TemperatureSource&>(vm_).Read(raw);
+      vm_.Read(raw);
       for (const auto& r : raw) p.temperatures_c.push_back(r.hardware_fault ? std::nan("") : r.temp_c);
       m.points.push_back(std::move(p));
     };

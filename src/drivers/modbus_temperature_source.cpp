@@ -48,6 +48,19 @@ std::size_t ModbusTemperatureSource::ModuleChannels(std::size_t k) const {
   return first >= n ? 0 : std::min<std::size_t>(adam6015::kChannelCount, n - first);
 }
 
+bool ModbusTemperatureSource::Configure(std::string* error) {
+  if (!options_valid_ && error) *error = error_;
+  return options_valid_;
+}
+
+bool ModbusTemperatureSource::Activate(std::string* error) {
+  const bool ok = Connect();
+  if (!ok && error) *error = last_error();
+  return ok;
+}
+
+void ModbusTemperatureSource::Deactivate() { connection_.Close(); }
+
 bool ModbusTemperatureSource::Connect() { return EnsureReady(true); }
 
 bool ModbusTemperatureSource::EnsureReady(bool ignore_throttle) {

@@ -68,12 +68,14 @@ void OpenModbus(const runtime::RunConfig& c, Machine& m) {
   if (b.channel_names.empty())
     throw InputError(c.source, 0, "machine.channels", "kind = \"modbus\" needs the RTD channel names in module order");
   m.modbus = MakeModbusClients(b, c.source);
-  if (!m.modbus.cnc->Connect())
-    m.warnings.push_back(fmt::format("CNC terminal {}:{} not reachable yet ({}); the loop keeps trying", b.host, b.port,
-                                     m.modbus.cnc->last_error()));
-  if (!m.modbus.temperatures->Connect())
-    m.warnings.push_back(fmt::format("RTD modules at {}:{} not reachable yet ({}); the loop keeps trying", b.host,
-                                     b.port, m.modbus.temperatures->last_error()));
+  // The hardware lifecycle: configure (options), activate (connect; a terminal not reachable yet is
+  // a warning — its Read/Write fail and retry on their own).
+  std::string why;
+  if (!m.modbus.cnc->Configure(&why) || !m.modbus.temperatures->Configure(&why)) throw InputError(c.source, 0, "machine", why);
+  if (!m.modbus.cnc->Activate(&why))
+    m.warnings.push_back(fmt::format("CNC terminal {}:{} not reachable yet ({}); the loop keeps trying", b.host, b.port, why));
+  if (!m.modbus.temperatures->Activate(&why))
+    m.warnings.push_back(fmt::format("RTD modules at {}:{} not reachable yet ({}); the loop keeps trying", b.host, b.port, why));
   m.link = m.modbus.cnc.get();
   m.source = m.modbus.temperatures.get();
   m.description = fmt::format("MODBUS TCP {}:{} (PMC unit {}, RTD units from {})", b.host, b.port, b.cnc_unit_id,
@@ -111,6 +113,11 @@ Machine OpenMachine(const runtime::RunConfig& c) {
   }
   if (c.signal_processing) AttachTemperaturePipeline(c, m);
   return m;
+}
+
+void Machine::Close() {
+  if (link) link->Deactivate();
+  if (modbus.temperatures) modbus.temperatures->Deactivate();
 }
 
 }  // namespace trueaxis::station

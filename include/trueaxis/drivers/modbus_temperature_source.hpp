@@ -41,6 +41,11 @@ class ModbusTemperatureSource final : public hw::TemperatureSource {
   std::string ChannelName(std::size_t channel) const override { return options_.channel_names.at(channel); }
   bool Read(std::span<hw::RawTemperature> out) override;
 
+  // hw lifecycle: Configure checks the options; Activate connects (false while the terminal is not
+  // reachable — Read/Write then retry on their own); Deactivate closes the connection.
+  bool Configure(std::string* error) override;
+  bool Activate(std::string* error) override;
+  void Deactivate() override;
   bool Connect();
   bool connected() const { return connection_.connected(); }
   const std::string& last_error() const { return error_.empty() ? connection_.last_error() : error_; }

@@ -46,9 +46,11 @@ struct Machine {
   std::function<void(double)> advance;     // in-process machine: moved on by the loop thread
   std::string description;
   std::vector<std::string> warnings;       // e.g. terminal not reachable yet, calibration unmatched
+
+  void Close();  // deactivates the hardware (hw lifecycle); the loop must be stopped
 };
 
-// Opens the machine of `config` (throws InputError naming the config on bad settings) and, with
+// Opens the machine of `config` — configures and activates its hardware (hw/lifecycle.hpp) — (throws InputError naming the config on bad settings) and, with
 // [signal] enabled (the default), the temperature pipeline in front of it — timed by the machine's
 // clock for the in-process virtual machine, by the steady clock otherwise.
 Machine OpenMachine(const runtime::RunConfig& config);
