@@ -19,12 +19,11 @@
 #include <gtest/gtest.h>
 
 #include "fakes.hpp"
-#include "trueaxis/drivers/modbus_cnc_link.hpp"
 #include "trueaxis/drivers/modbus_machine_server.hpp"
-#include "trueaxis/drivers/modbus_temperature_source.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/cycle_step.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
+#include "trueaxis/station/machine_connection.hpp"
 
 namespace trueaxis::runtime {
 namespace {
@@ -77,6 +76,27 @@ CompensatorOptions ContractOptions() {
   o.link_stale_after_s = 0.1;
   o.sensor.stale_after_s = 0.5;
   return o;
+}
+
+// The compensator (axis X, TestModel) behind the real-time loop with its I/O workers.
+struct ContractLoop {
+  ContractLoop(hw::CncLink& cnc, hw::TemperatureSource& temps, const CompensatorOptions& o, double period_s)
+      : comp(Compensator::ForHardware(o, cnc, temps, {})), runner(*comp, cnc, temps, LoopOptions{period_s, 10 * period_s}, &obs) {
+    comp->PublishModel(TestModel(1.0, {"X"}), "m");
+  }
+  std::unique_ptr<Compensator> comp;
+  ContractObserver obs;
+  LoopRunner runner;
+};
+
+// The MODBUS clients of a terminal on 127.0.0.1:port (one axis, one RTD module), as `run` makes them.
+station::ModbusClients TerminalClients(int port, double response_timeout_s) {
+  runtime::ModbusConfig mc;
+  mc.port = port;
+  mc.response_timeout_s = response_timeout_s;
+  mc.axis_names = {"X"};
+  mc.channel_names = {"ambient", "nut", "bearing"};
+  return station::MakeModbusClients(mc, "test", 2.0);
 }
 
 // ---- the pure step: a stale snapshot is a fault, handled through the limiter ----
@@ -213,13 +233,9 @@ TEST(TimingContract, BlockedCncReadDoesNotStopTheLoop) {
   BlockingCnc cnc({"X"});
   FakeTemps temps({"ambient", "nut", "bearing"}, 25.0);
   cnc.axes[0] = {400, 1, true};
-  auto comp = Compensator::ForHardware(ContractOptions(), cnc, temps, {});
-  comp->PublishModel(TestModel(1.0, {"X"}), "m");
-  ContractObserver obs;
-  LoopOptions lo;
-  lo.period_s = 0.002;
-  lo.temperature_period_s = 0.02;
-  LoopRunner runner(*comp, cnc, temps, lo, &obs);
+  ContractLoop loop(cnc, temps, ContractOptions(), 0.002);
+  auto& obs = loop.obs;
+  auto& runner = loop.runner;
   runner.Start();
   ASSERT_TRUE(WaitFor([&] { return obs.cycles.load() > 100 && obs.raised.load() == obs.cleared.load(); }, 20));
   const double settled = obs.output_um.load();
@@ -284,26 +300,10 @@ TEST(TimingContract, StalledModbusTerminalDoesNotDelayACycle) {
   SilentPeer peer;
   ASSERT_TRUE(peer.ok());
   constexpr double kTimeoutS = 1.0;
-  drivers::ModbusEndpoint ep;
-  ep.port = peer.port();
-  ep.response_timeout_s = kTimeoutS;
-  ep.reconnect_interval_s = 0.05;
-  drivers::ModbusCncLinkOptions co;
-  co.endpoint = ep;
-  co.axis_names = {"X"};
-  drivers::ModbusCncLink link(co);
-  drivers::ModbusTemperatureSourceOptions to;
-  to.endpoint = ep;
-  to.channel_names = {"ambient", "nut", "bearing"};
-  to.unit_ids = {2};
-  drivers::ModbusTemperatureSource source(to);
-  auto comp = Compensator::ForHardware(ContractOptions(), link, source, {});
-  comp->PublishModel(TestModel(1.0, {"X"}), "m");
-  ContractObserver obs;
-  LoopOptions lo;
-  lo.period_s = 0.002;
-  lo.temperature_period_s = 0.02;
-  LoopRunner runner(*comp, link, source, lo, &obs);
+  auto terminal = TerminalClients(peer.port(), kTimeoutS);
+  ContractLoop loop(*terminal.cnc, *terminal.temperatures, ContractOptions(), 0.002);
+  auto& obs = loop.obs;
+  auto& runner = loop.runner;
   runner.Start();
   // Wait until the CNC worker has sat through at least two timeouts of the silent terminal.
   ASSERT_TRUE(WaitFor([&] { return runner.Stats().cnc_io.max_call_s >= 0.9 * kTimeoutS && obs.cycles.load() > 500; }, 60));
@@ -315,7 +315,7 @@ TEST(TimingContract, StalledModbusTerminalDoesNotDelayACycle) {
   EXPECT_LT(s.max_cycle_s, 0.25 * s.cnc_io.max_call_s) << s.BriefReport();
   // No snapshot ever came: every cycle ran without one, as a link loss.
   EXPECT_EQ(obs.link_alarm_cycles.load(), obs.cycles.load());
-  EXPECT_TRUE(comp->LastStatus().alarms & kAlarmLinkRead);
+  EXPECT_TRUE(loop.comp->LastStatus().alarms & kAlarmLinkRead);
   EXPECT_LE(obs.max_delta_um, 1.0 + 1e-9);
 }
 
@@ -344,30 +344,13 @@ TEST(TimingContract, FlappingModbusTerminalNeverMakesTheOutputJump) {
     if (s->Start(&error)) server = std::move(s);
   }
   ASSERT_NE(server, nullptr) << error;
-  drivers::ModbusEndpoint ep;
-  ep.port = so.port;
-  ep.response_timeout_s = 1.0;
-  ep.reconnect_interval_s = 0.02;
-  drivers::ModbusCncLinkOptions co;
-  co.endpoint = ep;
-  co.axis_names = {"X"};
-  co.stale_after_s = 2.0;
-  drivers::ModbusCncLink link(co);
-  drivers::ModbusTemperatureSourceOptions to;
-  to.endpoint = ep;
-  to.channel_names = {"ambient", "nut", "bearing"};
-  to.unit_ids = {2};
-  drivers::ModbusTemperatureSource source(to);
+  auto terminal = TerminalClients(so.port, 1.0);
   CompensatorOptions o = ContractOptions();
   o.link_stale_after_s = 0.5;
   o.link_loss = LinkLossPolicy::kRampToZero;
-  auto comp = Compensator::ForHardware(o, link, source, {});
-  comp->PublishModel(TestModel(1.0, {"X"}), "m");
-  ContractObserver obs;
-  LoopOptions lo;
-  lo.period_s = 0.005;
-  lo.temperature_period_s = 0.05;
-  LoopRunner runner(*comp, link, source, lo, &obs);
+  ContractLoop loop(*terminal.cnc, *terminal.temperatures, o, 0.005);
+  auto& obs = loop.obs;
+  auto& runner = loop.runner;
   runner.Start();
   ASSERT_TRUE(WaitFor([&] { return std::fabs(obs.output_um.load()) > 5 && obs.raised.load() == obs.cleared.load(); }, 30));
   // The terminal goes away and comes back six times.
