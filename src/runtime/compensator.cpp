@@ -44,6 +44,13 @@ void Compensator::PublishModel(std::shared_ptr<const model::CompositeModel> mode
   exchange_.Publish(std::move(bound));
 }
 
+void Compensator::PublishAxisModels(std::vector<std::shared_ptr<const model::AxisErrorModel>> models,
+                                    const std::string& label) {
+  auto bound = BindAxisModels(std::move(models), label, axes_, channel_names_, options_.channel_map);
+  bound->id = next_model_id_.fetch_add(1);
+  exchange_.Publish(std::move(bound));
+}
+
 const CycleStatus& Compensator::Cycle(const TemperatureSnapshot& temperatures, const CncSnapshot& cnc, double now_s) {
   current_ = exchange_.Acquire();
   for (std::size_t i = 0; i < axes_.size(); ++i) axis_enabled_now_[i] = axis_enabled_[i].load(std::memory_order_relaxed);

@@ -114,6 +114,28 @@ bool TakeCncSnapshot(const StepModel& model, const CncSnapshot* cs, double now_s
   return usable;
 }
 
+// An axis bound to a model behind model::AxisErrorModel: its sensors' conditioned values; a lost
+// sensor ramps the axis to zero (there is no geometric-only part to fall back to).
+double GenericCorrection(const BoundAxis& ba, const StepState& state, const StepOutputs& out, AxisStatus& st,
+                         std::uint32_t& alarms) {
+  double sensors[kMaxKeySensors];
+  for (std::size_t k = 0; k < ba.generic_channel.size(); ++k) {
+    const ChannelStatus& c = out.channels[static_cast<std::size_t>(ba.generic_channel[k])];
+    if (c.health == ChannelHealth::kHeld) alarms |= kAlarmSensorHeld;
+    if (c.health == ChannelHealth::kLost) {
+      alarms |= kAlarmSensorFallback;
+      return 0;
+    }
+    sensors[k] = c.value_c;
+  }
+  const double error = ba.generic->ErrorUm(st.model_position_mm, st.direction,
+                                           std::span<const double>(sensors, ba.generic_channel.size()), state.machine.coolant);
+  st.prediction.thermal_um = error;
+  st.prediction.total_um = error;
+  st.thermal_used = true;
+  return std::isfinite(error) ? -error : 0.0;  // a broken model never drives the axis
+}
+
 // The desired correction of one axis (physical µm; NaN = hold).
 double DesiredCorrection(const StepModel& model, const StepState& state, const StepInputs& in, std::size_t i,
                          bool link_usable, StepOutputs& out, std::uint32_t& alarms) {
@@ -134,6 +156,7 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
   const BoundAxis* ba = model.bound ? &model.bound->axes[i] : nullptr;
   if (st.enabled && ba && !ba->has_model) alarms |= kAlarmNoModelForAxis;
   if (!st.enabled || !ba || !ba->has_model) return 0;
+  if (ba->generic) return GenericCorrection(*ba, state, out, st, alarms);
 
   double key_temps[kMaxKeySensors];
   bool keys_ok = true;

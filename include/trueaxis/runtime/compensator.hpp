@@ -51,6 +51,9 @@ class Compensator {
   // Binds and publishes; the loop picks it up at its next cycle and ramps to
   // the new correction. Throws InputError (label names the model) on a bad binding.
   void PublishModel(std::shared_ptr<const model::CompositeModel> model, const std::string& label);
+  // The same for models behind the generic interface (e.g. data-driven thermal models through
+  // their adapter), one per axis; axes without one ramp to zero (alarm no_model_for_axis).
+  void PublishAxisModels(std::vector<std::shared_ptr<const model::AxisErrorModel>> models, const std::string& label);
   void CollectRetired() { exchange_.CollectRetired(); }
   void SetEnabled(bool on) { enabled_.store(on, std::memory_order_relaxed); }
   void SetAxisEnabled(std::size_t axis, bool on) { axis_enabled_[axis].store(on, std::memory_order_relaxed); }
