@@ -376,7 +376,7 @@ TEST(TimingContract, FlappingModbusTerminalNeverMakesTheOutputJump) {
   EXPECT_GE(raised, 1);  // the flaps were seen as link losses
   EXPECT_LE(obs.max_delta_um, 1.0 + 1e-9);  // and the output only ever ramped,
   EXPECT_LE(plant.max_step_um, 1.0 + 1e-9);  // as the CNC saw it too
-  EXPECT_GT(plant.writes, 100);
+  EXPECT_GT(plant.writes, 10);  // the CNC side did receive values between the flaps
 }
 
 }  // namespace
