@@ -21,7 +21,7 @@
 #include "trueaxis/model/sha256.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
-#include "trueaxis/runtime/history_logger.hpp"
+#include "trueaxis/station/history_logger.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
 #include "trueaxis/runtime/run_config.hpp"
 #include "trueaxis/station/machine_connection.hpp"
@@ -108,13 +108,13 @@ void Run(const Options& o) {
 
   const double unix0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   std::unique_ptr<store::HistoryWriter> writer;
-  std::unique_ptr<runtime::HistoryLogger> history;
+  std::unique_ptr<station::HistoryLogger> history;
   std::vector<std::string> axis_names;
   for (const auto& a : comp->axes()) axis_names.push_back(a.axis);
   if (!c.history_db.empty()) {
     if (fs::path(c.history_db).has_parent_path()) fs::create_directories(fs::path(c.history_db).parent_path());
     writer = std::make_unique<store::HistoryWriter>(c.history_db);
-    history = std::make_unique<runtime::HistoryLogger>(*writer, axis_names, comp->channel_names(), unix0);
+    history = std::make_unique<station::HistoryLogger>(*writer, axis_names, comp->channel_names(), unix0);
     history->LogModelChange(0, model::Sha256OfFile(c.model_file), std::to_string(first_revision),
                             "loaded " + c.model_file);
   }

@@ -22,7 +22,7 @@
 #include "trueaxis/model/sha256.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
-#include "trueaxis/runtime/history_logger.hpp"
+#include "trueaxis/station/history_logger.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
 #include "trueaxis/sim/campaign.hpp"
 #include "trueaxis/station/machine_connection.hpp"
@@ -92,7 +92,7 @@ double MeanSensor(const measure::Measurement& m, const std::string& name) {
 // Samples the day once per minute of machine time, and writes the history database.
 class DayObserver : public runtime::CycleObserver {
  public:
-  DayObserver(sim::VirtualMachine& vm, DemoResult& result, runtime::HistoryLogger* history)
+  DayObserver(sim::VirtualMachine& vm, DemoResult& result, station::HistoryLogger* history)
       : vm_(vm), result_(result), history_(history) {}
   void OnCycle(const runtime::CycleStatus& s) override {
     alarms_ |= s.alarms;
@@ -130,7 +130,7 @@ class DayObserver : public runtime::CycleObserver {
  private:
   sim::VirtualMachine& vm_;
   DemoResult& result_;
-  runtime::HistoryLogger* history_;
+  station::HistoryLogger* history_;
   runtime::CycleRecord record_;
   double day_start_s_ = 0, next_sample_s_ = 0;
   bool other_day_ = false;
@@ -211,7 +211,7 @@ class WorkingDay {
       result_.interface_used += "; temperatures through signal::MonitoredTemperatureSource";
     }
     comp_ = runtime::Compensator::ForHardware(o.compensator, *link, *source, interfaces);
-    if (writer) history_ = std::make_unique<runtime::HistoryLogger>(*writer, all_axes_, result_.channel_names);
+    if (writer) history_ = std::make_unique<station::HistoryLogger>(*writer, all_axes_, result_.channel_names);
     observer_ = std::make_unique<DayObserver>(vm_, result_, history_.get());
     runner_ = std::make_unique<runtime::LoopRunner>(*comp_, *link, *source, runtime::LoopOptions{o.period_s}, observer_.get());
     advance_ = [this](double dt) { vm_.Advance(dt); };
@@ -445,7 +445,7 @@ class WorkingDay {
   sim::LaserInterferometer laser_;
   std::vector<std::string> all_axes_;
   std::unique_ptr<runtime::Compensator> comp_;
-  std::unique_ptr<runtime::HistoryLogger> history_;
+  std::unique_ptr<station::HistoryLogger> history_;
   std::unique_ptr<DayObserver> observer_;
   std::unique_ptr<runtime::LoopRunner> runner_;
   std::function<void(double)> advance_;
