@@ -240,8 +240,6 @@ void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOu
     const double q = ai.PhysicalQuantumUm();
     out.proposed[i] = state.outstanding ? state.pending[i] : ShapeOutput(state.shaper[i], desired, q, axis_so);
     out.command.correction_um[i] = ai.CncCorrectionUm(OutputUm(out.proposed[i], q));
-    st.output_um = OutputUm(state.shaper[i], q);
-    st.written_um = ai.CncCorrectionUm(st.output_um);
   }
   out.command.sequence = state.outstanding ? state.outstanding : state.cycle;
 
@@ -257,14 +255,24 @@ void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOu
   s.model_id = model.bound ? model.bound->id : 0;
 }
 
-void CommitWrite(const StepModel& model, StepState& state, bool write_ok, StepOutputs& out) {
-  if (!write_ok) out.status.alarms |= kAlarmLinkWrite;
+namespace {
+// The status's outputs: what the CNC holds (the shaper's state after the write phase).
+void ReportOutputs(const StepModel& model, const StepState& state, StepOutputs& out) {
   for (std::size_t i = 0; i < model.axes.size(); ++i) {
-    if (write_ok) state.shaper[i] = out.proposed[i];
     const double q = model.axes[i].PhysicalQuantumUm();
     out.axes[i].output_um = OutputUm(state.shaper[i], q);
     out.axes[i].written_um = model.axes[i].CncCorrectionUm(out.axes[i].output_um);
   }
+}
+}  // namespace
+
+void CommitWrite(const StepModel& model, StepState& state, bool write_ok, StepOutputs& out) {
+  if (write_ok) {
+    for (std::size_t i = 0; i < model.axes.size(); ++i) state.shaper[i] = out.proposed[i];
+  } else {
+    out.status.alarms |= kAlarmLinkWrite;
+  }
+  ReportOutputs(model, state, out);
   out.status.write_ok = write_ok;
 }
 
@@ -273,6 +281,7 @@ void AwaitWrite(const StepModel& model, StepState& state, StepOutputs& out) {
     state.outstanding = out.command.sequence;
     for (std::size_t i = 0; i < model.axes.size(); ++i) state.pending[i] = out.proposed[i];
   }
+  ReportOutputs(model, state, out);
   out.status.write_ok = !(out.status.alarms & kAlarmLinkWrite);
 }
 

@@ -53,9 +53,18 @@ struct CncCommand {
 
 // The I/O phases. No allocation (the snapshots are sized by their constructors).
 // `sequence` numbers the reads of one producer (1, 2, ...).
-void ReadTemperatures(hw::TemperatureSource& source, double now_s, std::uint64_t sequence, TemperatureSnapshot& out);
-void ReadCnc(hw::CncLink& link, double now_s, std::uint64_t sequence, CncSnapshot& out);
+inline void ReadTemperatures(hw::TemperatureSource& source, double now_s, std::uint64_t sequence,
+                             TemperatureSnapshot& out) {
+  out.ok = source.Read(out.channels);
+  out.sampled_at_s = now_s;
+  out.sequence = sequence;
+}
+inline void ReadCnc(hw::CncLink& link, double now_s, std::uint64_t sequence, CncSnapshot& out) {
+  out.read_ok = link.Read(out.axes, out.machine);
+  out.sampled_at_s = now_s;
+  out.sequence = sequence;
+}
 // Writes `command`. Returns the link's answer.
-bool WriteCnc(hw::CncLink& link, const CncCommand& command);
+inline bool WriteCnc(hw::CncLink& link, const CncCommand& command) { return link.WriteCompensation(command.correction_um); }
 
 }  // namespace trueaxis::runtime
