@@ -13,36 +13,29 @@
 #include "trueaxis/drivers/modbus_cnc_link.hpp"
 #include "trueaxis/drivers/modbus_machine_server.hpp"
 #include "trueaxis/drivers/modbus_temperature_source.hpp"
+#include "../tests/support/mock_hardware.hpp"
 
 namespace {
 
 using namespace trueaxis;
 
-class StillCnc : public hw::CncLink {
- public:
-  std::size_t AxisCount() const override { return 3; }
-  std::string AxisName(std::size_t a) const override { return std::string(1, static_cast<char>('X' + a)); }
-  bool Read(std::span<hw::AxisState> axes, hw::CncState& m) override {
-    for (std::size_t a = 0; a < 3; ++a) axes[a] = {100.0 * static_cast<double>(a) + 0.1234, 1, true};
-    m = {CoolantState::kFlood, true};
-    return true;
-  }
-  bool WriteCompensation(std::span<const double>) override { return true; }
-};
+// The shared mock hardware behind the server: three axes standing still, seven channels.
+testing::MockCnc StillCnc() {
+  testing::MockCnc cnc({"X", "Y", "Z"});
+  for (std::size_t a = 0; a < 3; ++a) cnc.axes[a] = {100.0 * static_cast<double>(a) + 0.1234, 1, true};
+  cnc.machine = {CoolantState::kFlood, true};
+  return cnc;
+}
 
-class StillTemps : public hw::TemperatureSource {
- public:
-  std::size_t ChannelCount() const override { return 7; }
-  std::string ChannelName(std::size_t c) const override { return "t" + std::to_string(c); }
-  bool Read(std::span<hw::RawTemperature> out) override {
-    for (std::size_t c = 0; c < 7; ++c) out[c] = {20.0 + static_cast<double>(c), false};
-    return true;
-  }
-};
+testing::MockTemperatures StillTemps() {
+  testing::MockTemperatures temps({"t0", "t1", "t2", "t3", "t4", "t5", "t6"}, 20.0);
+  for (std::size_t c = 0; c < 7; ++c) temps.values[c].temp_c = 20.0 + static_cast<double>(c);
+  return temps;
+}
 
 struct Rig {
-  StillCnc cnc;
-  StillTemps temps;
+  testing::MockCnc cnc = StillCnc();
+  testing::MockTemperatures temps = StillTemps();
   std::unique_ptr<drivers::ModbusMachineServer> server;
   std::unique_ptr<drivers::ModbusCncLink> link;
   std::unique_ptr<drivers::ModbusTemperatureSource> rtd;

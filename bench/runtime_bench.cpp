@@ -19,10 +19,10 @@ void BM_CompensationCycle(benchmark::State& state) {
   const bool table = state.range(1) != 0;
   std::vector<std::string> names;
   for (int i = 0; i < n_axes; ++i) names.push_back(std::string(1, static_cast<char>('A' + i)));
-  testing::FakeCnc cnc(names);
-  testing::FakeTemps temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0);
+  runtime::testing::FakeCnc cnc(names);
+  runtime::testing::FakeTemps temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0);
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
-  auto model = std::make_shared<model::CompositeModel>(*testing::TestModel(1.0, names));
+  auto model = std::make_shared<model::CompositeModel>(*runtime::testing::TestModel(1.0, names));
   if (table) {
     for (auto& a : model->axes)
       for (auto& d : a.directions) {
@@ -51,10 +51,10 @@ BENCHMARK(BM_CompensationCycle)->ArgsProduct({{1, 3, 5, 8}, {0, 1}})->ArgNames({
 
 void BM_ModelSwapPickup(benchmark::State& state) {
   // Publish (off-loop bind) + the cycle that picks it up.
-  testing::FakeCnc cnc({"X", "Y", "Z"});
-  testing::FakeTemps temps({"ambient", "nut", "bearing"}, 22.0);
+  runtime::testing::FakeCnc cnc({"X", "Y", "Z"});
+  runtime::testing::FakeTemps temps({"ambient", "nut", "bearing"}, 22.0);
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
-  auto m = testing::TestModel(1.0, {"X", "Y", "Z"});
+  auto m = runtime::testing::TestModel(1.0, {"X", "Y", "Z"});
   double t = 0;
   for (auto _ : state) {
     comp->PublishModel(m, "bench");

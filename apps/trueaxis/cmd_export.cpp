@@ -19,6 +19,7 @@
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/export/csv_table.hpp"
 #include "trueaxis/export/fanuc_table.hpp"
+#include "trueaxis/export/heidenhain_states.hpp"
 #include "trueaxis/export/heidenhain_table.hpp"
 #include "trueaxis/export/linuxcnc_table.hpp"
 #include "trueaxis/export/resample.hpp"
@@ -235,16 +236,11 @@ void RunExport(const ExportArgs& a) {
   if (a.mode == "auto" && !SupportsBidirectional(f))
     fmt::print("note: {} holds one curve per axis: exported unidirectional (mean curve + backlash)\n", TableFormatName(f));
   if (f == TableFormat::kSinumerik && !a.zero_at_reference) {
-    const auto& t = rr.table;
-    const double ref = t.reference_position_mm;
-    if (!std::isnan(ref) && ref >= t.position_mm.front() && ref <= t.position_mm.back()) {
-      const double at_ref = AppliedCorrectionUm(t, ref, Direction::kForward) +
-                            t.thermal_tan_beta_um_per_mm * (t.thermal_reference_mm - ref) - 0.5 * t.backlash_um;
-      if (std::abs(at_ref) > 0.5)
-        fmt::print("note: the LEC value at the reference point {} mm is {:.2f} um; Siemens recommends 0 there "
-                   "(no jump when LEC activates after referencing): consider --zero-at-reference\n",
-                   FormatShortest(ref), -at_ref);
-    }
+    const double at_ref = SinumerikValueAtReferenceUm(rr.table);
+    if (std::abs(at_ref) > 0.5)  // false for NaN (reference outside the table)
+      fmt::print("note: the LEC value at the reference point {} mm is {:.2f} um; Siemens recommends 0 there "
+                 "(no jump when LEC activates after referencing): consider --zero-at-reference\n",
+                 FormatShortest(rr.table.reference_position_mm), at_ref);
   }
   if (f == TableFormat::kFanuc && !a.zero_at_reference)
     fmt::print("note: FANUC tables are relative to the reference position: zeroed there (shift {:.4f} um)\n",
@@ -285,59 +281,22 @@ void RunExport(const ExportArgs& a) {
     case TableFormat::kHeidenhain: {
       const std::filesystem::path out(a.out);
       if (Upper(out.extension().string()) != ".CMA") Bad("--out", "for heidenhain give the .CMA file; the .COM files go next to it");
-      const std::string stem = Upper(out.stem().string());
-      struct State {
-        std::string name, description;
-        CompensationTable table;
-        bool active;
-      };
-      std::vector<State> states;
-      const bool frozen = !ro.thermal.temperatures_c.empty();
-      {
-        ResampleOptions cold = ro;
-        cold.thermal.temperatures_c.clear();
-        cold.thermal.coolant = CoolantState::kOff;
-        ResampleResult c = axis ? resample(cold) : rr;
-        c.table.axis = rr.table.axis;
-        states.push_back({"COLD", axis ? "cold state, coolant off" : "as measured", c.table, !frozen});
-      }
-      if (frozen && axis) {
-        std::set<CoolantState> fitted;
-        for (const auto& d : axis->directions)
-          for (const auto& g : d.thermal) fitted.insert(g.coolant);
-        // A coolant the model covers with one set of gains and its memory (key_loss_s, issue 10):
-        // with the temperatures frozen its table uses those gains.
-        for (std::size_t c = 0; c < axis->key_loss_s.size(); ++c)
-          if (!axis->key_loss_s[c].empty()) fitted.insert(static_cast<CoolantState>(c));
-        if (fitted.empty()) fitted.insert(CoolantState::kOff);
-        std::string temps;
-        for (const auto& [n, v] : ro.thermal.temperatures_c) temps += fmt::format(" {}={}", n, FormatShortest(v));
-        bool any_active = false;
-        for (CoolantState c : fitted) {
-          ResampleOptions o = ro;
-          o.thermal.coolant = c;
-          ResampleResult s = resample(o);
-          s.table.axis = rr.table.axis;
-          const bool active = c == ro.thermal.coolant;
-          any_active |= active;
-          states.push_back({Upper(std::string(CoolantStateName(c))),
-                            fmt::format("coolant {},{}", CoolantStateName(c), temps), s.table, active});
-        }
-        if (!any_active)
+      std::vector<HeidenhainState> states;
+      if (axis) {
+        states = HeidenhainModelStates(*axis, ro, a.model_path);
+        if (std::none_of(states.begin(), states.end(), [](const auto& s) { return s.active; }))
           Bad("--coolant", fmt::format("the model has no thermal gains for coolant '{}'", CoolantStateName(ro.thermal.coolant)));
+      } else {
+        states.push_back({"COLD", "as measured", rr.table, true});
       }
-      std::vector<CmaLine> lines;
-      for (const auto& s : states) {
-        const std::string com = fmt::format("{}_{}.COM", stem, s.name);
-        const auto path = (out.parent_path() / com).string();
-        WriteTextFile(path, WriteHeidenhainCom(s.table, com, sign, kCli));
+      const auto files = WriteHeidenhainSet(states, rr.table.axis, out.filename().string(), sign, kCli);
+      for (const auto& file : files) {
+        const auto path = (out.parent_path() / file.file_name).string();
+        WriteTextFile(path, file.text);
         fmt::print("wrote {}\n", path);
-        lines.push_back({com, s.active, s.description});
       }
-      WriteTextFile(a.out, WriteHeidenhainCma(rr.table.axis, out.filename().string(), lines, kCli));
-      fmt::print("wrote {} ({} lines; switch lines by soft key or PLC; MP_backLash must be 0 when BACKLASH "
-                 "columns are used)\n",
-                 a.out, lines.size());
+      fmt::print("{} lines; switch lines by soft key or PLC; MP_backLash must be 0 when BACKLASH columns are used\n",
+                 states.size());
       break;
     }
   }

@@ -6,7 +6,9 @@
 // direction from measurement files of several thermal states and writes the
 // model file (docs/model-file.md). With --previous the new model is the next
 // revision of that one: revision + 1, parent_sha256 and the lineage recorded.
+#include <chrono>
 #include <cmath>
+#include <ctime>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -23,6 +25,16 @@
 
 namespace trueaxis::cli {
 namespace {
+
+// "2026-11-24T10:25:00Z": when the model was made (stamped by the CLI; the fit reads no clock).
+std::string UtcNow() {
+  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
 
 struct FitCliOptions {
   std::string out;
@@ -125,6 +137,7 @@ void RunFit(const FitCliOptions& o) {
   } else {
     states = model::LoadFitStates(o.inputs, o.manifest);
   }
+  fo.created_utc = UtcNow();  // the clock is read here, at the edge, not by the fit
   auto result = model::FitCompositeModel(states, fo);
   auto& m = result.model;
   if (prev) {

@@ -11,6 +11,7 @@
 
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/store/history_db.hpp"
 #include "trueaxis/store/history_export.hpp"
@@ -73,15 +74,6 @@ HistoryTable Table(const std::string& name) {
   return t;
 }
 
-std::string Csv(std::string_view s) {
-  if (s.find_first_of(",\"\n") == std::string_view::npos) return std::string(s);
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
-}
 std::string Num(double v) { return std::isfinite(v) ? trueaxis::FormatShortest(v) : ""; }
 
 void RunInfo(const HistoryOptions& o) {
@@ -107,8 +99,8 @@ void RunQuery(const HistoryOptions& o) {
       db.ForEachTemperature(req.range, req.channels, [&](const TemperatureRow& r) {
         stop_if_done();
         ++n;
-        fmt::print("{},{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), Csv(r.channel), Num(r.raw_c),
-                   Num(r.filtered_c), Csv(r.status));
+        fmt::print("{},{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), trueaxis::CsvField(r.channel), Num(r.raw_c),
+                   Num(r.filtered_c), trueaxis::CsvField(r.status));
       });
       break;
     case HistoryTable::kCompensation:
@@ -116,8 +108,8 @@ void RunQuery(const HistoryOptions& o) {
       db.ForEachCompensation(req.range, req.axes, [&](const CompensationRow& r) {
         stop_if_done();
         ++n;
-        fmt::print("{},{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), Csv(r.axis), Num(r.position_mm),
-                   Num(r.correction_um), Csv(r.state));
+        fmt::print("{},{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), trueaxis::CsvField(r.axis), Num(r.position_mm),
+                   Num(r.correction_um), trueaxis::CsvField(r.state));
       });
       break;
     case HistoryTable::kAlarm:
@@ -125,7 +117,7 @@ void RunQuery(const HistoryOptions& o) {
       for (const auto& r : db.QueryAlarms(req.range)) {
         if (!more()) break;
         ++n;
-        fmt::print("{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), Csv(r.severity), Csv(r.source), Csv(r.message));
+        fmt::print("{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), trueaxis::CsvField(r.severity), trueaxis::CsvField(r.source), trueaxis::CsvField(r.message));
       }
       break;
     case HistoryTable::kModelChange:
@@ -133,7 +125,7 @@ void RunQuery(const HistoryOptions& o) {
       for (const auto& r : db.QueryModelChanges(req.range)) {
         if (!more()) break;
         ++n;
-        fmt::print("{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), Csv(r.sha256), Csv(r.revision), Csv(r.note));
+        fmt::print("{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), trueaxis::CsvField(r.sha256), trueaxis::CsvField(r.revision), trueaxis::CsvField(r.note));
       }
       break;
   }

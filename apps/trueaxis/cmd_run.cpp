@@ -17,19 +17,14 @@
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
-#include "trueaxis/drivers/modbus_cnc_link.hpp"
-#include "trueaxis/drivers/modbus_temperature_source.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/model/sha256.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
-#include "trueaxis/runtime/history_logger.hpp"
+#include "trueaxis/station/history_logger.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
-#include "trueaxis/runtime/monitored_temperature_source.hpp"
-#include "trueaxis/signal/calibration.hpp"
 #include "trueaxis/runtime/run_config.hpp"
-#include "trueaxis/sim/machine_description.hpp"
-#include "trueaxis/sim/virtual_machine.hpp"
+#include "trueaxis/station/machine_connection.hpp"
 #include "trueaxis/store/history_writer.hpp"
 
 namespace {
@@ -46,72 +41,6 @@ struct Options {
   double status_interval_s = 5;
   bool quiet = false;
 };
-
-// The hardware behind the loop; owns whichever implementation the config names.
-struct Machine {
-  std::unique_ptr<sim::VirtualMachine> vm;
-  std::unique_ptr<drivers::ModbusCncLink> cnc;
-  std::unique_ptr<drivers::ModbusTemperatureSource> temps;
-  hw::CncLink* link = nullptr;
-  hw::TemperatureSource* source = nullptr;
-  std::function<void(double)> advance;  // in-process machine: moved on by the loop thread
-  std::string description;
-};
-
-Machine OpenMachine(const runtime::RunConfig& c) {
-  Machine m;
-  if (c.machine == runtime::MachineKind::kVirtual) {
-    const auto& v = c.virtual_machine;
-    m.vm = std::make_unique<sim::VirtualMachine>(sim::ReadMachineFile(v.machine_file), v.seed);
-    sim::VirtualMachine* vm = m.vm.get();
-    if (v.reciprocate) {
-      for (std::size_t i = 0; i < vm->AxisCount(); ++i) {
-        const double travel = vm->description().axes[i].travel_mm;
-        vm->CommandReciprocate(i, 0.1 * travel, 0.9 * travel, v.feed_mm_min, v.duty);
-      }
-    }
-    vm->SetCoolant(v.coolant);
-    const double scale = v.time_scale;
-    m.advance = [vm, scale](double dt) { vm->Advance(dt * scale); };
-    m.link = vm;
-    m.source = vm;
-    m.description = fmt::format("virtual machine {} ({}, seed {}, time ×{})", vm->description().name, v.machine_file,
-                                v.seed, v.time_scale);
-    return m;
-  }
-  const auto& b = c.modbus;
-  if (b.channel_names.empty())
-    throw InputError(c.source, 0, "machine.channels", "kind = \"modbus\" needs the RTD channel names in module order");
-  drivers::ModbusEndpoint ep;
-  ep.host = b.host;
-  ep.port = b.port;
-  ep.response_timeout_s = b.response_timeout_s;
-  drivers::ModbusCncLinkOptions co;
-  co.endpoint = ep;
-  co.unit_id = b.cnc_unit_id;
-  co.axis_names = b.axis_names;
-  drivers::ModbusTemperatureSourceOptions to;
-  to.endpoint = ep;
-  to.channel_names = b.channel_names;
-  to.unit_ids.clear();
-  for (std::size_t k = 0; k * 7 < b.channel_names.size(); ++k) to.unit_ids.push_back(b.first_rtd_unit_id + static_cast<int>(k));
-  std::string why;
-  if (!co.IsValid(&why)) throw InputError(c.source, 0, "machine", why);
-  if (!to.IsValid(&why)) throw InputError(c.source, 0, "machine", why);
-  m.cnc = std::make_unique<drivers::ModbusCncLink>(co);
-  m.temps = std::make_unique<drivers::ModbusTemperatureSource>(to);
-  if (!m.cnc->Connect())
-    fmt::print(stderr, "warning: CNC terminal {}:{} not reachable yet ({}); the loop keeps trying\n", b.host, b.port,
-               m.cnc->last_error());
-  if (!m.temps->Connect())
-    fmt::print(stderr, "warning: RTD modules at {}:{} not reachable yet ({}); the loop keeps trying\n", b.host, b.port,
-               m.temps->last_error());
-  m.link = m.cnc.get();
-  m.source = m.temps.get();
-  m.description = fmt::format("MODBUS TCP {}:{} (PMC unit {}, RTD units from {})", b.host, b.port, b.cnc_unit_id,
-                              b.first_rtd_unit_id);
-  return m;
-}
 
 // A decimated CSV log of the loop: time, alarms, per axis position/correction, per channel value.
 // A run appends to the log of earlier runs (never overwrites it); a last row cut short by a
@@ -163,31 +92,8 @@ std::shared_ptr<const model::CompositeModel> LoadModel(const std::string& path) 
 void Run(const Options& o) {
   runtime::RunConfig c = runtime::ReadRunConfig(o.config);
   if (o.duration_s >= 0) c.duration_s = o.duration_s;
-  Machine m = OpenMachine(c);
-  for (const auto& a : c.axes) {
-    bool found = false;
-    for (std::size_t i = 0; i < m.link->AxisCount(); ++i) found = found || m.link->AxisName(i) == a.axis;
-    if (!found) throw InputError(c.source, 0, "axis.name", fmt::format("the machine has no axis '{}'", a.axis));
-  }
-  // Seed 000's temperature signal processing in front of the compensator (optional).
-  std::unique_ptr<runtime::MonitoredTemperatureSource> monitored;
-  if (c.signal_processing) {
-    std::function<double()> clock;
-    if (m.vm) {
-      const sim::VirtualMachine* vm = m.vm.get();
-      clock = [vm] { return vm->TimeS(); };  // machine time: rates are judged in the machine's seconds
-    } else {
-      const auto t0 = std::chrono::steady_clock::now();
-      clock = [t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-    }
-    monitored = std::make_unique<runtime::MonitoredTemperatureSource>(*m.source, signal::MonitorOptions{}, clock);
-    if (!c.calibration_file.empty()) {
-      const auto unknown = monitored->monitor().SetCalibration(signal::ReadCalibrationFile(c.calibration_file));
-      for (const auto& name : unknown)
-        fmt::print(stderr, "warning: calibration for '{}' matches no channel of the machine\n", name);
-    }
-    m.source = monitored.get();
-  }
+  station::Machine m = station::OpenMachine(c);  // + the temperature pipeline ([signal], on by default)
+  for (const auto& w : m.warnings) fmt::print(stderr, "warning: {}\n", w);
   auto comp = runtime::Compensator::ForHardware(c.compensator, *m.link, *m.source, c.axes);
   auto first_model = LoadModel(c.model_file);
   const int first_revision = first_model->revision;
@@ -197,18 +103,18 @@ void Run(const Options& o) {
 
   const auto every = static_cast<std::uint64_t>(std::max(1.0, std::round(c.record_interval_s / c.period_s)));
   runtime::CycleRecorder recorder(8192, every);
-  runtime::LoopRunner runner(*comp, *m.link, *m.source, runtime::LoopOptions{c.period_s}, &recorder);
+  runtime::LoopRunner runner(*comp, *m.link, *m.source, runtime::LoopOptions{c.period_s, c.temperature_period_s}, &recorder);
   if (m.advance) runner.SetPlantAdvance(m.advance);
 
   const double unix0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   std::unique_ptr<store::HistoryWriter> writer;
-  std::unique_ptr<runtime::HistoryLogger> history;
+  std::unique_ptr<station::HistoryLogger> history;
   std::vector<std::string> axis_names;
   for (const auto& a : comp->axes()) axis_names.push_back(a.axis);
   if (!c.history_db.empty()) {
     if (fs::path(c.history_db).has_parent_path()) fs::create_directories(fs::path(c.history_db).parent_path());
     writer = std::make_unique<store::HistoryWriter>(c.history_db);
-    history = std::make_unique<runtime::HistoryLogger>(*writer, axis_names, comp->channel_names(), unix0);
+    history = std::make_unique<station::HistoryLogger>(*writer, axis_names, comp->channel_names(), unix0);
     history->LogModelChange(0, model::Sha256OfFile(c.model_file), std::to_string(first_revision),
                             "loaded " + c.model_file);
   }
@@ -282,6 +188,7 @@ void Run(const Options& o) {
     if (c.duration_s > 0 && elapsed >= c.duration_s) break;
   }
   runner.Stop();
+  m.Close();
   drain();
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);

@@ -142,7 +142,7 @@ void RunServe(const ServeOptions& o) {
   status.sensor_c.assign(sensor_names.size(), 0.0);
   std::vector<hw::RawTemperature> temps(sensor_names.size());
   auto snapshot = [&] {
-    static_cast<hw::TemperatureSource&>(vm).Read(temps);  // the overload set is ambiguous by name
+    vm.Read(temps);
     std::lock_guard<std::mutex> l(mu);
     status.machine_time_s = vm.TimeS();
     status.iso_time = vm.IsoTime();
@@ -177,7 +177,8 @@ void RunServe(const ServeOptions& o) {
     hello["axes"] = axis_names;
     hello["time_scale"] = scale;
     for (std::size_t c = 0; c < sensor_names.size(); ++c)
-      hello["channels"].push_back({{"name", sensor_names[c]}, {"unit", o.first_rtd_unit + static_cast<int>(c / 7)}, {"channel", c % 7}});
+      hello["channels"].push_back({{"name", sensor_names[c]}, {"unit", o.first_rtd_unit + static_cast<int>(c / drivers::adam6015::kChannelCount)},
+                                    {"channel", c % drivers::adam6015::kChannelCount}});
     fmt::print("{}\n", hello.dump());
   } else {
     fmt::print("trueaxis sim serve: {} ({} axes, {} sensors) on {}:{}, time x{}\n", vm.description().name, n_axes,
@@ -185,8 +186,9 @@ void RunServe(const ServeOptions& o) {
     fmt::print("  unit {}: PMC window (axes {})\n", o.pmc_unit, fmt::join(axis_names, ", "));
     for (std::size_t k = 0; k < modules; ++k) {
       std::vector<std::string> names;
-      for (std::size_t c = k * 7; c < std::min(sensor_names.size(), k * 7 + 7); ++c)
-        names.push_back(fmt::format("{}={}", c % 7, sensor_names[c]));
+      constexpr std::size_t kPerModule = drivers::adam6015::kChannelCount;
+      for (std::size_t c = k * kPerModule; c < std::min(sensor_names.size(), (k + 1) * kPerModule); ++c)
+        names.push_back(fmt::format("{}={}", c % kPerModule, sensor_names[c]));
       fmt::print("  unit {}: ADAM-6015 channels {}\n", o.first_rtd_unit + static_cast<int>(k), fmt::join(names, " "));
     }
     fmt::print("  registers: docs/protocols.md; stop with Ctrl-C{}\n",

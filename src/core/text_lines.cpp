@@ -15,6 +15,16 @@ bool LineCursor::Next() {
   return true;
 }
 
+std::string CsvField(std::string_view field) {
+  if (field.find_first_of(",\"\n\r") == std::string_view::npos) return std::string(field);
+  std::string out = "\"";
+  for (char c : field) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
 std::vector<std::string_view> SplitCsvFields(std::string_view line) {
   std::vector<std::string_view> out;
   std::size_t start = 0;

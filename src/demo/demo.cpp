@@ -22,8 +22,10 @@
 #include "trueaxis/model/sha256.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
-#include "trueaxis/runtime/history_logger.hpp"
+#include "trueaxis/station/history_logger.hpp"
+#include "trueaxis/runtime/loop_runner.hpp"
 #include "trueaxis/sim/campaign.hpp"
+#include "trueaxis/station/machine_connection.hpp"
 #include "trueaxis/sim/laser_interferometer.hpp"
 #include "trueaxis/sim/machine_description.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
@@ -92,7 +94,7 @@ double MeanSensor(const measure::Measurement& m, const std::string& name) {
 // Samples the day once per minute of machine time, and writes the history database.
 class DayObserver : public runtime::CycleObserver {
  public:
-  DayObserver(sim::VirtualMachine& vm, DemoResult& result, runtime::HistoryLogger* history)
+  DayObserver(sim::VirtualMachine& vm, DemoResult& result, station::HistoryLogger* history)
       : vm_(vm), result_(result), history_(history) {}
   void OnCycle(const runtime::CycleStatus& s) override {
     alarms_ |= s.alarms;
@@ -133,7 +135,7 @@ class DayObserver : public runtime::CycleObserver {
  private:
   sim::VirtualMachine& vm_;
   DemoResult& result_;
-  runtime::HistoryLogger* history_;
+  station::HistoryLogger* history_;
   runtime::CycleRecord record_;
   double day_start_s_ = 0, next_sample_s_ = 0;
   bool other_day_ = false;
@@ -149,7 +151,7 @@ class LockedMachine : public hw::CncLink, public hw::TemperatureSource {
   std::string AxisName(std::size_t i) const override { return vm_.AxisName(i); }
   bool Read(std::span<hw::AxisState> axes, hw::CncState& m) override {
     std::lock_guard<std::mutex> lock(mu_);
-    return static_cast<hw::CncLink&>(vm_).Read(axes, m);
+    return vm_.Read(axes, m);
   }
   bool WriteCompensation(std::span<const double> c) override {
     std::lock_guard<std::mutex> lock(mu_);
@@ -159,7 +161,7 @@ class LockedMachine : public hw::CncLink, public hw::TemperatureSource {
   std::string ChannelName(std::size_t i) const override { return vm_.ChannelName(i); }
   bool Read(std::span<hw::RawTemperature> out) override {
     std::lock_guard<std::mutex> lock(mu_);
-    return static_cast<hw::TemperatureSource&>(vm_).Read(out);
+    return vm_.Read(out);
   }
 
  private:
@@ -207,8 +209,14 @@ class WorkingDay {
       link = cnc_client_.get();
       source = temp_client_.get();
     }
+    if (o.signal_processing) {  // the one temperature pipeline, timed by the machine's clock
+      monitored_ = std::make_unique<signal::MonitoredTemperatureSource>(
+          *source, station::MonitorOptionsFor(o.compensator.sensor), [this] { return vm_.TimeS(); });
+      source = monitored_.get();
+      result_.interface_used += "; temperatures through signal::MonitoredTemperatureSource";
+    }
     comp_ = runtime::Compensator::ForHardware(o.compensator, *link, *source, interfaces);
-    if (writer) history_ = std::make_unique<runtime::HistoryLogger>(*writer, all_axes_, result_.channel_names);
+    if (writer) history_ = std::make_unique<station::HistoryLogger>(*writer, all_axes_, result_.channel_names);
     observer_ = std::make_unique<DayObserver>(vm_, result_, history_.get());
     runner_ = std::make_unique<runtime::LoopRunner>(*comp_, *link, *source, runtime::LoopOptions{o.period_s}, observer_.get());
     advance_ = [this](double dt) { vm_.Advance(dt); };
@@ -269,25 +277,21 @@ class WorkingDay {
       if (o_.modbus_port) break;
     }
     if (!server_) throw std::runtime_error("demo: cannot start the MODBUS terminal on 127.0.0.1: " + error);
-    drivers::ModbusEndpoint ep;
-    ep.host = "127.0.0.1";
-    ep.port = port;
-    ep.response_timeout_s = 0.5;
-    drivers::ModbusCncLinkOptions co;
-    co.endpoint = ep;
-    co.axis_names = all_axes_;
-    co.stale_after_s = 2.0;
-    cnc_client_ = std::make_unique<drivers::ModbusCncLink>(co);
-    drivers::ModbusTemperatureSourceOptions to;
-    to.endpoint = ep;
-    to.channel_names = result_.channel_names;
-    to.unit_ids.clear();
-    for (std::size_t k = 0; k * 7 < to.channel_names.size(); ++k) to.unit_ids.push_back(so.first_rtd_unit_id + static_cast<int>(k));
-    temp_client_ = std::make_unique<drivers::ModbusTemperatureSource>(to);
-    cnc_client_->Connect();
-    temp_client_->Connect();
+    runtime::ModbusConfig mc;
+    mc.port = port;
+    mc.response_timeout_s = 0.5;
+    mc.cnc_unit_id = so.pmc_unit_id;
+    mc.first_rtd_unit_id = so.first_rtd_unit_id;
+    mc.axis_names = all_axes_;
+    mc.channel_names = result_.channel_names;
+    auto clients = station::MakeModbusClients(mc, "demo", 2.0);
+    cnc_client_ = std::move(clients.cnc);
+    temp_client_ = std::move(clients.temperatures);
+    std::string why;  // hw lifecycle: options checked by MakeModbusClients; activate = connect
+    cnc_client_->Activate(&why);
+    temp_client_->Activate(&why);
     result_.interface_used = fmt::format("MODBUS TCP 127.0.0.1:{} (PMC window unit {}, {} ADAM-6015 modules)", port,
-                                         so.pmc_unit_id, to.unit_ids.size());
+                                         so.pmc_unit_id, drivers::RtdModuleUnitIds(mc.first_rtd_unit_id, mc.channel_names.size()).size());
     // From here on the demo thread holds the machine except while a cycle
     // talks to the terminal (whose machine thread then reads and writes it).
     vm_lock_ = std::unique_lock<std::mutex>(vm_mutex_);
@@ -393,7 +397,7 @@ class WorkingDay {
       p.target_mm = target;
       p.deviation_um = std::round((laser_.ReadMm(vm_) - target) * 1e6) / 1000.0;
       p.time_s = std::round((vm_.TimeS() - t0) * 10.0) / 10.0;
-      static_cast<hw::TemperatureSource&>(vm_).Read(raw);
+      vm_.Read(raw);
       for (const auto& r : raw) p.temperatures_c.push_back(r.hardware_fault ? std::nan("") : r.temp_c);
       m.points.push_back(std::move(p));
     };
@@ -446,7 +450,7 @@ class WorkingDay {
   sim::LaserInterferometer laser_;
   std::vector<std::string> all_axes_;
   std::unique_ptr<runtime::Compensator> comp_;
-  std::unique_ptr<runtime::HistoryLogger> history_;
+  std::unique_ptr<station::HistoryLogger> history_;
   std::unique_ptr<DayObserver> observer_;
   std::unique_ptr<runtime::LoopRunner> runner_;
   std::function<void(double)> advance_;
@@ -458,6 +462,7 @@ class WorkingDay {
   std::unique_ptr<drivers::ModbusMachineServer> server_;
   std::unique_ptr<drivers::ModbusCncLink> cnc_client_;
   std::unique_ptr<drivers::ModbusTemperatureSource> temp_client_;
+  std::unique_ptr<signal::MonitoredTemperatureSource> monitored_;
 };
 
 }  // namespace

@@ -35,6 +35,19 @@ ModbusCncLink::ModbusCncLink(ModbusCncLinkOptions options)
   if (!options_valid_) error_ = "invalid ModbusCncLink options: " + why;
 }
 
+bool ModbusCncLink::Configure(std::string* error) {
+  if (!options_valid_ && error) *error = error_;
+  return options_valid_;
+}
+
+bool ModbusCncLink::Activate(std::string* error) {
+  const bool ok = Connect();
+  if (!ok && error) *error = last_error();
+  return ok;
+}
+
+void ModbusCncLink::Deactivate() { connection_.Close(); }
+
 bool ModbusCncLink::Connect() {
   return EnsureReady(/*ignore_throttle=*/true);
 }

@@ -10,6 +10,12 @@
 
 namespace trueaxis::drivers {
 
+std::vector<int> RtdModuleUnitIds(int first_unit_id, std::size_t channel_count) {
+  std::vector<int> ids;
+  for (std::size_t k = 0; k * adam6015::kChannelCount < channel_count; ++k) ids.push_back(first_unit_id + static_cast<int>(k));
+  return ids;
+}
+
 bool ModbusTemperatureSourceOptions::IsValid(std::string* why) const {
   auto fail = [&](std::string msg) {
     if (why) *why = std::move(msg);
@@ -41,6 +47,19 @@ std::size_t ModbusTemperatureSource::ModuleChannels(std::size_t k) const {
   const std::size_t first = k * adam6015::kChannelCount;
   return first >= n ? 0 : std::min<std::size_t>(adam6015::kChannelCount, n - first);
 }
+
+bool ModbusTemperatureSource::Configure(std::string* error) {
+  if (!options_valid_ && error) *error = error_;
+  return options_valid_;
+}
+
+bool ModbusTemperatureSource::Activate(std::string* error) {
+  const bool ok = Connect();
+  if (!ok && error) *error = last_error();
+  return ok;
+}
+
+void ModbusTemperatureSource::Deactivate() { connection_.Close(); }
 
 bool ModbusTemperatureSource::Connect() { return EnsureReady(true); }
 

@@ -1,5 +1,7 @@
 #include "trueaxis/export/compensation_table.hpp"
 
+#include "trueaxis/core/interpolation.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -20,21 +22,10 @@ double CompensationTable::UniformSpacingMm() const {
   return step;
 }
 
-namespace {
-double Interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
-  if (xs.empty()) return 0;
-  if (x <= xs.front()) return ys.front();
-  if (x >= xs.back()) return ys.back();
-  auto it = std::upper_bound(xs.begin(), xs.end(), x);
-  const std::size_t i = static_cast<std::size_t>(it - xs.begin());
-  const double t = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
-  return ys[i - 1] + t * (ys[i] - ys[i - 1]);
-}
-}  // namespace
 
 double AppliedCorrectionUm(const CompensationTable& table, double position_mm, Direction direction) {
   const auto& column = direction == Direction::kForward ? table.forward_um : table.reverse_um;
-  double c = Interpolate(table.position_mm, column, position_mm);
+  double c = InterpolateClamped(table.position_mm, column, position_mm);
   if (!table.bidirectional) c += DirectionSign(direction) * 0.5 * table.backlash_um;
   // Thermal line kept out of the table: correction = −error.
   c -= table.thermal_tan_beta_um_per_mm * (table.thermal_reference_mm - position_mm);

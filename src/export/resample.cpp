@@ -1,5 +1,7 @@
 #include "trueaxis/export/resample.hpp"
 
+#include "trueaxis/core/interpolation.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -113,15 +115,6 @@ void ValidRange(const model::GeometricError& g, double* lo, double* hi) {
   }
 }
 
-double InterpolateAt(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
-  if (x <= xs.front()) return ys.front();
-  if (x >= xs.back()) return ys.back();
-  auto it = std::upper_bound(xs.begin(), xs.end(), x);
-  const std::size_t i = static_cast<std::size_t>(it - xs.begin());
-  const double t = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
-  return ys[i - 1] + t * (ys[i] - ys[i - 1]);
-}
-
 }  // namespace
 
 // Shared tail: unidirectional reduction and zero at reference.
@@ -145,7 +138,7 @@ void FinishResample(ResampleResult& r, const ResampleOptions& o, const std::stri
                                    "(e.g. the machine reference position) inside it, or --range to cover it",
                                    Num(ref),
                                    Num(t.position_mm.front()), Num(t.position_mm.back())));
-    r.zero_shift_um = InterpolateAt(t.position_mm, t.forward_um, ref);
+    r.zero_shift_um = InterpolateClamped(t.position_mm, t.forward_um, ref);
     for (std::size_t i = 0; i < t.size(); ++i) {
       t.forward_um[i] -= r.zero_shift_um;
       t.reverse_um[i] -= r.zero_shift_um;
@@ -293,8 +286,8 @@ ResampleResult ResampleMeasurement(const measure::Measurement& m, const Resample
   } else {
     t.position_mm = MakeGrid(o, r.valid_min_mm, r.valid_max_mm, t.reference_position_mm, source);
     for (double x : t.position_mm) {
-      t.forward_um.push_back(InterpolateAt(targets, fwd, x));
-      t.reverse_um.push_back(InterpolateAt(targets, rev, x));
+      t.forward_um.push_back(InterpolateClamped(targets, fwd, x));
+      t.reverse_um.push_back(InterpolateClamped(targets, rev, x));
     }
   }
   t.provenance.push_back(fmt::format("source: measurement {} ({} targets, mean over runs per direction)", source,

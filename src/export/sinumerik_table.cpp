@@ -169,4 +169,13 @@ CompensationTable ReadSinumerikEec(std::string_view text, const std::string& sou
   return t;
 }
 
+double SinumerikValueAtReferenceUm(const CompensationTable& t) {
+  const double ref = t.reference_position_mm;
+  if (std::isnan(ref) || t.position_mm.empty() || ref < t.position_mm.front() || ref > t.position_mm.back())
+    return std::nan("");
+  const double at_ref = AppliedCorrectionUm(t, ref, Direction::kForward) +
+                        t.thermal_tan_beta_um_per_mm * (t.thermal_reference_mm - ref) - 0.5 * t.backlash_um;
+  return -at_ref;
+}
+
 }  // namespace trueaxis::exporter

@@ -1,5 +1,7 @@
 #include "trueaxis/model/composite_model.hpp"
 
+#include "trueaxis/core/interpolation.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -12,16 +14,7 @@ double GeometricError::Evaluate(double position_mm) const {
     for (auto it = coefficients_um.rbegin(); it != coefficients_um.rend(); ++it) acc = acc * u + *it;
     return acc;
   }
-  const auto& xs = table_position_mm;
-  const auto& ys = table_error_um;
-  if (xs.empty()) return 0;
-  if (position_mm <= xs.front()) return ys.front();
-  if (position_mm >= xs.back()) return ys.back();
-  auto it = std::upper_bound(xs.begin(), xs.end(), position_mm);
-  const std::size_t i = static_cast<std::size_t>(it - xs.begin());
-  const double x0 = xs[i - 1], x1 = xs[i];
-  const double t = (position_mm - x0) / (x1 - x0);
-  return ys[i - 1] + t * (ys[i] - ys[i - 1]);
+  return InterpolateClamped(table_position_mm, table_error_um, position_mm);
 }
 
 const ThermalGains* DirectionModel::GainsFor(CoolantState coolant) const {

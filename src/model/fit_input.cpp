@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/json_text.hpp"
 #include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/number_text.hpp"
@@ -252,15 +253,7 @@ std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, c
   if (!given_manifest.empty()) manifests.push_back(given_manifest);
   for (const auto& manifest_path : manifests) {
     const std::string text = ReadTextFile(manifest_path);
-    nlohmann::json doc;
-    try {
-      doc = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
-      int line = 1;
-      for (std::size_t i = 0; i < e.byte && i < text.size(); ++i)
-        if (text[i] == '\n') ++line;
-      throw InputError(manifest_path, line, "", std::string("not valid JSON: ") + e.what());
-    }
+    const nlohmann::json doc = ParseJsonOrThrow(text, manifest_path);
     // Accept {"files": [...]} (also "measurements"/"states") or a bare array.
     const nlohmann::json* list = nullptr;
     std::string list_name = "files";

@@ -4,9 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
-#include <chrono>
 #include <cmath>
-#include <ctime>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -43,15 +41,6 @@ double MeanOfSensor(const measure::Measurement& m, std::size_t idx) {
 double MeanOfSensor(const measure::Measurement& m, const std::string& name) {
   auto idx = m.SensorIndex(name);
   return idx ? MeanOfSensor(m, *idx) : kNaN;
-}
-
-std::string UtcNow() {
-  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
 }
 
 // Cold-state means per target for one direction.
@@ -1269,7 +1258,7 @@ FitResult FitCompositeModel(const std::vector<FitState>& states, const FitOption
     by_axis[axis].push_back(&s);
   }
   FitResult res;
-  res.model.created_utc = UtcNow();
+  res.model.created_utc = options.created_utc;
   res.model.generator = "trueaxis 0.1.0 fit";
   for (const auto& s : states) {
     if (res.model.machine.empty())

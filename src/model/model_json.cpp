@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/json_text.hpp"
 #include "trueaxis/core/text_file.hpp"
 
 namespace trueaxis::model {
@@ -337,17 +338,7 @@ CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& sourc
 
 CompositeModel ReadModelFile(const std::string& path) {
   const std::string text = ReadTextFile(path);
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::parse_error& e) {
-    // e.byte is the offset of the error; turn it into a line number.
-    int line = 1;
-    for (std::size_t i = 0; i < e.byte && i < text.size(); ++i)
-      if (text[i] == '\n') ++line;
-    throw InputError(path, line, "", std::string("not valid JSON: ") + e.what());
-  }
-  return ModelFromJson(doc, path);
+  return ModelFromJson(ParseJsonOrThrow(text, path), path);
 }
 
 void WriteModelFile(const CompositeModel& model, const std::string& path) {

@@ -66,4 +66,35 @@ std::unique_ptr<BoundModel> BindModel(std::shared_ptr<const model::CompositeMode
   return bound;
 }
 
+std::unique_ptr<BoundModel> BindAxisModels(std::vector<std::shared_ptr<const model::AxisErrorModel>> models,
+                                           const std::string& label, const std::vector<AxisInterface>& axes,
+                                           const std::vector<std::string>& channel_names,
+                                           const std::map<std::string, std::string>& channel_map) {
+  auto bound = std::make_unique<BoundModel>();
+  bound->label = label;
+  bound->axes.resize(axes.size());
+  for (auto& m : models) {
+    if (!m) throw InputError(label, "no model");
+    auto it = std::find_if(axes.begin(), axes.end(), [&](const AxisInterface& a) { return a.axis == m->Axis(); });
+    if (it == axes.end())
+      throw InputError(label, 0, "axis", fmt::format("the machine has no axis '{}'", m->Axis()));
+    BoundAxis& b = bound->axes[static_cast<std::size_t>(it - axes.begin())];
+    if (b.has_model) throw InputError(label, 0, "axis", fmt::format("two models for axis '{}'", m->Axis()));
+    if (m->Sensors().size() > kMaxKeySensors)
+      throw InputError(label, 0, "sensors", fmt::format("{} sensors, at most {} supported", m->Sensors().size(), kMaxKeySensors));
+    for (const auto& sensor : m->Sensors()) {
+      const int ch = FindChannel(sensor, channel_names, channel_map);
+      if (ch < 0)
+        throw InputError(label, 0, fmt::format("{}.sensors", m->Axis()),
+                         fmt::format("sensor '{}' maps to no temperature channel (channels: {}; map it with [channels] in the run config)",
+                                     sensor, Known(channel_names)));
+      b.generic_channel.push_back(ch);
+    }
+    b.has_model = true;
+    b.model.axis = m->Axis();
+    b.generic = std::move(m);
+  }
+  return bound;
+}
+
 }  // namespace trueaxis::runtime

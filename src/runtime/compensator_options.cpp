@@ -15,6 +15,7 @@ bool SensorFaultPolicy::IsValid(std::string* why) const {
   if (!(max_rate_c_per_s >= 0)) return fail("max_rate_c_per_s must be >= 0 (0 disables)");
   if (!(rate_allowance_c >= 0)) return fail("rate_allowance_c must be >= 0");
   if (!(hold_last_good_s >= 0) || !std::isfinite(hold_last_good_s)) return fail("hold_last_good_s must be >= 0");
+  if (!(stale_after_s > 0) || !std::isfinite(stale_after_s)) return fail("stale_after_s must be > 0");
   return true;
 }
 
@@ -23,6 +24,10 @@ bool CompensatorOptions::IsValid(std::string* why) const {
   if (!sensor.IsValid(why)) return false;
   if (link_recovery_cycles < 1) {
     if (why) *why = "link_recovery_cycles must be >= 1";
+    return false;
+  }
+  if (!(link_stale_after_s > 0) || !std::isfinite(link_stale_after_s)) {
+    if (why) *why = "link_stale_after_s must be > 0";
     return false;
   }
   return true;

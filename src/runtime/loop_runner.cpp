@@ -1,5 +1,6 @@
 #include "trueaxis/runtime/loop_runner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -13,90 +14,151 @@ bool LoopOptions::IsValid(std::string* why) const {
     if (why) *why = fmt::format("period_s must be in [0.0001, 10] s, got {}", period_s);
     return false;
   }
+  if (!(temperature_period_s > 0 && temperature_period_s <= 60)) {
+    if (why) *why = fmt::format("temperature_period_s must be in (0, 60] s, got {}", temperature_period_s);
+    return false;
+  }
   return true;
 }
 
 std::string LoopStats::BriefReport() const {
-  return fmt::format("{} cycles, {} overruns, cycle time mean {:.1f} µs max {:.1f} µs", cycles, overruns,
-                     mean_cycle_s * 1e6, max_cycle_s * 1e6);
+  std::string s = fmt::format("{} cycles, {} overruns, cycle time mean {:.1f} µs max {:.1f} µs", cycles, overruns,
+                              mean_cycle_s * 1e6, max_cycle_s * 1e6);
+  if (io_workers)
+    s += fmt::format("; CNC I/O {} calls max {:.1f} ms, temperature I/O {} calls max {:.1f} ms", cnc_io.calls,
+                     cnc_io.max_call_s * 1e3, temperature_io.calls, temperature_io.max_call_s * 1e3);
+  return s;
 }
 
 LoopRunner::LoopRunner(Compensator& compensator, hw::CncLink& link, hw::TemperatureSource& source, LoopOptions options,
                        CycleObserver* observer)
-    : compensator_(compensator), link_(link), source_(source), options_(options), observer_(observer) {
+    : compensator_(compensator),
+      link_(link),
+      source_(source),
+      options_(options),
+      observer_(observer),
+      epoch_(PeriodicThread::Clock::now()),
+      temperatures_(compensator.MakeTemperatureSnapshot()),
+      cnc_(compensator.MakeCncSnapshot()),
+      temperature_slot_(compensator.MakeTemperatureSnapshot()),
+      cnc_slot_(compensator.MakeCncSnapshot()),
+      command_slot_(CncCommand(compensator.axes().size())),
+      loop_(options.period_s, epoch_,
+            [this](double now_s) {
+              if (io_workers_.load(std::memory_order_relaxed)) {
+                SteppingCycle(now_s);
+              } else {
+                if (plant_advance_) plant_advance_(options_.period_s);
+                InlineCycle(now_s);
+              }
+            }),
+      cnc_worker_(options.period_s, epoch_, [this](double) { CncWorkerCall(); }),
+      temperature_worker_(std::max(options.temperature_period_s, options.period_s), epoch_, [this](double) { TemperatureWorkerCall(); }) {
   std::string why;
   if (!options_.IsValid(&why)) throw std::invalid_argument("loop options: " + why);
 }
 
 LoopRunner::~LoopRunner() { Stop(); }
 
+double LoopRunner::Now() const {
+  return std::chrono::duration<double>(PeriodicThread::Clock::now() - epoch_).count();
+}
+
 void LoopRunner::Start() {
-  if (running_.exchange(true)) return;
-  stop_.store(false);
-  thread_ = std::thread([this] { ThreadMain(); });
+  if (loop_.Running()) return;
+  const bool workers = !plant_advance_;
+  if (workers && options_.period_s > compensator_.options().link_stale_after_s / 2)
+    throw std::invalid_argument(fmt::format(
+        "loop period {} s is too long for link_stale_after_s = {} s: every CNC snapshot would be stale "
+        "(raise [link] stale_after_s to at least twice the period)",
+        options_.period_s, compensator_.options().link_stale_after_s));
+  io_workers_.store(workers);
+  if (workers) {
+    temperature_worker_.Start();
+    cnc_worker_.Start();
+  }
+  loop_.Start();
 }
 
 void LoopRunner::Stop() {
-  {
-    std::lock_guard<std::mutex> lock(wake_mu_);
-    stop_.store(true);
-  }
-  wake_cv_.notify_all();
-  if (thread_.joinable()) thread_.join();
-  running_.store(false);
+  loop_.Stop();
+  cnc_worker_.Stop();
+  temperature_worker_.Stop();
 }
 
-void LoopRunner::Account(double cycle_s, bool overrun) {
-  cycles_.fetch_add(1, std::memory_order_relaxed);
-  if (overrun) overruns_.fetch_add(1, std::memory_order_relaxed);
-  // single writer: plain load/store is enough
-  if (cycle_s > max_cycle_s_.load(std::memory_order_relaxed)) max_cycle_s_.store(cycle_s, std::memory_order_relaxed);
-  total_cycle_s_.store(total_cycle_s_.load(std::memory_order_relaxed) + cycle_s, std::memory_order_relaxed);
+void LoopRunner::InlineCycle(double now_s) {
+  const double tolerance = 1e-6 * options_.period_s;
+  if (temperature_reads_ == 0 || now_s - last_temperature_read_s_ >= options_.temperature_period_s - tolerance) {
+    ReadTemperatures(source_, now_s, ++temperature_reads_, temperatures_);
+    last_temperature_read_s_ = now_s;
+  }
+  ReadCnc(link_, now_s, ++cnc_reads_, cnc_);
+  compensator_.Cycle(temperatures_, cnc_, now_s);
+  const CycleStatus& status = compensator_.CommitWrite(WriteCnc(link_, compensator_.command()));
+  if (observer_) observer_->OnCycle(status);
 }
 
-void LoopRunner::ThreadMain() {
-  using Clock = std::chrono::steady_clock;
-  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.period_s));
-  const auto t0 = Clock::now();
-  auto deadline = t0;
-  while (!stop_.load(std::memory_order_relaxed)) {
-    if (plant_advance_) plant_advance_(options_.period_s);
-    const auto start = Clock::now();
-    const double now_s = std::chrono::duration<double>(start - t0).count();
-    const CycleStatus& status = compensator_.RunCycle(link_, source_, now_s);
-    if (observer_) observer_->OnCycle(status);
-    const auto end = Clock::now();
-    deadline += period;
-    const bool overrun = end > deadline;
-    if (overrun) {
-      // skip the missed deadlines: the next cycle starts on the period grid after now
-      const auto missed = (end - deadline) / period + 1;
-      deadline += missed * period;
-    }
-    Account(std::chrono::duration<double>(end - start).count(), overrun);
-    std::unique_lock<std::mutex> lock(wake_mu_);  // outside the cycle: the cycle itself takes no lock
-    wake_cv_.wait_until(lock, deadline, [this] { return stop_.load(std::memory_order_relaxed); });
+void LoopRunner::SteppingCycle(double now_s) {
+  temperature_slot_.Fetch();
+  cnc_slot_.Fetch();
+  compensator_.Cycle(temperature_slot_.Front(), cnc_slot_.Front(), now_s);
+  const CncCommand& command = compensator_.command();
+  CncCommand& out = command_slot_.Back();
+  out.sequence = command.sequence;
+  std::copy(command.correction_um.begin(), command.correction_um.end(), out.correction_um.begin());
+  command_slot_.Publish();
+  // The write happens on the CNC worker; the step advances its ramp once a later snapshot says the
+  // CNC accepted this command (never ahead of what the CNC holds).
+  const CycleStatus& status = compensator_.AwaitWrite();
+  if (observer_) observer_->OnCycle(status);
+}
+
+void LoopRunner::CncWorkerCall() {
+  // Each command once (the step hands out a new one every cycle once this one is answered).
+  command_slot_.Fetch();
+  const CncCommand& command = command_slot_.Front();
+  if (command.sequence != 0 && command.sequence != attempted_sequence_) {
+    attempted_sequence_ = command.sequence;
+    write_failed_ = !WriteCnc(link_, command);
+    if (!write_failed_) written_sequence_ = command.sequence;
   }
+  CncSnapshot& s = cnc_slot_.Back();
+  ReadCnc(link_, 0, ++worker_cnc_reads_, s);
+  s.sampled_at_s = Now();  // when the answer came (a read may block up to the link's timeout)
+  s.attempted_sequence = attempted_sequence_;
+  s.write_failed = write_failed_;
+  s.written_sequence = written_sequence_;
+  cnc_slot_.Publish();
+}
+
+void LoopRunner::TemperatureWorkerCall() {
+  TemperatureSnapshot& s = temperature_slot_.Back();
+  ReadTemperatures(source_, 0, ++worker_temperature_reads_, s);
+  s.sampled_at_s = Now();
+  temperature_slot_.Publish();
 }
 
 void LoopRunner::StepSimulated(std::uint64_t cycles, const std::function<void(double)>& advance) {
-  using Clock = std::chrono::steady_clock;
+  using Clock = PeriodicThread::Clock;
   for (std::uint64_t c = 0; c < cycles; ++c) {
     if (advance) advance(options_.period_s);
     ++sim_cycles_;
     const auto start = Clock::now();
-    const CycleStatus& status = compensator_.RunCycle(link_, source_, SimulatedTimeS());
-    if (observer_) observer_->OnCycle(status);
-    Account(std::chrono::duration<double>(Clock::now() - start).count(), false);
+    InlineCycle(SimulatedTimeS());
+    loop_.Account(std::chrono::duration<double>(Clock::now() - start).count(), false);
   }
 }
 
 LoopStats LoopRunner::Stats() const {
+  const PeriodicStats p = loop_.Stats();
   LoopStats s;
-  s.cycles = cycles_.load();
-  s.overruns = overruns_.load();
-  s.max_cycle_s = max_cycle_s_.load();
-  s.mean_cycle_s = s.cycles ? total_cycle_s_.load() / static_cast<double>(s.cycles) : 0;
+  s.cycles = p.calls;
+  s.overruns = p.overruns;
+  s.max_cycle_s = p.max_call_s;
+  s.mean_cycle_s = p.mean_call_s;
+  s.io_workers = io_workers_.load();
+  s.cnc_io = cnc_worker_.Stats();
+  s.temperature_io = temperature_worker_.Stats();
   return s;
 }
 

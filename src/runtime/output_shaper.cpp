@@ -35,9 +35,9 @@ OutputShaperState ShapeOutput(const OutputShaperState& state, double desired_um,
   if (std::fabs(in_counts - static_cast<double>(state.counts)) > 0.5 + o.hysteresis)
     target = static_cast<std::int64_t>(std::llround(in_counts));
   // 4. never more than the step (at least one count) per cycle, never beyond the bound
-  const auto max_counts_step =
-      std::max<std::int64_t>(1, static_cast<std::int64_t>(std::floor(o.max_step_um / quantum_um + 1e-9)));
-  const auto bound_counts = static_cast<std::int64_t>(std::floor(o.max_correction_um / quantum_um + 1e-9));
+  // (both quotients are >= 0, so truncation is the floor; no libm call on the real-time path)
+  const auto max_counts_step = std::max<std::int64_t>(1, static_cast<std::int64_t>(o.max_step_um / quantum_um + 1e-9));
+  const auto bound_counts = static_cast<std::int64_t>(o.max_correction_um / quantum_um + 1e-9);
   target = std::clamp(target, state.counts - max_counts_step, state.counts + max_counts_step);
   target = std::clamp(target, -bound_counts, bound_counts);
   next.counts = target;

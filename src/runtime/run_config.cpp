@@ -1,5 +1,6 @@
 #include "trueaxis/runtime/run_config.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -71,11 +72,17 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
   if (const toml::table* t = r.Table("loop")) {
     TomlTableReader m(*t, source, "loop");
     m.Double("period_s", c.period_s, 1e-4, 10);
+    m.Double("temperature_period_s", c.temperature_period_s, 1e-4, 60);
     m.Double("duration_s", c.duration_s, 0, 1e9);
     m.RejectUnknown();
+    if (t->contains("temperature_period_s") && c.temperature_period_s < c.period_s)
+      m.Fail("temperature_period_s", t->get("temperature_period_s"), "must be at least period_s");
   }
+  if (c.temperature_period_s < c.period_s) c.temperature_period_s = c.period_s;  // a long period with the default
 
   auto& o = c.compensator;
+  // A CNC snapshot is stale after 3 loop periods, at least 0.25 s, unless [link] stale_after_s says.
+  o.link_stale_after_s = std::max(o.link_stale_after_s, 3 * c.period_s);
   if (const toml::table* t = r.Table("limits")) {
     TomlTableReader m(*t, source, "limits");
     m.Double("max_correction_um", o.shaper.max_correction_um, 0, 1e5);
@@ -90,6 +97,7 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
     m.Double("max_rate_c_per_s", o.sensor.max_rate_c_per_s, 0, 1e3);
     m.Double("rate_allowance_c", o.sensor.rate_allowance_c, 0, 100);
     m.Double("hold_last_good_s", o.sensor.hold_last_good_s, 0, 1e6);
+    m.Double("stale_after_s", o.sensor.stale_after_s, 1e-3, 1e6);
     const int fb = m.Choice("fallback", {"geometric", "zero"});
     if (fb >= 0) o.sensor.fallback = fb == 0 ? SensorFallback::kGeometricOnly : SensorFallback::kZero;
     m.RejectUnknown();
@@ -101,6 +109,10 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
     const int lp = m.Choice("loss_policy", {"hold", "ramp_to_zero"});
     if (lp >= 0) o.link_loss = lp == 0 ? LinkLossPolicy::kHold : LinkLossPolicy::kRampToZero;
     m.Int("recovery_cycles", o.link_recovery_cycles, 1, 100000);
+    m.Double("stale_after_s", o.link_stale_after_s, 1e-3, 1e6);
+    if (t->contains("stale_after_s") && o.link_stale_after_s < 2 * c.period_s)
+      m.Fail("stale_after_s", t->get("stale_after_s"),
+             fmt::format("must be at least twice the loop period ({} s): every CNC snapshot would be stale", c.period_s));
     m.Bool("follow_cnc_enable", o.follow_cnc_enable);
     m.Bool("direction_only_while_moving", o.direction_only_while_moving);
     m.RejectUnknown();

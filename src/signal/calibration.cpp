@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/json_text.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/text_file.hpp"
@@ -209,12 +210,7 @@ std::string CalibrationSetToJson(const CalibrationSet& set) {
 }
 
 CalibrationSet CalibrationSetFromJson(std::string_view text, const std::string& source) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(source, 0, "", std::string("not valid JSON: ") + e.what());
-  }
+  nlohmann::json j = ParseJsonOrThrow(text, source);
   if (!j.is_object() || j.value("format", "") != "trueaxis-calibration")
     throw InputError(source, 0, "format", "not a trueaxis calibration file (expected \"format\": \"trueaxis-calibration\")");
   if (!j.contains("version") || !j["version"].is_number_integer() || j["version"].get<int>() != 1)

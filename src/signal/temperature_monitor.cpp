@@ -21,6 +21,7 @@ bool FaultOptions::IsValid(std::string* why) const {
   if (!(others_moving_c > stuck_band_c)) return fail("others_moving_c must be greater than stuck_band_c");
   if (!(max_disagreement_c > 0)) return fail("max_disagreement_c must be > 0");
   if (!(reset_filter_after_s > 0)) return fail("reset_filter_after_s must be > 0");
+  if (!(restart_after_gap_s > 0)) return fail("restart_after_gap_s must be > 0");
   if (!(stale_after_s >= 0)) return fail("stale_after_s must be >= 0");
   if (confirm_samples < 1) return fail("confirm_samples must be >= 1");
   if (recover_samples < 1) return fail("recover_samples must be >= 1");
@@ -125,7 +126,7 @@ ChannelStatus TemperatureMonitor::DetectInstant(Channel& ch, const hw::RawTemper
   double dt = 0;
   if (!std::isnan(ch.last_fed_time_s)) {
     dt = time_s - ch.last_fed_time_s;
-    if (missed_samples && dt > f.reset_filter_after_s) {
+    if ((missed_samples && dt > f.reset_filter_after_s) || dt > f.restart_after_gap_s) {
       ch.filter.Reset();
       ch.last_filtered_c = ChannelReading::kNaN;
       dt = 0;

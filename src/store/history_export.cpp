@@ -16,6 +16,7 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/store/time_text.hpp"
 
 namespace trueaxis::store {
@@ -46,16 +47,6 @@ std::string ExportResult::BriefReport() const {
 }
 
 namespace {
-
-std::string CsvField(std::string_view s) {
-  if (s.find_first_of(",\"\n\r") == std::string_view::npos) return std::string(s);
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
-}
 
 std::string Num(double v) { return std::isfinite(v) ? FormatShortest(v) : ""; }
 

@@ -4,6 +4,7 @@
 
 #include "json_fields.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/json_text.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/thermal/hysteresis_model.hpp"
 #include "trueaxis/thermal/lagged_inputs.hpp"
@@ -72,15 +73,7 @@ std::unique_ptr<ThermalErrorModel> ThermalModelFromJson(const nlohmann::json& do
 
 std::unique_ptr<ThermalErrorModel> ReadThermalModelFile(const std::string& path) {
   const std::string text = ReadTextFile(path);
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // byte offset -> line number for the message
-    int line = 1;
-    for (std::size_t i = 0; i < e.byte && i < text.size(); ++i) line += text[i] == '\n' ? 1 : 0;
-    throw InputError(path, line, "", std::string("not valid JSON: ") + e.what());
-  }
+  const nlohmann::json doc = ParseJsonOrThrow(text, path);
   if (doc.contains("model") && doc["model"].is_object()) return ThermalModelFromJson(doc["model"], path);
   return ThermalModelFromJson(doc, path);
 }

@@ -3,6 +3,8 @@
 #include <filesystem>
 
 #include <gtest/gtest.h>
+
+#include "support/shared_data.hpp"
 #include <nlohmann/json.hpp>
 
 #include "test_util.hpp"
@@ -24,6 +26,8 @@ std::string Q(const std::string& s) { return "'" + s + "'"; }
 }  // namespace
 
 TEST(AnalyzeCli, JsonHasEveryContractKey) {
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(kFatSat);
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(kMcu);
   for (const auto& file : {kFatSat, kMcu, kExample}) {
     const auto r = RunCli("analyze " + Q(file) + " --json");
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -43,6 +47,7 @@ TEST(AnalyzeCli, JsonHasEveryContractKey) {
 }
 
 TEST(AnalyzeCli, EcmcNumbersMatchTheLibrary) {
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(kMcu);
   const auto j = nlohmann::json::parse(RunCli("analyze " + Q(kMcu) + " --json").out);
   EXPECT_EQ(j["positions"], 5);
   EXPECT_EQ(j["runs"], 5);
@@ -65,6 +70,8 @@ TEST(AnalyzeCli, StandardsChangeTheCoverageFactor) {
 }
 
 TEST(AnalyzeCli, TextTableDecompositionCompareAndReport) {
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(kFatSat);
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(kMcu);
   const auto html = (std::filesystem::temp_directory_path() / "trueaxis_analyze_cli_test.html").string();
   std::filesystem::remove(html);
   // Compared with itself: the same test, so the comparison is allowed and every change is 0.

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/shared_data.hpp"
+
 #include "test_util.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/measure/ecmc_dat.hpp"
@@ -200,6 +202,7 @@ INSTANTIATE_TEST_SUITE_P(Seeds, EvaluationProperties, ::testing::Range(0, 40));
 // the expected value is recomputed from the peer's own printed per-target
 // tables: docs/analysis.md explains each case.
 TEST(EvaluateEcmc, FatSatAgainstPeerReport) {
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(std::string(TRUEAXIS_SHARED_DATA_DIR) + "/ecmc/fat_sat_test.dat");
   const auto m = measure::ReadEcmcDat(std::string(TRUEAXIS_SHARED_DATA_DIR) + "/ecmc/fat_sat_test.dat");
   const auto ev = Evaluate(m);
   const auto& a = ev.axis;
@@ -223,6 +226,7 @@ TEST(EvaluateEcmc, FatSatAgainstPeerReport) {
 }
 
 TEST(EvaluateEcmc, Mcu1025AgainstPeerReport) {
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(std::string(TRUEAXIS_SHARED_DATA_DIR) + "/ecmc/mcu1025_fat_sat.dat");
   const auto m = measure::ReadEcmcDat(std::string(TRUEAXIS_SHARED_DATA_DIR) + "/ecmc/mcu1025_fat_sat.dat");
   const auto ev = Evaluate(m);
   const auto& a = ev.axis;

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/shared_data.hpp"
+
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
@@ -30,6 +32,7 @@ void ExpectError(const std::string& text, int line, const std::string& field, co
 }  // namespace
 
 TEST(EcmcDat, ReadsFatSatWithItsQuirks) {
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(kDir + "fat_sat_test.dat");
   const auto m = measure::ReadEcmcDat(kDir + "fat_sat_test.dat");
   EXPECT_EQ(m.points.size(), 50u);
   EXPECT_EQ(m.Runs().size(), 5u);
@@ -60,6 +63,7 @@ TEST(EcmcDat, ReadsFatSatWithItsQuirks) {
 }
 
 TEST(EcmcDat, ReadsMcu1025) {
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(kDir + "mcu1025_fat_sat.dat");
   const auto m = measure::ReadEcmcDat(kDir + "mcu1025_fat_sat.dat");
   EXPECT_EQ(m.points.size(), 50u);
   EXPECT_EQ(m.Targets().front(), 15);
@@ -109,6 +113,7 @@ TEST(EcmcDat, BadInputsNameLineAndField) {
 }
 
 TEST(MeasurementFile, DetectsFormatByContentThenExtension) {
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(kDir + "fat_sat_test.dat");
   using measure::DetectMeasurementFormat;
   using measure::MeasurementFormat;
   EXPECT_EQ(DetectMeasurementFormat("x.txt", "TEST_DATA=# hi\n"), MeasurementFormat::kEcmcDat);
@@ -122,6 +127,7 @@ TEST(MeasurementFile, DetectsFormatByContentThenExtension) {
 }
 
 TEST(EcmcDat, ConvertsLosslesslyToCanonicalCsv) {
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(kDir + "mcu1025_fat_sat.dat");
   const auto m = measure::ReadEcmcDat(kDir + "mcu1025_fat_sat.dat");
   const auto back = measure::ParseMeasurementCsv(measure::FormatMeasurementCsv(m), "round.csv");
   ASSERT_EQ(back.points.size(), m.points.size());

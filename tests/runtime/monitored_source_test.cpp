@@ -1,4 +1,5 @@
-#include "trueaxis/runtime/monitored_temperature_source.hpp"
+// The one temperature pipeline (signal::MonitoredTemperatureSource) in front of the compensator.
+#include "trueaxis/signal/monitored_temperature_source.hpp"
 
 #include <cmath>
 
@@ -12,8 +13,9 @@ namespace {
 using testing::FakeCnc;
 using testing::FakeTemps;
 using testing::TestModel;
+using signal::MonitoredTemperatureSource;
 
-TEST(MonitoredTemperatureSource, FiltersSpikesAndFlagsFaultsForTheCompensator) {
+TEST(SignalChainInFrontOfTheCompensator, FiltersSpikesAndFlagsFaultsForTheCompensator) {
   FakeTemps raw({"ambient", "nut", "bearing"}, 20.0);
   double now = 0;
   MonitoredTemperatureSource mon(raw, signal::MonitorOptions{}, [&] { return now; });
@@ -48,7 +50,7 @@ TEST(MonitoredTemperatureSource, FiltersSpikesAndFlagsFaultsForTheCompensator) {
   EXPECT_NE(mon.monitor().reading(1).status, signal::ChannelStatus::kOk);
 }
 
-TEST(MonitoredTemperatureSource, SourceFailureIsPassedOn) {
+TEST(SignalChainInFrontOfTheCompensator, SourceFailureIsPassedOn) {
   FakeTemps raw({"nut"}, 20.0);
   double now = 0;
   MonitoredTemperatureSource mon(raw, signal::MonitorOptions{}, [&] { return now; });

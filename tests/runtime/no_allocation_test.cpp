@@ -14,7 +14,7 @@
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
-#include "trueaxis/runtime/monitored_temperature_source.hpp"
+#include "trueaxis/signal/monitored_temperature_source.hpp"
 
 namespace {
 std::atomic<bool> g_counting{false};
@@ -107,7 +107,7 @@ TEST(NoAllocation, SignalProcessingInFrontOfTheCompensatorAllocatesNothing) {
   FakeCnc cnc({"X"});
   FakeTemps raw({"ambient", "nut", "bearing"}, 20.0);
   double now = 0;
-  MonitoredTemperatureSource temps(raw, signal::MonitorOptions{}, [&] { return now; });
+  signal::MonitoredTemperatureSource temps(raw, signal::MonitorOptions{}, [&] { return now; });
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   comp->PublishModel(TestModel(1.0, {"X"}), "a");
   for (int c = 0; c < 100; ++c) comp->RunCycle(cnc, temps, now += 0.01);

@@ -102,6 +102,21 @@ TEST(RunConfig, MinimalModbusConfigGetsDefaults) {
   EXPECT_EQ(c.model_file, "/m.json");
   EXPECT_DOUBLE_EQ(c.period_s, 0.01);
   EXPECT_EQ(c.compensator.link_loss, LinkLossPolicy::kHold);
+  EXPECT_TRUE(c.signal_processing);  // the temperature pipeline is on unless switched off
+  EXPECT_DOUBLE_EQ(c.temperature_period_s, 0.1);
+  EXPECT_DOUBLE_EQ(c.compensator.link_stale_after_s, 0.25);
+}
+
+TEST(RunConfig, StalenessLimitsFollowTheLoopPeriod) {
+  const std::string head = "[machine]\nkind = \"modbus\"\n[model]\nfile = \"/m.json\"\n";
+  const RunConfig slow = ParseRunConfig(head + "[loop]\nperiod_s = 0.5\n", "run.toml");
+  EXPECT_DOUBLE_EQ(slow.compensator.link_stale_after_s, 1.5);  // 3 periods when not given
+  EXPECT_DOUBLE_EQ(slow.temperature_period_s, 0.5);            // never more often than the loop
+  const RunConfig given = ParseRunConfig(
+      head + "[loop]\ntemperature_period_s = 1\n[link]\nstale_after_s = 0.05\n[sensor_fault]\nstale_after_s = 9\n", "run.toml");
+  EXPECT_DOUBLE_EQ(given.temperature_period_s, 1.0);
+  EXPECT_DOUBLE_EQ(given.compensator.link_stale_after_s, 0.05);
+  EXPECT_DOUBLE_EQ(given.compensator.sensor.stale_after_s, 9);
 }
 
 void ExpectError(const std::string& text, int line, const std::string& field, const std::string& words) {
@@ -129,7 +144,9 @@ TEST(RunConfig, BadInputNamesLineAndField) {
   ExpectError("[machine]\nkind = \"modbus\"\n", 1, "model", "missing");
   ExpectError("[machine]\nkind = \"modbus\"\n[model]\nfile = \"m.json\"\nextra = 1\n", 5, "model.extra", "unknown key");
   ExpectError("[machine\nkind = 1\n", 1, "", "");
-  ExpectError(head + "[signal]\ncalibration = \"c.json\"\n", 6, "signal.calibration", "enabled = true");
+  ExpectError(head + "[loop]\nperiod_s = 0.1\n[link]\nstale_after_s = 0.1\n", 8, "link.stale_after_s", "twice the loop period");
+  // the pipeline is on by default; switched off, a calibration file has nothing to apply it
+  ExpectError(head + "[signal]\nenabled = false\ncalibration = \"c.json\"\n", 7, "signal.calibration", "enabled = true");
 }
 
 }  // namespace

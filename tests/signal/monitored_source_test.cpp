@@ -3,23 +3,15 @@
 #include <gtest/gtest.h>
 
 #include "alloc_counter.hpp"
+#include "support/mock_hardware.hpp"
 #include "synthetic.hpp"
 
 namespace trueaxis::signal {
 namespace {
 
-// A scripted source: values set by the test, optional link failure.
-class ScriptedSource : public hw::TemperatureSource {
- public:
-  std::vector<hw::RawTemperature> values = {{20.0, false}, {25.0, false}};
-  bool link_ok = true;
-  std::size_t ChannelCount() const override { return values.size(); }
-  std::string ChannelName(std::size_t c) const override { return c == 0 ? "ambient" : "x_nut"; }
-  bool Read(std::span<hw::RawTemperature> out) override {
-    if (!link_ok) return false;
-    for (std::size_t i = 0; i < values.size(); ++i) out[i] = values[i];
-    return true;
-  }
+// The shared mock hardware as a scripted source: values set by the test, optional link failure.
+struct ScriptedSource : trueaxis::testing::MockTemperatures {
+  ScriptedSource() : MockTemperatures({"ambient", "x_nut"}, 20.0) { values[1].temp_c = 25.0; }
 };
 
 TEST(MonitoredTemperatureSource, DeliversFilteredCalibratedValuesAndFlagsFaults) {
@@ -46,7 +38,7 @@ TEST(MonitoredTemperatureSource, DeliversFilteredCalibratedValuesAndFlagsFaults)
   EXPECT_NEAR(out[1].temp_c, good, 0.05);
   EXPECT_EQ(source.monitor().reading(1).status, ChannelStatus::kOverRange);
   // Link loss: Read() false, out untouched; after stale_after_s the monitor says no_data.
-  inner.link_ok = false;
+  inner.fail = true;
   const auto before = out;
   EXPECT_FALSE(source.Read(out));
   EXPECT_EQ(out[0].temp_c, before[0].temp_c);
@@ -63,7 +55,7 @@ TEST(MonitoredTemperatureSource, ReadAllocatesNothing) {
   for (int i = 0; i < 10; ++i, now += 0.01) source.Read(out);
   const long before = trueaxis::testing::AllocationCount();
   for (int i = 0; i < 5000; ++i, now += 0.01) {
-    inner.link_ok = i % 100 != 0;
+    inner.fail = i % 100 == 0;
     source.Read(out);
   }
   EXPECT_EQ(trueaxis::testing::AllocationCount() - before, 0);

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/shared_data.hpp"
+
 #include "support/cli_runner.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
@@ -41,6 +43,7 @@ TEST(ReadingsCsv, ParsesSelectsAndRejectsBadInput) {
 // a healthy recording must not be called faulty, and the filter must not
 // distort it (its sensors are already smooth).
 TEST(OfflineFilter, RealSpindleRecordingIsHealthy) {
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(kFlThermal);
   std::vector<std::string> channels;
   for (int i = 1; i <= 16; ++i) channels.push_back("t" + std::to_string(i) + "_C");
   const auto table = ReadReadingsCsv(kFlThermal, channels);
@@ -81,6 +84,7 @@ TEST(OfflineFilter, InjectedFaultsAreReported) {
 }
 
 TEST(SignalCli, FilterAndConvert) {
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(kFlThermal);
   const auto dir = std::filesystem::temp_directory_path() / ("trueaxis_sigcli_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   auto r = testing::RunCli("signal filter --in " + kFlThermal + " --channels t1_C,t2_C,t3_C --groups 't1_C,t2_C,t3_C' --out " +

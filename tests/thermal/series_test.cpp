@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/shared_data.hpp"
+
 #include "test_util.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/thermal/series_cleaning.hpp"
@@ -77,6 +79,7 @@ TEST(ThermalSeriesCsv, BadInputNamesLineAndField) {
 }
 
 TEST(FlThermal, ImportsAllRowsAndColumns) {
+  TRUEAXIS_SKIP_WITHOUT_SHARED_FILE(std::string(TRUEAXIS_SHARED_DATA_DIR) + "/fl_thermal/fl_thermal.csv");
   ThermalSeries s = ImportFlThermalCsv(std::string(TRUEAXIS_SHARED_DATA_DIR) + "/fl_thermal/fl_thermal.csv");
   EXPECT_EQ(s.Rows(), 11115);
   EXPECT_EQ(s.temperature_names.size(), 16u);

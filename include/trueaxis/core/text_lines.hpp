@@ -35,6 +35,11 @@ class LineCursor {
 // view excludes the quotes.
 std::vector<std::string_view> SplitCsvFields(std::string_view line);
 
+// One field for a CSV file, quoted as RFC 4180 says when it holds a comma, a
+// double quote (doubled inside), or a line break ('\n' or '\r'); as is otherwise.
+// The inverse of SplitCsvFields for every writer (history export, `history query`).
+std::string CsvField(std::string_view field);
+
 // The CSV text in trueaxis's canonical dialect: a file whose header is
 // separated by ';' (a German or Chinese locale's Excel export) has its ';'
 // turned into ',' and its decimal commas into points, comment lines untouched.

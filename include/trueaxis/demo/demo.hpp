@@ -51,7 +51,11 @@ struct DemoOptions {
   // the compensator on ModbusCncLink / ModbusTemperatureSource. Each cycle is a
   // few real TCP round trips, so use a longer period (the CLI defaults to 100 ms).
   bool modbus = false;
-  int modbus_port = 0;             // 0: the first free port from 15020 up
+  int modbus_port = 0;
+  // The temperature pipeline (signal::MonitoredTemperatureSource: spike rejection, median and
+  // low-pass filter, fault status with the compensator's limits) in front of the compensator, as
+  // in `trueaxis run`. false: raw readings (for comparison).
+  bool signal_processing = true;             // 0: the first free port from 15020 up
   int day_offset = 30;             // the working day: days after the campaign's first day
   int other_day_offset = 250;      // "another day"
   std::function<void(const std::string&)> progress;  // one line per step (stderr in the CLI)

@@ -44,6 +44,11 @@ class ModbusCncLink final : public hw::CncLink {
   bool WriteCompensation(std::span<const double> correction_um) override;
 
   // Tries to connect now (ignores the reconnect throttle's first wait).
+  // hw lifecycle: Configure checks the options; Activate connects (false while the terminal is not
+  // reachable — Read/Write then retry on their own); Deactivate closes the connection.
+  bool Configure(std::string* error) override;
+  bool Activate(std::string* error) override;
+  void Deactivate() override;
   bool Connect();
   bool connected() const { return connection_.connected(); }
   const std::string& last_error() const { return error_.empty() ? connection_.last_error() : error_; }

@@ -20,6 +20,10 @@
 
 namespace trueaxis::drivers {
 
+// The unit ids of the RTD modules holding `channel_count` channels, adam6015::kChannelCount per
+// module, numbered from `first_unit_id` (the layout ModbusMachineServer serves).
+std::vector<int> RtdModuleUnitIds(int first_unit_id, std::size_t channel_count);
+
 struct ModbusTemperatureSourceOptions {
   ModbusEndpoint endpoint;
   std::vector<int> unit_ids = {2};          // one per ADAM-6015
@@ -37,6 +41,11 @@ class ModbusTemperatureSource final : public hw::TemperatureSource {
   std::string ChannelName(std::size_t channel) const override { return options_.channel_names.at(channel); }
   bool Read(std::span<hw::RawTemperature> out) override;
 
+  // hw lifecycle: Configure checks the options; Activate connects (false while the terminal is not
+  // reachable — Read/Write then retry on their own); Deactivate closes the connection.
+  bool Configure(std::string* error) override;
+  bool Activate(std::string* error) override;
+  void Deactivate() override;
   bool Connect();
   bool connected() const { return connection_.connected(); }
   const std::string& last_error() const { return error_.empty() ? connection_.last_error() : error_; }

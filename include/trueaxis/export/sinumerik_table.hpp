@@ -44,4 +44,9 @@ std::string SinumerikMachineData(const CompensationTable& table, const Sinumerik
 
 CompensationTable ReadSinumerikEec(std::string_view text, const std::string& source);
 
+// The LEC value the table applies at its reference point (forward, with the frozen thermal part and
+// half the backlash, as the control applies it), µm; Siemens recommends 0 there so that nothing
+// jumps when LEC activates after referencing. NaN when the reference lies outside the table.
+double SinumerikValueAtReferenceUm(const CompensationTable& table);
+
 }  // namespace trueaxis::exporter

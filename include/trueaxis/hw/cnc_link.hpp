@@ -15,6 +15,8 @@
 #include <span>
 #include <string>
 
+#include "trueaxis/hw/lifecycle.hpp"
+
 #include "trueaxis/core/coolant.hpp"
 
 namespace trueaxis::hw {
@@ -31,7 +33,7 @@ struct CncState {
   bool compensation_enabled = false;  // the CNC-side enable (parameter / PMC bit)
 };
 
-class CncLink {
+class CncLink : public HardwareLifecycle {
  public:
   virtual ~CncLink() = default;
   virtual std::size_t AxisCount() const = 0;

@@ -7,6 +7,8 @@
 #include <span>
 #include <string>
 
+#include "trueaxis/hw/lifecycle.hpp"
+
 namespace trueaxis::hw {
 
 struct RawTemperature {
@@ -14,7 +16,7 @@ struct RawTemperature {
   bool hardware_fault = false; // the device itself flags the channel (open wire, burn-out, over range)
 };
 
-class TemperatureSource {
+class TemperatureSource : public HardwareLifecycle {
  public:
   virtual ~TemperatureSource() = default;
   virtual std::size_t ChannelCount() const = 0;

@@ -87,6 +87,10 @@ struct FitOptions {
   // Used when a file has no `# axis:` line (empty: such a file is an error).
   std::string default_axis;
 
+  // Stamped into the model as created_utc: the caller's clock (the fit itself reads none, so the
+  // same inputs give the same model). Empty: left empty.
+  std::string created_utc;
+
   bool IsValid(std::string* why) const;
 };
 

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "trueaxis/model/axis_error_model.hpp"
 #include "trueaxis/model/composite_model.hpp"
 #include "trueaxis/runtime/axis_interface.hpp"
 
@@ -28,6 +29,9 @@ struct BoundAxis {
   model::AxisModel model;           // copy, with Px overridden by the AxisInterface if set
   std::vector<int> key_channel;     // per model key sensor: channel index
   int ambient_channel = -1;         // -1: no ambient adjustment
+  // Or a model behind the generic interface (PublishAxisModels), with a channel per Sensors().
+  std::shared_ptr<const model::AxisErrorModel> generic;
+  std::vector<int> generic_channel;
 };
 
 struct BoundModel {
@@ -36,6 +40,14 @@ struct BoundModel {
   std::uint64_t id = 0;             // increases with every bind of one Compensator
   std::vector<BoundAxis> axes;      // parallel to the CNC link's axes
 };
+
+// Binds models behind the generic interface, one per CNC axis at most (matched by Axis()); axes
+// without one get no model. Throws InputError(label, ...) on a sensor that maps to no channel,
+// more than kMaxKeySensors sensors, or two models for one axis.
+std::unique_ptr<BoundModel> BindAxisModels(std::vector<std::shared_ptr<const model::AxisErrorModel>> models,
+                                           const std::string& label, const std::vector<AxisInterface>& axes,
+                                           const std::vector<std::string>& channel_names,
+                                           const std::map<std::string, std::string>& channel_map);
 
 // Throws InputError(label, ...) on a sensor that maps to no channel, or more
 // than kMaxKeySensors key sensors.

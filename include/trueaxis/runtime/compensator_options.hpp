@@ -30,6 +30,9 @@ struct SensorFaultPolicy {
   double rate_allowance_c = 0.5;
   // A faulty channel keeps its last good value this long, then counts as lost.
   double hold_last_good_s = 60;
+  // A temperature snapshot older than this (the temperature worker is stuck on a
+  // dead terminal) is treated as a failed read: channels are held, then lost.
+  double stale_after_s = 5;
   SensorFallback fallback = SensorFallback::kGeometricOnly;
 
   bool IsValid(std::string* why) const;
@@ -42,6 +45,10 @@ struct CompensatorOptions {
   // After a link loss, this many consecutive good reads before the
   // correction follows the model again (from where the CNC was left, ramped).
   int link_recovery_cycles = 3;
+  // A CNC snapshot older than this (the CNC worker is stuck on a socket) is a
+  // link loss, handled by `link_loss` through the limiter. With I/O workers the
+  // loop period must be at most half of it (LoopRunner checks).
+  double link_stale_after_s = 0.25;
   // Ramp to zero while the CNC reports its compensation input disabled, so
   // that enabling it on the CNC never applies a stale value at once.
   bool follow_cnc_enable = true;

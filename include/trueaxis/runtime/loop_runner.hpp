@@ -1,41 +1,55 @@
 #pragma once
-// LoopRunner: runs Compensator::RunCycle against a CNC link and a
-// temperature source, either
-//  * in real time on its own thread, one cycle per `period_s` (absolute
-//    deadlines on the steady clock; a cycle finishing after the next
-//    deadline is an overrun, counted, and missed deadlines are skipped, never
-//    caught up in a burst), or
+// LoopRunner: runs the compensator's cycle, with its I/O phases, either
+//  * in real time: the step on its own thread every `period_s`
+//    (PeriodicThread: absolute deadlines, overruns counted, missed deadlines
+//    skipped). For real hardware the I/O runs on two I/O workers with their own
+//    rates — the CNC worker every `period_s` (write the latest command, read
+//    the window), the temperature worker every `temperature_period_s` — each
+//    handing the step its latest snapshot through a wait-free LatestValue. The
+//    step never waits on a socket: a stalled or flapping terminal only makes the
+//    snapshots old, which the step treats as a fault through the limiter
+//    (docs/runtime.md, *Timing contract*). For an in-process plant
+//    (SetPlantAdvance: the virtual machine, moved on by the loop) the I/O
+//    phases run inline on the loop thread: they never block, and the plant is
+//    touched by one thread only;
 //  * in simulated time on the caller's thread (StepSimulated): before each
-//    cycle the plant (e.g. the virtual machine) advances by one period, so a
-//    working day at 10 ms runs in seconds.
+//    cycle the plant advances by one period, the I/O phases run inline
+//    (temperatures at their own rate in simulated time), so a working day at
+//    10 ms runs in seconds.
 //
 // An optional CycleObserver sees every CycleStatus on the loop's thread; it
 // must be as real-time safe as the cycle itself in real-time mode (e.g. push
 // into a preallocated ring, see CycleRecorder).
 #include <atomic>
-#include <mutex>
-#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <string>
-#include <thread>
 
 #include "trueaxis/hw/cnc_link.hpp"
 #include "trueaxis/hw/temperature_source.hpp"
 #include "trueaxis/runtime/compensator.hpp"
+#include "trueaxis/runtime/io_snapshot.hpp"
+#include "trueaxis/runtime/latest_value.hpp"
+#include "trueaxis/runtime/periodic_thread.hpp"
 
 namespace trueaxis::runtime {
 
 struct LoopOptions {
   double period_s = 0.010;
+  // Temperatures change over seconds: they are read at this interval (10 Hz by default; never
+  // more often than once per cycle).
+  double temperature_period_s = 0.1;
   bool IsValid(std::string* why) const;
 };
 
 struct LoopStats {
   std::uint64_t cycles = 0;
   std::uint64_t overruns = 0;
-  double max_cycle_s = 0;   // longest RunCycle (+observer) duration
+  double max_cycle_s = 0;   // longest cycle (step + observer, + inline I/O for an in-process plant)
   double mean_cycle_s = 0;
+  bool io_workers = false;  // the I/O ran on its own workers
+  PeriodicStats cnc_io;     // the CNC worker's calls (write + read), when io_workers
+  PeriodicStats temperature_io;
   std::string BriefReport() const;
 };
 
@@ -47,20 +61,22 @@ class CycleObserver {
 
 class LoopRunner {
  public:
+  // Throws std::invalid_argument on invalid options.
   LoopRunner(Compensator& compensator, hw::CncLink& link, hw::TemperatureSource& source, LoopOptions options,
              CycleObserver* observer = nullptr);
-  ~LoopRunner();  // stops the thread
+  ~LoopRunner();  // stops the threads
   LoopRunner(const LoopRunner&) = delete;
   LoopRunner& operator=(const LoopRunner&) = delete;
 
-  // Real-time mode. `SetPlantAdvance` (before Start) installs a hook called
-  // on the loop thread before each cycle with the period, e.g. to move an
-  // in-process virtual machine on in step with the loop (no lock needed: only
-  // the loop thread touches it).
+  // Real-time mode with an in-process plant: `advance(dt_s)` is called on the loop thread before
+  // each cycle (e.g. to move the virtual machine on in step with the loop); the I/O phases then
+  // run inline on the loop thread. Call before Start.
   void SetPlantAdvance(std::function<void(double dt_s)> advance) { plant_advance_ = std::move(advance); }
+  // Throws std::invalid_argument when the period is too long for the staleness limit
+  // (period_s > link_stale_after_s / 2 with I/O workers).
   void Start();
-  void Stop();  // idempotent; joins
-  bool Running() const { return running_.load(); }
+  void Stop();  // idempotent; joins (an I/O worker blocked on a socket returns at its timeout)
+  bool Running() const { return loop_.Running(); }
 
   // Simulated-time mode (do not mix with Start on the same runner while running).
   // Runs `cycles` cycles; before each, `advance(period_s)` moves the plant on.
@@ -75,8 +91,11 @@ class LoopRunner {
   LoopStats Stats() const;
 
  private:
-  void ThreadMain();
-  void Account(double cycle_s, bool overrun);
+  double Now() const;
+  void InlineCycle(double now_s);     // I/O phases inline around the step
+  void SteppingCycle(double now_s);   // the step on the workers' latest snapshots
+  void CncWorkerCall();               // write the latest command, read the window, publish
+  void TemperatureWorkerCall();       // read the temperatures, publish
 
   Compensator& compensator_;
   hw::CncLink& link_;
@@ -84,19 +103,32 @@ class LoopRunner {
   LoopOptions options_;
   CycleObserver* observer_;
   std::function<void(double)> plant_advance_;
-  std::thread thread_;
-  std::atomic<bool> running_{false};
-  std::atomic<bool> stop_{false};
-  // The loop waits for its next deadline here, so Stop() wakes it at once
-  // instead of after up to a whole period (10 s periods made SIGINT wait).
-  std::mutex wake_mu_;
-  std::condition_variable wake_cv_;
+  PeriodicThread::Clock::time_point epoch_;
+
+  // Inline I/O (simulated time, in-process plant).
+  TemperatureSnapshot temperatures_;
+  CncSnapshot cnc_;
+  std::uint64_t temperature_reads_ = 0;
+  std::uint64_t cnc_reads_ = 0;
+  double last_temperature_read_s_ = 0;
+
+  // I/O workers.
+  LatestValue<TemperatureSnapshot> temperature_slot_;
+  LatestValue<CncSnapshot> cnc_slot_;
+  LatestValue<CncCommand> command_slot_;
+  // CNC worker: the last command tried, its result, the last command the CNC accepted.
+  std::uint64_t attempted_sequence_ = 0;
+  bool write_failed_ = false;
+  std::uint64_t written_sequence_ = 0;
+  std::uint64_t worker_temperature_reads_ = 0;
+  std::uint64_t worker_cnc_reads_ = 0;
+  std::atomic<bool> io_workers_{false};
+
+  PeriodicThread loop_;
+  PeriodicThread cnc_worker_;
+  PeriodicThread temperature_worker_;
   std::uint64_t sim_cycles_ = 0;
   double sim_pause_s_ = 0;
-  std::atomic<std::uint64_t> cycles_{0};
-  std::atomic<std::uint64_t> overruns_{0};
-  std::atomic<double> max_cycle_s_{0};
-  std::atomic<double> total_cycle_s_{0};
 };
 
 }  // namespace trueaxis::runtime

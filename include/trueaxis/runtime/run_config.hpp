@@ -45,12 +45,13 @@ struct RunConfig {
   std::string model_file;
   bool model_reload = true;     // watch the model file and swap a changed model in without stopping
   double period_s = 0.010;
+  double temperature_period_s = 0.1;  // the temperature worker's interval (temperatures change over seconds)
   double duration_s = 0;        // 0: until SIGINT/SIGTERM
   CompensatorOptions compensator;
   std::vector<AxisInterface> axes;
   // Seed 000's temperature signal processing in front of the compensator
-  // (MonitoredTemperatureSource: calibration, filtering, fault status).
-  bool signal_processing = false;
+  // (signal::MonitoredTemperatureSource: calibration, filtering, fault status); on by default.
+  bool signal_processing = true;
   std::string calibration_file;  // signal::CalibrationSet JSON (trueaxis calibrate), "" = none
   std::string history_db;       // SQLite history store ("" = none)
   std::string log_csv;          // CSV log of decimated cycles ("" = none)

@@ -40,6 +40,10 @@ struct FaultOptions {
   double others_moving_c = 0.3;     // ... while another healthy channel's filtered value moved at least this much
   double max_disagreement_c = 3.0;  // from the median of its neighbour group
   double reset_filter_after_s = 10.0;  // a channel that missed samples (fault) for this long restarts its filter
+  // No sample at all for this long (the machine or the reader was switched off): the filter
+  // restarts at the next sample, whose value is then taken as it is — a median window of
+  // yesterday's values would reject today's first readings as spikes and hold the old value.
+  double restart_after_gap_s = 600.0;
   double stale_after_s = 2.0;       // MarkSourceFailed: no data this long -> no_data
   int confirm_samples = 3;
   int recover_samples = 20;

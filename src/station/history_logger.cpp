@@ -1,8 +1,8 @@
-#include "trueaxis/runtime/history_logger.hpp"
+#include "trueaxis/station/history_logger.hpp"
 
 #include <fmt/format.h>
 
-namespace trueaxis::runtime {
+namespace trueaxis::station {
 
 const char* ChannelHealthName(ChannelHealth h) {
   switch (h) {
@@ -39,4 +39,4 @@ void HistoryLogger::LogModelChange(double time_s, const std::string& sha256, con
   writer_.PushModelChange(time_s + offset_s_, sha256, revision, note);
 }
 
-}  // namespace trueaxis::runtime
+}  // namespace trueaxis::station

@@ -11,7 +11,12 @@
 #include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/store/history_writer.hpp"
 
-namespace trueaxis::runtime {
+namespace trueaxis::station {
+
+using runtime::AlarmNames;
+using runtime::AxisRecord;
+using runtime::ChannelHealth;
+using runtime::CycleRecord;
 
 class HistoryLogger {
  public:
@@ -33,4 +38,4 @@ class HistoryLogger {
 
 const char* ChannelHealthName(ChannelHealth h);
 
-}  // namespace trueaxis::runtime
+}  // namespace trueaxis::station

@@ -1,0 +1,178 @@
+#pragma once
+// The compensation cycle as a pure function (seed 000's 实时补偿模块 + 动态调整模块):
+//
+//   Step(model, state, inputs) → (state', outputs)
+//
+// `model` is what the step computes with (options, per-axis interface, the bound
+// model in force); `state` is everything the cycle remembers from one cycle to the
+// next (StepState: sensor conditioning, link recovery, held directions, the output
+// shaper, and the model-side dynamic state in one sub-struct); `inputs` are the
+// latest I/O snapshots with their age and the enable switches. Step does no I/O,
+// reads no clock, takes no lock and allocates nothing: the same inputs give the
+// same outputs. The I/O phases (io_snapshot.hpp) run around it — inline for an
+// in-process plant, on I/O workers with their own rates for real hardware
+// (LoopRunner) — so the step never waits on a socket (docs/runtime.md).
+//
+// A snapshot older than its limit is a fault handled like a failed read: stale
+// temperatures → the channels are held, then lost (fallback); a stale CNC
+// snapshot → link loss (hold or ramp to zero). Every change of the output goes
+// through the one OutputShaper, so it ramps, never jumps.
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "trueaxis/core/coolant.hpp"
+#include "trueaxis/core/direction.hpp"
+#include "trueaxis/model/composite_model.hpp"
+#include "trueaxis/model/thermal_state.hpp"
+#include "trueaxis/runtime/axis_interface.hpp"
+#include "trueaxis/runtime/bound_model.hpp"
+#include "trueaxis/runtime/compensator_options.hpp"
+#include "trueaxis/runtime/io_snapshot.hpp"
+#include "trueaxis/runtime/output_shaper.hpp"
+
+namespace trueaxis::runtime {
+
+// Alarm bits of one cycle (CycleStatus::alarms). Raised while the condition holds.
+enum Alarm : std::uint32_t {
+  kAlarmSensorHeld = 1u << 0,          // a key/ambient sensor is faulty; its last good value is used
+  kAlarmSensorFallback = 1u << 1,      // a sensor is lost beyond the hold time; fallback active
+  kAlarmTemperatureSource = 1u << 2,   // the temperature source could not be read (failed or stale)
+  kAlarmLinkRead = 1u << 3,            // CNC link read failed, stale or recovering
+  kAlarmLinkWrite = 1u << 4,           // CNC link write failed
+  kAlarmNoModelForAxis = 1u << 5,      // an enabled axis has no model (correction ramps to 0)
+  kAlarmCorrectionClamped = 1u << 6,   // the model asks for more than max_correction_um
+  kAlarmNoModel = 1u << 7,             // no model published yet
+  kAlarmStaleInput = 1u << 8,          // an I/O snapshot is older than its limit (an I/O worker is stuck)
+  kAlarmModelExtrapolated = 1u << 9,   // the temperatures lie beyond the model's fitted envelope: its
+                                       // thermal slope is held at the envelope (model::Prediction::tan_beta_limited)
+};
+std::string AlarmNames(std::uint32_t alarms);  // "sensor_held|link_read", "" when none (not for the RT thread)
+
+enum class ChannelHealth : std::uint8_t { kOk, kHeld, kLost };
+
+struct ChannelStatus {
+  double value_c = 0;      // the value the model used (last good while held; NaN when lost)
+  double raw_c = 0;        // the raw reading of the snapshot in force (NaN when failed or stale)
+  ChannelHealth health = ChannelHealth::kLost;
+};
+
+struct AxisStatus {
+  double cnc_position_mm = 0;   // as read
+  double model_position_mm = 0; // in the model's frame
+  Direction direction = Direction::kForward;  // model used (held while stopped)
+  bool enabled = false;         // effective enable (switches, CNC flag)
+  bool thermal_used = false;
+  model::Prediction prediction; // zero when not evaluated
+  double desired_um = 0;        // target correction (physical µm) before shaping; NaN = hold
+  bool clamped = false;         // desired beyond this axis's bound: the output saturates (alarm raised)
+  double output_um = 0;         // shaped correction, physical µm
+  double written_um = 0;        // value written to the CNC (CNC units: ×2 on diameter axes)
+};
+
+struct CycleStatus {
+  std::uint64_t cycle = 0;
+  double time_s = 0;
+  std::uint32_t alarms = 0;
+  bool link_read_ok = false;
+  bool write_ok = false;
+  bool temperatures_ok = false;
+  double temperature_age_s = 0;  // age of the temperature snapshot in force
+  double cnc_age_s = 0;          // age of the CNC snapshot in force
+  CoolantState coolant = CoolantState::kOff;
+  std::uint64_t model_id = 0;   // 0: none
+  std::span<const AxisStatus> axes;
+  std::span<const ChannelStatus> channels;
+};
+
+// ---- state ----
+
+// Conditioning memory of one temperature channel.
+struct ChannelMemory {
+  double last_good_c = 0;
+  double last_good_time_s = 0;  // sample time of the last good value
+  bool has_good = false;
+  bool valid = false;           // the latest sample conditioned was good
+};
+
+// ALL model-side dynamic state of the cycle (today: the first-order lag of the key
+// temperatures, model::LagStep with AxisModel::key_lag_s), advanced once per cycle
+// by AdvanceModelDynamics — the one place to add further per-axis dynamics
+// (per-sensor lags, a screw-temperature observer, ...).
+struct ModelDynamics {
+  struct Axis {
+    // The model's thermal state (model::AdvanceThermalState: key temperatures lagged and, under a
+    // coolant, drawn to the room — issue 10's coolant memory).
+    model::AxisThermalState thermal;
+    double time_s = 0;                            // time of the last update
+    std::uint64_t model_id = 0;  // model the state belongs to; 0 = restart at the readings
+  };
+  std::vector<Axis> axes;
+};
+
+struct StepState {
+  std::uint64_t cycle = 0;
+  std::vector<ChannelMemory> channels;
+  std::uint64_t temperature_sequence = 0;  // last temperature snapshot conditioned
+  std::uint64_t cnc_sequence = 0;          // last CNC snapshot seen
+  int good_reads_in_row = 0;
+  hw::CncState machine;                    // from the last good CNC read
+  std::vector<Direction> direction;        // per axis, held while stopped
+  std::vector<OutputShaperState> shaper;   // per axis: what the CNC holds
+  // Asynchronous writes: at most one command is outstanding. Its proposal waits here until a
+  // snapshot reports it written (the shaper advances to it) or failed; until then the step hands
+  // out the same command again, so every value written is one step from what the CNC holds.
+  std::vector<OutputShaperState> pending;
+  std::uint64_t outstanding = 0;           // sequence of the outstanding command; 0 = none
+  ModelDynamics dynamics;
+
+  StepState() = default;
+  StepState(std::size_t axis_count, std::size_t channel_count, const CompensatorOptions& options);
+};
+
+// ---- inputs and outputs ----
+
+struct StepInputs {
+  double now_s = 0;                               // loop time of this cycle
+  const TemperatureSnapshot* temperatures = nullptr;
+  const CncSnapshot* cnc = nullptr;
+  bool enabled = true;                            // global switch
+  std::span<const std::uint8_t> axis_enabled;     // per axis switch (empty: all on)
+};
+
+// What the step computes with: fixed per installation, plus the model in force (may be null).
+struct StepModel {
+  const CompensatorOptions& options;
+  std::span<const AxisInterface> axes;
+  const BoundModel* bound = nullptr;
+};
+
+// Sized once; `status` points into `axes` / `channels`.
+struct StepOutputs {
+  std::vector<AxisStatus> axes;
+  std::vector<ChannelStatus> channels;
+  std::vector<OutputShaperState> proposed;  // the shaper state if the command is written
+  CncCommand command;                       // to write (CNC units)
+  CycleStatus status;
+
+  StepOutputs(std::size_t axis_count, std::size_t channel_count);
+  StepOutputs(const StepOutputs&) = delete;
+  StepOutputs& operator=(const StepOutputs&) = delete;
+};
+
+// The cycle. Writes `out` (the command to write; the status with the output the CNC holds) and
+// advances `state`, except the shaper: it advances only once the CNC has accepted a value, so a
+// ramp always continues from what the CNC holds and a failed or late write never makes it jump.
+void Step(const StepModel& model, StepState& state, const StepInputs& inputs, StepOutputs& out);
+// Inline write phase done: the shaper advances to the proposal if the write succeeded.
+void CommitWrite(const StepModel& model, StepState& state, bool write_ok, StepOutputs& out);
+// Asynchronous write phase: the command goes to the CNC worker; its proposal is kept until a
+// later snapshot acknowledges it (Step then advances the shaper to it) or reports it failed.
+void AwaitWrite(const StepModel& model, StepState& state, StepOutputs& out);
+// The model-side dynamics (ModelDynamics) for one cycle; called by Step, once.
+void AdvanceModelDynamics(const BoundModel& bound, std::span<const ChannelStatus> channels, CoolantState coolant,
+                          double now_s, ModelDynamics& dynamics);
+
+}  // namespace trueaxis::runtime

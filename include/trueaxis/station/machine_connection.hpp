@@ -1,0 +1,58 @@
+#pragma once
+// The wiring shared by `trueaxis run`, the demo and `sim serve`: open the
+// hardware a run configuration names (the virtual machine in process, or a CNC
+// terminal + ADAM-6015 RTD modules over MODBUS TCP), and put the one
+// temperature pipeline (signal::MonitoredTemperatureSource, on by default) in
+// front of the compensator. The CLI files only parse options (docs/runtime.md).
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "trueaxis/drivers/modbus_cnc_link.hpp"
+#include "trueaxis/drivers/modbus_temperature_source.hpp"
+#include "trueaxis/hw/cnc_link.hpp"
+#include "trueaxis/hw/temperature_source.hpp"
+#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/signal/monitored_temperature_source.hpp"
+#include "trueaxis/signal/temperature_monitor.hpp"
+#include "trueaxis/sim/virtual_machine.hpp"
+
+namespace trueaxis::station {
+
+// The MODBUS clients of one terminal: the PMC window and the RTD modules
+// (unit ids first_rtd_unit_id, +1, ... one per 7 channels). Not connected yet.
+struct ModbusClients {
+  std::unique_ptr<drivers::ModbusCncLink> cnc;
+  std::unique_ptr<drivers::ModbusTemperatureSource> temperatures;
+};
+// Throws InputError(source, ...) on options the clients refuse. `heartbeat_stale_after_s`: the
+// terminal's heartbeat frozen this long is a link fault.
+ModbusClients MakeModbusClients(const runtime::ModbusConfig& config, const std::string& source,
+                                double heartbeat_stale_after_s = 0.5);
+
+// The fault limits of the temperature pipeline come from the one policy of the configuration
+// ([sensor_fault]): the monitor flags a channel outside [min_valid_c, max_valid_c] or moving
+// faster than max_rate_c_per_s, and the compensator's own check uses the same numbers.
+signal::MonitorOptions MonitorOptionsFor(const runtime::SensorFaultPolicy& policy);
+
+// The hardware behind the loop; owns whichever implementation the config names.
+struct Machine {
+  std::unique_ptr<sim::VirtualMachine> vm;
+  ModbusClients modbus;
+  std::unique_ptr<signal::MonitoredTemperatureSource> monitored;  // the temperature pipeline
+  hw::CncLink* link = nullptr;
+  hw::TemperatureSource* source = nullptr;  // what the compensator reads (the pipeline when on)
+  std::function<void(double)> advance;     // in-process machine: moved on by the loop thread
+  std::string description;
+  std::vector<std::string> warnings;       // e.g. terminal not reachable yet, calibration unmatched
+
+  void Close();  // deactivates the hardware (hw lifecycle); the loop must be stopped
+};
+
+// Opens the machine of `config` — configures and activates its hardware (hw/lifecycle.hpp) — (throws InputError naming the config on bad settings) and, with
+// [signal] enabled (the default), the temperature pipeline in front of it — timed by the machine's
+// clock for the in-process virtual machine, by the steady clock otherwise.
+Machine OpenMachine(const runtime::RunConfig& config);
+
+}  // namespace trueaxis::station

@@ -1,0 +1,295 @@
+#include "trueaxis/runtime/cycle_step.hpp"
+
+#include <cmath>
+
+#include "trueaxis/model/thermal_state.hpp"
+
+namespace trueaxis::runtime {
+
+static_assert(kMaxKeySensors <= model::kMaxStateKeys, "the model's thermal state must hold every key sensor");
+
+std::string AlarmNames(std::uint32_t alarms) {
+  static const char* const kNames[] = {"sensor_held", "sensor_fallback",   "temperature_source",
+                                       "link_read",   "link_write",        "no_model_for_axis",
+                                       "correction_clamped", "no_model", "stale_input", "model_extrapolated"};
+  std::string out;
+  for (std::size_t i = 0; i < std::size(kNames); ++i) {
+    if (alarms & (1u << i)) {
+      if (!out.empty()) out += '|';
+      out += kNames[i];
+    }
+  }
+  return out;
+}
+
+StepState::StepState(std::size_t axis_count, std::size_t channel_count, const CompensatorOptions& options)
+    : channels(channel_count),
+      good_reads_in_row(options.link_recovery_cycles),  // start as if connected; the first read decides
+      direction(axis_count, Direction::kForward),
+      shaper(axis_count),
+      pending(axis_count) {
+  dynamics.axes.resize(axis_count);
+}
+
+StepOutputs::StepOutputs(std::size_t axis_count, std::size_t channel_count)
+    : axes(axis_count), channels(channel_count), proposed(axis_count), command(axis_count) {
+  status.axes = axes;
+  status.channels = channels;
+}
+
+namespace {
+
+// Temperature conditioning: a channel is good when the snapshot is fresh and answered, the device
+// did not flag it, the value is finite, in range and has not moved faster than the rate limit since
+// the last good value. A bad channel keeps its last good value for hold_last_good_s, then is lost.
+// Returns whether the temperature snapshot was usable.
+bool ConditionTemperatures(const SensorFaultPolicy& p, const TemperatureSnapshot* ts, double now_s,
+                           StepState& state, StepOutputs& out, std::uint32_t& alarms) {
+  const bool have = ts && ts->sequence != 0;
+  const bool stale = have && now_s - ts->sampled_at_s > p.stale_after_s;
+  const bool usable = have && ts->ok && !stale;
+  const bool new_sample = usable && ts->sequence != state.temperature_sequence;
+  if (!usable) alarms |= kAlarmTemperatureSource;
+  if (stale) alarms |= kAlarmStaleInput;
+  if (usable) state.temperature_sequence = ts->sequence;
+  for (std::size_t i = 0; i < state.channels.size(); ++i) {
+    ChannelMemory& m = state.channels[i];
+    ChannelStatus& c = out.channels[i];
+    if (!usable) {
+      m.valid = false;
+    } else if (new_sample) {
+      const hw::RawTemperature& r = ts->channels[i];
+      const double t = r.temp_c;
+      bool valid = !r.hardware_fault && std::isfinite(t) && t >= p.min_valid_c && t <= p.max_valid_c;
+      if (valid && m.has_good && p.max_rate_c_per_s > 0) {
+        const double allowed = p.max_rate_c_per_s * (ts->sampled_at_s - m.last_good_time_s) + p.rate_allowance_c;
+        valid = std::fabs(t - m.last_good_c) <= allowed;
+      }
+      if (valid) {
+        m.last_good_c = t;
+        m.last_good_time_s = ts->sampled_at_s;
+        m.has_good = true;
+      }
+      m.valid = valid;
+    }
+    c.raw_c = usable ? ts->channels[i].temp_c : std::nan("");
+    if (m.valid) {
+      c.value_c = m.last_good_c;
+      c.health = ChannelHealth::kOk;
+    } else if (m.has_good && now_s - m.last_good_time_s <= p.hold_last_good_s) {
+      c.value_c = m.last_good_c;
+      c.health = ChannelHealth::kHeld;
+    } else {
+      c.value_c = std::nan("");
+      c.health = ChannelHealth::kLost;
+    }
+  }
+  return usable;
+}
+
+// The CNC snapshot: new reads count towards link recovery; a stale snapshot is a link loss; an
+// acknowledged asynchronous write advances the shaper to what the CNC now holds. Returns "link usable".
+bool TakeCncSnapshot(const StepModel& model, const CncSnapshot* cs, double now_s, StepState& state,
+                     bool& read_ok, std::uint32_t& alarms) {
+  const CompensatorOptions& o = model.options;
+  const bool have = cs && cs->sequence != 0;
+  const bool stale = have && now_s - cs->sampled_at_s > o.link_stale_after_s;
+  if (stale) alarms |= kAlarmStaleInput;
+  if (have && cs->sequence != state.cnc_sequence) {
+    state.cnc_sequence = cs->sequence;
+    state.good_reads_in_row = cs->read_ok ? state.good_reads_in_row + 1 : 0;
+    if (cs->read_ok) state.machine = cs->machine;
+  }
+  if (have && state.outstanding != 0) {
+    if (cs->written_sequence == state.outstanding) {
+      for (std::size_t i = 0; i < model.axes.size(); ++i) state.shaper[i] = state.pending[i];
+      state.outstanding = 0;
+    } else if (cs->attempted_sequence == state.outstanding && cs->write_failed) {
+      state.outstanding = 0;  // the CNC still holds the shaper's value
+    }
+  }
+  if (have && cs->write_failed) alarms |= kAlarmLinkWrite;
+  if (!have || stale) state.good_reads_in_row = 0;
+  read_ok = have && !stale && cs->read_ok;
+  const bool usable = read_ok && state.good_reads_in_row >= o.link_recovery_cycles;
+  if (!usable) alarms |= kAlarmLinkRead;
+  return usable;
+}
+
+// An axis bound to a model behind model::AxisErrorModel: its sensors' conditioned values; a lost
+// sensor ramps the axis to zero (there is no geometric-only part to fall back to).
+double GenericCorrection(const BoundAxis& ba, const StepState& state, const StepOutputs& out, AxisStatus& st,
+                         std::uint32_t& alarms) {
+  double sensors[kMaxKeySensors];
+  for (std::size_t k = 0; k < ba.generic_channel.size(); ++k) {
+    const ChannelStatus& c = out.channels[static_cast<std::size_t>(ba.generic_channel[k])];
+    if (c.health == ChannelHealth::kHeld) alarms |= kAlarmSensorHeld;
+    if (c.health == ChannelHealth::kLost) {
+      alarms |= kAlarmSensorFallback;
+      return 0;
+    }
+    sensors[k] = c.value_c;
+  }
+  const double error = ba.generic->ErrorUm(st.model_position_mm, st.direction,
+                                           std::span<const double>(sensors, ba.generic_channel.size()), state.machine.coolant);
+  st.prediction.thermal_um = error;
+  st.prediction.total_um = error;
+  st.thermal_used = true;
+  return std::isfinite(error) ? -error : 0.0;  // a broken model never drives the axis
+}
+
+// The desired correction of one axis (physical µm; NaN = hold).
+double DesiredCorrection(const StepModel& model, const StepState& state, const StepInputs& in, std::size_t i,
+                         bool link_usable, StepOutputs& out, std::uint32_t& alarms) {
+  const CompensatorOptions& o = model.options;
+  const AxisInterface& ai = model.axes[i];
+  AxisStatus& st = out.axes[i];
+  if (!link_usable) {
+    st.enabled = false;
+    return o.link_loss == LinkLossPolicy::kHold ? std::nan("") : 0.0;
+  }
+  const hw::AxisState& as = in.cnc->axes[i];
+  st.cnc_position_mm = as.position_mm;
+  st.model_position_mm = ai.ModelPositionMm(as.position_mm);
+  st.direction = state.direction[i];
+  const bool cnc_on = !o.follow_cnc_enable || state.machine.compensation_enabled;
+  const bool axis_on = in.axis_enabled.empty() || in.axis_enabled[i] != 0;
+  st.enabled = in.enabled && cnc_on && axis_on;
+  const BoundAxis* ba = model.bound ? &model.bound->axes[i] : nullptr;
+  if (st.enabled && ba && !ba->has_model) alarms |= kAlarmNoModelForAxis;
+  if (!st.enabled || !ba || !ba->has_model) return 0;
+  if (ba->generic) return GenericCorrection(*ba, state, out, st, alarms);
+
+  double key_temps[kMaxKeySensors];
+  bool keys_ok = true;
+  for (std::size_t k = 0; k < ba->key_channel.size(); ++k) {
+    const ChannelStatus& c = out.channels[static_cast<std::size_t>(ba->key_channel[k])];
+    if (c.health == ChannelHealth::kHeld) alarms |= kAlarmSensorHeld;
+    if (c.health == ChannelHealth::kLost) keys_ok = false;
+    key_temps[k] = state.dynamics.axes[i].thermal.key_c[k];  // = c.value_c when the model has no lag or loss
+  }
+  double ambient = std::nan("");
+  if (ba->ambient_channel >= 0) {
+    const ChannelStatus& c = out.channels[static_cast<std::size_t>(ba->ambient_channel)];
+    if (c.health == ChannelHealth::kHeld) alarms |= kAlarmSensorHeld;
+    if (c.health == ChannelHealth::kLost) alarms |= kAlarmSensorFallback;  // ambient adjustment dropped
+    ambient = c.value_c;
+  }
+  if (!keys_ok) alarms |= kAlarmSensorFallback;
+  if (!keys_ok && o.sensor.fallback == SensorFallback::kZero) return 0;
+  model::ThermalState ts{std::span<const double>(key_temps, ba->key_channel.size()), ambient,
+                         state.machine.coolant, keys_ok};
+  st.prediction = model::Predict(ba->model, st.model_position_mm, st.direction, ts);
+  st.thermal_used = keys_ok;
+  if (st.prediction.tan_beta_limited) alarms |= kAlarmModelExtrapolated;  // held at the fitted envelope
+  const double desired = model::CorrectionUm(st.prediction);
+  return std::isfinite(desired) ? desired : 0.0;  // a broken model never drives the axis
+}
+
+}  // namespace
+
+void AdvanceModelDynamics(const BoundModel& bound, std::span<const ChannelStatus> channels, CoolantState coolant,
+                          double now_s, ModelDynamics& dynamics) {
+  // Advanced every cycle for every axis with a model, enabled or not, so the lagged temperature
+  // tracks the machine's history and not only the time compensation was on. Restarted at the
+  // current readings when the model changes (other keys or τ) and once a lost key returns.
+  for (std::size_t i = 0; i < bound.axes.size(); ++i) {
+    const BoundAxis& ba = bound.axes[i];
+    if (!ba.has_model) continue;
+    ModelDynamics::Axis& d = dynamics.axes[i];
+    bool any_lost = false;
+    for (int ch : ba.key_channel) any_lost = any_lost || channels[static_cast<std::size_t>(ch)].health == ChannelHealth::kLost;
+    if (any_lost || d.model_id != bound.id) d.thermal.valid = false;  // restart at the readings
+    double readings[kMaxKeySensors];
+    for (std::size_t k = 0; k < ba.key_channel.size(); ++k)
+      readings[k] = channels[static_cast<std::size_t>(ba.key_channel[k])].value_c;
+    const double ambient =
+        ba.ambient_channel >= 0 ? channels[static_cast<std::size_t>(ba.ambient_channel)].value_c : std::nan("");
+    model::AdvanceThermalState(ba.model, d.thermal,
+                               {std::span<const double>(readings, ba.key_channel.size()), ambient, coolant},
+                               now_s - d.time_s);
+    d.time_s = now_s;
+    d.model_id = any_lost ? 0 : bound.id;
+  }
+}
+
+void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOutputs& out) {
+  const CompensatorOptions& o = model.options;
+  ++state.cycle;
+  std::uint32_t alarms = 0;
+  if (!model.bound) alarms |= kAlarmNoModel;
+
+  const bool temps_ok = ConditionTemperatures(o.sensor, in.temperatures, in.now_s, state, out, alarms);
+  bool read_ok = false;
+  const bool link_usable = TakeCncSnapshot(model, in.cnc, in.now_s, state, read_ok, alarms);
+  if (link_usable) {
+    for (std::size_t i = 0; i < model.axes.size(); ++i) {
+      const hw::AxisState& as = in.cnc->axes[i];
+      if (as.moving || !o.direction_only_while_moving) {
+        if (as.servo_direction > 0) state.direction[i] = Direction::kForward;
+        else if (as.servo_direction < 0) state.direction[i] = Direction::kReverse;
+      }
+    }
+  }
+  if (model.bound) AdvanceModelDynamics(*model.bound, out.channels, state.machine.coolant, in.now_s, state.dynamics);
+
+  for (std::size_t i = 0; i < model.axes.size(); ++i) {
+    const AxisInterface& ai = model.axes[i];
+    AxisStatus& st = out.axes[i];
+    st.prediction = model::Prediction{};
+    st.thermal_used = false;
+    const double desired = DesiredCorrection(model, state, in, i, link_usable, out, alarms);
+    OutputShaperOptions axis_so = o.shaper;  // a few doubles on the stack: no allocation
+    if (!std::isnan(ai.max_correction_um)) axis_so.max_correction_um = ai.max_correction_um;
+    st.clamped = std::fabs(desired) > axis_so.max_correction_um;
+    if (st.clamped) alarms |= kAlarmCorrectionClamped;
+    st.desired_um = desired;
+    const double q = ai.PhysicalQuantumUm();
+    out.proposed[i] = state.outstanding ? state.pending[i] : ShapeOutput(state.shaper[i], desired, q, axis_so);
+    out.command.correction_um[i] = ai.CncCorrectionUm(OutputUm(out.proposed[i], q));
+  }
+  out.command.sequence = state.outstanding ? state.outstanding : state.cycle;
+
+  CycleStatus& s = out.status;
+  s.cycle = state.cycle;
+  s.time_s = in.now_s;
+  s.alarms = alarms;
+  s.link_read_ok = read_ok;
+  s.temperatures_ok = temps_ok;
+  s.temperature_age_s = in.temperatures && in.temperatures->sequence ? in.now_s - in.temperatures->sampled_at_s : 0;
+  s.cnc_age_s = in.cnc && in.cnc->sequence ? in.now_s - in.cnc->sampled_at_s : 0;
+  s.coolant = state.machine.coolant;
+  s.model_id = model.bound ? model.bound->id : 0;
+}
+
+namespace {
+// The status's outputs: what the CNC holds (the shaper's state after the write phase).
+void ReportOutputs(const StepModel& model, const StepState& state, StepOutputs& out) {
+  for (std::size_t i = 0; i < model.axes.size(); ++i) {
+    const double q = model.axes[i].PhysicalQuantumUm();
+    out.axes[i].output_um = OutputUm(state.shaper[i], q);
+    out.axes[i].written_um = model.axes[i].CncCorrectionUm(out.axes[i].output_um);
+  }
+}
+}  // namespace
+
+void CommitWrite(const StepModel& model, StepState& state, bool write_ok, StepOutputs& out) {
+  if (write_ok) {
+    for (std::size_t i = 0; i < model.axes.size(); ++i) state.shaper[i] = out.proposed[i];
+  } else {
+    out.status.alarms |= kAlarmLinkWrite;
+  }
+  ReportOutputs(model, state, out);
+  out.status.write_ok = write_ok;
+}
+
+void AwaitWrite(const StepModel& model, StepState& state, StepOutputs& out) {
+  if (state.outstanding == 0) {
+    state.outstanding = out.command.sequence;
+    for (std::size_t i = 0; i < model.axes.size(); ++i) state.pending[i] = out.proposed[i];
+  }
+  ReportOutputs(model, state, out);
+  out.status.write_ok = !(out.status.alarms & kAlarmLinkWrite);
+}
+
+}  // namespace trueaxis::runtime

@@ -1,0 +1,123 @@
+#include "trueaxis/station/machine_connection.hpp"
+
+#include <chrono>
+
+#include <fmt/format.h>
+
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/signal/calibration.hpp"
+#include "trueaxis/sim/machine_description.hpp"
+
+namespace trueaxis::station {
+
+ModbusClients MakeModbusClients(const runtime::ModbusConfig& b, const std::string& source,
+                                double heartbeat_stale_after_s) {
+  drivers::ModbusEndpoint ep;
+  ep.host = b.host;
+  ep.port = b.port;
+  ep.response_timeout_s = b.response_timeout_s;
+  drivers::ModbusCncLinkOptions co;
+  co.endpoint = ep;
+  co.unit_id = b.cnc_unit_id;
+  co.axis_names = b.axis_names;
+  co.stale_after_s = heartbeat_stale_after_s;
+  drivers::ModbusTemperatureSourceOptions to;
+  to.endpoint = ep;
+  to.channel_names = b.channel_names;
+  to.unit_ids = drivers::RtdModuleUnitIds(b.first_rtd_unit_id, b.channel_names.size());
+  std::string why;
+  if (!co.IsValid(&why)) throw InputError(source, 0, "machine", why);
+  if (!to.IsValid(&why)) throw InputError(source, 0, "machine", why);
+  ModbusClients c;
+  c.cnc = std::make_unique<drivers::ModbusCncLink>(co);
+  c.temperatures = std::make_unique<drivers::ModbusTemperatureSource>(to);
+  return c;
+}
+
+signal::MonitorOptions MonitorOptionsFor(const runtime::SensorFaultPolicy& policy) {
+  signal::MonitorOptions o;
+  o.faults.min_plausible_c = policy.min_valid_c;
+  o.faults.max_plausible_c = policy.max_valid_c;
+  if (policy.max_rate_c_per_s > 0) o.faults.max_rate_c_per_s = policy.max_rate_c_per_s;
+  return o;
+}
+
+namespace {
+
+void OpenVirtual(const runtime::RunConfig& c, Machine& m) {
+  const auto& v = c.virtual_machine;
+  m.vm = std::make_unique<sim::VirtualMachine>(sim::ReadMachineFile(v.machine_file), v.seed);
+  sim::VirtualMachine* vm = m.vm.get();
+  if (v.reciprocate) {
+    for (std::size_t i = 0; i < vm->AxisCount(); ++i) {
+      const double travel = vm->description().axes[i].travel_mm;
+      vm->CommandReciprocate(i, 0.1 * travel, 0.9 * travel, v.feed_mm_min, v.duty);
+    }
+  }
+  vm->SetCoolant(v.coolant);
+  const double scale = v.time_scale;
+  m.advance = [vm, scale](double dt) { vm->Advance(dt * scale); };
+  m.link = vm;
+  m.source = vm;
+  m.description = fmt::format("virtual machine {} ({}, seed {}, time ×{})", vm->description().name, v.machine_file,
+                              v.seed, v.time_scale);
+}
+
+void OpenModbus(const runtime::RunConfig& c, Machine& m) {
+  const auto& b = c.modbus;
+  if (b.channel_names.empty())
+    throw InputError(c.source, 0, "machine.channels", "kind = \"modbus\" needs the RTD channel names in module order");
+  m.modbus = MakeModbusClients(b, c.source);
+  // The hardware lifecycle: configure (options), activate (connect; a terminal not reachable yet is
+  // a warning — its Read/Write fail and retry on their own).
+  std::string why;
+  if (!m.modbus.cnc->Configure(&why) || !m.modbus.temperatures->Configure(&why)) throw InputError(c.source, 0, "machine", why);
+  if (!m.modbus.cnc->Activate(&why))
+    m.warnings.push_back(fmt::format("CNC terminal {}:{} not reachable yet ({}); the loop keeps trying", b.host, b.port, why));
+  if (!m.modbus.temperatures->Activate(&why))
+    m.warnings.push_back(fmt::format("RTD modules at {}:{} not reachable yet ({}); the loop keeps trying", b.host, b.port, why));
+  m.link = m.modbus.cnc.get();
+  m.source = m.modbus.temperatures.get();
+  m.description = fmt::format("MODBUS TCP {}:{} (PMC unit {}, RTD units from {})", b.host, b.port, b.cnc_unit_id,
+                              b.first_rtd_unit_id);
+}
+
+void AttachTemperaturePipeline(const runtime::RunConfig& c, Machine& m) {
+  std::function<double()> clock;
+  if (m.vm) {
+    const sim::VirtualMachine* vm = m.vm.get();
+    clock = [vm] { return vm->TimeS(); };  // machine time: rates are judged in the machine's seconds
+  } else {
+    const auto t0 = std::chrono::steady_clock::now();
+    clock = [t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  }
+  m.monitored = std::make_unique<signal::MonitoredTemperatureSource>(*m.source, MonitorOptionsFor(c.compensator.sensor),
+                                                                     std::move(clock));
+  if (!c.calibration_file.empty()) {
+    for (const auto& name : m.monitored->monitor().SetCalibration(signal::ReadCalibrationFile(c.calibration_file)))
+      m.warnings.push_back(fmt::format("calibration for '{}' matches no channel of the machine", name));
+  }
+  m.source = m.monitored.get();
+}
+
+}  // namespace
+
+Machine OpenMachine(const runtime::RunConfig& c) {
+  Machine m;
+  if (c.machine == runtime::MachineKind::kVirtual) OpenVirtual(c, m);
+  else OpenModbus(c, m);
+  for (const auto& a : c.axes) {
+    bool found = false;
+    for (std::size_t i = 0; i < m.link->AxisCount(); ++i) found = found || m.link->AxisName(i) == a.axis;
+    if (!found) throw InputError(c.source, 0, "axis.name", fmt::format("the machine has no axis '{}'", a.axis));
+  }
+  if (c.signal_processing) AttachTemperaturePipeline(c, m);
+  return m;
+}
+
+void Machine::Close() {
+  if (link) link->Deactivate();
+  if (modbus.temperatures) modbus.temperatures->Deactivate();
+}
+
+}  // namespace trueaxis::station
