@@ -25,11 +25,15 @@ void AdvanceThermalState(const AxisModel& axis, AxisThermalState& state, const T
   const std::size_t n = std::min({axis.key_sensors.size(), in.key_c.size(), kMaxStateKeys});
   bool all_read = true;
   for (std::size_t k = 0; k < n; ++k) all_read = all_read && !std::isnan(in.key_c[k]);
+  // The coolant's loss constants once per axis; without a loss the step is the plain lag (inline,
+  // no sink to compute): the real-time path pays for the observer only while a coolant runs.
+  const std::vector<double>& loss = axis.key_loss_s[static_cast<std::size_t>(in.coolant) % axis.key_loss_s.size()];
   for (std::size_t k = 0; k < n; ++k) {
     const double raw = in.key_c[k];
-    state.key_c[k] = !state.valid ? raw
-                                  : ObserverStep(state.key_c[k], raw, KeySinkC(axis, k, in.ambient_c), dt_s,
-                                                 axis.KeyLagS(k), axis.KeyLossS(k, in.coolant));
+    const double tau_loss = k < loss.size() ? loss[k] : 0.0;
+    if (!state.valid) state.key_c[k] = raw;
+    else if (!(tau_loss > 0)) state.key_c[k] = LagStep(state.key_c[k], raw, dt_s, axis.KeyLagS(k));
+    else state.key_c[k] = ObserverStep(state.key_c[k], raw, KeySinkC(axis, k, in.ambient_c), dt_s, axis.KeyLagS(k), tau_loss);
   }
   state.valid = all_read;
 }
