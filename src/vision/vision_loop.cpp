@@ -16,10 +16,9 @@ VisionLoopResult RunVisionLoop(const MarkerDescription& marker, const CameraMode
     throw std::invalid_argument("the compensator cycle must be > 0 and not longer than the frame interval");
   if (loop.term_valid_s < 0) throw std::invalid_argument("term_valid_s must be ≥ 0");
   sim::VirtualMachine vm(machine, day.seed);
-  std::size_t z = vm.AxisCount();
-  for (std::size_t i = 0; i < vm.AxisCount(); ++i)
-    if (vm.AxisName(i) == loop.z_axis) z = i;
-  if (z == vm.AxisCount()) throw std::invalid_argument("the machine has no axis '" + loop.z_axis + "'");
+  const int zi = machine.AxisIndex(loop.z_axis);  // the machine's axis order is the CNC link's
+  if (zi < 0) throw std::invalid_argument("the machine has no axis '" + loop.z_axis + "'");
+  const auto z = static_cast<std::size_t>(zi);
   auto comp = runtime::Compensator::ForHardware(loop.compensator, vm, vm, {});
   const double valid_s = loop.term_valid_s > 0
                              ? loop.term_valid_s
