@@ -11,12 +11,10 @@
 
 namespace trueaxis::runtime {
 namespace {
-using testing::FakeCnc;
-using testing::FakeTemps;
-using testing::TestModel;
+using testing::FakeCnc, testing::FakeTemps, testing::TestModel;
 
-struct Rig {
-  explicit Rig(double step_um = 0.5, double bound_um = 40) : cnc({"X", "Z"}), temps({"ambient", "nut", "bearing"}, 20.0) {
+struct TermRig {
+  explicit TermRig(double step_um = 0.5, double bound_um = 40) : cnc({"X", "Z"}), temps({"ambient", "nut", "bearing"}, 20.0) {
     CompensatorOptions o;
     o.shaper.max_step_um = step_um;
     o.shaper.max_correction_um = bound_um;
@@ -42,7 +40,7 @@ struct Rig {
 };
 
 TEST(ExtraErrorTerm, AStepRampsAtTheShaperRateAndSettlesAtItsNegative) {
-  Rig r(2.0);  // above the CNC's 1 µm quantum, so each cycle shows one full step
+  TermRig r(2.0);  // above the CNC's 1 µm quantum, so each cycle shows one full step
   r.comp->PublishModel(TestModel(1.0, {"X", "Z"}), "m");
   r.Run(300);  // settled on the model alone
   const double model_only = r.cnc.cnc_value_um[1];
@@ -61,7 +59,7 @@ TEST(ExtraErrorTerm, AStepRampsAtTheShaperRateAndSettlesAtItsNegative) {
 }
 
 TEST(ExtraErrorTerm, WorksWithoutAModelAndIsBoundedWithTheClampedAlarm) {
-  Rig r(2.0, 40);
+  TermRig r(2.0, 40);
   r.comp->SetExtraErrorUm(1, 75.0, 1e9);
   const auto& s = r.Run(200);
   EXPECT_NEAR(r.cnc.cnc_value_um[1], -40.0, 1e-9);  // the axis bound
@@ -75,8 +73,8 @@ TEST(ExtraErrorTerm, WorksWithoutAModelAndIsBoundedWithTheClampedAlarm) {
 }
 
 TEST(ExtraErrorTerm, NanEmptyAndDisabledChangeNothing) {
-  Rig with, without;
-  for (Rig* r : {&with, &without}) r->comp->PublishModel(TestModel(1.0, {"X", "Z"}), "m");
+  TermRig with, without;
+  for (TermRig* r : {&with, &without}) r->comp->PublishModel(TestModel(1.0, {"X", "Z"}), "m");
   with.comp->SetExtraErrorUm(1, std::nan(""), 1e9);
   for (int k = 0; k < 200; ++k) {
     with.Run(1);
@@ -94,7 +92,7 @@ TEST(ExtraErrorTerm, NanEmptyAndDisabledChangeNothing) {
 }
 
 TEST(ExtraErrorTerm, AnExpiredTermIsDroppedWithTheStaleAlarmNotUsedSilently) {
-  Rig r(1.0);
+  TermRig r(1.0);
   r.comp->SetExtraErrorUm(1, 8.0, r.t + 1.0);  // valid for 1 s of loop time
   const auto& s = r.Run(50);                   // 0.5 s
   EXPECT_NEAR(r.cnc.cnc_value_um[1], -8.0, 1e-9);
@@ -108,7 +106,7 @@ TEST(ExtraErrorTerm, AnExpiredTermIsDroppedWithTheStaleAlarmNotUsedSilently) {
 }
 
 TEST(ExtraErrorTerm, VisionStopRaisesItsAlarmWhileSet) {
-  Rig r;
+  TermRig r;
   EXPECT_FALSE(r.Run(1).alarms & kAlarmVisionStop);
   r.comp->SetVisionStop(true);
   const auto& s = r.Run(1);
