@@ -370,6 +370,8 @@ void Setup(CLI::App& app) {
       if (!(lo->term_valid_s >= 0)) throw InputError("command line", 0, "--term-valid-s", "must be ≥ 0");
       std::string why;
       if (!lo->compensator.IsValid(&why)) throw InputError("command line", 0, "--max-step-um/--max-correction-um", why);
+      if (!std::filesystem::exists(*machine))
+        throw InputError(*machine, 0, "--machine", "machine file not found (the default is relative to the repository root)");
       const sim::MachineDescription md = sim::ReadMachineFile(*machine);
       if (md.AxisIndex(lo->z_axis) < 0)
         throw InputError(*machine, 0, "axes", "has no axis '" + lo->z_axis + "' (--z-axis)");
