@@ -18,7 +18,10 @@
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/vision/camera_calibration.hpp"
 #include "trueaxis/vision/credibility.hpp"
+#include "trueaxis/runtime/cycle_step.hpp"
+#include "trueaxis/sim/machine_description.hpp"
 #include "trueaxis/vision/vision_day.hpp"
+#include "trueaxis/vision/vision_loop.hpp"
 #include "trueaxis/vision/vision_report.hpp"
 
 namespace trueaxis::cli {
@@ -339,26 +342,50 @@ void Setup(CLI::App& app) {
     });
   }
   {  // run
-    auto* cmd = vision->add_subcommand("run", "The camera against the virtual spindle over a day: Δz vs truth, credibility, stop rule");
+    auto* cmd = vision->add_subcommand(
+        "run", "The camera in the loop: virtual spindle and machine, Δz as the compensator's Z term, stop rule → feed hold");
     auto a = std::make_shared<DayArgs>();
     auto csv = std::make_shared<std::string>();
+    auto loop_csv = std::make_shared<std::string>();
     auto report = std::make_shared<std::string>();
+    auto machine = std::make_shared<std::string>("examples/machines/vmc850.toml");
+    auto lo = std::make_shared<VisionLoopOptions>();
     AddDayArgs(cmd, a.get());
     cmd->add_option("--csv", *csv, "write the readings and the truth as CSV");
+    cmd->add_option("--loop-csv", *loop_csv, "write the Z error at the tool with/without the term, the correction and alarms per frame");
     cmd->add_option("--report", *report, "write an HTML report");
-    cmd->callback([a, csv, report] {
+    cmd->add_option("--machine", *machine, "machine TOML of the virtual machine the compensator runs against")->capture_default_str();
+    cmd->add_option("--z-axis", lo->z_axis, "the axis the spindle grows along")->capture_default_str();
+    cmd->add_option("--cycle-s", lo->cycle_s, "compensator cycle (s)")->capture_default_str();
+    cmd->add_option("--max-step-um", lo->compensator.shaper.max_step_um, "output shaper: change per cycle (µm)")->capture_default_str();
+    cmd->add_option("--max-correction-um", lo->compensator.shaper.max_correction_um, "output shaper: bound (µm)")->capture_default_str();
+    cmd->add_option("--term-valid-s", lo->term_valid_s, "how long a Δz reading stays in force (0: until the stop rule could trip)")
+        ->capture_default_str();
+    cmd->callback([a, csv, loop_csv, report, machine, lo] {
       const MarkerDescription m = ReadMarker(a->marker);
       const CameraModel cam = ReadCameraFile(a->camera);
       const VisionDayOptions o = MakeDayOptions(*a);
+      if (!(lo->cycle_s > 0 && lo->cycle_s <= o.frame_interval_s))
+        throw InputError("command line", 0, "--cycle-s", "must be > 0 and ≤ --interval-s");
+      if (!(lo->term_valid_s >= 0)) throw InputError("command line", 0, "--term-valid-s", "must be ≥ 0");
+      std::string why;
+      if (!lo->compensator.IsValid(&why)) throw InputError("command line", 0, "--max-step-um/--max-correction-um", why);
+      if (!std::filesystem::exists(*machine))
+        throw InputError(*machine, 0, "--machine", "machine file not found (the default is relative to the repository root)");
+      const sim::MachineDescription md = sim::ReadMachineFile(*machine);
+      if (md.AxisIndex(lo->z_axis) < 0)
+        throw InputError(*machine, 0, "axes", "has no axis '" + lo->z_axis + "' (--z-axis)");
       std::vector<ReportRow> rows;
       std::vector<std::pair<int, cv::Mat>> images;
-      const auto r = RunVisionDay(m, cam, o, [&](const VisionFrame& f, const cv::Mat& img) {
+      const auto lr = RunVisionLoop(m, cam, o, md, *lo, [&](const VisionFrame& f, const cv::Mat& img) {
         ReportRow row{fmt::format("frame {}", rows.size()), f.time_s, f.reading, f.true_growth_um, f.stop, f.marker_growth_um};
         rows.push_back(row);
         if (!report->empty()) images.emplace_back(static_cast<int>(rows.size()) - 1, img.clone());
       });
-      for (const auto& row : rows)
-        if (row.stop) fmt::print(stderr, "ALARM at {:.2f} h: {}\n", row.time_s / 3600.0, r.stop_message);
+      const auto& r = lr.day;
+      if (lr.feed_hold_at_s >= 0)
+        fmt::print(stderr, "ALARM vision_stop at {:.2f} h: the virtual CNC is in feed hold. {}\n", lr.feed_hold_at_s / 3600.0,
+                   lr.alarm_message);
       const auto summary = std::vector<std::pair<std::string, std::string>>{
           {"disturbances", a->disturb},
           {"frames", fmt::format("{} ({} credible, {} rejected)", r.frames.size(), r.credible, r.rejected)},
@@ -367,11 +394,33 @@ void Setup(CLI::App& app) {
                                      r.rejected_bad, r.rejected, o.bad_um, r.accepted_bad, o.bad_um)},
           {"Δz − truth (credible)", fmt::format("RMS {:.2f} µm, max {:.2f} µm", r.rms_um, r.max_um)},
           {"Δz − Czb·(K_true − 1) (camera part)", fmt::format("RMS {:.2f} µm, max {:.2f} µm", r.rms_vs_marker_um, r.max_vs_marker_um)},
-          {"Z error at the tool, RMS", fmt::format("without vision {:.2f} µm, with the vision term {:.2f} µm (mean of the last {} credible)", r.z_error_without_rms_um, r.z_error_with_rms_um, o.average_frames)},
+          {"Z error at the tool in the loop (every cycle, change from t = 0)",
+           fmt::format("without the vision term RMS {:.2f} µm, max {:.2f} µm; with it RMS {:.2f} µm, max {:.2f} µm",
+                       lr.without_rms_um, lr.without_max_um, lr.with_rms_um, lr.with_max_um)},
+          {"compensator", fmt::format("{} ({}), cycle {:g} s, shaper {:g} µm/cycle, bound {:g} µm; largest Z output change "
+                                      "{:.2f} µm/cycle; alarms seen: {}",
+                                      md.name, lo->z_axis, lo->cycle_s, lo->compensator.shaper.max_step_um,
+                                      lo->compensator.shaper.max_correction_um, lr.max_output_step_um,
+                                      lr.alarms_seen ? runtime::AlarmNames(lr.alarms_seen) : "none")},
+          {"Z error offline (frames, term = Δz in force, no limiter)",
+           fmt::format("without {:.2f} µm RMS, with {:.2f} µm RMS (mean of the last {} credible)", r.z_error_without_rms_um,
+                       r.z_error_with_rms_um, o.average_frames)},
           {"reference raw K1, K2", fmt::format("{:.7f}, {:.7f}", r.reference_k1, r.reference_k2)},
-          {"stop rule", r.stop_frame >= 0 ? r.stop_message : "not tripped"}};
+          {"stop rule", lr.feed_hold_at_s >= 0 ? fmt::format("feed hold at {:.2f} h, alarm vision_stop: {}",
+                                                              lr.feed_hold_at_s / 3600.0, lr.alarm_message)
+                                                : "not tripped"}};
       for (const auto& [k, v] : summary) fmt::print("{}: {}\n", k, v);
       if (!csv->empty()) WriteReadingsCsv(*csv, rows);
+      if (!loop_csv->empty()) {
+        std::ofstream f(*loop_csv);
+        if (!f) throw InputError(*loop_csv, "cannot write");
+        f << "frame,time_s,z_error_with_um,z_error_without_um,correction_um,feed_hold,alarms\n";
+        for (std::size_t i = 0; i < lr.samples.size(); ++i) {
+          const auto& s = lr.samples[i];
+          f << fmt::format("{},{:.1f},{:.3f},{:.3f},{:.3f},{},{}\n", i, s.time_s, s.z_error_with_um, s.z_error_without_um,
+                           s.correction_um, s.feed_hold ? 1 : 0, runtime::AlarmNames(s.alarms));
+        }
+      }
       if (!report->empty()) {
         std::vector<ReportFrame> frames;
         for (std::size_t i : ExampleIndices(rows)) frames.push_back({Caption(rows[i]), DrawReading(images[i].second, rows[i].reading)});

@@ -1,5 +1,7 @@
 #include "trueaxis/runtime/compensator.hpp"
 
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace trueaxis::runtime {
@@ -19,6 +21,10 @@ Compensator::Compensator(CompensatorOptions options, std::vector<AxisInterface> 
   axis_enabled_ = std::make_unique<std::atomic<bool>[]>(n);
   for (std::size_t i = 0; i < n; ++i) axis_enabled_[i].store(axes_[i].enabled);
   axis_enabled_now_.assign(n, 1);
+  extra_error_um_ = std::make_unique<std::atomic<double>[]>(n);
+  extra_valid_until_s_ = std::make_unique<std::atomic<double>[]>(n);
+  for (std::size_t i = 0; i < n; ++i) extra_error_um_[i].store(std::numeric_limits<double>::quiet_NaN());
+  extra_error_now_um_.assign(n, std::numeric_limits<double>::quiet_NaN());
   state_ = StepState(n, channel_names_.size(), options_);
 }
 
@@ -53,14 +59,24 @@ void Compensator::PublishAxisModels(std::vector<std::shared_ptr<const model::Axi
 
 const CycleStatus& Compensator::Cycle(const TemperatureSnapshot& temperatures, const CncSnapshot& cnc, double now_s) {
   current_ = exchange_.Acquire();
-  for (std::size_t i = 0; i < axes_.size(); ++i) axis_enabled_now_[i] = axis_enabled_[i].load(std::memory_order_relaxed);
+  bool extra_expired = false;
+  for (std::size_t i = 0; i < axes_.size(); ++i) {
+    axis_enabled_now_[i] = axis_enabled_[i].load(std::memory_order_relaxed);
+    const double e = extra_error_um_[i].load(std::memory_order_relaxed);
+    const bool expired = !std::isnan(e) && now_s > extra_valid_until_s_[i].load(std::memory_order_relaxed);
+    extra_expired = extra_expired || expired;
+    extra_error_now_um_[i] = expired ? std::numeric_limits<double>::quiet_NaN() : e;
+  }
   StepInputs in;
   in.now_s = now_s;
   in.temperatures = &temperatures;
   in.cnc = &cnc;
   in.enabled = enabled_.load(std::memory_order_relaxed);
   in.axis_enabled = axis_enabled_now_;
+  in.extra_error_um = extra_error_now_um_;
   Step(Model(), state_, in, out_);
+  if (extra_expired) out_.status.alarms |= kAlarmStaleInput;  // a term past its validity is dropped, not used
+  if (vision_stop_.load(std::memory_order_relaxed)) out_.status.alarms |= kAlarmVisionStop;
   return out_.status;
 }
 

@@ -11,7 +11,8 @@ static_assert(kMaxKeySensors <= model::kMaxStateKeys, "the model's thermal state
 std::string AlarmNames(std::uint32_t alarms) {
   static const char* const kNames[] = {"sensor_held", "sensor_fallback",   "temperature_source",
                                        "link_read",   "link_write",        "no_model_for_axis",
-                                       "correction_clamped", "no_model", "stale_input", "model_extrapolated"};
+                                       "correction_clamped", "no_model", "stale_input", "model_extrapolated",
+                                       "vision_stop"};
   std::string out;
   for (std::size_t i = 0; i < std::size(kNames); ++i) {
     if (alarms & (1u << i)) {
@@ -238,7 +239,13 @@ void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOu
     AxisStatus& st = out.axes[i];
     st.prediction = model::Prediction{};
     st.thermal_used = false;
-    const double desired = DesiredCorrection(model, state, in, i, link_usable, out, alarms);
+    double desired = DesiredCorrection(model, state, in, i, link_usable, out, alarms);
+    // The additional error term (error sign): the correction gets its negative, before the shaper.
+    st.extra_error_um = 0;
+    if (st.enabled && i < in.extra_error_um.size() && std::isfinite(in.extra_error_um[i])) {
+      st.extra_error_um = in.extra_error_um[i];
+      desired -= st.extra_error_um;
+    }
     OutputShaperOptions axis_so = o.shaper;  // a few doubles on the stack: no allocation
     if (!std::isnan(ai.max_correction_um)) axis_so.max_correction_um = ai.max_correction_um;
     st.clamped = std::fabs(desired) > axis_so.max_correction_um;

@@ -268,7 +268,7 @@ void VirtualMachine::AdvanceMotion(double dt) {
     int guard = 0;
     while (left > 1e-12 && ++guard < 10000) {
       const double m0 = MotorMm(a);
-      if (a.mode == Axis::Mode::kIdle) {
+      if (a.mode == Axis::Mode::kIdle || feed_hold_) {  // feed hold: the program waits in place
         a.AddPath(m0, m0, left);
         a.speed_now = 0;
         break;
@@ -391,6 +391,7 @@ void VirtualMachine::CommandStop(std::size_t axis) {
 bool VirtualMachine::IsMoving(std::size_t axis) const { return axes_.at(axis)->mode != Axis::Mode::kIdle; }
 
 void VirtualMachine::MoveTo(std::size_t axis, double target_mm, double feed_mm_min) {
+  if (feed_hold_) throw std::logic_error("MoveTo during feed hold would never arrive");
   CommandMove(axis, target_mm, feed_mm_min);
   const Axis& a = *axes_[axis];
   const double t_need = std::abs(a.target_mm - a.cmd_mm) / (feed_mm_min / 60.0);

@@ -47,7 +47,8 @@ std::pair<double, double> ReferenceK(const std::vector<MarkerReading>& readings)
 }
 
 VisionDayResult RunVisionDay(const MarkerDescription& marker_in, const CameraModel& camera, const VisionDayOptions& o,
-                             const std::function<void(const VisionFrame&, const cv::Mat&)>& sink) {
+                             const std::function<void(const VisionFrame&, const cv::Mat&)>& sink,
+                             const std::function<void(sim::VirtualSpindle&, double t_s)>& advance_to) {
   if (!(o.frame_interval_s > 0) || !(o.hours > 0)) throw std::invalid_argument("hours and frame interval must be > 0");
   if (o.average_frames < 1) throw std::invalid_argument("average_frames must be ≥ 1");
   sim::SpindleDescription sd = o.spindle;
@@ -83,7 +84,8 @@ VisionDayResult RunVisionDay(const MarkerDescription& marker_in, const CameraMod
   std::deque<double> recent;  // last credible readings, for the averaged Z term
   for (int i = 0; i < frames; ++i) {
     const double t = i * o.frame_interval_s;
-    spindle.AdvanceTo(t);
+    if (advance_to) advance_to(spindle, t);
+    else spindle.AdvanceTo(t);
     VisionFrame f;
     f.time_s = t;
     f.rpm = spindle.Rpm();

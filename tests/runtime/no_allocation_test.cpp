@@ -95,6 +95,7 @@ TEST(NoAllocation, ManyCyclesWithFaultsSwapsAndTogglesAllocateNothing) {
     cnc.fail_write = (c % 1000) == 3;
     cnc.machine.coolant = (c / 3000) % 2 ? CoolantState::kFlood : CoolantState::kOff;
     if (c % 4000 == 0) comp->SetEnabled(c % 8000 != 0);
+    if (c % 2500 == 0) comp->SetExtraErrorUm(2, (c % 5000) ? 12.0 : std::nan(""), t + 10.0);  // vision Δz on Z
     comp->RunCycle(cnc, temps, t += 0.01);
   }
   g_counting = false;

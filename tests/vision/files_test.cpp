@@ -135,7 +135,8 @@ TEST(VisionCli, RunWritesAReportWithExampleFramesAndTheTruth) {
   const auto r = trueaxis::testing::RunCli("vision run --hours 1 --interval-s 900 --disturb chips --marker " +
                                            std::string(TRUEAXIS_SOURCE_DIR) + "/examples/vision/marker.toml --camera " +
                                            std::string(TRUEAXIS_SOURCE_DIR) + "/examples/vision/camera.yml --report " +
-                                           html + " --csv " + csv);
+                                           html + " --csv " + csv + " --machine " + std::string(TRUEAXIS_SOURCE_DIR) +
+                                           "/examples/machines/vmc850.toml");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream f(html);
   const std::string page((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());

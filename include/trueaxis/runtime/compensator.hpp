@@ -20,6 +20,7 @@
 // any other.
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -58,6 +59,18 @@ class Compensator {
   void SetEnabled(bool on) { enabled_.store(on, std::memory_order_relaxed); }
   void SetAxisEnabled(std::size_t axis, bool on) { axis_enabled_[axis].store(on, std::memory_order_relaxed); }
   bool Enabled() const { return enabled_.load(std::memory_order_relaxed); }
+  // An additional error on one axis measured outside the model (µm, error sign; e.g. the camera's
+  // spindle Δz on Z, seed 001), added to the model's error before the output shaper
+  // (StepInputs::extra_error_um). It is used up to loop time `valid_until_s` (the supplier's own
+  // freshness limit, on the Cycle clock); past it the term is dropped (the correction ramps back to
+  // the model's) and stale_input is raised until it is renewed or cleared. NaN clears it.
+  void SetExtraErrorUm(std::size_t axis, double error_um, double valid_until_s) {
+    extra_valid_until_s_[axis].store(valid_until_s, std::memory_order_relaxed);
+    extra_error_um_[axis].store(error_um, std::memory_order_relaxed);
+  }
+  void ClearExtraError(std::size_t axis) { SetExtraErrorUm(axis, std::numeric_limits<double>::quiet_NaN(), 0); }
+  // Seed 001's stop rule from outside (the camera): raises the vision_stop alarm while set.
+  void SetVisionStop(bool on) { vision_stop_.store(on, std::memory_order_relaxed); }
 
   const CompensatorOptions& options() const { return options_; }
   const std::vector<AxisInterface>& axes() const { return axes_; }
@@ -89,12 +102,16 @@ class Compensator {
   std::atomic<std::uint64_t> next_model_id_{1};
   std::atomic<bool> enabled_{true};
   std::unique_ptr<std::atomic<bool>[]> axis_enabled_;
+  std::unique_ptr<std::atomic<double>[]> extra_error_um_;        // NaN = none
+  std::unique_ptr<std::atomic<double>[]> extra_valid_until_s_;
+  std::atomic<bool> vision_stop_{false};
 
   // RT-thread state and buffers, sized in the constructor.
   const BoundModel* current_ = nullptr;
   StepState state_;
   StepOutputs out_;
   std::vector<std::uint8_t> axis_enabled_now_;
+  std::vector<double> extra_error_now_um_;
   // RunCycle's inline I/O.
   TemperatureSnapshot inline_temperatures_;
   CncSnapshot inline_cnc_;

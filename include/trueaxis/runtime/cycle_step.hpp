@@ -48,6 +48,8 @@ enum Alarm : std::uint32_t {
   kAlarmStaleInput = 1u << 8,          // an I/O snapshot is older than its limit (an I/O worker is stuck)
   kAlarmModelExtrapolated = 1u << 9,   // the temperatures lie beyond the model's fitted envelope: its
                                        // thermal slope is held at the envelope (model::Prediction::tan_beta_limited)
+  kAlarmVisionStop = 1u << 10,         // the camera's stop rule (seed 001): > 5 non-credible readings in a row;
+                                       // the CNC is in feed hold until the marker is redrawn (docs/vision.md)
 };
 std::string AlarmNames(std::uint32_t alarms);  // "sensor_held|link_read", "" when none (not for the RT thread)
 
@@ -66,6 +68,7 @@ struct AxisStatus {
   bool enabled = false;         // effective enable (switches, CNC flag)
   bool thermal_used = false;
   model::Prediction prediction; // zero when not evaluated
+  double extra_error_um = 0;     // StepInputs::extra_error_um used this cycle (error sign; 0 = none)
   double desired_um = 0;        // target correction (physical µm) before shaping; NaN = hold
   bool clamped = false;         // desired beyond this axis's bound: the output saturates (alarm raised)
   double output_um = 0;         // shaped correction, physical µm
@@ -140,6 +143,12 @@ struct StepInputs {
   const CncSnapshot* cnc = nullptr;
   bool enabled = true;                            // global switch
   std::span<const std::uint8_t> axis_enabled;     // per axis switch (empty: all on)
+  // An additional error per axis measured outside the model (µm, error sign, docs/sign-convention.md),
+  // e.g. the spindle's Δz from the camera (seed 001) on Z. Added to the model's predicted error of an
+  // enabled axis before the output shaper (so the correction gets its negative, bounded, rate-limited
+  // and quantised like the rest). Empty = none; NaN for an axis = none. The supplier owns its
+  // freshness: the Compensator drops a term past its validity (alarm stale_input), docs/runtime.md.
+  std::span<const double> extra_error_um;
 };
 
 // What the step computes with: fixed per installation, plus the model in force (may be null).

@@ -128,6 +128,10 @@ class VirtualMachine : public hw::CncLink, public hw::TemperatureSource {
   bool compensation_enabled() const { return compensation_enabled_; }
   // Simulates a broken link: Read/WriteCompensation return false.
   void SetLinkFault(bool fault) { link_fault_ = fault; }
+  // Feed hold (e.g. seed 001's camera stop rule, docs/vision.md): while held every axis stands
+  // where it is and the motion programs wait; releasing resumes them. Time and heat go on.
+  void SetFeedHold(bool hold) { feed_hold_ = hold; }
+  bool FeedHold() const { return feed_hold_; }
 
   // hw::CncLink
   std::size_t AxisCount() const override { return axes_.size(); }
@@ -167,6 +171,7 @@ class VirtualMachine : public hw::CncLink, public hw::TemperatureSource {
   CoolantState coolant_ = CoolantState::kOff;
   bool compensation_enabled_ = true;
   bool link_fault_ = false;
+  bool feed_hold_ = false;
   double log_interval_s_ = 0, next_log_s_ = 0;
   std::function<void(const VirtualMachine&)> logger_;
   double control_interval_s_ = 0, next_control_s_ = 0;

@@ -65,9 +65,12 @@ struct VisionDayResult {
   double z_error_without_rms_um = 0, z_error_with_rms_um = 0;  // Z error at the tool without / with the vision term
 };
 
-// frame_sink, if given, receives each rendered frame (e.g. to write PNGs).
+// frame_sink, if given, receives each rendered frame (e.g. to write PNGs). advance_to, if given,
+// moves the spindle (and whatever runs beside it: the virtual machine and its compensator,
+// vision_loop.hpp) to the next frame time; by default the spindle alone is advanced.
 VisionDayResult RunVisionDay(const MarkerDescription& marker, const CameraModel& camera, const VisionDayOptions& options,
-                             const std::function<void(const VisionFrame&, const cv::Mat&)>& frame_sink = nullptr);
+                             const std::function<void(const VisionFrame&, const cv::Mat&)>& frame_sink = nullptr,
+                             const std::function<void(sim::VirtualSpindle&, double t_s)>& advance_to = nullptr);
 
 // Raw K1, K2 read at the standard temperature from a few clean renders at
 // trigger angles (what `vision reference` does with a user's images).
