@@ -49,6 +49,36 @@ void BM_CompensationCycle(benchmark::State& state) {
 }
 BENCHMARK(BM_CompensationCycle)->ArgsProduct({{1, 3, 5, 8}, {0, 1}})->ArgNames({"axes", "table"});
 
+// The worst case of the model's thermal state: every axis with a lag on both key sensors and,
+// under flood coolant, a loss towards the room, so each key takes the observer (one exp per key).
+// range(0): axes; range(1): coolant 0 = off (lag only), 1 = flood (lag + loss).
+void BM_CompensationCycleThermalState(benchmark::State& state) {
+  const int n_axes = static_cast<int>(state.range(0));
+  std::vector<std::string> names;
+  for (int i = 0; i < n_axes; ++i) names.push_back(std::string(1, static_cast<char>('A' + i)));
+  runtime::testing::FakeCnc cnc(names);
+  runtime::testing::FakeTemps temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0);
+  cnc.machine.coolant = state.range(1) ? CoolantState::kFlood : CoolantState::kOff;
+  auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
+  auto model = std::make_shared<model::CompositeModel>(*runtime::testing::TestModel(1.0, names));
+  for (auto& a : model->axes) {
+    a.key_lag_s = {600, 900};
+    a.key_loss_s[static_cast<std::size_t>(CoolantState::kFlood)] = {300, 450};
+  }
+  comp->PublishModel(model, "bench");
+  double t = 0, x = 0;
+  for (auto _ : state) {
+    x = x > 500 ? 0 : x + 0.37;
+    for (int i = 0; i < n_axes; ++i) cnc.axes[static_cast<std::size_t>(i)] = {x + i, (i % 2) ? -1 : 1, true};
+    temps.values[1].temp_c = 25 + 1e-4 * x;
+    const auto& s = comp->RunCycle(cnc, temps, t += 0.01);
+    benchmark::DoNotOptimize(s.axes[0].output_um);
+  }
+  state.counters["per_axis"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * n_axes, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_CompensationCycleThermalState)->ArgsProduct({{3}, {0, 1}})->ArgNames({"axes", "flood"});
+
 void BM_ModelSwapPickup(benchmark::State& state) {
   // Publish (off-loop bind) + the cycle that picks it up.
   runtime::testing::FakeCnc cnc({"X", "Y", "Z"});

@@ -21,6 +21,14 @@ double KeySinkC(const AxisModel& axis, std::size_t k, double ambient_c) {
   return base;
 }
 
+bool HasThermalDynamics(const AxisModel& axis) {
+  if (axis.HasKeyLag()) return true;
+  for (const auto& loss : axis.key_loss_s)
+    for (double tau : loss)
+      if (tau > 0) return true;
+  return false;
+}
+
 void AdvanceThermalState(const AxisModel& axis, AxisThermalState& state, const ThermalInputs& in, double dt_s) {
   const std::size_t n = std::min({axis.key_sensors.size(), in.key_c.size(), kMaxStateKeys});
   bool all_read = true;

@@ -7,6 +7,7 @@
 #include <fmt/ranges.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/model/thermal_state.hpp"
 
 namespace trueaxis::runtime {
 namespace {
@@ -41,6 +42,7 @@ std::unique_ptr<BoundModel> BindModel(std::shared_ptr<const model::CompositeMode
     b.has_model = true;
     b.model = *am;
     if (!std::isnan(axes[i].reference_position_mm)) b.model.reference_position_mm = axes[i].reference_position_mm;
+    b.thermal_dynamics = model::HasThermalDynamics(b.model);
     const std::string field = fmt::format("axes[{}].key_sensors", am->axis);
     if (am->key_sensors.size() > kMaxKeySensors)
       throw InputError(label, 0, field, fmt::format("{} key sensors, at most {} supported", am->key_sensors.size(), kMaxKeySensors));

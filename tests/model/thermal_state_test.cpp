@@ -64,6 +64,20 @@ TEST(AxisThermalState, RestartsAtTheReadingsAndUsesTheCoolantsLoss) {
   EXPECT_EQ(s.key_c[0], 30.0);
 }
 
+TEST(AxisThermalState, HasThermalDynamicsOnlyWithAPositiveLagOrLoss) {
+  AxisModel a;
+  a.key_sensors = {"nut", "bearing"};
+  EXPECT_FALSE(HasThermalDynamics(a));
+  a.key_lag_s = {0.0, std::nan("")};
+  a.key_loss_s[static_cast<std::size_t>(CoolantState::kMist)] = {0.0, -5.0};
+  EXPECT_FALSE(HasThermalDynamics(a));  // zero, negative and NaN time constants are "none"
+  a.key_lag_s = {0.0, 120.0};
+  EXPECT_TRUE(HasThermalDynamics(a));
+  a.key_lag_s.clear();
+  a.key_loss_s[static_cast<std::size_t>(CoolantState::kFlood)] = {0.0, 900.0};
+  EXPECT_TRUE(HasThermalDynamics(a));  // a loss under one coolant only is enough
+}
+
 // An axis whose thermal error follows a screw temperature known by construction: the nut reading
 // through a lag of τ_lag and, while the flood coolant runs, drawn to the room (20 °C) with τ_loss —
 // exactly the observer's structure, so the fit must find both time constants and one gain.

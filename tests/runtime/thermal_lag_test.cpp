@@ -6,6 +6,8 @@
 
 #include "fakes.hpp"
 #include "trueaxis/model/thermal_lag.hpp"
+#include "trueaxis/model/thermal_state.hpp"
+#include "trueaxis/runtime/cycle_step.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 
 namespace trueaxis::runtime {
@@ -100,6 +102,50 @@ TEST(CompensatorLag, LostSensorRestartsTheLagWhenItReturns) {
   EXPECT_TRUE(back.axes[0].thermal_used);
   // Restarted at the returned readings (no memory of the value before the loss).
   EXPECT_NEAR(back.axes[0].desired_um, r.ExpectedDesired(*m, 24, 22), 1e-9);
+}
+
+// A model without lag or loss takes AdvanceModelDynamics' inline path (no call into the model's
+// observer); the key state must be what model::AdvanceThermalState gives, cycle by cycle, through
+// good, lost (NaN) and returning readings, and a model with a lag must still take the observer.
+TEST(CompensatorLag, KeyStateWithoutDynamicsIsWhatTheModelsAdvanceGives) {
+  std::vector<AxisInterface> axes(2);
+  axes[0].axis = "X";
+  axes[1].axis = "Y";
+  const std::vector<std::string> channels = {"ambient", "nut", "bearing"};
+  auto plain = std::make_shared<model::CompositeModel>();
+  plain->axes = {TestAxisModel("X"), TestAxisModel("Y")};
+  plain->axes[1].key_loss_s[static_cast<std::size_t>(CoolantState::kFlood)] = {0.0, 0.0};  // zero: none
+  const auto bound = BindModel(plain, "plain", axes, channels, {});
+  bound->id = 1;
+  ASSERT_FALSE(bound->axes[0].thermal_dynamics);
+  ASSERT_FALSE(bound->axes[1].thermal_dynamics);
+  EXPECT_TRUE(BindModel(LaggedModel(60, 0), "lagged", axes, channels, {})->axes[0].thermal_dynamics);
+
+  ModelDynamics dyn;
+  dyn.axes.resize(2);
+  model::AxisThermalState reference[2];
+  const double nan = std::nan("");
+  const double series[][3] = {{20.0, 25.0, 21.0}, {20.1, 25.5, 21.2}, {20.1, nan, 21.3},
+                              {20.2, 26.0, 21.3}, {20.2, 26.5, nan},  {20.3, 27.0, 21.5}};
+  double t = 0;
+  for (const auto& reading : series) {
+    ChannelStatus st[3];
+    for (int c = 0; c < 3; ++c) {
+      st[c].value_c = reading[c];
+      st[c].health = std::isnan(reading[c]) ? ChannelHealth::kLost : ChannelHealth::kOk;
+    }
+    t += 0.01;
+    AdvanceModelDynamics(*bound, st, CoolantState::kFlood, t, dyn);
+    for (std::size_t i = 0; i < 2; ++i) {
+      const double keys[2] = {reading[1], reading[2]};
+      model::AdvanceThermalState(plain->axes[i], reference[i], {keys, reading[0], CoolantState::kFlood}, 0.01);
+      EXPECT_EQ(dyn.axes[i].thermal.valid, reference[i].valid) << "t=" << t;
+      for (std::size_t k = 0; k < 2; ++k) {
+        if (std::isnan(reference[i].key_c[k])) EXPECT_TRUE(std::isnan(dyn.axes[i].thermal.key_c[k]));
+        else EXPECT_EQ(dyn.axes[i].thermal.key_c[k], reference[i].key_c[k]) << "t=" << t << " key " << k;
+      }
+    }
+  }
 }
 
 }  // namespace

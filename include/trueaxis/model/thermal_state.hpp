@@ -44,6 +44,11 @@ double ObserverStep(double state_c, double raw_c, double sink_c, double dt_s, do
 // Keys beyond kMaxStateKeys are not tracked (the runtime refuses such models).
 void AdvanceThermalState(const AxisModel& axis, AxisThermalState& state, const ThermalInputs& in, double dt_s);
 
+// Whether the model has any dynamics at all: a key lag or a coolant loss time constant > 0. Without
+// them AdvanceThermalState is the identity on the readings (state = readings, valid when every key
+// reads), so a real-time caller decides this once per model and skips the advance.
+bool HasThermalDynamics(const AxisModel& axis);
+
 // The temperature key k tends to while a coolant draws it to the room: its cold-state baseline,
 // moved with the room (above-ambient models) when an ambient reading is given.
 double KeySinkC(const AxisModel& axis, std::size_t k, double ambient_c);

@@ -29,6 +29,7 @@ struct BoundAxis {
   model::AxisModel model;           // copy, with Px overridden by the AxisInterface if set
   std::vector<int> key_channel;     // per model key sensor: channel index
   int ambient_channel = -1;         // -1: no ambient adjustment
+  bool thermal_dynamics = false;    // model::HasThermalDynamics(model): else the key state is the readings
   // Or a model behind the generic interface (PublishAxisModels), with a channel per Sensors().
   std::shared_ptr<const model::AxisErrorModel> generic;
   std::vector<int> generic_channel;
