@@ -1,6 +1,7 @@
 // HTML report of a thermal model evaluation (uses the shared report module).
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -31,7 +32,11 @@ void WriteThermalReport(const ThermalEvaluation& ev, const std::string& path) {
                          {"temperatures", fmt::format("{}", fmt::join(s.temperature_names, ", "))},
                          {"error channels", fmt::format("{}", fmt::join(s.error_names, ", "))},
                          {"cleaning", ev.cleaning.BriefReport()}});
-  page.AddParagraph(ev.SplitDescription());
+  {  // one paragraph per line (a leave-one-experiment-out split lists its folds)
+    std::istringstream lines(ev.SplitDescription());
+    for (std::string line; std::getline(lines, line);)
+      if (!line.empty()) page.AddParagraph(line);
+  }
   report::HtmlTable blocks({"block", "spindle (rpm)", "start (h)", "end (h)", "rows", "role"});
   for (const auto& b : ev.blocks) {
     const bool tr = std::find(ev.train_blocks.begin(), ev.train_blocks.end(), b.index) != ev.train_blocks.end();
