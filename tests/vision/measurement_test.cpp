@@ -63,6 +63,9 @@ struct DisturbanceCase {
   double angle_jitter_deg = 0;  // trigger jitter around 45° (the spindle turning)
 };
 
+// Printed by name (CTest lists each case with its parameter; a byte dump helps nobody).
+void PrintTo(const DisturbanceCase& c, std::ostream* os) { *os << c.name; }
+
 class MarkerDisturbance : public ::testing::TestWithParam<DisturbanceCase> {};
 
 TEST_P(MarkerDisturbance, CredibleReadingsStayNearTheTruth) {
