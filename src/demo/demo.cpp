@@ -387,26 +387,13 @@ class WorkingDay {
     m.SetMeta("coolant", std::string(CoolantStateName(vm_.coolant())));
     m.SetMeta("instrument", "trueaxis virtual laser interferometer (demo, compensator in the loop)");
     const double t0 = vm_.TimeS();
-    std::vector<hw::RawTemperature> raw(vm_.ChannelCount());
     auto record = [&](int run, Direction dir, double target) {
       MoveAndWait(axis, target, lo.feed_mm_min);
       Step(lo.dwell_s);
-      measure::MeasurementPoint p;
-      p.run = run;
-      p.direction = dir;
-      p.target_mm = target;
-      p.deviation_um = std::round((laser_.ReadMm(vm_) - target) * 1e6) / 1000.0;
-      p.time_s = std::round((vm_.TimeS() - t0) * 10.0) / 10.0;
-      vm_.Read(raw);
-      for (const auto& r : raw) p.temperatures_c.push_back(r.hardware_fault ? std::nan("") : r.temp_c);
-      m.points.push_back(std::move(p));
+      m.points.push_back(laser_.Reading(vm_, run, dir, target, t0));
     };
-    for (int run = 1; run <= runs; ++run) {
-      MoveAndWait(axis, targets.front() - lo.overrun_mm, lo.feed_mm_min);
-      for (double t : targets) record(run, Direction::kForward, t);
-      MoveAndWait(axis, targets.back() + lo.overrun_mm, lo.feed_mm_min);
-      for (auto it = targets.rbegin(); it != targets.rend(); ++it) record(run, Direction::kReverse, *it);
-    }
+    sim::RunBidirectionalCycle(targets, runs, lo.overrun_mm,
+                               [&](double x) { MoveAndWait(axis, x, lo.feed_mm_min); }, record);
     return m;
   }
 

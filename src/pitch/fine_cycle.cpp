@@ -80,12 +80,7 @@ measure::Measurement RunFineCycle(sim::VirtualMachine& vm, std::size_t axis, sim
     ipo.Dwell(o.dwell_s);
     m.points.push_back(laser.Reading(vm, run, dir, target, t0));
   };
-  for (int run = 1; run <= o.runs; ++run) {
-    ipo.MoveTo(targets.front() - over, o.feed_mm_min);
-    for (double t : targets) record(run, Direction::kForward, t);
-    ipo.MoveTo(targets.back() + over, o.feed_mm_min);
-    for (auto it = targets.rbegin(); it != targets.rend(); ++it) record(run, Direction::kReverse, *it);
-  }
+  sim::RunBidirectionalCycle(targets, o.runs, over, [&](double x) { ipo.MoveTo(x, o.feed_mm_min); }, record);
   m.SetMeta("duration_s", FormatShortest(std::round((vm.TimeS() - t0) * 10.0) / 10.0));
   return m;
 }

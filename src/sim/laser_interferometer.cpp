@@ -145,14 +145,21 @@ measure::Measurement LaserInterferometer::Measure(VirtualMachine& vm, int runs,
     vm.Dwell(o_.dwell_s);
     m.points.push_back(Reading(vm, run, dir, target, t0));
   };
-  for (int run = 1; run <= runs; ++run) {
-    vm.MoveTo(axis, targets.front() - o_.overrun_mm, o_.feed_mm_min);
-    for (double t : targets) record(run, Direction::kForward, t);
-    vm.MoveTo(axis, targets.back() + o_.overrun_mm, o_.feed_mm_min);
-    for (auto it = targets.rbegin(); it != targets.rend(); ++it) record(run, Direction::kReverse, *it);
-  }
+  RunBidirectionalCycle(targets, runs, o_.overrun_mm, [&](double x) { vm.MoveTo(axis, x, o_.feed_mm_min); }, record);
   m.SetMeta("duration_s", FormatShortest(std::round((vm.TimeS() - t0) * 10.0) / 10.0));
   return m;
+}
+
+void RunBidirectionalCycle(const std::vector<double>& targets, int runs, double overrun_mm,
+                           const std::function<void(double)>& move_to,
+                           const std::function<void(int, Direction, double)>& record) {
+  if (targets.empty()) throw std::invalid_argument("laser: no target");
+  for (int run = 1; run <= runs; ++run) {
+    move_to(targets.front() - overrun_mm);
+    for (double t : targets) record(run, Direction::kForward, t);
+    move_to(targets.back() + overrun_mm);
+    for (auto it = targets.rbegin(); it != targets.rend(); ++it) record(run, Direction::kReverse, *it);
+  }
 }
 
 }  // namespace trueaxis::sim

@@ -18,6 +18,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <functional>
 #include <string>
 
 #include "trueaxis/measure/measurement.hpp"
@@ -78,5 +79,14 @@ class LaserInterferometer {
   int axis_ = -1;
   double zero_actual_mm_ = 0, zero_commanded_mm_ = 0;
 };
+
+// The bidirectional test cycle of ISO 230-2 / seed 000 §5, the one copy every laser test runs:
+// per run, approach the first target from below by `overrun_mm` and record every target going up,
+// then overrun the last and record every target coming down. `move_to(position_mm)` brings the
+// axis there (however the caller moves it: directly, through its interpolator, or with a
+// compensator cycling); `record(run, direction, target_mm)` moves to the target, dwells and reads.
+void RunBidirectionalCycle(const std::vector<double>& targets, int runs, double overrun_mm,
+                           const std::function<void(double)>& move_to,
+                           const std::function<void(int, Direction, double)>& record);
 
 }  // namespace trueaxis::sim
