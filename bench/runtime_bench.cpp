@@ -13,6 +13,22 @@ namespace {
 using namespace trueaxis;
 using namespace trueaxis::runtime;
 
+// The timed loop both cycle benchmarks share: the axes sweep the travel, one temperature drifts,
+// and each iteration is one full read → step → write cycle; reported per axis.
+void RunCycles(benchmark::State& state, Compensator& comp, runtime::testing::FakeCnc& cnc,
+               runtime::testing::FakeTemps& temps, int n_axes) {
+  double t = 0, x = 0;
+  for (auto _ : state) {
+    x = x > 500 ? 0 : x + 0.37;
+    for (int i = 0; i < n_axes; ++i) cnc.axes[static_cast<std::size_t>(i)] = {x + i, (i % 2) ? -1 : 1, true};
+    temps.values[1].temp_c = 25 + 1e-4 * x;
+    const auto& s = comp.RunCycle(cnc, temps, t += 0.01);
+    benchmark::DoNotOptimize(s.axes[0].output_um);
+  }
+  state.counters["per_axis"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * n_axes, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 // range(0): axes; range(1): 0 = degree-2 polynomial Er(x), 1 = 35-point table (seed 002).
 void BM_CompensationCycle(benchmark::State& state) {
   const int n_axes = static_cast<int>(state.range(0));
@@ -36,16 +52,7 @@ void BM_CompensationCycle(benchmark::State& state) {
       }
   }
   comp->PublishModel(model, "bench");
-  double t = 0, x = 0;
-  for (auto _ : state) {
-    x = x > 500 ? 0 : x + 0.37;
-    for (int i = 0; i < n_axes; ++i) cnc.axes[static_cast<std::size_t>(i)] = {x + i, (i % 2) ? -1 : 1, true};
-    temps.values[1].temp_c = 25 + 1e-4 * x;
-    const auto& s = comp->RunCycle(cnc, temps, t += 0.01);
-    benchmark::DoNotOptimize(s.axes[0].output_um);
-  }
-  state.counters["per_axis"] = benchmark::Counter(
-      static_cast<double>(state.iterations()) * n_axes, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  RunCycles(state, *comp, cnc, temps, n_axes);
 }
 BENCHMARK(BM_CompensationCycle)->ArgsProduct({{1, 3, 5, 8}, {0, 1}})->ArgNames({"axes", "table"});
 
@@ -66,16 +73,7 @@ void BM_CompensationCycleThermalState(benchmark::State& state) {
     a.key_loss_s[static_cast<std::size_t>(CoolantState::kFlood)] = {300, 450};
   }
   comp->PublishModel(model, "bench");
-  double t = 0, x = 0;
-  for (auto _ : state) {
-    x = x > 500 ? 0 : x + 0.37;
-    for (int i = 0; i < n_axes; ++i) cnc.axes[static_cast<std::size_t>(i)] = {x + i, (i % 2) ? -1 : 1, true};
-    temps.values[1].temp_c = 25 + 1e-4 * x;
-    const auto& s = comp->RunCycle(cnc, temps, t += 0.01);
-    benchmark::DoNotOptimize(s.axes[0].output_um);
-  }
-  state.counters["per_axis"] = benchmark::Counter(
-      static_cast<double>(state.iterations()) * n_axes, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  RunCycles(state, *comp, cnc, temps, n_axes);
 }
 BENCHMARK(BM_CompensationCycleThermalState)->ArgsProduct({{3}, {0, 1}})->ArgNames({"axes", "flood"});
 

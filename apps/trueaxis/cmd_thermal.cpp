@@ -175,9 +175,10 @@ ThermalSeries LoadSeries(const CommonOptions& o, SeriesCleaningReport* report) {
     std::vector<double> skipped;
     if (cleaned.has_time) cleaned = AddLaggedTemperatures(cleaned, grid, &skipped);
     else if (o.lags_s != "auto") throw InputError(cleaned.source, 0, "--lags-s", "lagged inputs need time_s");
-    if (o.lags_s != "auto" && !skipped.empty())
-      report->warnings.push_back(fmt::format("--lags-s: {} s skipped: longer than a third of the recording",
-                                             fmt::join(skipped, ", ")));
+    // Said either way: with auto the short recording decides which lags are offered.
+    if (!skipped.empty())
+      report->warnings.push_back(fmt::format("--lags-s {}: {} s not offered: longer than a third of the time recorded",
+                                             o.lags_s, fmt::join(skipped, ", ")));
   }
   if (!o.sensors_list.empty()) cleaned = SelectTemperatureSensors(cleaned, SplitList(o.sensors_list));
   for (const auto& w : report->warnings) fmt::print(stderr, "warning: {}\n", w);

@@ -7,6 +7,7 @@
 
 #include "trueaxis/analysis/evaluation.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/interpolation.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/plausibility.hpp"
 
@@ -17,15 +18,6 @@ namespace {
 constexpr double kGridTolMm = 1e-3;  // 1 µm: positions printed to the µm are on the grid
 
 std::string Num(double v) { return FormatShortest(std::round(v * 1e6) / 1e6); }
-
-double Interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
-  if (x <= xs.front()) return ys.front();
-  if (x >= xs.back()) return ys.back();
-  const auto it = std::upper_bound(xs.begin(), xs.end(), x);
-  const std::size_t i = static_cast<std::size_t>(it - xs.begin());
-  const double t = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
-  return ys[i - 1] + t * (ys[i] - ys[i - 1]);
-}
 
 // Grid positions reference + k·spacing inside [lo, hi] (within the tolerance).
 std::vector<double> GridInside(double reference, double spacing, double lo, double hi) {
@@ -45,7 +37,7 @@ TableLookup LookupError(const PitchErrorTable& t, double x_mm, Direction directi
   const auto& ys = direction == Direction::kForward ? t.error_up_um : t.error_down_um;
   TableLookup r;
   r.outside = x_mm < t.position_mm.front() - 1e-9 || x_mm > t.position_mm.back() + 1e-9;
-  r.error_um = Interpolate(t.position_mm, ys, x_mm);
+  r.error_um = InterpolateClamped(t.position_mm, ys, x_mm);
   return r;
 }
 
@@ -119,8 +111,8 @@ PitchErrorTable TableFromMeasurement(const measure::Measurement& m, const TableF
   int on_target = 0;
   for (double x : GridInside(ref, spacing, xs.front(), xs.back())) {
     t.position_mm.push_back(x);
-    t.error_up_um.push_back(Interpolate(xs, up, x));
-    t.error_down_um.push_back(Interpolate(xs, down, x));
+    t.error_up_um.push_back(InterpolateClamped(xs, up, x));
+    t.error_down_um.push_back(InterpolateClamped(xs, down, x));
     const auto it = std::lower_bound(xs.begin(), xs.end(), x - kGridTolMm);
     if (it != xs.end() && std::abs(*it - x) <= kGridTolMm) ++on_target;
   }
@@ -194,7 +186,7 @@ exporter::ResampleResult ResamplePitchTable(const PitchErrorTable& t, const expo
     for (std::size_t i = 0; i < t.size(); ++i) {
       const double x = t.position_mm[i];
       if (x < ct.position_mm.front() || x > ct.position_mm.back()) continue;
-      auto at = [&](const std::vector<double>& ys) { return Interpolate(ct.position_mm, ys, x); };
+      auto at = [&](const std::vector<double>& ys) { return InterpolateClamped(ct.position_mm, ys, x); };
       worst = std::max({worst, std::abs(at(ct.forward_um) + t.error_up_um[i]), std::abs(at(ct.reverse_um) + t.error_down_um[i])});
     }
     ct.provenance.push_back(fmt::format("resampled from {} pitch samples every {} mm: up to {} um lost at the samples "

@@ -238,10 +238,7 @@ HysteresisThermalModel FitHysteresisModel(const ThermalSeries& s, const Hysteres
   // A trend needs several samples in its window, whatever the recording's sample interval.
   IntervalClassifierOptions classifier = o.classifier;
   if (s.Rows() >= 2) {
-    std::vector<double> steps;
-    for (std::size_t r = 1; r < s.time_s.size(); ++r) steps.push_back(s.time_s[r] - s.time_s[r - 1]);
-    std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
-    const double median_step_s = steps[steps.size() / 2];
+    const double median_step_s = MedianTimeStepS(s);
     if (classifier.window_s < kMinWindowSteps * median_step_s) {
       classifier.window_s = kMinWindowSteps * median_step_s;
       warn(fmt::format("hysteresis: the sample interval is {:g} s, so the {:g} s trend window would hold fewer than {} "

@@ -11,17 +11,9 @@
 namespace trueaxis::thermal {
 namespace {
 
-double MedianStep(const std::vector<double>& t) {
-  if (t.size() < 2) return 0;
-  std::vector<double> steps;
-  for (std::size_t r = 1; r < t.size(); ++r) steps.push_back(t[r] - t[r - 1]);
-  std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
-  return steps[steps.size() / 2];
-}
-
 // The lag of one column over the whole series, restarting at experiments and long gaps.
 Eigen::VectorXd LagColumn(const ThermalSeries& s, const Eigen::VectorXd& raw, double tau_s) {
-  const double reset_gap_s = kLagResetGapFactor * MedianStep(s.time_s);
+  const double reset_gap_s = kLagResetGapFactor * MedianTimeStepS(s);
   Eigen::VectorXd out(raw.size());
   InputLagFilter f(tau_s);
   for (Eigen::Index r = 0; r < raw.size(); ++r) {

@@ -102,9 +102,7 @@ ThermalSeries CleanSeries(const ThermalSeries& in, const SeriesCleaningOptions& 
   if (in.has_time && n >= 3) {
     std::vector<double> steps;
     for (std::size_t i = 1; i < in.time_s.size(); ++i) steps.push_back(in.time_s[i] - in.time_s[i - 1]);
-    std::vector<double> sorted = steps;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2), sorted.end());
-    const double median = sorted[sorted.size() / 2];
+    const double median = MedianTimeStepS(in);
     for (std::size_t i = 0; i < steps.size(); ++i) {
       if (steps[i] > options.max_time_step_factor * median) {
         std::string msg = fmt::format("time jumps by {} s after {} s (median step {} s): a gap in the recording",

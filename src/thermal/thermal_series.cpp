@@ -1,5 +1,7 @@
 #include "trueaxis/thermal/thermal_series.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
@@ -125,6 +127,14 @@ ThermalSeries SelectRows(const ThermalSeries& s, const std::vector<Eigen::Index>
     if (!s.experiment.empty()) out.experiment.push_back(s.experiment[ru]);
   }
   return out;
+}
+
+double MedianTimeStepS(const ThermalSeries& s) {
+  if (s.time_s.size() < 2) return 0;
+  std::vector<double> steps;
+  for (std::size_t r = 1; r < s.time_s.size(); ++r) steps.push_back(s.time_s[r] - s.time_s[r - 1]);
+  std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
+  return steps[steps.size() / 2];
 }
 
 ThermalSeries SelectTemperatureSensors(const ThermalSeries& s, const std::vector<std::string>& names) {

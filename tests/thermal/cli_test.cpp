@@ -115,6 +115,8 @@ TEST(ThermalCliWarnings, TooManySensorsAndTooFewRowsAreSaid) {
   auto many = RunCli("thermal fit --series " + series + " --model ridge --sensors 50 -o " + dir + "/m.json");
   EXPECT_EQ(many.exit_code, 0) << many.output;
   EXPECT_NE(many.output.find("warning: --sensors 50"), std::string::npos) << many.output;
+  // An 8 h recording cannot identify the 4.5 h lag of the default grid: said, not silently dropped.
+  EXPECT_NE(many.output.find("16200 s not offered"), std::string::npos) << many.output;
   std::ofstream(dir + "/three.csv") << "time_s,t_a_c,t_b_c,e_x_um\n0,20,21,1\n15,20.5,21,1.5\n30,21,21.2,2\n";
   auto few = RunCli("thermal fit --series " + dir + "/three.csv --model mlr --sensors 1 -o " + dir + "/m3.json");
   EXPECT_NE(few.output.find("barely determined"), std::string::npos) << few.output;

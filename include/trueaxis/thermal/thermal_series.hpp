@@ -64,6 +64,10 @@ ThermalSeries SelectRows(const ThermalSeries& series, const std::vector<Eigen::I
 inline constexpr double kExperimentGapS = 7 * 24 * 3600.0;
 ThermalSeries ConcatenateExperiments(const std::vector<ThermalSeries>& parts, std::vector<std::string>* warnings);
 
+// The median time step between consecutive rows in s (0 with fewer than 2 rows): the recording's
+// sample interval, robust to gaps and to the joins between experiments.
+double MedianTimeStepS(const ThermalSeries& series);
+
 // Keeps only the named temperature sensors, in that order (InputError naming the sensor when absent).
 ThermalSeries SelectTemperatureSensors(const ThermalSeries& series, const std::vector<std::string>& names);
 
