@@ -36,10 +36,12 @@ HistoryWriterOptions Checked(HistoryWriterOptions o) {
 }  // namespace
 
 HistoryWriter::HistoryWriter(const std::string& path, HistoryWriterOptions options)
-    : path_(path),
-      options_(Checked(options)),
-      db_(std::make_unique<HistoryDb>(path, HistoryDb::Mode::kReadWrite)),
+    : HistoryWriter(std::make_unique<HistoryDb>(path, HistoryDb::Mode::kReadWrite), options) {}
+
+HistoryWriter::HistoryWriter(std::unique_ptr<HistorySink> sink, HistoryWriterOptions options)
+    : path_(sink ? sink->Describe() : std::string()), options_(Checked(options)), db_(std::move(sink)),
       queue_(options_.queue_capacity) {
+  if (!db_) throw std::invalid_argument("HistoryWriter: no sink");
   thread_ = std::thread([this] { Run(); });
 }
 

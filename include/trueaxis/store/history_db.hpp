@@ -20,6 +20,7 @@
 
 #include "trueaxis/signal/calibration.hpp"
 #include "trueaxis/store/history_record.hpp"
+#include "trueaxis/store/history_sink.hpp"
 
 struct sqlite3;
 struct sqlite3_stmt;
@@ -72,7 +73,7 @@ struct HistorySummary {
   std::string BriefReport() const;
 };
 
-class HistoryDb {
+class HistoryDb : public HistorySink {
  public:
   enum class Mode { kReadOnly, kReadWrite };  // kReadWrite creates a missing file
   static constexpr int kSchemaVersion = 2;
@@ -81,7 +82,7 @@ class HistoryDb {
   static constexpr std::int32_t kApplicationId = 0x54415848;  // "TAXH"
 
   HistoryDb(const std::string& path, Mode mode);
-  ~HistoryDb();
+  ~HistoryDb() override;
   HistoryDb(const HistoryDb&) = delete;
   HistoryDb& operator=(const HistoryDb&) = delete;
 
@@ -89,7 +90,8 @@ class HistoryDb {
   int schema_version() const { return schema_version_; }
 
   // Writes all records in one transaction (all or nothing).
-  void InsertBatch(std::span<const HistoryRecord> records);
+  void InsertBatch(std::span<const HistoryRecord> records) override;
+  std::string Describe() const override { return path_; }
 
   std::vector<std::string> Channels() const;
   std::vector<std::string> Axes() const;

@@ -21,6 +21,7 @@
 
 #include "trueaxis/store/bounded_queue.hpp"
 #include "trueaxis/store/history_record.hpp"
+#include "trueaxis/store/history_sink.hpp"
 
 namespace trueaxis::store {
 
@@ -41,12 +42,14 @@ struct HistoryWriterStats {
   std::string BriefReport() const;
 };
 
-class HistoryDb;
+class HistorySink;
 
 class HistoryWriter {
  public:
   // Opens (or creates) the database; throws InputError when it cannot.
   explicit HistoryWriter(const std::string& path, HistoryWriterOptions options = {});
+  // Writes to any sink (a database server, a test double); takes ownership.
+  explicit HistoryWriter(std::unique_ptr<HistorySink> sink, HistoryWriterOptions options = {});
   ~HistoryWriter();  // Close()
   HistoryWriter(const HistoryWriter&) = delete;
   HistoryWriter& operator=(const HistoryWriter&) = delete;
@@ -71,7 +74,7 @@ class HistoryWriter {
 
   std::string path_;
   HistoryWriterOptions options_;
-  std::unique_ptr<HistoryDb> db_;
+  std::unique_ptr<HistorySink> db_;
   BoundedQueue<HistoryRecord> queue_;
   std::atomic<std::uint64_t> accepted_{0}, dropped_{0}, written_{0}, failed_{0}, batches_{0};
   std::atomic<bool> stop_{false};
