@@ -12,14 +12,14 @@
 #include <sstream>
 #include <string>
 
-#include "fake_machine.hpp"
+#include "modbus_test_server.hpp"
 #include "trueaxis/drivers/register_codec.hpp"
 
 namespace trueaxis::drivers {
 namespace {
 
-using testing::FakeCnc;
-using testing::FakeTemperatures;
+using testing::MockCnc;
+using testing::MockTemperatures;
 using testing::StartServer;
 using testing::WaitFor;
 
@@ -47,8 +47,8 @@ std::map<int, long long> ParseMbpoll(const std::string& text) {
 class PeersTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    cnc = std::make_unique<FakeCnc>(std::vector<std::string>{"X", "Y", "Z"});
-    temps = std::make_unique<FakeTemperatures>(7);
+    cnc = std::make_unique<MockCnc>(std::vector<std::string>{"X", "Y", "Z"});
+    temps = std::make_unique<MockTemperatures>(7);
     cnc->SetAxis(0, {123.4567, +1, true});
     cnc->SetAxis(1, {-250.5, -1, false});
     cnc->SetState({CoolantState::kMist, true});
@@ -62,8 +62,8 @@ class PeersTest : public ::testing::Test {
     ASSERT_TRUE(WaitFor([&] { return server->Stats().exchanges > 3; }));
   }
   std::string Mbpoll(const std::string& args) const { return "mbpoll -m tcp -1 -o 2 -p " + port + " " + args; }
-  std::unique_ptr<FakeCnc> cnc;
-  std::unique_ptr<FakeTemperatures> temps;
+  std::unique_ptr<MockCnc> cnc;
+  std::unique_ptr<MockTemperatures> temps;
   std::unique_ptr<ModbusMachineServer> server;
   std::string port;
 };

@@ -13,7 +13,7 @@
 #include <cmath>
 #include <random>
 
-#include "fake_machine.hpp"
+#include "modbus_test_server.hpp"
 #include "trueaxis/drivers/modbus_cnc_link.hpp"
 #include "trueaxis/drivers/modbus_temperature_source.hpp"
 
@@ -38,8 +38,9 @@ int Connect(int port) {
 }
 
 TEST(RandomFrames, TerminalStaysUpAndKeepsItsInvariants) {
-  testing::FakeCnc cnc({"X", "Y", "Z"});
-  testing::FakeTemperatures temps(7);
+  testing::MockCnc cnc({"X", "Y", "Z"});
+  cnc.record_history = true;
+  testing::MockTemperatures temps(7);
   std::string error;
   ModbusMachineServerOptions o;
   o.max_abs_compensation_um = 100.0;

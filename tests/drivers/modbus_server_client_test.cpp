@@ -14,7 +14,7 @@
 #include <memory>
 #include <thread>
 
-#include "fake_machine.hpp"
+#include "modbus_test_server.hpp"
 #include "trueaxis/drivers/adam6015_map.hpp"
 #include "trueaxis/drivers/modbus_cnc_link.hpp"
 #include "trueaxis/drivers/modbus_temperature_source.hpp"
@@ -24,8 +24,8 @@
 namespace trueaxis::drivers {
 namespace {
 
-using testing::FakeCnc;
-using testing::FakeTemperatures;
+using testing::MockCnc;
+using testing::MockTemperatures;
 using testing::StartServer;
 using testing::WaitFor;
 
@@ -52,8 +52,8 @@ struct RawClient {
 class ServerClientTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    cnc = std::make_unique<FakeCnc>(std::vector<std::string>{"X", "Y", "Z"});
-    temps = std::make_unique<FakeTemperatures>(9);  // two ADAM-6015 modules: 7 + 2 channels
+    cnc = std::make_unique<MockCnc>(std::vector<std::string>{"X", "Y", "Z"});
+    temps = std::make_unique<MockTemperatures>(9);  // two ADAM-6015 modules: 7 + 2 channels
     std::string error;
     server = StartServer(cnc.get(), temps.get(), options, &error);
     ASSERT_NE(server, nullptr) << error;
@@ -77,8 +77,8 @@ class ServerClientTest : public ::testing::Test {
     return o;
   }
   ModbusMachineServerOptions options;
-  std::unique_ptr<FakeCnc> cnc;
-  std::unique_ptr<FakeTemperatures> temps;
+  std::unique_ptr<MockCnc> cnc;
+  std::unique_ptr<MockTemperatures> temps;
   std::unique_ptr<ModbusMachineServer> server;
   int port = 0;
 };
@@ -424,7 +424,7 @@ TEST_F(ServerClientTest, ServerStopsWithClientsConnected) {
 }
 
 TEST(ModbusMachineServer, ANewClientAlwaysGetsInAndIdleOnesAreDropped) {
-  FakeCnc cnc({"X"});
+  MockCnc cnc({"X"});
   ModbusMachineServerOptions o;
   o.max_clients = 2;
   o.idle_timeout_s = 0.5;
@@ -454,7 +454,7 @@ TEST(ModbusMachineServer, ANewClientAlwaysGetsInAndIdleOnesAreDropped) {
 // Silent TCP connections (a port scanner, a crashed client's half-open sockets) filling every
 // slot must not lock a real client out (16 of them used to, for the 60 s idle timeout).
 TEST(ModbusMachineServer, SilentConnectionsFillingEverySlotDoNotLockClientsOut) {
-  FakeCnc cnc({"X"});
+  MockCnc cnc({"X"});
   std::string error;
   auto server = StartServer(&cnc, nullptr, {}, &error);
   ASSERT_NE(server, nullptr) << error;
@@ -481,7 +481,7 @@ TEST(ModbusMachineServer, SilentConnectionsFillingEverySlotDoNotLockClientsOut) 
 }
 
 TEST(ModbusMachineServer, NothingIsWrittenToTheCncBeforeAClientWrites) {
-  FakeCnc cnc({"X", "Y"});
+  MockCnc cnc({"X", "Y"});
   std::string error;
   auto server = StartServer(&cnc, nullptr, {}, &error);
   ASSERT_NE(server, nullptr) << error;
@@ -490,7 +490,7 @@ TEST(ModbusMachineServer, NothingIsWrittenToTheCncBeforeAClientWrites) {
 }
 
 TEST(ModbusMachineServer, ARefusingCncIsRetriedEachPeriodNotHammered) {
-  FakeCnc cnc({"X"});
+  MockCnc cnc({"X"});
   ModbusMachineServerOptions o;
   o.machine_period_s = 0.01;
   std::string error;
@@ -518,7 +518,8 @@ TEST(ModbusMachineServer, ARefusingCncIsRetriedEachPeriodNotHammered) {
 }
 
 TEST(ModbusMachineServer, WatchdogRampsAStaleCompensationToZeroWithoutAJump) {
-  FakeCnc cnc({"X", "Y"});
+  MockCnc cnc({"X", "Y"});
+  cnc.record_history = true;
   ModbusMachineServerOptions o;
   o.watchdog_s = 0.2;
   o.watchdog_ramp_um_per_s = 100.0;
@@ -548,7 +549,7 @@ TEST(ModbusMachineServer, WatchdogRampsAStaleCompensationToZeroWithoutAJump) {
 }
 
 TEST(ModbusMachineServer, BadOptionsAndBusyPortsAreReported) {
-  FakeCnc cnc({"X"});
+  MockCnc cnc({"X"});
   ModbusMachineServerOptions o;
   std::string why;
   o.bind_address = "localhost-ish";
@@ -572,7 +573,7 @@ TEST(ModbusMachineServer, BadOptionsAndBusyPortsAreReported) {
   EXPECT_NE(error.find("cannot listen"), std::string::npos) << error;
   ModbusMachineServer none(nullptr, nullptr, {});
   EXPECT_FALSE(none.Start(&error));
-  FakeCnc wide({"A", "B", "C", "D", "E", "F", "G", "H", "I"});
+  MockCnc wide({"A", "B", "C", "D", "E", "F", "G", "H", "I"});
   ModbusMachineServer too_many(&wide, nullptr, {});
   EXPECT_FALSE(too_many.Start(&error));
   EXPECT_NE(error.find("at most 8 axes"), std::string::npos) << error;

@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "fake_machine.hpp"
+#include "modbus_test_server.hpp"
 #include "trueaxis/drivers/modbus_cnc_link.hpp"
 #include "trueaxis/drivers/modbus_temperature_source.hpp"
 
@@ -48,8 +48,8 @@ TEST(NoAllocation, TheCounterSeesAllocations) {  // so a 0 below means something
 }
 
 TEST(NoAllocation, ClientsReadAndWriteWithoutAllocatingOnceConnected) {
-  testing::FakeCnc cnc({"X", "Y", "Z"});
-  testing::FakeTemperatures temps(9);
+  testing::MockCnc cnc({"X", "Y", "Z"});
+  testing::MockTemperatures temps(9);
   std::string error;
   auto server = testing::StartServer(&cnc, &temps, {}, &error);
   ASSERT_NE(server, nullptr) << error;

@@ -15,7 +15,7 @@
 #include <thread>
 #include <vector>
 
-#include "fake_machine.hpp"
+#include "modbus_test_server.hpp"
 
 namespace trueaxis::drivers {
 namespace {
@@ -209,7 +209,7 @@ TEST(SimServe, BadOptionsAreReportedWithTheFieldAndExitCode2) {
 }
 
 TEST(SimServe, BusyPortIsAClearFailure) {
-  testing::FakeCnc cnc({"X"});
+  testing::MockCnc cnc({"X"});
   std::string error;
   auto holder = testing::StartServer(&cnc, nullptr, {}, &error);
   ASSERT_NE(holder, nullptr) << error;

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <mutex>
 
-#include "fake_machine.hpp"
+#include "modbus_test_server.hpp"
 #include "trueaxis/drivers/modbus_cnc_link.hpp"
 #include "trueaxis/drivers/modbus_machine_server.hpp"
 #include "trueaxis/drivers/modbus_temperature_source.hpp"

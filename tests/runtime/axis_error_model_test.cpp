@@ -12,8 +12,8 @@
 
 namespace trueaxis::runtime {
 namespace {
-using testing::FakeCnc;
-using testing::FakeTemps;
+using testing::MockCnc;
+using testing::MockTemperatures;
 
 // error = a·(T_nut − 20) + b·position, reverse adds 3 µm.
 class LinearTestModel : public model::AxisErrorModel {
@@ -44,8 +44,8 @@ struct Rig {
     for (int i = 0; i < cycles; ++i) s = &comp->RunCycle(cnc, temps, t += 0.01);
     return *s;
   }
-  FakeCnc cnc;
-  FakeTemps temps;
+  MockCnc cnc;
+  MockTemperatures temps;
   std::unique_ptr<Compensator> comp;
   double t = 0;
 };

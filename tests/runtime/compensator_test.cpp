@@ -9,8 +9,8 @@
 
 namespace trueaxis::runtime {
 namespace {
-using testing::FakeCnc;
-using testing::FakeTemps;
+using testing::MockCnc;
+using testing::MockTemperatures;
 using testing::TestModel;
 
 struct Rig {
@@ -40,8 +40,8 @@ struct Rig {
     const double pos = comp->axes()[axis].ModelPositionMm(cnc.axes[axis].position_mm);
     return model::CorrectionUm(model::Predict(m->axes[axis], pos, d, ts));
   }
-  FakeCnc cnc;
-  FakeTemps temps;
+  MockCnc cnc;
+  MockTemperatures temps;
   std::unique_ptr<Compensator> comp;
   double t = 0;
 };
@@ -202,8 +202,8 @@ TEST(Compensator, ChannelMapRoutesModelSensorsToChannels) {
 }
 
 TEST(Compensator, UnknownSensorIsAConfigurationErrorNamingIt) {
-  FakeCnc cnc({"X"});
-  FakeTemps temps({"ambient", "nut"}, 20);  // no "bearing"
+  MockCnc cnc({"X"});
+  MockTemperatures temps({"ambient", "nut"}, 20);  // no "bearing"
   auto comp = Compensator::ForHardware(Rig::Fast(), cnc, temps, {});
   try {
     comp->PublishModel(TestModel(), "model.json");

@@ -8,8 +8,8 @@
 
 namespace trueaxis::runtime {
 namespace {
-using testing::FakeCnc;
-using testing::FakeTemps;
+using testing::MockCnc;
+using testing::MockTemperatures;
 using testing::TestModel;
 
 TEST(SpscRing, FifoAndFullness) {
@@ -45,8 +45,8 @@ TEST(SpscRing, TwoThreadsDeliverEverythingInOrder) {
 }
 
 TEST(CycleRecorder, DecimatesButKeepsEveryAlarmEdge) {
-  FakeCnc cnc({"X"});
-  FakeTemps temps({"ambient", "nut", "bearing"}, 20.0);
+  MockCnc cnc({"X"});
+  MockTemperatures temps({"ambient", "nut", "bearing"}, 20.0);
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   comp->PublishModel(TestModel(1.0, {"X"}), "m");
   CycleRecorder rec(1024, 100);
@@ -73,8 +73,8 @@ TEST(CycleRecorder, DecimatesButKeepsEveryAlarmEdge) {
 }
 
 TEST(CycleRecorder, CountsDropsWhenTheConsumerFallsBehind) {
-  FakeCnc cnc({"X"});
-  FakeTemps temps({"nut"}, 20.0);
+  MockCnc cnc({"X"});
+  MockTemperatures temps({"nut"}, 20.0);
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   CycleRecorder rec(16, 1);
   LoopRunner runner(*comp, cnc, temps, LoopOptions{0.01}, &rec);

@@ -11,7 +11,7 @@
 
 namespace trueaxis::runtime {
 namespace {
-using testing::FakeCnc, testing::FakeTemps, testing::TestModel;
+using testing::MockCnc, testing::MockTemperatures, testing::TestModel;
 
 struct TermRig {
   explicit TermRig(double step_um = 0.5, double bound_um = 40) : cnc({"X", "Z"}), temps({"ambient", "nut", "bearing"}, 20.0) {
@@ -32,8 +32,8 @@ struct TermRig {
     }
     return *s;
   }
-  FakeCnc cnc;
-  FakeTemps temps;
+  MockCnc cnc;
+  MockTemperatures temps;
   std::unique_ptr<Compensator> comp;
   double t = 0, max_delta_z = 0;
   std::uint32_t alarms_seen = 0;

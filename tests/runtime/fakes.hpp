@@ -1,5 +1,5 @@
 #pragma once
-// The runtime tests' fixtures: the shared mock hardware under its old names, and a test model.
+// The runtime tests' fixtures: the shared mock hardware (tests/support/mock_hardware.hpp) and a test model.
 #include <cmath>
 #include <string>
 #include <vector>
@@ -9,8 +9,8 @@
 
 namespace trueaxis::runtime::testing {
 
-using FakeCnc = trueaxis::testing::MockCnc;
-using FakeTemps = trueaxis::testing::MockTemperatures;
+using trueaxis::testing::MockCnc;
+using trueaxis::testing::MockTemperatures;
 
 // An axis model with a clear geometric shape, a reversal difference, a
 // thermal fan about Px and an ambient term, so every path of the cycle moves the output.

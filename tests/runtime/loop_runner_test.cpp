@@ -9,8 +9,8 @@
 
 namespace trueaxis::runtime {
 namespace {
-using testing::FakeCnc;
-using testing::FakeTemps;
+using testing::MockCnc;
+using testing::MockTemperatures;
 using testing::TestModel;
 
 struct CountingObserver : CycleObserver {
@@ -23,8 +23,8 @@ struct CountingObserver : CycleObserver {
 };
 
 TEST(LoopRunner, SimulatedModeAdvancesThePlantOnePeriodPerCycle) {
-  FakeCnc cnc({"X"});
-  FakeTemps temps({"ambient", "nut", "bearing"}, 20.0);
+  MockCnc cnc({"X"});
+  MockTemperatures temps({"ambient", "nut", "bearing"}, 20.0);
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   comp->PublishModel(TestModel(1.0, {"X"}), "m");
   CountingObserver obs;
@@ -47,8 +47,8 @@ TEST(LoopRunner, SimulatedModeAdvancesThePlantOnePeriodPerCycle) {
 }
 
 TEST(LoopRunner, RealTimeThreadRunsUntilStopped) {
-  FakeCnc cnc({"X"});
-  FakeTemps temps({"ambient", "nut", "bearing"}, 20.0);
+  MockCnc cnc({"X"});
+  MockTemperatures temps({"ambient", "nut", "bearing"}, 20.0);
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   CountingObserver obs;
   LoopRunner runner(*comp, cnc, temps, LoopOptions{0.002}, &obs);
@@ -69,8 +69,8 @@ TEST(LoopRunner, RealTimeThreadRunsUntilStopped) {
 }
 
 TEST(LoopRunner, RejectsAnAbsurdPeriod) {
-  FakeCnc cnc({"X"});
-  FakeTemps temps({"nut"}, 20.0);
+  MockCnc cnc({"X"});
+  MockTemperatures temps({"nut"}, 20.0);
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   EXPECT_THROW(LoopRunner(*comp, cnc, temps, LoopOptions{0}), std::invalid_argument);
   EXPECT_THROW(LoopRunner(*comp, cnc, temps, LoopOptions{100}), std::invalid_argument);

@@ -10,16 +10,16 @@
 
 namespace trueaxis::runtime {
 namespace {
-using testing::FakeCnc;
-using testing::FakeTemps;
+using testing::MockCnc;
+using testing::MockTemperatures;
 using testing::TestModel;
 using signal::MonitoredTemperatureSource;
 
 TEST(SignalChainInFrontOfTheCompensator, FiltersSpikesAndFlagsFaultsForTheCompensator) {
-  FakeTemps raw({"ambient", "nut", "bearing"}, 20.0);
+  MockTemperatures raw({"ambient", "nut", "bearing"}, 20.0);
   double now = 0;
   MonitoredTemperatureSource mon(raw, signal::MonitorOptions{}, [&] { return now; });
-  FakeCnc cnc({"X"});
+  MockCnc cnc({"X"});
   cnc.axes[0] = {400, +1, true};
   CompensatorOptions o;
   o.shaper.max_step_um = 1000;
@@ -51,7 +51,7 @@ TEST(SignalChainInFrontOfTheCompensator, FiltersSpikesAndFlagsFaultsForTheCompen
 }
 
 TEST(SignalChainInFrontOfTheCompensator, SourceFailureIsPassedOn) {
-  FakeTemps raw({"nut"}, 20.0);
+  MockTemperatures raw({"nut"}, 20.0);
   double now = 0;
   MonitoredTemperatureSource mon(raw, signal::MonitorOptions{}, [&] { return now; });
   std::vector<hw::RawTemperature> out(1);

@@ -55,8 +55,8 @@ void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { Counte
 
 namespace trueaxis::runtime {
 namespace {
-using testing::FakeCnc;
-using testing::FakeTemps;
+using testing::MockCnc;
+using testing::MockTemperatures;
 using testing::TestModel;
 
 TEST(NoAllocation, CounterSeesAllocations) {  // the instrument works
@@ -69,8 +69,8 @@ TEST(NoAllocation, CounterSeesAllocations) {  // the instrument works
 }
 
 TEST(NoAllocation, ManyCyclesWithFaultsSwapsAndTogglesAllocateNothing) {
-  FakeCnc cnc({"X", "Y", "Z"});
-  FakeTemps temps({"ambient", "nut", "bearing"}, 20.0);
+  MockCnc cnc({"X", "Y", "Z"});
+  MockTemperatures temps({"ambient", "nut", "bearing"}, 20.0);
   CompensatorOptions o;
   o.shaper.max_step_um = 0.5;
   o.sensor.hold_last_good_s = 0.5;
@@ -105,8 +105,8 @@ TEST(NoAllocation, ManyCyclesWithFaultsSwapsAndTogglesAllocateNothing) {
 }
 
 TEST(NoAllocation, SignalProcessingInFrontOfTheCompensatorAllocatesNothing) {
-  FakeCnc cnc({"X"});
-  FakeTemps raw({"ambient", "nut", "bearing"}, 20.0);
+  MockCnc cnc({"X"});
+  MockTemperatures raw({"ambient", "nut", "bearing"}, 20.0);
   double now = 0;
   signal::MonitoredTemperatureSource temps(raw, signal::MonitorOptions{}, [&] { return now; });
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
@@ -125,8 +125,8 @@ TEST(NoAllocation, SignalProcessingInFrontOfTheCompensatorAllocatesNothing) {
 }
 
 TEST(NoAllocation, RealTimeLoopThreadAllocatesNothingOnceRunning) {
-  FakeCnc cnc({"X", "Y"});
-  FakeTemps temps({"ambient", "nut", "bearing"}, 20.0);
+  MockCnc cnc({"X", "Y"});
+  MockTemperatures temps({"ambient", "nut", "bearing"}, 20.0);
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   comp->PublishModel(TestModel(), "a");
   CycleRecorder recorder(4096, 1);  // the logging observer runs on the loop thread too

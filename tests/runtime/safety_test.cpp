@@ -11,8 +11,8 @@
 
 namespace trueaxis::runtime {
 namespace {
-using testing::FakeCnc;
-using testing::FakeTemps;
+using testing::MockCnc;
+using testing::MockTemperatures;
 using testing::TestModel;
 
 constexpr double kStep = 0.5;
@@ -55,8 +55,8 @@ struct Harness {
     }
     return *s;
   }
-  FakeCnc cnc;
-  FakeTemps temps;
+  MockCnc cnc;
+  MockTemperatures temps;
   std::unique_ptr<Compensator> comp;
   double t = 0;
   double limit[2], bound[2];

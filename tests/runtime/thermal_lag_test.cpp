@@ -12,8 +12,8 @@
 
 namespace trueaxis::runtime {
 namespace {
-using testing::FakeCnc;
-using testing::FakeTemps;
+using testing::MockCnc;
+using testing::MockTemperatures;
 using testing::TestAxisModel;
 
 std::shared_ptr<const model::CompositeModel> LaggedModel(double nut_tau_s, double bearing_tau_s) {
@@ -38,8 +38,8 @@ struct LagRig {
     model::ThermalState ts{std::span<const double>(key, 2), 20.0, CoolantState::kOff, true};
     return model::CorrectionUm(model::Predict(m.axes[0], 400, Direction::kForward, ts));
   }
-  FakeCnc cnc;
-  FakeTemps temps;
+  MockCnc cnc;
+  MockTemperatures temps;
   std::unique_ptr<Compensator> comp;
 };
 

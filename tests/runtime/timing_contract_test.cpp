@@ -27,8 +27,8 @@
 
 namespace trueaxis::runtime {
 namespace {
-using testing::FakeCnc;
-using testing::FakeTemps;
+using testing::MockCnc;
+using testing::MockTemperatures;
 using testing::TestModel;
 
 template <class Pred>
@@ -102,8 +102,8 @@ station::ModbusClients TerminalClients(int port, double response_timeout_s) {
 // ---- the pure step: a stale snapshot is a fault, handled through the limiter ----
 
 TEST(TimingContract, StepIsAPureFunctionOfModelStateAndInputs) {
-  FakeCnc cnc({"X"});
-  FakeTemps temps({"ambient", "nut", "bearing"}, 25.0);
+  MockCnc cnc({"X"});
+  MockTemperatures temps({"ambient", "nut", "bearing"}, 25.0);
   auto comp = Compensator::ForHardware(ContractOptions(), cnc, temps, {});
   comp->PublishModel(TestModel(1.0, {"X"}), "m");
   cnc.axes[0] = {300, 1, true};
@@ -133,8 +133,8 @@ TEST(TimingContract, StepIsAPureFunctionOfModelStateAndInputs) {
 }
 
 TEST(TimingContract, StaleCncSnapshotIsALinkLossThroughTheLimiter) {
-  FakeCnc cnc({"X"});
-  FakeTemps temps({"ambient", "nut", "bearing"}, 25.0);
+  MockCnc cnc({"X"});
+  MockTemperatures temps({"ambient", "nut", "bearing"}, 25.0);
   CompensatorOptions o = ContractOptions();
   o.link_loss = LinkLossPolicy::kRampToZero;
   auto comp = Compensator::ForHardware(o, cnc, temps, {});
@@ -178,8 +178,8 @@ TEST(TimingContract, StaleCncSnapshotIsALinkLossThroughTheLimiter) {
 }
 
 TEST(TimingContract, StaleTemperatureSnapshotHoldsThenLosesTheChannels) {
-  FakeCnc cnc({"X"});
-  FakeTemps temps({"ambient", "nut", "bearing"}, 25.0);
+  MockCnc cnc({"X"});
+  MockTemperatures temps({"ambient", "nut", "bearing"}, 25.0);
   CompensatorOptions o = ContractOptions();
   o.sensor.hold_last_good_s = 2.0;
   auto comp = Compensator::ForHardware(o, cnc, temps, {});
@@ -216,14 +216,14 @@ TEST(TimingContract, StaleTemperatureSnapshotHoldsThenLosesTheChannels) {
 // ---- the loop: a stalled link never delays a cycle ----
 
 // A CNC link whose Read blocks until released (an in-process stand-in for a terminal that hangs).
-class BlockingCnc : public FakeCnc {
+class BlockingCnc : public MockCnc {
  public:
-  using FakeCnc::FakeCnc;
+  using MockCnc::MockCnc;
   bool Read(std::span<hw::AxisState> out, hw::CncState& m) override {
     in_read.store(true);
     while (block.load()) std::this_thread::sleep_for(std::chrono::microseconds(200));
     in_read.store(false);
-    return FakeCnc::Read(out, m);
+    return MockCnc::Read(out, m);
   }
   std::atomic<bool> block{false};
   std::atomic<bool> in_read{false};
@@ -231,7 +231,7 @@ class BlockingCnc : public FakeCnc {
 
 TEST(TimingContract, BlockedCncReadDoesNotStopTheLoop) {
   BlockingCnc cnc({"X"});
-  FakeTemps temps({"ambient", "nut", "bearing"}, 25.0);
+  MockTemperatures temps({"ambient", "nut", "bearing"}, 25.0);
   cnc.axes[0] = {400, 1, true};
   ContractLoop loop(cnc, temps, ContractOptions(), 0.002);
   auto& obs = loop.obs;
@@ -320,19 +320,19 @@ TEST(TimingContract, StalledModbusTerminalDoesNotDelayACycle) {
 }
 
 // The CNC side of the terminal: the largest change between two values it accepted.
-class RecordingCnc : public FakeCnc {
+class RecordingCnc : public MockCnc {
  public:
-  using FakeCnc::FakeCnc;
+  using MockCnc::MockCnc;
   bool WriteCompensation(std::span<const double> c) override {
     if (writes > 0) max_step_um = std::max(max_step_um, std::fabs(c[0] - cnc_value_um[0]));
-    return FakeCnc::WriteCompensation(c);
+    return MockCnc::WriteCompensation(c);
   }
   double max_step_um = 0;
 };
 
 TEST(TimingContract, FlappingModbusTerminalNeverMakesTheOutputJump) {
   RecordingCnc plant({"X"});
-  FakeTemps plant_temps({"ambient", "nut", "bearing"}, 25.0);
+  MockTemperatures plant_temps({"ambient", "nut", "bearing"}, 25.0);
   plant.axes[0] = {400, 1, true};
   drivers::ModbusMachineServerOptions so;
   so.machine_period_s = 0.001;
