@@ -142,33 +142,6 @@ class DayObserver : public runtime::CycleObserver {
   std::uint32_t alarms_ = 0, last_alarms_ = 0;
 };
 
-// The virtual machine as the MODBUS terminal sees it: every call under the
-// mutex the demo thread holds while it drives the machine (names are immutable).
-class LockedMachine : public hw::CncLink, public hw::TemperatureSource {
- public:
-  LockedMachine(sim::VirtualMachine& vm, std::mutex& mu) : vm_(vm), mu_(mu) {}
-  std::size_t AxisCount() const override { return vm_.AxisCount(); }
-  std::string AxisName(std::size_t i) const override { return vm_.AxisName(i); }
-  bool Read(std::span<hw::AxisState> axes, hw::CncState& m) override {
-    std::lock_guard<std::mutex> lock(mu_);
-    return vm_.Read(axes, m);
-  }
-  bool WriteCompensation(std::span<const double> c) override {
-    std::lock_guard<std::mutex> lock(mu_);
-    return vm_.WriteCompensation(c);
-  }
-  std::size_t ChannelCount() const override { return vm_.ChannelCount(); }
-  std::string ChannelName(std::size_t i) const override { return vm_.ChannelName(i); }
-  bool Read(std::span<hw::RawTemperature> out) override {
-    std::lock_guard<std::mutex> lock(mu_);
-    return vm_.Read(out);
-  }
-
- private:
-  sim::VirtualMachine& vm_;
-  std::mutex& mu_;
-};
-
 class WorkingDay {
  public:
   WorkingDay(const sim::MachineDescription& md, const DemoOptions& o, const sim::LaserOptions& laser,
@@ -261,14 +234,14 @@ class WorkingDay {
 
  private:
   void StartModbus() {
-    locked_ = std::make_unique<LockedMachine>(vm_, vm_mutex_);
     drivers::ModbusMachineServerOptions so;
     so.machine_period_s = 0.0002;
     std::string error;
     int port = o_.modbus_port;
     for (int attempt = 0; attempt < 50; ++attempt) {
       so.port = o_.modbus_port ? o_.modbus_port : 15020 + attempt;
-      server_ = std::make_unique<drivers::ModbusMachineServer>(locked_.get(), locked_.get(), so);
+      server_ = std::make_unique<drivers::ModbusMachineServer>(&vm_, &vm_, so);
+      server_->ShareMachineWith(&vm_mutex_);  // the demo thread moves the machine between cycles
       if (server_->Start(&error)) {
         port = so.port;
         break;
@@ -445,7 +418,6 @@ class WorkingDay {
   // MODBUS mode
   std::mutex vm_mutex_;
   std::unique_lock<std::mutex> vm_lock_;
-  std::unique_ptr<LockedMachine> locked_;
   std::unique_ptr<drivers::ModbusMachineServer> server_;
   std::unique_ptr<drivers::ModbusCncLink> cnc_client_;
   std::unique_ptr<drivers::ModbusTemperatureSource> temp_client_;

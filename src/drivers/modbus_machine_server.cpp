@@ -81,6 +81,7 @@ struct ModbusMachineServer::Impl {
   hw::TemperatureSource* temps = nullptr;
   ModbusMachineServerOptions opt;
   AdvanceFn advance;
+  std::mutex* machine_mutex = nullptr;  // held around each exchange when the owner drives the machine too
 
   // --- fixed at construction ---
   std::size_t axis_count = 0;
@@ -417,6 +418,8 @@ struct ModbusMachineServer::Impl {
 
   // ------------------------------------------------------------------ machine
   void Exchange(double elapsed_s) {
+    std::unique_lock<std::mutex> machine_lock;
+    if (machine_mutex) machine_lock = std::unique_lock<std::mutex>(*machine_mutex);
     if (advance) advance(elapsed_s);
     hw::CncState state;
     const bool read_ok = cnc && cnc->Read(axes, state);
@@ -570,6 +573,7 @@ ModbusMachineServer::ModbusMachineServer(hw::CncLink* cnc, hw::TemperatureSource
 ModbusMachineServer::~ModbusMachineServer() { Stop(); }
 
 void ModbusMachineServer::SetAdvance(AdvanceFn advance) { impl_->advance = std::move(advance); }
+void ModbusMachineServer::ShareMachineWith(std::mutex* machine_mutex) { impl_->machine_mutex = machine_mutex; }
 
 std::size_t ModbusMachineServer::RtdModuleCount() const {
   if (!impl_->temps) return 0;

@@ -27,6 +27,7 @@ bool MonitoredTemperatureSource::Read(std::span<hw::RawTemperature> out) {
     monitor_.MarkSourceFailed(now);
     return false;
   }
+  for (std::size_t i = 0; i < monitor_.ChannelCount(); ++i) monitor_.SetMeasuringRange(i, inner_.ChannelMeasuringRange(i));
   monitor_.Update(now, raw_);
   for (std::size_t i = 0; i < out.size() && i < monitor_.ChannelCount(); ++i) {
     const ChannelReading& r = monitor_.reading(i);

@@ -15,6 +15,7 @@ bool FaultOptions::IsValid(std::string* why) const {
   };
   if (!(max_plausible_c > min_plausible_c)) return fail("max_plausible_c must be greater than min_plausible_c");
   if (!(range_hysteresis_c >= 0)) return fail("range_hysteresis_c must be >= 0");
+  if (!(rail_fraction >= 0 && rail_fraction < 0.5)) return fail("rail_fraction must be in [0, 0.5)");
   if (!(max_rate_c_per_s > 0)) return fail("max_rate_c_per_s must be > 0");
   if (!(stuck_window_s > 0)) return fail("stuck_window_s must be > 0");
   if (!(stuck_band_c >= 0)) return fail("stuck_band_c must be >= 0");
@@ -115,6 +116,14 @@ ChannelStatus TemperatureMonitor::DetectInstant(Channel& ch, const hw::RawTemper
   }
   const double cal = ch.calibration.Apply(raw.temp_c);
   r.calibrated_c = cal;
+  if (ch.range.known()) {  // the measuring chain's own rails, on the raw value it reports
+    const double rail = f.rail_fraction * (ch.range.max_c - ch.range.min_c);
+    double rail_lo = ch.range.min_c + rail, rail_hi = ch.range.max_c - rail;
+    if (r.status == ChannelStatus::kUnderRange) rail_lo += f.range_hysteresis_c;
+    if (r.status == ChannelStatus::kOverRange) rail_hi -= f.range_hysteresis_c;
+    if (raw.temp_c <= rail_lo) return ChannelStatus::kUnderRange;
+    if (raw.temp_c >= rail_hi) return ChannelStatus::kOverRange;
+  }
   double lo = f.min_plausible_c, hi = f.max_plausible_c;
   if (r.status == ChannelStatus::kUnderRange) lo += f.range_hysteresis_c;
   if (r.status == ChannelStatus::kOverRange) hi -= f.range_hysteresis_c;

@@ -515,6 +515,10 @@ bool VirtualMachine::WriteCompensation(std::span<const double> correction_um) {
   return true;
 }
 
+hw::MeasuringRange VirtualMachine::ChannelMeasuringRange(std::size_t channel) const {
+  return SensorMeasuringRange(sensors_.at(channel)->description().kind);
+}
+
 std::string VirtualMachine::ChannelName(std::size_t channel) const { return sensors_.at(channel)->description().name; }
 
 bool VirtualMachine::Read(std::span<hw::RawTemperature> out) {

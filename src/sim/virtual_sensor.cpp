@@ -30,6 +30,15 @@ constexpr double kAdcCounts = 4095.0;   // 12 bit over 0–5 V
 constexpr double kRtdLowC = -50.0, kRtdHighC = 150.0, kRtdCounts = 65535.0;
 }  // namespace
 
+hw::MeasuringRange SensorMeasuringRange(SensorKind kind) {
+  switch (kind) {
+    case SensorKind::kPt100Adc: return {0.0, kAdcSpanC};
+    case SensorKind::kDs18b20: return {-55.0, 125.0};
+    case SensorKind::kRtdModule: return {kRtdLowC, kRtdHighC};
+  }
+  return {};
+}
+
 double SensorStepC(SensorKind kind) {
   switch (kind) {
     case SensorKind::kPt100Adc: return kAdcSpanC / kAdcCounts;

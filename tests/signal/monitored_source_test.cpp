@@ -47,6 +47,40 @@ TEST(MonitoredTemperatureSource, DeliversFilteredCalibratedValuesAndFlagsFaults)
   EXPECT_EQ(source.monitor().reading(0).status, ChannelStatus::kNoData);
 }
 
+// A 0–50 °C transmitter (seed 000's Pt100 chain) cannot tell 50 °C from 70 °C: at its rail the
+// reading is not a temperature, though it lies well inside the plausible limits (−10…80 °C).
+TEST(MonitoredTemperatureSource, AReadingAtTheMeasuringChainsRailIsAFault) {
+  ScriptedSource inner;
+  inner.ranges = {hw::MeasuringRange{}, hw::MeasuringRange{0.0, 50.0}};
+  double now = 0;
+  MonitoredTemperatureSource source(inner, {}, [&now] { return now; });
+  std::vector<hw::RawTemperature> out(2);
+  auto run = [&](double x_nut_c, int samples) {
+    for (int i = 0; i < samples; ++i, now += 1.0) {
+      inner.values[1].temp_c = x_nut_c;
+      inner.values[0].temp_c = 20.0 + 0.01 * (i % 3);  // the other channel moves (not "stuck")
+      source.Read(out);
+    }
+  };
+  // The nut warms slowly towards the rail: a good reading just below it.
+  for (double t = 25.0; t <= 49.5; t += 0.05) run(t, 1);
+  EXPECT_EQ(source.monitor().reading(1).status, ChannelStatus::kOk);
+  EXPECT_FALSE(out[1].hardware_fault);
+  // Pinned at the transmitter's rail: over_range, flagged, the last good value carried.
+  run(50.0, 5);
+  EXPECT_EQ(source.monitor().reading(1).status, ChannelStatus::kOverRange);
+  EXPECT_TRUE(out[1].hardware_fault);
+  EXPECT_LT(out[1].temp_c, 49.9);
+  // The same reading from a channel whose range is not known is a temperature.
+  inner.ranges.clear();
+  run(50.0, 30);  // recover_samples (20) clean samples return it to ok
+  EXPECT_EQ(source.monitor().reading(1).status, ChannelStatus::kOk);
+  // The rail at the low end: a transmitter at 0 V (broken loop) is under_range.
+  inner.ranges = {hw::MeasuringRange{}, hw::MeasuringRange{0.0, 50.0}};
+  run(0.0, 5);
+  EXPECT_EQ(source.monitor().reading(1).status, ChannelStatus::kUnderRange);
+}
+
 TEST(MonitoredTemperatureSource, ReadAllocatesNothing) {
   ScriptedSource inner;
   double now = 0;

@@ -57,9 +57,32 @@ TEST(Sensor, Pt100TransmitterAdcHasTwelveBitSteps) {
     prev = v;
   }
   EXPECT_GE(steps, 75);  // 1 °C / 0.0122 °C ≈ 82 counts
-  // Range of the transmitter: clamps at 0 and 50 °C.
+  // Range of the transmitter: clamps at 0 and 50 °C, with no flag — so the chain's measuring
+  // range is what the temperature pipeline needs to see that 50.0 is a rail, not a temperature.
   s.Sample(80, 1, 1001);
   EXPECT_DOUBLE_EQ(s.Latest().temp_c, 50.0);
+  EXPECT_FALSE(s.Latest().hardware_fault);
+  EXPECT_DOUBLE_EQ(SensorMeasuringRange(SensorKind::kPt100Adc).max_c, s.Latest().temp_c);
+  EXPECT_DOUBLE_EQ(SensorMeasuringRange(SensorKind::kPt100Adc).min_c, 0.0);
+}
+
+TEST(Sensor, EveryKindReportsItsMeasuringRangeThroughTheMachine) {
+  MachineDescription md = testing::TestMachine();
+  md.sensors.clear();
+  const SensorKind kinds[] = {SensorKind::kPt100Adc, SensorKind::kDs18b20, SensorKind::kRtdModule};
+  const char* names[] = {"x_nut", "x_bearing", "ambient"};
+  for (int i = 0; i < 3; ++i) {
+    SensorDescription d = Desc(kinds[i]);
+    d.name = names[i];
+    d.location = names[i];
+    md.sensors.push_back(d);
+  }
+  VirtualMachine vm(md, 1);
+  ASSERT_EQ(vm.ChannelCount(), 3u);
+  EXPECT_DOUBLE_EQ(vm.ChannelMeasuringRange(0).max_c, 50.0);   // 0–50 °C transmitter
+  EXPECT_DOUBLE_EQ(vm.ChannelMeasuringRange(1).min_c, -55.0);  // DS18B20 datasheet
+  EXPECT_DOUBLE_EQ(vm.ChannelMeasuringRange(1).max_c, 125.0);
+  EXPECT_DOUBLE_EQ(vm.ChannelMeasuringRange(2).max_c, 150.0);  // ADAM-6015 default Pt100 range
 }
 
 TEST(Sensor, RtdModuleQuantisesFinelyAndFlagsOverRange) {

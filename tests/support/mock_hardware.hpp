@@ -126,9 +126,13 @@ class MockTemperatures : public hw::TemperatureSource {
     std::lock_guard<std::mutex> lock(mu_);
     fail = !ok;
   }
+  hw::MeasuringRange ChannelMeasuringRange(std::size_t channel) const override {
+    return channel < ranges.size() ? ranges[channel] : hw::MeasuringRange{};
+  }
 
   std::vector<std::string> names_;
   std::vector<hw::RawTemperature> values;
+  std::vector<hw::MeasuringRange> ranges;  // per channel; missing = unknown
   bool fail = false;
 
  private:

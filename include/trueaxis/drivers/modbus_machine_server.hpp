@@ -80,6 +80,11 @@ class ModbusMachineServer {
   ModbusMachineServer& operator=(const ModbusMachineServer&) = delete;
 
   void SetAdvance(AdvanceFn advance);  // before Start()
+  // For an owner that also drives the machine from its own thread (the demo moves its
+  // virtual machine while a compensator reaches it over MODBUS): the machine thread holds
+  // `machine_mutex` around each exchange with the CNC and the sensors, so the owner locks
+  // the same mutex while it touches the machine. Before Start(); the mutex outlives the server.
+  void ShareMachineWith(std::mutex* machine_mutex);
   // Binds and starts both threads. False with *error when the options are
   // invalid or the port cannot be bound (in use): the caller may retry another.
   bool Start(std::string* error);

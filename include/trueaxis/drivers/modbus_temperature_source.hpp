@@ -40,6 +40,11 @@ class ModbusTemperatureSource final : public hw::TemperatureSource {
   std::size_t ChannelCount() const override { return options_.channel_names.size(); }
   std::string ChannelName(std::size_t channel) const override { return options_.channel_names.at(channel); }
   bool Read(std::span<hw::RawTemperature> out) override;
+  // The range of the module's type code (unknown before the first connect).
+  hw::MeasuringRange ChannelMeasuringRange(std::size_t channel) const override {
+    const adam6015::RtdRange* r = ranges_.at(channel);
+    return r ? hw::MeasuringRange{r->min_c, r->max_c} : hw::MeasuringRange{};
+  }
 
   // hw lifecycle: Configure checks the options; Activate connects (false while the terminal is not
   // reachable — Read/Write then retry on their own); Deactivate closes the connection.

@@ -30,6 +30,10 @@ struct FaultOptions {
   double min_plausible_c = -10.0;   // below: under_range (shorted sensor)
   double max_plausible_c = 80.0;    // above: over_range (open sensor)
   double range_hysteresis_c = 0.5;  // must come back inside by this much to clear
+  // A raw reading within this fraction of the channel's measuring range (SetMeasuringRange: the
+  // sensor kind's transmitter span, the module's input range) from either end is the chain's rail,
+  // not a temperature: over_range / under_range, whatever the plausible limits above say.
+  double rail_fraction = 0.005;
   double max_rate_c_per_s = 0.5;    // on the filtered value; machine structures move < 0.05 °C/s
   double stuck_window_s = 300.0;    // evaluation window for "stuck"
   // Own raw span at or below this = "no change". 0 = bit-identical readings
@@ -92,6 +96,9 @@ class TemperatureMonitor {
   // One cycle. raw[i] belongs to channel i; raw.size() must be ChannelCount()
   // (missing channels count as no data). No allocation, no lock.
   void Update(double time_s, std::span<const hw::RawTemperature> raw);
+  // The channel's measuring range (hw::TemperatureSource::ChannelMeasuringRange); a raw reading at
+  // its rail is a fault (FaultOptions::rail_fraction). Does not allocate.
+  void SetMeasuringRange(std::size_t channel, const hw::MeasuringRange& range) { channels_.at(channel).range = range; }
   // The source could not be read this cycle.
   void MarkSourceFailed(double time_s);
 
@@ -106,6 +113,7 @@ class TemperatureMonitor {
     ChannelFilter filter;
     SensorCalibration calibration;
     ChannelReading reading;
+    hw::MeasuringRange range;  // unknown (±inf) until SetMeasuringRange
     ChannelStatus candidate = ChannelStatus::kOk;
     int confirm_count = 0;
     int clean_count = 0;

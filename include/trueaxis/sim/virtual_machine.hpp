@@ -145,6 +145,7 @@ class VirtualMachine : public hw::CncLink, public hw::TemperatureSource {
   std::size_t ChannelCount() const override { return sensors_.size(); }
   std::string ChannelName(std::size_t channel) const override;
   bool Read(std::span<hw::RawTemperature> out) override;
+  hw::MeasuringRange ChannelMeasuringRange(std::size_t channel) const override;
 
  private:
   struct Axis;

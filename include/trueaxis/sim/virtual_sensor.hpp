@@ -36,6 +36,8 @@ std::optional<SensorFaultKind> ParseSensorFaultKind(std::string_view name);
 
 // Resolution of a kind's converter, °C per step.
 double SensorStepC(SensorKind kind);
+// What a kind's measuring chain can report (transmitter span, module range, datasheet range).
+hw::MeasuringRange SensorMeasuringRange(SensorKind kind);
 
 class VirtualSensor {
  public:
