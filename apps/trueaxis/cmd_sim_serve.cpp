@@ -20,7 +20,7 @@
 #include "sim_command.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/drivers/modbus_machine_server.hpp"
-#include "trueaxis/sim/virtual_machine.hpp"
+#include "trueaxis/station/virtual_terminal.hpp"
 
 namespace {
 
@@ -50,19 +50,11 @@ struct ServeOptions {
   double watchdog_ramp_um_per_s = 10;
 };
 
-// What the status lines show; filled on the machine thread (the only thread
-// that touches the VM), read by the main thread.
-struct Status {
-  double machine_time_s = 0;
-  std::string iso_time;
-  std::vector<double> commanded_mm, actual_mm, error_um, correction_um;
-  std::vector<std::string> sensor_names;
-  std::vector<double> sensor_c;
-  std::string coolant;
-};
+using Status = station::VirtualTerminalStatus;
 
 nlohmann::json StatusJson(const Status& s, double wall_s, const drivers::ModbusMachineServerStats& stats,
-                          const std::vector<std::string>& axis_names, const char* kind) {
+                          const std::vector<std::string>& axis_names, const std::vector<std::string>& sensor_names,
+                          const char* kind) {
   nlohmann::json j;
   j["kind"] = kind;
   j["wall_s"] = wall_s;
@@ -75,7 +67,7 @@ nlohmann::json StatusJson(const Status& s, double wall_s, const drivers::ModbusM
                                 {"error_um", s.error_um[a]},
                                 {"correction_um", s.correction_um[a]}};
   }
-  for (std::size_t c = 0; c < s.sensor_names.size(); ++c) j["temperatures_c"][s.sensor_names[c]] = s.sensor_c[c];
+  for (std::size_t c = 0; c < sensor_names.size(); ++c) j["temperatures_c"][sensor_names[c]] = s.sensor_c[c];
   j["requests"] = stats.requests;
   j["exceptions"] = stats.exceptions;
   j["clients"] = stats.clients;
@@ -110,7 +102,14 @@ void RunServe(const ServeOptions& o) {
   const auto coolant = ParseCoolantState(o.coolant);
   if (!coolant) throw InputError("command line", 0, "--coolant", "'" + o.coolant + "' is not one of off, flood, mist, air");
 
-  sim::VirtualMachine vm(sim::ReadMachineFile(o.machine), o.seed);  // throws InputError on a bad file
+  runtime::VirtualMachineConfig vc;
+  vc.machine_file = o.machine;
+  vc.seed = o.seed;
+  vc.time_scale = o.time_scale;
+  vc.reciprocate = o.program == "reciprocate";
+  vc.feed_mm_min = o.feed_mm_min;
+  vc.duty = o.duty;
+  vc.coolant = *coolant;
   drivers::ModbusMachineServerOptions so;
   so.bind_address = o.bind;
   so.port = o.port;
@@ -123,54 +122,18 @@ void RunServe(const ServeOptions& o) {
   std::string why;
   if (!so.IsValid(&why)) throw InputError("command line", why);
 
-  std::vector<std::string> axis_names, sensor_names;
-  for (std::size_t a = 0; a < vm.AxisCount(); ++a) axis_names.push_back(vm.AxisName(a));
-  for (std::size_t c = 0; c < vm.ChannelCount(); ++c) sensor_names.push_back(vm.ChannelName(c));
-  vm.SetCoolant(*coolant);
-  if (o.program == "reciprocate") {
-    for (std::size_t a = 0; a < vm.AxisCount(); ++a) {
-      const double travel = vm.description().axes[a].travel_mm;
-      vm.CommandReciprocate(a, 0.1 * travel, 0.9 * travel, o.feed_mm_min, o.duty);
-    }
-  }
-
-  std::mutex mu;
-  Status status;
-  status.sensor_names = sensor_names;
+  station::VirtualTerminal terminal(vc, so);  // throws InputError on a bad machine file
+  const auto& axis_names = terminal.axis_names();
+  const auto& sensor_names = terminal.channel_names();
   const std::size_t n_axes = axis_names.size();
-  for (auto* v : {&status.commanded_mm, &status.actual_mm, &status.error_um, &status.correction_um}) v->assign(n_axes, 0.0);
-  status.sensor_c.assign(sensor_names.size(), 0.0);
-  std::vector<hw::RawTemperature> temps(sensor_names.size());
-  auto snapshot = [&] {
-    vm.Read(temps);
-    std::lock_guard<std::mutex> l(mu);
-    status.machine_time_s = vm.TimeS();
-    status.iso_time = vm.IsoTime();
-    status.coolant = std::string(CoolantStateName(vm.coolant()));
-    for (std::size_t a = 0; a < n_axes; ++a) {
-      status.commanded_mm[a] = vm.CommandedMm(a);
-      status.actual_mm[a] = vm.ActualMm(a);
-      status.error_um[a] = vm.ErrorUm(a);
-      status.correction_um[a] = vm.CorrectionUm(a);
-    }
-    for (std::size_t c = 0; c < temps.size(); ++c) status.sensor_c[c] = temps[c].temp_c;
-  };
-  snapshot();
-
-  drivers::ModbusMachineServer server(&vm, &vm, so);
   const double scale = o.time_scale;
-  // The machine thread owns the VM: advance it in scaled real time, then snapshot for the status lines.
-  server.SetAdvance([&](double wall_elapsed_s) {
-    vm.Advance(wall_elapsed_s * scale);
-    snapshot();
-  });
-  if (!server.Start(&why)) throw std::runtime_error(why);
+  terminal.Start();
 
-  const std::size_t modules = server.RtdModuleCount();
+  const std::size_t modules = terminal.RtdModuleCount();
   if (o.json) {
     nlohmann::json hello;
     hello["kind"] = "listening";
-    hello["machine"] = vm.description().name;
+    hello["machine"] = terminal.description().name;
     hello["bind"] = o.bind;
     hello["port"] = o.port;
     hello["pmc_unit"] = o.pmc_unit;
@@ -181,7 +144,7 @@ void RunServe(const ServeOptions& o) {
                                     {"channel", c % drivers::adam6015::kChannelCount}});
     fmt::print("{}\n", hello.dump());
   } else {
-    fmt::print("trueaxis sim serve: {} ({} axes, {} sensors) on {}:{}, time x{}\n", vm.description().name, n_axes,
+    fmt::print("trueaxis sim serve: {} ({} axes, {} sensors) on {}:{}, time x{}\n", terminal.description().name, n_axes,
                sensor_names.size(), o.bind, o.port, scale);
     fmt::print("  unit {}: PMC window (axes {})\n", o.pmc_unit, fmt::join(axis_names, ", "));
     for (std::size_t k = 0; k < modules; ++k) {
@@ -200,14 +163,10 @@ void RunServe(const ServeOptions& o) {
   auto next_status = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(o.status_interval_s));
   auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   auto print_status = [&](const char* kind) {
-    Status copy;
-    {
-      std::lock_guard<std::mutex> l(mu);
-      copy = status;
-    }
-    const auto stats = server.Stats();
+    const Status copy = terminal.Status();
+    const auto stats = terminal.Stats();
     if (o.json)
-      fmt::print("{}\n", StatusJson(copy, wall(), stats, axis_names, kind).dump());
+      fmt::print("{}\n", StatusJson(copy, wall(), stats, axis_names, sensor_names, kind).dump());
     else
       fmt::print("{}\n", StatusText(copy, wall(), stats, axis_names));
     std::fflush(stdout);
@@ -219,9 +178,9 @@ void RunServe(const ServeOptions& o) {
       next_status += std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(o.status_interval_s));
     }
   }
-  server.Stop();
+  terminal.Stop();
   print_status("final");
-  if (!o.json) fmt::print("stopped: {}\n", server.Stats().BriefReport());
+  if (!o.json) fmt::print("stopped: {}\n", terminal.Stats().BriefReport());
 }
 
 void Setup(CLI::App& app) {

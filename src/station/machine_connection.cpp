@@ -7,6 +7,7 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/signal/calibration.hpp"
 #include "trueaxis/sim/machine_description.hpp"
+#include "trueaxis/station/virtual_terminal.hpp"
 
 namespace trueaxis::station {
 
@@ -46,15 +47,8 @@ namespace {
 
 void OpenVirtual(const runtime::RunConfig& c, Machine& m) {
   const auto& v = c.virtual_machine;
-  m.vm = std::make_unique<sim::VirtualMachine>(sim::ReadMachineFile(v.machine_file), v.seed);
+  m.vm = OpenVirtualMachine(v);
   sim::VirtualMachine* vm = m.vm.get();
-  if (v.reciprocate) {
-    for (std::size_t i = 0; i < vm->AxisCount(); ++i) {
-      const double travel = vm->description().axes[i].travel_mm;
-      vm->CommandReciprocate(i, 0.1 * travel, 0.9 * travel, v.feed_mm_min, v.duty);
-    }
-  }
-  vm->SetCoolant(v.coolant);
   const double scale = v.time_scale;
   m.advance = [vm, scale](double dt) { vm->Advance(dt * scale); };
   m.link = vm;

@@ -1,0 +1,67 @@
+#pragma once
+// The virtual machine tool behind its MODBUS TCP terminal (PMC window + ADAM-6015 RTD modules,
+// docs/protocols.md), in (scaled) real time: what `trueaxis sim serve` runs, and the demo's
+// terminal with --modbus. The CLI only parses options and prints the status.
+//
+//   station::VirtualTerminal t(config, server_options);   // builds the machine, starts its program
+//   t.Start();                                             // binds; throws when the port is taken
+//   auto s = t.Status();                                   // from any thread
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "trueaxis/drivers/modbus_machine_server.hpp"
+#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/sim/virtual_machine.hpp"
+
+namespace trueaxis::station {
+
+// The virtual machine a config names, with its working program started (every axis reciprocating
+// over 10…90 % of its travel at the config's feed and duty, or idle) and its coolant state.
+// Throws InputError on a bad machine file.
+std::unique_ptr<sim::VirtualMachine> OpenVirtualMachine(const runtime::VirtualMachineConfig& config);
+
+// What the terminal's machine shows, copied on the machine thread after each exchange.
+struct VirtualTerminalStatus {
+  double machine_time_s = 0;
+  std::string iso_time;
+  std::string coolant;
+  std::vector<double> commanded_mm, actual_mm, error_um, correction_um;  // per axis
+  std::vector<double> sensor_c;                                          // per channel
+};
+
+class VirtualTerminal {
+ public:
+  VirtualTerminal(const runtime::VirtualMachineConfig& config, drivers::ModbusMachineServerOptions server);
+  ~VirtualTerminal();  // Stop()
+  VirtualTerminal(const VirtualTerminal&) = delete;
+  VirtualTerminal& operator=(const VirtualTerminal&) = delete;
+
+  // Binds and starts the terminal; from here on its machine thread owns the machine.
+  // Throws std::runtime_error when the port cannot be bound.
+  void Start();
+  void Stop();
+
+  VirtualTerminalStatus Status() const;
+  drivers::ModbusMachineServerStats Stats() const { return server_->Stats(); }
+  std::size_t RtdModuleCount() const { return server_->RtdModuleCount(); }
+  const drivers::ModbusMachineServerOptions& options() const { return server_->options(); }
+  // Immutable facts of the machine (name, axes, channels): safe from any thread.
+  const sim::MachineDescription& description() const { return vm_->description(); }
+  const std::vector<std::string>& axis_names() const { return axis_names_; }
+  const std::vector<std::string>& channel_names() const { return channel_names_; }
+
+ private:
+  void Snapshot();  // machine thread (or before Start)
+
+  std::unique_ptr<sim::VirtualMachine> vm_;
+  std::unique_ptr<drivers::ModbusMachineServer> server_;
+  std::vector<std::string> axis_names_, channel_names_;
+  std::vector<hw::RawTemperature> temps_;
+  mutable std::mutex mu_;
+  VirtualTerminalStatus status_;
+};
+
+}  // namespace trueaxis::station
