@@ -20,26 +20,20 @@ namespace {
 using namespace trueaxis;
 
 // The shared mock hardware behind the server: three axes standing still, seven channels.
-testing::MockCnc StillCnc() {
-  testing::MockCnc cnc({"X", "Y", "Z"});
+void MakeStill(testing::MockCnc& cnc, testing::MockTemperatures& temps) {
   for (std::size_t a = 0; a < 3; ++a) cnc.axes[a] = {100.0 * static_cast<double>(a) + 0.1234, 1, true};
   cnc.machine = {CoolantState::kFlood, true};
-  return cnc;
-}
-
-testing::MockTemperatures StillTemps() {
-  testing::MockTemperatures temps({"t0", "t1", "t2", "t3", "t4", "t5", "t6"}, 20.0);
   for (std::size_t c = 0; c < 7; ++c) temps.values[c].temp_c = 20.0 + static_cast<double>(c);
-  return temps;
 }
 
 struct Rig {
-  testing::MockCnc cnc = StillCnc();
-  testing::MockTemperatures temps = StillTemps();
+  testing::MockCnc cnc{{"X", "Y", "Z"}};
+  testing::MockTemperatures temps{{"t0", "t1", "t2", "t3", "t4", "t5", "t6"}, 20.0};
   std::unique_ptr<drivers::ModbusMachineServer> server;
   std::unique_ptr<drivers::ModbusCncLink> link;
   std::unique_ptr<drivers::ModbusTemperatureSource> rtd;
   Rig() {
+    MakeStill(cnc, temps);
     std::mt19937 rng(std::random_device{}());
     for (int i = 0; i < 50 && !server; ++i) {
       drivers::ModbusMachineServerOptions o;

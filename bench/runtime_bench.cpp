@@ -15,8 +15,8 @@ using namespace trueaxis::runtime;
 
 // The timed loop both cycle benchmarks share: the axes sweep the travel, one temperature drifts,
 // and each iteration is one full read → step → write cycle; reported per axis.
-void RunCycles(benchmark::State& state, Compensator& comp, runtime::testing::FakeCnc& cnc,
-               runtime::testing::FakeTemps& temps, int n_axes) {
+void RunCycles(benchmark::State& state, Compensator& comp, runtime::testing::MockCnc& cnc,
+               runtime::testing::MockTemperatures& temps, int n_axes) {
   double t = 0, x = 0;
   for (auto _ : state) {
     x = x > 500 ? 0 : x + 0.37;
@@ -35,8 +35,8 @@ void BM_CompensationCycle(benchmark::State& state) {
   const bool table = state.range(1) != 0;
   std::vector<std::string> names;
   for (int i = 0; i < n_axes; ++i) names.push_back(std::string(1, static_cast<char>('A' + i)));
-  runtime::testing::FakeCnc cnc(names);
-  runtime::testing::FakeTemps temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0);
+  runtime::testing::MockCnc cnc(names);
+  runtime::testing::MockTemperatures temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0);
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   auto model = std::make_shared<model::CompositeModel>(*runtime::testing::TestModel(1.0, names));
   if (table) {
@@ -63,8 +63,8 @@ void BM_CompensationCycleThermalState(benchmark::State& state) {
   const int n_axes = static_cast<int>(state.range(0));
   std::vector<std::string> names;
   for (int i = 0; i < n_axes; ++i) names.push_back(std::string(1, static_cast<char>('A' + i)));
-  runtime::testing::FakeCnc cnc(names);
-  runtime::testing::FakeTemps temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0);
+  runtime::testing::MockCnc cnc(names);
+  runtime::testing::MockTemperatures temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0);
   cnc.machine.coolant = state.range(1) ? CoolantState::kFlood : CoolantState::kOff;
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   auto model = std::make_shared<model::CompositeModel>(*runtime::testing::TestModel(1.0, names));
@@ -79,8 +79,8 @@ BENCHMARK(BM_CompensationCycleThermalState)->ArgsProduct({{3}, {0, 1}})->ArgName
 
 void BM_ModelSwapPickup(benchmark::State& state) {
   // Publish (off-loop bind) + the cycle that picks it up.
-  runtime::testing::FakeCnc cnc({"X", "Y", "Z"});
-  runtime::testing::FakeTemps temps({"ambient", "nut", "bearing"}, 22.0);
+  runtime::testing::MockCnc cnc({"X", "Y", "Z"});
+  runtime::testing::MockTemperatures temps({"ambient", "nut", "bearing"}, 22.0);
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   auto m = runtime::testing::TestModel(1.0, {"X", "Y", "Z"});
   double t = 0;
