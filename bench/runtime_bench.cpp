@@ -35,8 +35,9 @@ void BM_CompensationCycle(benchmark::State& state) {
   const bool table = state.range(1) != 0;
   std::vector<std::string> names;
   for (int i = 0; i < n_axes; ++i) names.push_back(std::string(1, static_cast<char>('A' + i)));
-  runtime::testing::MockCnc cnc(names);
-  runtime::testing::MockTemperatures temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0);
+  runtime::testing::MockCnc cnc(names, trueaxis::testing::MockLocking::kUnlocked);
+  runtime::testing::MockTemperatures temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0,
+                                           trueaxis::testing::MockLocking::kUnlocked);
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   auto model = std::make_shared<model::CompositeModel>(*runtime::testing::TestModel(1.0, names));
   if (table) {
@@ -63,8 +64,9 @@ void BM_CompensationCycleThermalState(benchmark::State& state) {
   const int n_axes = static_cast<int>(state.range(0));
   std::vector<std::string> names;
   for (int i = 0; i < n_axes; ++i) names.push_back(std::string(1, static_cast<char>('A' + i)));
-  runtime::testing::MockCnc cnc(names);
-  runtime::testing::MockTemperatures temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0);
+  runtime::testing::MockCnc cnc(names, trueaxis::testing::MockLocking::kUnlocked);
+  runtime::testing::MockTemperatures temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0,
+                                           trueaxis::testing::MockLocking::kUnlocked);
   cnc.machine.coolant = state.range(1) ? CoolantState::kFlood : CoolantState::kOff;
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   auto model = std::make_shared<model::CompositeModel>(*runtime::testing::TestModel(1.0, names));
@@ -79,8 +81,8 @@ BENCHMARK(BM_CompensationCycleThermalState)->ArgsProduct({{3}, {0, 1}})->ArgName
 
 void BM_ModelSwapPickup(benchmark::State& state) {
   // Publish (off-loop bind) + the cycle that picks it up.
-  runtime::testing::MockCnc cnc({"X", "Y", "Z"});
-  runtime::testing::MockTemperatures temps({"ambient", "nut", "bearing"}, 22.0);
+  runtime::testing::MockCnc cnc({"X", "Y", "Z"}, trueaxis::testing::MockLocking::kUnlocked);
+  runtime::testing::MockTemperatures temps({"ambient", "nut", "bearing"}, 22.0, trueaxis::testing::MockLocking::kUnlocked);
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
   auto m = runtime::testing::TestModel(1.0, {"X", "Y", "Z"});
   double t = 0;

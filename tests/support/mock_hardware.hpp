@@ -21,6 +21,9 @@
 
 namespace trueaxis::testing {
 
+// kUnlocked: a single-threaded benchmark, whose figures must be the compensator's, not the mutex's.
+enum class MockLocking { kLocked, kUnlocked };
+
 class MockCnc : public hw::CncLink {
   template <class F>
   auto Locked(F f) const -> decltype(f()) {
@@ -29,15 +32,19 @@ class MockCnc : public hw::CncLink {
   }
 
  public:
-  explicit MockCnc(std::vector<std::string> names)
-      : names_(std::move(names)), axes(names_.size()), cnc_value_um(names_.size(), 0.0), attempted_um(names_.size(), 0.0) {
+  explicit MockCnc(std::vector<std::string> names, MockLocking locking = MockLocking::kLocked)
+      : names_(std::move(names)), axes(names_.size()), cnc_value_um(names_.size(), 0.0), attempted_um(names_.size(), 0.0),
+        locked_(locking == MockLocking::kLocked) {
     machine.compensation_enabled = true;
   }
   std::size_t AxisCount() const override { return names_.size(); }
   std::string AxisName(std::size_t i) const override { return names_.at(i); }
   bool Read(std::span<hw::AxisState> out, hw::CncState& m) override {
-    std::unique_lock<std::mutex> lock(mu_);
-    hang_cv_.wait_for(lock, std::chrono::seconds(10), [&] { return !hang_; });
+    std::unique_lock<std::mutex> lock(mu_, std::defer_lock);
+    if (locked_) {
+      lock.lock();
+      hang_cv_.wait_for(lock, std::chrono::seconds(10), [&] { return !hang_; });
+    }
     ++reads;
     if (fail_read) return false;
     for (std::size_t i = 0; i < axes.size(); ++i) out[i] = axes[i];
@@ -45,7 +52,8 @@ class MockCnc : public hw::CncLink {
     return true;
   }
   bool WriteCompensation(std::span<const double> c) override {
-    std::lock_guard<std::mutex> lock(mu_);
+    std::unique_lock<std::mutex> lock(mu_, std::defer_lock);
+    if (locked_) lock.lock();
     ++write_attempts;
     for (std::size_t i = 0; i < c.size(); ++i) attempted_um[i] = c[i];
     if (fail_write) return false;
@@ -84,13 +92,15 @@ class MockCnc : public hw::CncLink {
  private:
   mutable std::mutex mu_;
   std::condition_variable hang_cv_;
+  bool locked_ = true;
   bool hang_ = false;
   std::vector<std::vector<double>> history_;
 };
 
 class MockTemperatures : public hw::TemperatureSource {
  public:
-  MockTemperatures(std::vector<std::string> names, double initial_c) : names_(std::move(names)), values(names_.size()) {
+  MockTemperatures(std::vector<std::string> names, double initial_c, MockLocking locking = MockLocking::kLocked)
+      : names_(std::move(names)), values(names_.size()), locked_(locking == MockLocking::kLocked) {
     for (auto& v : values) v.temp_c = initial_c;
   }
   // n channels named t0, t1, ... at 20.0, 20.5, 21.0, ... °C (distinct values, so a mix-up shows).
@@ -103,7 +113,8 @@ class MockTemperatures : public hw::TemperatureSource {
   std::size_t ChannelCount() const override { return names_.size(); }
   std::string ChannelName(std::size_t i) const override { return names_.at(i); }
   bool Read(std::span<hw::RawTemperature> out) override {
-    std::lock_guard<std::mutex> lock(mu_);
+    std::unique_lock<std::mutex> lock(mu_, std::defer_lock);
+    if (locked_) lock.lock();
     if (fail) return false;
     for (std::size_t i = 0; i < values.size(); ++i) out[i] = values[i];
     return true;
@@ -137,6 +148,7 @@ class MockTemperatures : public hw::TemperatureSource {
 
  private:
   std::mutex mu_;
+  bool locked_ = true;
 };
 
 }  // namespace trueaxis::testing
