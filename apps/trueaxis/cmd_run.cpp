@@ -25,6 +25,7 @@
 #include "trueaxis/runtime/loop_runner.hpp"
 #include "trueaxis/runtime/run_config.hpp"
 #include "trueaxis/station/machine_connection.hpp"
+#include "trueaxis/station/model_loading.hpp"
 #include "trueaxis/store/history_writer.hpp"
 
 namespace {
@@ -85,19 +86,14 @@ class CsvLog {
   bool repaired_ = false;
 };
 
-std::shared_ptr<const model::CompositeModel> LoadModel(const std::string& path) {
-  return std::make_shared<const model::CompositeModel>(model::ReadModelFile(path));
-}
-
 void Run(const Options& o) {
   runtime::RunConfig c = runtime::ReadRunConfig(o.config);
   if (o.duration_s >= 0) c.duration_s = o.duration_s;
   station::Machine m = station::OpenMachine(c);  // + the temperature pipeline ([signal], on by default)
   for (const auto& w : m.warnings) fmt::print(stderr, "warning: {}\n", w);
   auto comp = runtime::Compensator::ForHardware(c.compensator, *m.link, *m.source, c.axes);
-  auto first_model = LoadModel(c.model_file);
-  const int first_revision = first_model->revision;
-  comp->PublishModel(std::move(first_model), c.model_file);  // InputError (exit 2) on a model that does not fit
+  // InputError (exit 2) on a model that does not fit the machine.
+  const std::string first_revision = station::PublishModelFile(*comp, c);
   std::error_code ec;
   auto model_mtime = fs::last_write_time(c.model_file, ec);
 
@@ -115,8 +111,7 @@ void Run(const Options& o) {
     if (fs::path(c.history_db).has_parent_path()) fs::create_directories(fs::path(c.history_db).parent_path());
     writer = std::make_unique<store::HistoryWriter>(c.history_db);
     history = std::make_unique<station::HistoryLogger>(*writer, axis_names, comp->channel_names(), unix0);
-    history->LogModelChange(0, model::Sha256OfFile(c.model_file), std::to_string(first_revision),
-                            "loaded " + c.model_file);
+    history->LogModelChange(0, model::Sha256OfFile(c.model_file), first_revision, "loaded " + c.model_file);
   }
   std::unique_ptr<CsvLog> csv;
   if (!c.log_csv.empty()) {
@@ -165,12 +160,9 @@ void Run(const Options& o) {
         if (!ec && t != model_mtime) {
           model_mtime = t;
           try {
-            auto next = LoadModel(c.model_file);
-            const int revision = next->revision;
-            comp->PublishModel(std::move(next), c.model_file);
+            const std::string revision = station::PublishModelFile(*comp, c);
             if (history)
-              history->LogModelChange(elapsed, model::Sha256OfFile(c.model_file), std::to_string(revision),
-                                      "reloaded " + c.model_file);
+              history->LogModelChange(elapsed, model::Sha256OfFile(c.model_file), revision, "reloaded " + c.model_file);
             if (!o.quiet) fmt::print(stderr, "[{:.2f} s] model reloaded from {} (ramping to it)\n", elapsed, c.model_file);
           } catch (const std::exception& e) {
             fmt::print(stderr, "[{:.2f} s] model NOT reloaded, keeping the running one: {}\n", elapsed, e.what());

@@ -94,6 +94,7 @@ std::unique_ptr<BoundModel> BindAxisModels(std::vector<std::shared_ptr<const mod
     }
     b.has_model = true;
     b.model.axis = m->Axis();
+    b.generic_dynamics = m->HasDynamics();
     b.generic = std::move(m);
   }
   return bound;

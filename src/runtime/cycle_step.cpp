@@ -120,8 +120,8 @@ bool TakeCncSnapshot(const StepModel& model, const CncSnapshot* cs, double now_s
 
 // An axis bound to a model behind model::AxisErrorModel: its sensors' conditioned values; a lost
 // sensor ramps the axis to zero (there is no geometric-only part to fall back to).
-double GenericCorrection(const BoundAxis& ba, const StepState& state, const StepOutputs& out, AxisStatus& st,
-                         std::uint32_t& alarms) {
+double GenericCorrection(const BoundAxis& ba, std::size_t i, const StepState& state, const StepOutputs& out,
+                         AxisStatus& st, std::uint32_t& alarms) {
   double sensors[kMaxKeySensors];
   for (std::size_t k = 0; k < ba.generic_channel.size(); ++k) {
     const ChannelStatus& c = out.channels[static_cast<std::size_t>(ba.generic_channel[k])];
@@ -133,7 +133,8 @@ double GenericCorrection(const BoundAxis& ba, const StepState& state, const Step
     sensors[k] = c.value_c;
   }
   const double error = ba.generic->ErrorUm(st.model_position_mm, st.direction,
-                                           std::span<const double>(sensors, ba.generic_channel.size()), state.machine.coolant);
+                                           std::span<const double>(sensors, ba.generic_channel.size()), state.machine.coolant,
+                                           state.dynamics.axes[i].generic);
   st.prediction.thermal_um = error;
   st.prediction.total_um = error;
   st.thermal_used = true;
@@ -160,7 +161,7 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
   const BoundAxis* ba = model.bound ? &model.bound->axes[i] : nullptr;
   if (st.enabled && ba && !ba->has_model) alarms |= kAlarmNoModelForAxis;
   if (!st.enabled || !ba || !ba->has_model) return 0;
-  if (ba->generic) return GenericCorrection(*ba, state, out, st, alarms);
+  if (ba->generic) return GenericCorrection(*ba, i, state, out, st, alarms);
 
   double key_temps[kMaxKeySensors];
   bool keys_ok = true;
@@ -192,6 +193,26 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
 
 }  // namespace
 
+namespace {
+// A model behind the generic interface with dynamics: advanced with its sensors while all are
+// usable; a lost sensor or a new model restarts it (the model then predicts as at start-up).
+void AdvanceGenericDynamics(const BoundAxis& ba, std::span<const ChannelStatus> channels, double now_s,
+                            std::uint64_t model_id, ModelDynamics::Axis& d) {
+  double sensors[kMaxKeySensors];
+  bool lost = false;
+  const std::size_t n = ba.generic_channel.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const ChannelStatus& c = channels[static_cast<std::size_t>(ba.generic_channel[k])];
+    lost = lost || c.health == ChannelHealth::kLost;
+    sensors[k] = c.value_c;
+  }
+  if (lost || d.model_id != model_id) ba.generic->ResetDynamics(d.generic);
+  if (!lost) ba.generic->Advance(d.generic, now_s, std::span<const double>(sensors, n));
+  d.time_s = now_s;
+  d.model_id = lost ? 0 : model_id;
+}
+}  // namespace
+
 void AdvanceModelDynamics(const BoundModel& bound, std::span<const ChannelStatus> channels, CoolantState coolant,
                           double now_s, ModelDynamics& dynamics) {
   // Advanced every cycle for every axis with a model, enabled or not, so the lagged temperature
@@ -201,6 +222,10 @@ void AdvanceModelDynamics(const BoundModel& bound, std::span<const ChannelStatus
     const BoundAxis& ba = bound.axes[i];
     if (!ba.has_model) continue;
     ModelDynamics::Axis& d = dynamics.axes[i];
+    if (ba.generic) {
+      if (ba.generic_dynamics) AdvanceGenericDynamics(ba, channels, now_s, bound.id, d);
+      continue;
+    }
     const std::size_t n = ba.key_channel.size();
     bool any_lost = false;
     if (!ba.thermal_dynamics) {

@@ -66,6 +66,16 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
     m.String("file", c.model_file, true);
     c.model_file = Resolve(base, c.model_file);
     m.Bool("reload", c.model_reload);
+    if (const toml::table* tc = m.Table("thermal_channels")) {
+      TomlTableReader t(*tc, source, "model.thermal_channels");
+      for (const auto& [axis, v] : *tc) {
+        std::string channel;
+        t.String(axis.str(), channel, true);
+        c.thermal_channels[std::string(axis.str())] = channel;
+      }
+      if (c.thermal_channels.empty())
+        m.Fail("thermal_channels", m.Node("thermal_channels"), "names no axis (e.g. thermal_channels = { Z = \"e_z\" })");
+    }
     m.RejectUnknown();
   }
 

@@ -75,52 +75,28 @@ std::vector<ThermalInterval> ClassifyIntervals(const std::vector<double>& t, con
   std::size_t lo = 0;
   for (std::size_t i = 0; i < t.size(); ++i) {
     while (t[lo] < t[i] - o.window_s) ++lo;
-    if (i - lo + 1 < 3 || t[i] - t[lo] < 0.5 * o.window_s) out[i] = ThermalInterval::kStartUp;
-    else if (slope[i] > o.threshold_c_per_h) out[i] = ThermalInterval::kHeating;
-    else if (slope[i] < -o.threshold_c_per_h) out[i] = ThermalInterval::kCooling;
+    out[i] = ClassifyTrend(slope[i], i - lo + 1, t[i] - t[lo], o);
   }
   return out;
+}
+
+ThermalInterval ClassifyTrend(double trend_c_per_h, std::size_t samples, double span_s,
+                              const IntervalClassifierOptions& o) {
+  if (samples < 3 || span_s < 0.5 * o.window_s) return ThermalInterval::kStartUp;
+  if (trend_c_per_h > o.threshold_c_per_h) return ThermalInterval::kHeating;
+  if (trend_c_per_h < -o.threshold_c_per_h) return ThermalInterval::kCooling;
+  return ThermalInterval::kSteady;
 }
 
 IntervalTracker::IntervalTracker(IntervalClassifierOptions options) : options_(options) {
   std::string why;
   if (!options_.IsValid(&why)) throw InputError("classifier options", why);
-}
-
-void IntervalTracker::Reset() {
-  window_.clear();
-  head_ = 0;
-  trend_c_per_h_ = 0;
+  window_.Configure(options_.window_s);
 }
 
 ThermalInterval IntervalTracker::Push(double time_s, double reference_c) {
-  if (head_ < window_.size() && !(time_s > window_.back().first)) Reset();
-  window_.emplace_back(time_s, reference_c);
-  while (window_[head_].first < time_s - options_.window_s) ++head_;
-  if (head_ > 1024 && head_ * 2 > window_.size()) {  // compact now and then
-    window_.erase(window_.begin(), window_.begin() + static_cast<long>(head_));
-    head_ = 0;
-  }
-  // Same arithmetic as TemperatureTrendCPerH, so both classify identically.
-  const std::size_t m = window_.size() - head_;
-  trend_c_per_h_ = 0;
-  if (m >= 3) {
-    double st = 0, sy = 0, stt = 0, sty = 0;
-    for (std::size_t k = head_; k < window_.size(); ++k) {
-      const double dt = window_[k].first - time_s;
-      st += dt;
-      sy += window_[k].second;
-      stt += dt * dt;
-      sty += dt * window_[k].second;
-    }
-    const double mm = static_cast<double>(m);
-    const double den = mm * stt - st * st;
-    if (den > 0) trend_c_per_h_ = (mm * sty - st * sy) / den * 3600.0;
-  }
-  if (m < 3 || time_s - window_[head_].first < 0.5 * options_.window_s) return ThermalInterval::kStartUp;
-  if (trend_c_per_h_ > options_.threshold_c_per_h) return ThermalInterval::kHeating;
-  if (trend_c_per_h_ < -options_.threshold_c_per_h) return ThermalInterval::kCooling;
-  return ThermalInterval::kSteady;
+  window_.Push(time_s, reference_c);
+  return ClassifyTrend(window_.SlopePerH(), window_.Samples(), window_.SpanS(), options_);
 }
 
 HysteresisThermalModel::HysteresisThermalModel(LinearThermalModel all_data, std::vector<LinearThermalModel> per_interval,

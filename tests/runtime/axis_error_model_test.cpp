@@ -22,7 +22,8 @@ class LinearTestModel : public model::AxisErrorModel {
   const std::string& Axis() const override { return axis_; }
   const std::vector<std::string>& Sensors() const override { return sensors_; }
   std::string Describe() const override { return "linear test model"; }
-  double ErrorUm(double x, Direction d, std::span<const double> t, CoolantState) const override {
+  double ErrorUm(double x, Direction d, std::span<const double> t, CoolantState,
+                 const model::AxisModelDynamics&) const override {
     return 2.0 * (t[0] - 20.0) + 0.01 * x + (d == Direction::kReverse ? 3.0 : 0.0);
   }
 
@@ -92,6 +93,50 @@ TEST(AxisErrorModel, BindingErrorsNameTheSensorAndTheAxis) {
   EXPECT_THROW(r.comp->PublishAxisModels({std::make_shared<LinearTestModel>("Q")}, "m.json"), InputError);
   EXPECT_THROW(r.comp->PublishAxisModels({std::make_shared<LinearTestModel>("X"), std::make_shared<LinearTestModel>("X")}, "m.json"),
                InputError);
+}
+
+// A model with dynamics: its error is the nut temperature's trend (°C/h) in µm, over a 10 s window.
+class TrendTestModel : public LinearTestModel {
+ public:
+  TrendTestModel() : LinearTestModel("X") {}
+  double ErrorUm(double, Direction, std::span<const double>, CoolantState,
+                 const model::AxisModelDynamics& d) const override {
+    return d.trend.Samples() >= 3 ? d.trend.SlopePerH() : 0.0;
+  }
+  bool HasDynamics() const override { return true; }
+  void Advance(model::AxisModelDynamics& d, double now_s, std::span<const double> t) const override {
+    ++advances;
+    d.trend.Push(now_s, t[0]);
+  }
+  void ResetDynamics(model::AxisModelDynamics& d) const override {
+    ++resets;
+    d.trend.Configure(10.0);
+  }
+  mutable int advances = 0, resets = 0;
+};
+
+TEST(AxisErrorModel, AModelsDynamicsAreAdvancedEveryCycleAndRestartedAfterALostSensor) {
+  Rig r;
+  auto m = std::make_shared<TrendTestModel>();
+  r.comp->PublishAxisModels({m}, "test");
+  // The nut warms at 0.001 °C per 10 ms cycle = 360 °C/h (a test ramp, inside the rate limit).
+  double nut = 25.0;
+  const CycleStatus* s = nullptr;
+  for (int i = 0; i < 1500; ++i) {
+    r.temps.Set("nut", nut += 0.001);
+    s = &r.comp->RunCycle(r.cnc, r.temps, r.t += 0.01);
+  }
+  EXPECT_EQ(m->resets, 1);  // at the model's first cycle
+  EXPECT_EQ(m->advances, 1500);
+  EXPECT_NEAR(s->axes[0].desired_um, -360.0, 1.0);  // correction = −error = −trend
+  // The sensor is lost: the axis ramps to zero and the model's state restarts when it returns.
+  r.temps.SetFault("nut", true);
+  r.Run(300);
+  const int advances_before = m->advances;
+  r.temps.SetFault("nut", false);
+  r.Run(5);
+  EXPECT_GE(m->resets, 2);
+  EXPECT_GT(m->advances, advances_before);
 }
 
 }  // namespace

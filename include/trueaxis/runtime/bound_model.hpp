@@ -33,6 +33,7 @@ struct BoundAxis {
   // Or a model behind the generic interface (PublishAxisModels), with a channel per Sensors().
   std::shared_ptr<const model::AxisErrorModel> generic;
   std::vector<int> generic_channel;
+  bool generic_dynamics = false;    // generic->HasDynamics(): advanced by AdvanceModelDynamics
 };
 
 struct BoundModel {

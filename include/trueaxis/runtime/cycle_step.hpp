@@ -25,6 +25,7 @@
 
 #include "trueaxis/core/coolant.hpp"
 #include "trueaxis/core/direction.hpp"
+#include "trueaxis/model/axis_error_model.hpp"
 #include "trueaxis/model/composite_model.hpp"
 #include "trueaxis/model/thermal_state.hpp"
 #include "trueaxis/runtime/axis_interface.hpp"
@@ -109,6 +110,8 @@ struct ModelDynamics {
     // The model's thermal state (model::AdvanceThermalState: key temperatures lagged and, under a
     // coolant, drawn to the room — issue 10's coolant memory).
     model::AxisThermalState thermal;
+    // The state of a model behind model::AxisErrorModel that has dynamics (the interval trend).
+    model::AxisModelDynamics generic;
     double time_s = 0;                            // time of the last update
     std::uint64_t model_id = 0;  // model the state belongs to; 0 = restart at the readings
   };

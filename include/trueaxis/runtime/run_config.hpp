@@ -4,6 +4,7 @@
 // Every error is an InputError naming the file, line and key; unknown keys
 // are errors too (a typo must not silently fall back to a default).
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,9 @@ struct RunConfig {
   ModbusConfig modbus;
   std::string model_file;
   bool model_reload = true;     // watch the model file and swap a changed model in without stopping
+  // Non-empty: the model file is a data-driven thermal model (trueaxis thermal fit: mlr, ridge,
+  // pso-bp, hysteresis), deployed on these axes: CNC axis → the model's error channel.
+  std::map<std::string, std::string> thermal_channels;
   double period_s = 0.010;
   double temperature_period_s = 0.1;  // the temperature worker's interval (temperatures change over seconds)
   double duration_s = 0;        // 0: until SIGINT/SIGTERM

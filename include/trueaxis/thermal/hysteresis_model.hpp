@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "trueaxis/model/trend_window.hpp"
 #include "trueaxis/thermal/linear_model.hpp"
 #include "trueaxis/thermal/thermal_model.hpp"
 
@@ -45,23 +46,26 @@ std::vector<double> TemperatureTrendCPerH(const std::vector<double>& time_s, con
 std::vector<ThermalInterval> ClassifyIntervals(const std::vector<double>& time_s, const Eigen::VectorXd& reference_c,
                                                const IntervalClassifierOptions& options);
 
-// The same rule, one sample at a time, for a runtime compensator: push each
-// new (time, reference temperature) and get the interval of that sample,
-// identical to ClassifyIntervals over the whole series. Keeps only the
-// samples inside the window (bounded memory once the sample rate is bounded).
+// The rule itself, from a trend and how much of the window it rests on: kStartUp while fewer
+// than 3 samples or less than half a window of history, else heating / steady / cooling.
+ThermalInterval ClassifyTrend(double trend_c_per_h, std::size_t samples, double span_s,
+                              const IntervalClassifierOptions& options);
+
+// The same rule, one sample at a time, for a real-time compensator: push each new (time,
+// reference temperature) and get the interval. Allocation-free (model::TrendWindow's fixed
+// bins); identical to ClassifyIntervals when samples are at least window_s / 128 apart, within
+// one bin of it otherwise.
 class IntervalTracker {
  public:
   explicit IntervalTracker(IntervalClassifierOptions options);
   // Time must increase; a sample not after the previous one resets the tracker.
   ThermalInterval Push(double time_s, double reference_c);
-  double TrendCPerH() const { return trend_c_per_h_; }
-  void Reset();
+  double TrendCPerH() const { return window_.SlopePerH(); }
+  void Reset() { window_.Reset(); }
 
  private:
   IntervalClassifierOptions options_;
-  std::vector<std::pair<double, double>> window_;  // (time, temperature), oldest first
-  std::size_t head_ = 0;                           // first live entry in window_
-  double trend_c_per_h_ = 0;
+  model::TrendWindow window_;
 };
 
 struct HysteresisFitOptions {

@@ -6,14 +6,20 @@
 // channels is the axis's error; its input sensors are the temperature channels
 // the compensator feeds it (by name, through the run config's [channels] map).
 //
-// Not yet deployable: models that use the heating/steady/cooling interval (the
-// seed-001 hysteresis model) — the interval needs the temperature trend as
-// per-axis state advanced every cycle (runtime::ModelDynamics), which is not
-// wired yet; the constructor refuses them with the reason.
+// Lagged inputs ("t4@lag1800s", thermal/lagged_inputs.hpp) are computed by the adapter from
+// their sensor, cycle by cycle, with the fit's own first-order lag (model::LagStep) in the step's
+// per-axis model dynamics, so Sensors() lists only real temperature channels. The seed-001
+// hysteresis model deploys too: its heating / steady / cooling
+// interval comes from the trend of its reference temperature, kept in the step's
+// per-axis model dynamics (model::AxisModelDynamics, a model::TrendWindow over the
+// classifier's window) and classified by the same rule as the fit
+// (thermal::ClassifyTrend); until half a window of history exists — at start, after a
+// lost sensor, after a model change — it predicts with its all-data model (start-up).
 #include <memory>
 #include <string>
 
 #include "trueaxis/model/axis_error_model.hpp"
+#include "trueaxis/thermal/hysteresis_model.hpp"
 #include "trueaxis/thermal/thermal_model.hpp"
 
 namespace trueaxis::thermal {
@@ -27,17 +33,39 @@ class ThermalAxisModel final : public model::AxisErrorModel {
                    const std::string& source);
 
   const std::string& Axis() const override { return axis_; }
-  const std::vector<std::string>& Sensors() const override { return model_->InputSensors(); }
+  // The temperature channels the model reads: its inputs' sensors (a lagged input's base sensor),
+  // each once, and any reference sensor of the interval rule.
+  const std::vector<std::string>& Sensors() const override { return sensors_; }
   std::string Describe() const override;
   // Allocation-free: the model's Predict into a buffer on the stack.
-  double ErrorUm(double position_mm, Direction direction, std::span<const double> sensors_c,
-                 CoolantState coolant) const override;
+  double ErrorUm(double position_mm, Direction direction, std::span<const double> sensors_c, CoolantState coolant,
+                 const model::AxisModelDynamics& dynamics) const override;
+  bool HasDynamics() const override { return classifier_.window_s > 0 || lagged_; }
+  void Advance(model::AxisModelDynamics& dynamics, double now_s, std::span<const double> sensors_c) const override;
+  void ResetDynamics(model::AxisModelDynamics& dynamics) const override;
+  // The interval the model predicts with, for these dynamics (kSteady for models without intervals).
+  ThermalInterval Interval(const model::AxisModelDynamics& dynamics) const;
 
  private:
   std::shared_ptr<const ThermalErrorModel> model_;
   std::string axis_;
   std::string channel_;
+  // One value the model reads: a sensor (index into sensors_), through a lag of tau_s (0: raw).
+  struct Input {
+    std::size_t sensor = 0;
+    double tau_s = 0;
+  };
+  std::size_t AddInput(const std::string& name, const std::string& source);
+  // The values of inputs_ for these sensors and dynamics (lags not started yet: the readings).
+  void Values(std::span<const double> sensors_c, const model::AxisModelDynamics& d, double* out) const;
+
   std::size_t index_ = 0;
+  std::vector<std::string> sensors_;
+  std::vector<Input> inputs_;                 // the model's InputSensors(), then reference-only entries
+  std::size_t model_inputs_ = 0;              // = InputSensors().size()
+  bool lagged_ = false;
+  std::vector<std::size_t> reference_index_;  // into inputs_
+  IntervalClassifierOptions classifier_{0.0, 0.0};  // window 0: no interval
 };
 
 }  // namespace trueaxis::thermal

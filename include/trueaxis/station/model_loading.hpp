@@ -1,0 +1,18 @@
+#pragma once
+// The model a run configuration names, loaded and handed to the compensator: the seed-000
+// composite model (`trueaxis fit`), or a data-driven thermal model (`trueaxis thermal fit`: mlr,
+// ridge, pso-bp, hysteresis) deployed on the axes [model] thermal_channels names, through
+// thermal::ThermalAxisModel. Used at start and on every reload (docs/runtime.md).
+#include <string>
+
+#include "trueaxis/runtime/compensator.hpp"
+#include "trueaxis/runtime/run_config.hpp"
+
+namespace trueaxis::station {
+
+// Throws InputError naming the file (or the config for an axis/channel mismatch); the running
+// model stays in force when it throws. Returns the revision to record ("3"; "ridge" for a thermal
+// model, which has no revision number of its own).
+std::string PublishModelFile(runtime::Compensator& compensator, const runtime::RunConfig& config);
+
+}  // namespace trueaxis::station
