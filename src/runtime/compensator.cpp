@@ -26,6 +26,7 @@ Compensator::Compensator(CompensatorOptions options, std::vector<AxisInterface> 
   for (std::size_t i = 0; i < n; ++i) extra_error_um_[i].store(std::numeric_limits<double>::quiet_NaN());
   extra_error_now_um_.assign(n, std::numeric_limits<double>::quiet_NaN());
   state_ = StepState(n, channel_names_.size(), options_);
+  shaping_ = ShaperLimitsFor(options_, axes_);
 }
 
 std::unique_ptr<Compensator> Compensator::ForHardware(const CompensatorOptions& options, const hw::CncLink& link,

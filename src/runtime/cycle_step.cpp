@@ -257,6 +257,20 @@ void AdvanceModelDynamics(const BoundModel& bound, std::span<const ChannelStatus
   }
 }
 
+namespace {
+ShaperLimits AxisShaperLimits(const CompensatorOptions& o, const AxisInterface& ai) {
+  OutputShaperOptions so = o.shaper;
+  if (!std::isnan(ai.max_correction_um)) so.max_correction_um = ai.max_correction_um;
+  return ShaperLimits::For(so, ai.PhysicalQuantumUm());
+}
+}  // namespace
+
+std::vector<ShaperLimits> ShaperLimitsFor(const CompensatorOptions& options, std::span<const AxisInterface> axes) {
+  std::vector<ShaperLimits> out;
+  for (const auto& a : axes) out.push_back(AxisShaperLimits(options, a));
+  return out;
+}
+
 void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOutputs& out) {
   const CompensatorOptions& o = model.options;
   ++state.cycle;
@@ -289,14 +303,12 @@ void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOu
       st.extra_error_um = in.extra_error_um[i];
       desired -= st.extra_error_um;
     }
-    OutputShaperOptions axis_so = o.shaper;  // a few doubles on the stack: no allocation
-    if (!std::isnan(ai.max_correction_um)) axis_so.max_correction_um = ai.max_correction_um;
-    st.clamped = std::fabs(desired) > axis_so.max_correction_um;
+    const ShaperLimits limits = model.shaping.empty() ? AxisShaperLimits(o, ai) : model.shaping[i];
+    st.clamped = std::fabs(desired) > limits.options.max_correction_um;
     if (st.clamped) alarms |= kAlarmCorrectionClamped;
     st.desired_um = desired;
-    const double q = ai.PhysicalQuantumUm();
-    out.proposed[i] = state.outstanding ? state.pending[i] : ShapeOutput(state.shaper[i], desired, q, axis_so);
-    out.command.correction_um[i] = ai.CncCorrectionUm(OutputUm(out.proposed[i], q));
+    out.proposed[i] = state.outstanding ? state.pending[i] : ShapeOutput(state.shaper[i], desired, limits);
+    out.command.correction_um[i] = ai.CncCorrectionUm(OutputUm(out.proposed[i], limits.quantum_um));
   }
   out.command.sequence = state.outstanding ? state.outstanding : state.cycle;
 
@@ -316,7 +328,7 @@ namespace {
 // The status's outputs: what the CNC holds (the shaper's state after the write phase).
 void ReportOutputs(const StepModel& model, const StepState& state, StepOutputs& out) {
   for (std::size_t i = 0; i < model.axes.size(); ++i) {
-    const double q = model.axes[i].PhysicalQuantumUm();
+    const double q = model.shaping.empty() ? model.axes[i].PhysicalQuantumUm() : model.shaping[i].quantum_um;
     out.axes[i].output_um = OutputUm(state.shaper[i], q);
     out.axes[i].written_um = model.axes[i].CncCorrectionUm(out.axes[i].output_um);
   }

@@ -21,8 +21,24 @@ bool OutputShaperOptions::IsValid(std::string* why) const {
   return true;
 }
 
+ShaperLimits ShaperLimits::For(const OutputShaperOptions& o, double quantum_um) {
+  ShaperLimits l;
+  l.options = o;
+  l.quantum_um = quantum_um;
+  // (both quotients are >= 0, so truncation is the floor)
+  l.max_counts_step = std::max<std::int64_t>(1, static_cast<std::int64_t>(o.max_step_um / quantum_um + 1e-9));
+  l.bound_counts = static_cast<std::int64_t>(o.max_correction_um / quantum_um + 1e-9);
+  return l;
+}
+
 OutputShaperState ShapeOutput(const OutputShaperState& state, double desired_um, double quantum_um,
                               const OutputShaperOptions& o) {
+  return ShapeOutput(state, desired_um, ShaperLimits::For(o, quantum_um));
+}
+
+OutputShaperState ShapeOutput(const OutputShaperState& state, double desired_um, const ShaperLimits& limits) {
+  const OutputShaperOptions& o = limits.options;
+  const double quantum_um = limits.quantum_um;
   OutputShaperState next = state;
   if (std::isnan(desired_um)) return next;  // hold
   // 1. bound (also maps ±inf to the bound)
@@ -35,11 +51,8 @@ OutputShaperState ShapeOutput(const OutputShaperState& state, double desired_um,
   if (std::fabs(in_counts - static_cast<double>(state.counts)) > 0.5 + o.hysteresis)
     target = static_cast<std::int64_t>(std::llround(in_counts));
   // 4. never more than the step (at least one count) per cycle, never beyond the bound
-  // (both quotients are >= 0, so truncation is the floor; no libm call on the real-time path)
-  const auto max_counts_step = std::max<std::int64_t>(1, static_cast<std::int64_t>(o.max_step_um / quantum_um + 1e-9));
-  const auto bound_counts = static_cast<std::int64_t>(o.max_correction_um / quantum_um + 1e-9);
-  target = std::clamp(target, state.counts - max_counts_step, state.counts + max_counts_step);
-  target = std::clamp(target, -bound_counts, bound_counts);
+  target = std::clamp(target, state.counts - limits.max_counts_step, state.counts + limits.max_counts_step);
+  target = std::clamp(target, -limits.bound_counts, limits.bound_counts);
   next.counts = target;
   return next;
 }

@@ -93,10 +93,11 @@ class Compensator {
   const StepState& state() const { return state_; }
 
  private:
-  StepModel Model() const { return StepModel{options_, axes_, current_}; }
+  StepModel Model() const { return StepModel{options_, axes_, current_, shaping_}; }
 
   CompensatorOptions options_;
   std::vector<AxisInterface> axes_;
+  std::vector<ShaperLimits> shaping_;  // per axis, from options_ and axes_ (fixed for the compensator's life)
   std::vector<std::string> channel_names_;
   ModelExchange<BoundModel> exchange_;
   std::atomic<std::uint64_t> next_model_id_{1};

@@ -159,7 +159,13 @@ struct StepModel {
   const CompensatorOptions& options;
   std::span<const AxisInterface> axes;
   const BoundModel* bound = nullptr;
+  // Per axis: the shaper's constants (options with the axis's own bound, its physical quantum),
+  // computed once by the Compensator (ShaperLimitsFor). Empty: computed every cycle.
+  std::span<const ShaperLimits> shaping = {};
 };
+
+// The shaping constants of every axis of an installation (what StepModel::shaping holds).
+std::vector<ShaperLimits> ShaperLimitsFor(const CompensatorOptions& options, std::span<const AxisInterface> axes);
 
 // Sized once; `status` points into `axes` / `channels`.
 struct StepOutputs {

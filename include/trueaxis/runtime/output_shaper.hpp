@@ -35,7 +35,18 @@ struct OutputShaperState {
   std::int64_t counts = 0;  // output = counts · quantum
 };
 
+// One axis's shaping constants, computed once (the real-time step keeps one per axis): the
+// options, the quantum and the two count limits that would otherwise cost two divisions a cycle.
+struct ShaperLimits {
+  OutputShaperOptions options;
+  double quantum_um = 1.0;
+  std::int64_t max_counts_step = 1;  // max(1, ⌊max_step_um / q⌋)
+  std::int64_t bound_counts = 0;     // ⌊max_correction_um / q⌋
+  static ShaperLimits For(const OutputShaperOptions& options, double quantum_um);
+};
+
 // One cycle. `desired_um` NaN is treated as "hold" (no change).
+OutputShaperState ShapeOutput(const OutputShaperState& state, double desired_um, const ShaperLimits& limits);
 OutputShaperState ShapeOutput(const OutputShaperState& state, double desired_um, double quantum_um,
                               const OutputShaperOptions& options);
 
