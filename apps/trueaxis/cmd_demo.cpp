@@ -63,6 +63,9 @@ void Setup(CLI::App& app) {
   cmd->add_flag_function("--no-coolant-memory", [opts](std::int64_t) { opts->demo.coolant_memory = false; },
                          "Fit without issue 10's coolant memory and fitted envelope (gains per coolant state), the "
                          "baseline of bench/results/zoo.md");
+  cmd->add_flag_function("--no-coolant-rest", [opts](std::int64_t) { opts->demo.coolant_rest = false; },
+                         "Calibrate without the campaign's stop under coolant (the measurements of the axis at rest "
+                         "with the coolant running), for comparison");
   cmd->add_flag_function("--raw-temperatures", [opts](std::int64_t) { opts->demo.signal_processing = false; },
                          "Feed the compensator the raw sensor readings instead of the temperature pipeline "
                          "(filter + fault status, on by default as in `trueaxis run`), for comparison");

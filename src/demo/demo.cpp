@@ -456,6 +456,7 @@ DemoResult RunDemo(const DemoOptions& o) {
   c.out_dir = result.campaign_dir;
   c.seed = o.seed;
   c.axes = axes;
+  c.coolant_rest = o.coolant_rest;
   if (o.fast) {
     c.laser.runs = 3;
     c.warm_runs = 2;

@@ -136,6 +136,10 @@ class Campaign {
         Setup(axes_[k]);
         const double nut0 = MeanColumn(MeasureAndWrite(axes_[k], "coolant"), NutSensor(axes_[k]));
         WarmUp(axes_[k], nut0, "coolant", o_.max_coolant_measurements - 1);
+        // The coolant still running over an axis at rest (a tool change, a measuring cycle, the
+        // operator's break): the screw is drawn to the coolant, not to the nut's reading — a state
+        // the working day has and the warm-up alone never shows the fit (issue 10).
+        if (o_.coolant_rest) CoolDown(axes_[k], "coolant_rest");
         EndSession();
       }
     }
@@ -303,7 +307,8 @@ class Campaign {
     for (std::size_t i = 0; i < vm_.AxisCount(); ++i) vm_.CommandStop(i);
   }
 
-  void CoolDown(std::size_t axis) {
+  // The axes stop; every cooldown_step_c the nut sensor falls, a measurement (labelled `state`).
+  void CoolDown(std::size_t axis, const char* state) {
     if (o_.cooldown_measurements <= 0) return;
     for (std::size_t i = 0; i < vm_.AxisCount(); ++i) vm_.CommandStop(i);
     Progress("cool-down: axes stopped");
@@ -319,7 +324,7 @@ class Campaign {
       for (double v : minute) nut += v;
       nut /= static_cast<double>(minute.size());
       if (ref - nut >= o_.cooldown_step_c) {
-        MeasureAndWrite(axis, "cooldown");
+        MeasureAndWrite(axis, state);
         ++taken;
         for (std::size_t i = 0; i < vm_.AxisCount(); ++i) vm_.CommandStop(i);
         ref = nut;  // the test's own motion warmed it a little: count from before it
@@ -334,7 +339,7 @@ class Campaign {
     Setup(axis);
     const auto cold = MeasureAndWrite(axis, "cold");
     WarmUp(axis, MeanColumn(cold, NutSensor(axis)), "warm", o_.max_warm_measurements);
-    CoolDown(axis);
+    CoolDown(axis, "cooldown");
     EndSession();
   }
 

@@ -95,7 +95,7 @@ TEST(Campaign, WritesFilesTemperatureLogAndManifest) {
   ASSERT_GE(summary.files.size(), 1u + 2 + 1 + 1);
   std::set<std::string> states;
   for (const auto& f : summary.files) states.insert(f.state);
-  EXPECT_EQ(states, (std::set<std::string>{"cold", "warm", "cooldown", "ambient", "coolant"}));
+  EXPECT_EQ(states, (std::set<std::string>{"cold", "warm", "cooldown", "ambient", "coolant", "coolant_rest"}));
   const auto manifest = nlohmann::json::parse(ReadTextFile((dir / "manifest.json").string()));
   ASSERT_EQ(manifest["measurements"].size(), summary.files.size());
   double last_warm_rise = 0;

@@ -46,6 +46,8 @@ struct DemoOptions {
   // coolant_loss_grid_s, tan_beta_margin). false: gains per coolant state and no envelope, the
   // model as before them (the baseline of bench/results/zoo.md).
   bool coolant_memory = true;
+  // The campaign's stop under coolant after its coolant warm-up (sim::CampaignOptions::coolant_rest).
+  bool coolant_rest = true;
   // The working day over MODBUS TCP on 127.0.0.1: the virtual machine behind
   // a ModbusMachineServer (PMC window + ADAM-6015 modules, docs/protocols.md),
   // the compensator on ModbusCncLink / ModbusTemperatureSource. Each cycle is a

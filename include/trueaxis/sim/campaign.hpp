@@ -44,6 +44,7 @@ struct CampaignOptions {
   bool coolant_session = true;
   CoolantState coolant_state = CoolantState::kFlood;
   int max_coolant_measurements = 4;
+  bool coolant_rest = true;  // after the coolant warm-up: the axes stop under coolant, cooldown measurements ("coolant_rest")
   double log_interval_s = 30;
   std::function<void(const std::string&)> progress;  // one line per event (stderr in the CLI)
 
