@@ -175,6 +175,14 @@ WebServer::WebServer(MonitorBackend& backend, AccessDb& access, WebServerOptions
   server_->set_read_timeout(options_.read_timeout_s, 0);
   server_->set_write_timeout(options_.read_timeout_s, 0);
   server_->set_payload_max_length(options_.max_body_bytes);
+  // cpp-httplib 0.11 listens with a backlog of 5: a burst of browsers connecting at once (a shift
+  // opening its pages) is then reset. The listening socket is captured here and Start() listens
+  // again with the system's maximum (measured: bench/RESULTS.md, *Web front end*).
+  server_->set_socket_options([this](socket_t sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, reinterpret_cast<const char*>(&yes), sizeof yes);
+    listen_socket_ = static_cast<int>(sock);
+  });
   httplib::Headers headers = {
       {"Content-Security-Policy",
        "default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' data:; connect-src 'self'; "
@@ -228,6 +236,7 @@ void WebServer::Start() {
                                             options_.host, options_.port));
     port_ = options_.port;
   }
+  if (listen_socket_ >= 0) ::listen(listen_socket_, SOMAXCONN);
   thread_ = std::thread([this] { server_->listen_after_bind(); });
 }
 

@@ -84,6 +84,7 @@ class WebServer {
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   int port_ = 0;
+  int listen_socket_ = -1;
 };
 
 }  // namespace trueaxis::web
