@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "store/test_dir.hpp"
 #include "support/mock_hardware.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
@@ -20,13 +21,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class RunBackendTest : public ::testing::Test {
+class RunBackendTest : public trueaxis::testing::TempDirTest {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("trueaxis_web_run_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    TempDirTest::SetUp();
     comp_ = runtime::Compensator::ForHardware(runtime::CompensatorOptions{}, link_, temps_, {});
     model_ = std::make_shared<const model::CompositeModel>(
         model::ReadModelFile(std::string(TRUEAXIS_SOURCE_DIR) + "/tests/export/golden/example_model.json"));
@@ -46,7 +44,7 @@ class RunBackendTest : public ::testing::Test {
   }
   void TearDown() override {
     writer_.reset();
-    fs::remove_all(dir_);
+    TempDirTest::TearDown();
   }
   // `n` cycles of 10 ms, every 10th handed to the backend and the history (as the run's recorder does).
   runtime::CycleRecord Cycles(int n) {
@@ -62,7 +60,6 @@ class RunBackendTest : public ::testing::Test {
     return rec;
   }
 
-  fs::path dir_;
   trueaxis::testing::MockCnc cnc_{{"X"}};
   trueaxis::testing::MockTemperatures temps_{{"nut", "bearing"}, 20.0};
   CoolantOverrideLink link_{cnc_};

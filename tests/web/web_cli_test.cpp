@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "store/test_dir.hpp"
 #include "support/cli_runner.hpp"
 #include "trueaxis/web/access_db.hpp"
 
@@ -16,22 +17,17 @@ namespace {
 namespace fs = std::filesystem;
 using trueaxis::testing::RunCli;
 
-class WebCliTest : public ::testing::Test {
+class WebCliTest : public trueaxis::testing::TempDirTest {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("trueaxis_web_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    TempDirTest::SetUp();
     db_ = (dir_ / "users.db").string();
   }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string File(const std::string& name, const std::string& text) const {
     const std::string p = (dir_ / name).string();
     std::ofstream(p) << text;
     return p;
   }
-  fs::path dir_;
   std::string db_;
 };
 

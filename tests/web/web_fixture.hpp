@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "store/test_dir.hpp"
 #include "trueaxis/web/access_db.hpp"
 #include "trueaxis/web/synthetic_shop.hpp"
 #include "trueaxis/web/web_server.hpp"
@@ -33,18 +34,14 @@ struct LoggedIn {
   }
 };
 
-class WebServerTest : public ::testing::Test {
+class WebServerTest : public trueaxis::testing::TempDirTest {
  protected:
   // Override before SetUp runs (in the test's constructor) to change the server.
   WebServerOptions options_;
   std::size_t machines_ = 40;
 
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() /
-           ("trueaxis_web_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
+    TempDirTest::SetUp();
     access_ = std::make_unique<AccessDb>((dir_ / "users.db").string());
     access_->AddUser("admin", Role::kAdmin, kAdminPassword, HashCost::kMinimum);
     access_->AddUser("op", Role::kOperator, kOperatorPassword, HashCost::kMinimum);
@@ -61,7 +58,7 @@ class WebServerTest : public ::testing::Test {
     server_.reset();
     shop_.reset();
     access_.reset();
-    std::filesystem::remove_all(dir_);
+    TempDirTest::TearDown();
   }
 
   std::unique_ptr<httplib::Client> Client() const {
@@ -94,7 +91,6 @@ class WebServerTest : public ::testing::Test {
     return nlohmann::json::parse(r->body, nullptr, false);
   }
 
-  std::filesystem::path dir_;
   std::unique_ptr<AccessDb> access_;
   std::unique_ptr<SyntheticShop> shop_;
   std::unique_ptr<WebServer> server_;

@@ -11,13 +11,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class TlsTest : public ::testing::Test {
+class TlsTest : public trueaxis::testing::TempDirTest {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("trueaxis_web_tls_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    TempDirTest::SetUp();
     const std::string cmd = "openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes -days 1 "
                             "-subj /CN=127.0.0.1 -addext subjectAltName=IP:127.0.0.1 -keyout " +
                             (dir_ / "key.pem").string() + " -out " + (dir_ / "cert.pem").string() + " 2>/dev/null";
@@ -26,7 +23,10 @@ class TlsTest : public ::testing::Test {
     access_->AddUser("viewer", Role::kViewer, kViewerPassword, HashCost::kMinimum);
     shop_ = std::make_unique<SyntheticShop>(3);
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override {
+    access_.reset();
+    TempDirTest::TearDown();
+  }
   WebServerOptions Options() const {
     WebServerOptions o;
     o.port = 0;
@@ -34,7 +34,6 @@ class TlsTest : public ::testing::Test {
     o.tls_key_file = (dir_ / "key.pem").string();
     return o;
   }
-  fs::path dir_;
   std::unique_ptr<AccessDb> access_;
   std::unique_ptr<SyntheticShop> shop_;
 };

@@ -1,12 +1,7 @@
 'use strict';
 async function refresh() {
-  let list;
-  try {
-    list = await TA.api('GET', '/api/alarms?limit=500');
-  } catch (e) {
-    TA.status(e.message, true);
-    return;
-  }
+  const list = await TA.load('/api/alarms?limit=500');
+  if (!list) return;
   const body = document.querySelector('#alarms tbody');
   body.replaceChildren(...list.alarms.map((a) => {
     let ack = '';

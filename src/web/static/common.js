@@ -45,6 +45,16 @@ const TA = {
     s.className = isError ? 'status error' : 'status ok';
   },
 
+  // A GET whose failure is reported in the status line (null then).
+  async load(path) {
+    try {
+      return await TA.api('GET', path);
+    } catch (e) {
+      TA.status(e.message, true);
+      return null;
+    }
+  },
+
   // Runs an operation and reports its outcome in the status line.
   async operate(what, method, path, body) {
     try {

@@ -57,13 +57,8 @@ async function pollLive() {
 }
 
 async function refreshMachine() {
-  let m;
-  try {
-    m = await TA.api('GET', base);
-  } catch (e) {
-    TA.status(e.message, true);
-    return;
-  }
+  const m = await TA.load(base);
+  if (!m) return;
   document.getElementById('machine-title').textContent = m.id + ' — ' + m.name;
   document.getElementById('m-connected').textContent = m.connected ? 'connected' : 'lost';
   document.getElementById('m-alarms').textContent = m.alarms.length ? m.alarms.join(', ') : 'none';

@@ -9,13 +9,8 @@ async function refresh() {
     alarms: document.getElementById('alarms-only').checked ? '1' : '0',
     disconnected: document.getElementById('disconnected-only').checked ? '1' : '0',
   });
-  let page;
-  try {
-    page = await TA.api('GET', '/api/machines?' + q);
-  } catch (e) {
-    TA.status(e.message, true);
-    return;
-  }
+  const page = await TA.load('/api/machines?' + q);
+  if (!page) return;
   const body = document.querySelector('#machines tbody');
   body.replaceChildren();
   for (const m of page.machines) {
