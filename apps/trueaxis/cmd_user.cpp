@@ -98,7 +98,7 @@ void Setup(CLI::App& app) {
     web::AccessDb db(o->users);
     db.SetPassword(o->name, ReadPassword(*o));
     db.Record({0, "", 0, "", "", "cli", "user_passwd", o->name, "", "ok"});
-    fmt::print("password of {} changed (sessions of a running server end at their timeout)\n", o->name);
+    fmt::print("password of {} changed (the user's open sessions end at their next request)\n", o->name);
   });
 
   CLI::App* remove = user->add_subcommand("remove", "Remove a user");

@@ -8,8 +8,8 @@ bool SessionStore::Expired(const Session& s, double now_s) const {
   return now_s - s.last_seen_s > timeouts_.idle_timeout_s || now_s - s.created_s > timeouts_.absolute_timeout_s;
 }
 
-Session SessionStore::Create(const std::string& user, Role role, double now_s) {
-  Session s{RandomToken(), RandomToken(), user, role, now_s, now_s};
+Session SessionStore::Create(const std::string& user, Role role, const std::string& password_hash, double now_s) {
+  Session s{RandomToken(), RandomToken(), user, role, password_hash, now_s, now_s};
   std::lock_guard lock(mutex_);
   for (auto it = sessions_.begin(); it != sessions_.end();)  // sweep the expired ones
     it = Expired(it->second, now_s) ? sessions_.erase(it) : std::next(it);

@@ -276,7 +276,7 @@ void WebServer::HandleLogin(const httplib::Request& req, httplib::Response& res)
       return SendError(res, 401, "wrong user name or password");
     }
     limiter_.RecordSuccess(user);
-    const Session s = sessions_.Create(record->name, record->role, now);
+    const Session s = sessions_.Create(record->name, record->role, record->password_hash, now);
     std::string cookie = fmt::format("{}={}; Path=/; HttpOnly; SameSite=Strict", kCookieName, s.id);
     if (tls()) cookie += "; Secure";
     res.set_header("Set-Cookie", cookie);
@@ -299,6 +299,14 @@ void WebServer::Routes() {
     auto handler = [this, need, action, fn, method](const httplib::Request& req, httplib::Response& res) {
       std::optional<Session> session = sessions_.Touch(CookieValue(req, kCookieName), SteadyNowS());
       if (!session) return SendError(res, 401, "not logged in, or the session has expired");
+      // The user database decides on every request: a removed user or a changed password ends the
+      // session, a changed role applies at once.
+      const auto user = access_.FindUser(session->user);
+      if (!user || user->password_hash != session->password_hash) {
+        sessions_.Remove(session->id);
+        return SendError(res, 401, "the account was removed or its password changed: log in again");
+      }
+      session->role = user->role;
       AuditEntry audit;
       audit.user = session->user;
       audit.role = std::string(RoleName(session->role));

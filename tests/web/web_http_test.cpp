@@ -89,6 +89,18 @@ TEST_F(WebServerTest, ForgedMissingAndLoggedOutSessionsAre401) {
   EXPECT_EQ(Get(s, "/api/session")->status, 401) << "the session must end at logout";
 }
 
+TEST_F(WebServerTest, ARemovedUserOrChangedPasswordEndsTheSessionAtOnce) {
+  const LoggedIn op = LoginAs("op", kOperatorPassword);
+  const LoggedIn viewer = LoginAs("viewer", kViewerPassword);
+  EXPECT_EQ(Get(op, "/api/session")->status, 200);
+  access_->SetPassword("op", "op-new-password-2", HashCost::kMinimum);
+  EXPECT_EQ(Get(op, "/api/session")->status, 401);
+  EXPECT_EQ(Post(op, "/api/machines/m0001/axes/X", {{"enabled", false}})->status, 401);
+  EXPECT_TRUE(access_->RemoveUser("viewer"));
+  EXPECT_EQ(Get(viewer, "/api/machines")->status, 401);
+  EXPECT_EQ(LoginAs("op", "op-new-password-2").csrf.size(), 64u);
+}
+
 class ShortSessionTest : public WebServerTest {
  protected:
   ShortSessionTest() { options_.sessions.idle_timeout_s = 2; }

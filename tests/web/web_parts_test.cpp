@@ -81,16 +81,16 @@ TEST(AccessDb, RefusesAFileThatIsNotItsOwn) {
 
 TEST(SessionStore, IdleAndAbsoluteTimeoutsEndSessions) {
   SessionStore store(SessionTimeouts{10, 100, 1000});
-  const Session s = store.Create("u", Role::kViewer, 0);
+  const Session s = store.Create("u", Role::kViewer, "h", 0);
   EXPECT_NE(s.id, s.csrf_token);
   EXPECT_TRUE(store.Touch(s.id, 9));
   EXPECT_TRUE(store.Touch(s.id, 18));   // idle clock restarted at 9
   EXPECT_FALSE(store.Touch(s.id, 29));  // 11 s idle
-  const Session t = store.Create("u", Role::kViewer, 0);
+  const Session t = store.Create("u", Role::kViewer, "h", 0);
   for (double now = 5; now < 100; now += 5) EXPECT_TRUE(store.Touch(t.id, now)) << now;
   EXPECT_FALSE(store.Touch(t.id, 101)) << "absolute timeout despite activity";
   EXPECT_FALSE(store.Touch("", 0));
-  const Session a = store.Create("x", Role::kAdmin, 0), b = store.Create("x", Role::kAdmin, 0);
+  const Session a = store.Create("x", Role::kAdmin, "h", 0), b = store.Create("x", Role::kAdmin, "h", 0);
   store.RemoveUser("x");
   EXPECT_FALSE(store.Touch(a.id, 1));
   EXPECT_FALSE(store.Touch(b.id, 1));
@@ -98,7 +98,7 @@ TEST(SessionStore, IdleAndAbsoluteTimeoutsEndSessions) {
 
 TEST(SessionStore, MemoryIsBounded) {
   SessionStore store(SessionTimeouts{1e9, 1e9, 50});
-  for (int i = 0; i < 200; ++i) store.Create("u", Role::kViewer, i);
+  for (int i = 0; i < 200; ++i) store.Create("u", Role::kViewer, "h", i);
   EXPECT_LE(store.Count(), 50u);
 }
 

@@ -25,6 +25,7 @@ struct Session {
   std::string csrf_token;
   std::string user;
   Role role = Role::kViewer;
+  std::string password_hash;  // the user's at login: a changed password ends the session
   double created_s = 0;    // on the store's clock (steady seconds)
   double last_seen_s = 0;
 };
@@ -34,7 +35,7 @@ class SessionStore {
   explicit SessionStore(SessionTimeouts timeouts = {}) : timeouts_(timeouts) {}
   const SessionTimeouts& timeouts() const { return timeouts_; }
 
-  Session Create(const std::string& user, Role role, double now_s);
+  Session Create(const std::string& user, Role role, const std::string& password_hash, double now_s);
   // The live session with this id, its idle clock restarted; nullopt when unknown or expired
   // (an expired one is removed).
   std::optional<Session> Touch(const std::string& id, double now_s);
