@@ -46,6 +46,7 @@ struct Options {
   bool quiet = false;
   cli::WebCliOptions web;
   std::string machine_id = "machine";
+  bool machine_id_given = false;
   std::string iso_dir = "auto";  // laser test pairs for the web page's ISO figures
 };
 
@@ -129,9 +130,13 @@ void Run(const Options& o) {
   }
   std::unique_ptr<web::RunBackend> web_backend;
   cli::WebFrontEnd web_front_end;
-  if (!o.web.listen.empty()) {
+  cli::WebCliOptions web_options = o.web;  // the command line over the config's [web]
+  for (auto [cli_value, config_value] : {std::pair{&web_options.listen, &c.web.listen}, {&web_options.users, &c.web.users},
+                                         {&web_options.cert, &c.web.cert}, {&web_options.key, &c.web.key}})
+    if (cli_value->empty()) *cli_value = *config_value;
+  if (!web_options.listen.empty()) {
     web::RunBackendOptions wo;
-    wo.machine_id = o.machine_id;
+    wo.machine_id = o.machine_id_given || c.web.machine_id.empty() ? o.machine_id : c.web.machine_id;
     wo.machine_name = fs::path(c.virtual_machine.machine_file).stem().string();
     if (c.machine != runtime::MachineKind::kVirtual || wo.machine_name.empty()) wo.machine_name = o.machine_id;
     wo.history_db = c.history_db;
@@ -139,7 +144,7 @@ void Run(const Options& o) {
     wo.unix0 = unix0;
     web_backend = std::make_unique<web::RunBackend>(*comp, &link, writer.get(), wo);
     web_backend->OnModelPublished(first_model, model::Sha256OfFile(c.model_file), c.model_file, unix0);
-    web_front_end = cli::StartWebFrontEnd(o.web, *web_backend);
+    web_front_end = cli::StartWebFrontEnd(web_options, *web_backend);
   }
   std::unique_ptr<CsvLog> csv;
   if (!c.log_csv.empty()) {
@@ -238,7 +243,9 @@ void Setup(CLI::App& app) {
   cmd->add_option("--status-s", opts->status_interval_s, "Status line interval on stderr")->capture_default_str();
   cmd->add_flag("--quiet", opts->quiet, "No progress on stderr");
   cli::AddWebOptions(cmd, opts->web, "--web");
-  cmd->add_option("--machine-id", opts->machine_id, "The machine's id on the web page ([A-Za-z0-9_.-])")->capture_default_str();
+  cmd->add_option("--machine-id", opts->machine_id, "The machine's id on the web page ([A-Za-z0-9_.-])")
+      ->capture_default_str()
+      ->each([opts](const std::string&) { opts->machine_id_given = true; });
   cmd->add_option("--web-iso-dir", opts->iso_dir,
                   "Laser tests <stem>_off.csv/<stem>_on.csv for the page's ISO 230-2 figures (auto: <model folder>/day)")
       ->capture_default_str();
