@@ -289,6 +289,9 @@ TEST_F(WebServerTest, BadBodiesGet4xxJsonAndTheServerStaysUp) {
   EXPECT_EQ(RawExchange(server_->port(), "GARBAGE\r\n\r\n").rfind("HTTP/1.1 400", 0), 0u);
   EXPECT_EQ(RawExchange(server_->port(), "GET /api/session HTTP/1.1\r\nHost: x\r\nContent-Length: -5\r\n\r\n").rfind("HTTP/1.1 4", 0), 0u);
   EXPECT_EQ(Client()->Delete("/api/machines")->status, 404);
+  EXPECT_EQ(Get(op, "/api/machines?filter=" + std::string(20000, 'a'))->status, 414);
+  EXPECT_EQ(RawExchange(server_->port(), "GET /login.html HTTP/1.1\r\nHost: x\r\nX-Long: " + std::string(20000, 'b') +
+                                             "\r\n\r\n").rfind("HTTP/1.1 400", 0), 0u);
   EXPECT_EQ(Get(op, "/api/session")->status, 200) << "the server keeps serving";
 }
 
