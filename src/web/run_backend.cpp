@@ -167,18 +167,18 @@ HistorySeries RunBackend::History(const std::string& id, double from, double to,
 
 std::vector<AlarmEntry> RunBackend::Alarms(std::size_t limit) const { return alarms_.Newest(limit); }
 
-void RunBackend::SetAxisEnabled(const std::string& id, const std::string& axis, bool enabled) {
+void RunBackend::SetAxisEnabled(const Actor&, const std::string& id, const std::string& axis, bool enabled) {
   CheckId(id);
   for (std::size_t i = 0; i < axes_.size(); ++i)
     if (axes_[i] == axis) return compensator_.SetAxisEnabled(i, enabled);
   throw BackendError(404, "machine '" + id + "' has no axis '" + axis + "'");
 }
 
-void RunBackend::AcknowledgeAlarm(const std::string& alarm_id, const std::string& user) {
-  alarms_.Acknowledge(alarm_id, user, NowUnixS());
+void RunBackend::AcknowledgeAlarm(const Actor& who, const std::string& alarm_id) {
+  alarms_.Acknowledge(alarm_id, who.user, NowUnixS());
 }
 
-void RunBackend::SetCoolantOverride(const std::string& id, const std::string& state) {
+void RunBackend::SetCoolantOverride(const Actor&, const std::string& id, const std::string& state) {
   CheckId(id);
   if (!coolant_) throw BackendError(409, "this machine has no coolant override");
   if (state.empty()) return coolant_->SetOverride(std::nullopt);
@@ -197,24 +197,25 @@ void RunBackend::Publish(const Loaded& l, const std::string& note) {
   if (writer_) writer_->PushModelChange(NowUnixS(), l.info.sha256, l.info.revision, note);
 }
 
-void RunBackend::LoadModelRevision(const std::string& id, const std::string& revision) {
+void RunBackend::LoadModelRevision(const Actor& who, const std::string& id, const std::string& revision) {
   CheckId(id);
   std::lock_guard lock(mutex_);
   for (std::size_t i = loaded_.size(); i-- > 0;)
     if (loaded_[i].info.revision == revision) {
-      Publish(loaded_[i], "web: loaded revision " + revision);
+      Publish(loaded_[i], "web: " + who.user + " from " + who.remote + " loaded revision " + revision);
       in_use_.push_back(i);
       return;
     }
   throw BackendError(404, "revision '" + revision + "' was not loaded by this run");
 }
 
-std::string RunBackend::RollbackModel(const std::string& id) {
+std::string RunBackend::RollbackModel(const Actor& who, const std::string& id) {
   CheckId(id);
   std::lock_guard lock(mutex_);
   if (in_use_.size() < 2) throw BackendError(409, "no earlier model revision to roll back to");
   const std::size_t previous = in_use_[in_use_.size() - 2];
-  Publish(loaded_[previous], "web: rolled back to revision " + loaded_[previous].info.revision);
+  Publish(loaded_[previous],
+          "web: " + who.user + " from " + who.remote + " rolled back to revision " + loaded_[previous].info.revision);
   in_use_.pop_back();
   return loaded_[previous].info.revision;
 }

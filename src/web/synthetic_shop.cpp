@@ -178,7 +178,7 @@ HistorySeries SyntheticShop::History(const std::string& id, double from, double 
 
 std::vector<AlarmEntry> SyntheticShop::Alarms(std::size_t limit) const { return alarms_.Newest(limit); }
 
-void SyntheticShop::SetAxisEnabled(const std::string& id, const std::string& axis, bool enabled) {
+void SyntheticShop::SetAxisEnabled(const Actor&, const std::string& id, const std::string& axis, bool enabled) {
   const std::size_t i = Index(id);
   std::unique_lock lock(mutex_);
   for (auto& a : machines_[i].summary.axes)
@@ -189,11 +189,11 @@ void SyntheticShop::SetAxisEnabled(const std::string& id, const std::string& axi
   throw BackendError(404, "machine '" + id + "' has no axis '" + axis + "'");
 }
 
-void SyntheticShop::AcknowledgeAlarm(const std::string& alarm_id, const std::string& user) {
-  alarms_.Acknowledge(alarm_id, user, NowUnixS());
+void SyntheticShop::AcknowledgeAlarm(const Actor& who, const std::string& alarm_id) {
+  alarms_.Acknowledge(alarm_id, who.user, NowUnixS());
 }
 
-void SyntheticShop::SetCoolantOverride(const std::string& id, const std::string& state) {
+void SyntheticShop::SetCoolantOverride(const Actor&, const std::string& id, const std::string& state) {
   if (!state.empty() && !ParseCoolantState(state))
     throw BackendError(400, "coolant state '" + state + "' is not one of off, flood, mist, air (or \"\" to clear)");
   const std::size_t i = Index(id);
@@ -202,7 +202,7 @@ void SyntheticShop::SetCoolantOverride(const std::string& id, const std::string&
   if (!state.empty()) machines_[i].summary.coolant = state;
 }
 
-void SyntheticShop::LoadModelRevision(const std::string& id, const std::string& revision) {
+void SyntheticShop::LoadModelRevision(const Actor&, const std::string& id, const std::string& revision) {
   if (revision != "1" && revision != "2" && revision != "3")
     throw BackendError(404, "machine '" + id + "' has no model revision '" + revision + "' (1, 2, 3)");
   const std::size_t i = Index(id);
@@ -211,7 +211,7 @@ void SyntheticShop::LoadModelRevision(const std::string& id, const std::string& 
   machines_[i].summary.model_revision = revision;
 }
 
-std::string SyntheticShop::RollbackModel(const std::string& id) {
+std::string SyntheticShop::RollbackModel(const Actor&, const std::string& id) {
   const std::size_t i = Index(id);
   std::unique_lock lock(mutex_);
   auto& stack = machines_[i].revision_stack;

@@ -147,6 +147,7 @@ struct WebServer::Call {
   Session session;
   json body;
   std::string target, detail;  // for the audit log
+  Actor who() const { return {session.user, Remote(req)}; }
   bool sent = false;           // the handler wrote the response itself (a file)
 };
 
@@ -422,26 +423,26 @@ void WebServer::Routes() {
     const bool on = BoolField(c.body, "enabled");
     c.target = std::string(c.req.matches[1]) + "/" + std::string(c.req.matches[2]);
     c.detail = on ? "enable" : "disable";
-    backend_.SetAxisEnabled(c.req.matches[1], c.req.matches[2], on);
+    backend_.SetAxisEnabled(c.who(), c.req.matches[1], c.req.matches[2], on);
     return json{{"ok", true}};
   });
   api(Method::kPost, machine + "/coolant", Role::kOperator, "coolant_override", [this](Call& c) {
     const std::string state = StringField(c.body, "state", 16);
     c.target = c.req.matches[1];
     c.detail = state.empty() ? "override cleared" : "override " + state;
-    backend_.SetCoolantOverride(c.req.matches[1], state);
+    backend_.SetCoolantOverride(c.who(), c.req.matches[1], state);
     return json{{"ok", true}};
   });
   api(Method::kPost, machine + "/model", Role::kAdmin, "model_load", [this](Call& c) {
     const std::string revision = StringField(c.body, "revision", 64);
     c.target = c.req.matches[1];
     c.detail = "revision " + revision;
-    backend_.LoadModelRevision(c.req.matches[1], revision);
+    backend_.LoadModelRevision(c.who(), c.req.matches[1], revision);
     return json{{"ok", true}, {"revision", revision}};
   });
   api(Method::kPost, machine + "/model/rollback", Role::kAdmin, "model_rollback", [this](Call& c) {
     c.target = c.req.matches[1];
-    const std::string now = backend_.RollbackModel(c.req.matches[1]);
+    const std::string now = backend_.RollbackModel(c.who(), c.req.matches[1]);
     c.detail = "now revision " + now;
     return json{{"ok", true}, {"revision", now}};
   });
@@ -453,7 +454,7 @@ void WebServer::Routes() {
   api(Method::kPost, std::string("/api/alarms/") + "([A-Za-z0-9_.:\\-]{1,128})/ack", Role::kOperator, "alarm_ack",
       [this](Call& c) {
         c.target = c.req.matches[1];
-        backend_.AcknowledgeAlarm(c.req.matches[1], c.session.user);
+        backend_.AcknowledgeAlarm(c.who(), c.req.matches[1]);
         return json{{"ok", true}};
       });
   api(Method::kGet, "/api/audit", Role::kAdmin, "", [this](Call& c) {

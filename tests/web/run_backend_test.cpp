@@ -20,6 +20,7 @@ namespace trueaxis::web {
 namespace {
 
 namespace fs = std::filesystem;
+const Actor kWho{"op", "127.0.0.1:5000"};
 
 class RunBackendTest : public trueaxis::testing::TempDirTest {
  protected:
@@ -97,24 +98,24 @@ TEST_F(RunBackendTest, AxisDisableRampsTheCorrectionThroughTheLimiter) {
   temps_.Set("nut", 30);
   const double before = Cycles(400).axes[0].output_um;
   ASSERT_GT(std::abs(before), 2.0);
-  backend_->SetAxisEnabled("vmc1", "X", false);
+  backend_->SetAxisEnabled(kWho, "vmc1", "X", false);
   const double next = Cycles(10).axes[0].output_um;
   EXPECT_GT(std::abs(next), 0.0) << "no jump to zero: it ramps";
   EXPECT_LT(std::abs(next), std::abs(before));
   EXPECT_NEAR(Cycles(2000).axes[0].output_um, 0.0, 1e-9);
   EXPECT_FALSE(backend_->ListMachines()[0].axes[0].enabled);
-  EXPECT_THROW(backend_->SetAxisEnabled("vmc1", "Q", false), BackendError);
+  EXPECT_THROW(backend_->SetAxisEnabled(kWho, "vmc1", "Q", false), BackendError);
 }
 
 TEST_F(RunBackendTest, CoolantOverrideReachesTheCompensator) {
   Cycles(20);
   EXPECT_EQ(backend_->ListMachines()[0].coolant, "off");
-  backend_->SetCoolantOverride("vmc1", "flood");
+  backend_->SetCoolantOverride(kWho, "vmc1", "flood");
   Cycles(20);
   EXPECT_EQ(backend_->ListMachines()[0].coolant, "flood");
   EXPECT_EQ(backend_->Machine("vmc1").coolant_override, "flood");
-  EXPECT_THROW(backend_->SetCoolantOverride("vmc1", "steam"), BackendError);
-  backend_->SetCoolantOverride("vmc1", "");
+  EXPECT_THROW(backend_->SetCoolantOverride(kWho, "vmc1", "steam"), BackendError);
+  backend_->SetCoolantOverride(kWho, "vmc1", "");
   Cycles(20);
   EXPECT_EQ(backend_->ListMachines()[0].coolant, "off");
 }
@@ -125,13 +126,13 @@ TEST_F(RunBackendTest, LoadsAndRollsBackModelRevisions) {
   comp_->PublishModel(second, "second");
   backend_->OnModelPublished(second, "bb", "reloaded", unix0_ + 1);
   EXPECT_EQ(backend_->Machine("vmc1").model.revision, std::to_string(second->revision));
-  EXPECT_EQ(backend_->RollbackModel("vmc1"), std::to_string(model_->revision));
+  EXPECT_EQ(backend_->RollbackModel(kWho, "vmc1"), std::to_string(model_->revision));
   EXPECT_EQ(backend_->Machine("vmc1").model.revision, std::to_string(model_->revision));
-  EXPECT_THROW(backend_->RollbackModel("vmc1"), BackendError) << "nothing earlier";
-  backend_->LoadModelRevision("vmc1", std::to_string(second->revision));
+  EXPECT_THROW(backend_->RollbackModel(kWho, "vmc1"), BackendError) << "nothing earlier";
+  backend_->LoadModelRevision(kWho, "vmc1", std::to_string(second->revision));
   EXPECT_EQ(backend_->Machine("vmc1").model.revision, std::to_string(second->revision));
   EXPECT_EQ(backend_->Machine("vmc1").model.available.size(), 2u);
-  EXPECT_THROW(backend_->LoadModelRevision("vmc1", "77"), BackendError);
+  EXPECT_THROW(backend_->LoadModelRevision(kWho, "vmc1", "77"), BackendError);
 }
 
 TEST_F(RunBackendTest, HistoryExportAndAlarmsComeFromTheRun) {
@@ -153,7 +154,7 @@ TEST_F(RunBackendTest, HistoryExportAndAlarmsComeFromTheRun) {
   const auto alarms = backend_->Alarms(10);
   ASSERT_FALSE(alarms.empty()) << "the faulty nut sensor raises an alarm";
   EXPECT_TRUE(alarms[0].active);
-  backend_->AcknowledgeAlarm(alarms[0].id, "op");
+  backend_->AcknowledgeAlarm(kWho, alarms[0].id);
   EXPECT_EQ(backend_->Alarms(10)[0].acknowledged_by, "op");
 }
 

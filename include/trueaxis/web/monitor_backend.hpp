@@ -126,6 +126,13 @@ struct HistorySeries {
 };
 
 // CSV: one table (temperatures wide: one row per instant; corrections long); xlsx: every table.
+// Who asks for an operation: the session's user and the client's address, for backends that keep
+// their own record of changes (the workshop server records model changes with who and from where).
+struct Actor {
+  std::string user;
+  std::string remote;
+};
+
 enum class ExportFormat { kCsvTemperature, kCsvCompensation, kXlsx };
 struct ExportFile {
   std::string file_name;     // suggested download name
@@ -150,13 +157,15 @@ class MonitorBackend {
   virtual std::vector<AlarmEntry> Alarms(std::size_t limit) const = 0;
 
   // ---- operations (the web server checks the role and writes the audit log) ----
-  virtual void SetAxisEnabled(const std::string& id, const std::string& axis, bool enabled) = 0;
-  virtual void AcknowledgeAlarm(const std::string& alarm_id, const std::string& user) = 0;
+  virtual void SetAxisEnabled(const Actor& who, const std::string& id, const std::string& axis, bool enabled) = 0;
+  virtual void AcknowledgeAlarm(const Actor& who, const std::string& alarm_id) = 0;
   // `state` "" clears the override (the CNC's own coolant state is used again).
-  virtual void SetCoolantOverride(const std::string& id, const std::string& state) = 0;
-  virtual void LoadModelRevision(const std::string& id, const std::string& revision) = 0;
-  // Back to the revision in use before the current one; returns the revision now in use.
-  virtual std::string RollbackModel(const std::string& id) = 0;
+  virtual void SetCoolantOverride(const Actor& who, const std::string& id, const std::string& state) = 0;
+  // `revision`: one of MachineDetail::model.available[].revision (the backend's name for a model
+  // it can load: a revision number, a slot, a file).
+  virtual void LoadModelRevision(const Actor& who, const std::string& id, const std::string& revision) = 0;
+  // Back to the model in use before the current one; returns the revision now in use.
+  virtual std::string RollbackModel(const Actor& who, const std::string& id) = 0;
   virtual ExportFile Export(const std::string& id, double from_unix_s, double to_unix_s, ExportFormat format) const = 0;
 };
 

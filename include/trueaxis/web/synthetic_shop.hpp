@@ -33,11 +33,11 @@ class SyntheticShop : public MonitorBackend {
   LiveSeries Live(const std::string& id, std::uint64_t after_sequence, std::size_t max_samples) const override;
   HistorySeries History(const std::string& id, double from_unix_s, double to_unix_s, std::size_t max_points) const override;
   std::vector<AlarmEntry> Alarms(std::size_t limit) const override;
-  void SetAxisEnabled(const std::string& id, const std::string& axis, bool enabled) override;
-  void AcknowledgeAlarm(const std::string& alarm_id, const std::string& user) override;
-  void SetCoolantOverride(const std::string& id, const std::string& state) override;
-  void LoadModelRevision(const std::string& id, const std::string& revision) override;
-  std::string RollbackModel(const std::string& id) override;
+  void SetAxisEnabled(const Actor& who, const std::string& id, const std::string& axis, bool enabled) override;
+  void AcknowledgeAlarm(const Actor& who, const std::string& alarm_id) override;
+  void SetCoolantOverride(const Actor& who, const std::string& id, const std::string& state) override;
+  void LoadModelRevision(const Actor& who, const std::string& id, const std::string& revision) override;
+  std::string RollbackModel(const Actor& who, const std::string& id) override;
   ExportFile Export(const std::string& id, double from_unix_s, double to_unix_s, ExportFormat format) const override;
 
  private:
