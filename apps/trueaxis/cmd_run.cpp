@@ -1,8 +1,9 @@
-// trueaxis run --config FILE.toml [--duration-s S] [--quiet]
+// trueaxis run --config FILE.toml [--duration-s S] [--quiet] [--web HOST:PORT --users FILE]
 // Runs the real-time compensator against the configured machine — the
 // virtual machine in process, or a CNC terminal and RTD modules over MODBUS
 // TCP — until SIGINT/SIGTERM or the duration, logging to the history
-// database and/or a CSV file (docs/runtime.md).
+// database and/or a CSV file (docs/runtime.md). With --web, the machine is also served to the
+// browser behind a login (docs/web.md).
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -27,6 +28,9 @@
 #include "trueaxis/station/machine_connection.hpp"
 #include "trueaxis/station/model_loading.hpp"
 #include "trueaxis/store/history_writer.hpp"
+#include "trueaxis/web/coolant_override_link.hpp"
+#include "trueaxis/web/run_backend.hpp"
+#include "web_front_end.hpp"
 
 namespace {
 
@@ -41,6 +45,10 @@ struct Options {
   double duration_s = -1;  // <0: from the config
   double status_interval_s = 5;
   bool quiet = false;
+  cli::WebCliOptions web;
+  std::string machine_id = "machine";
+  bool machine_id_given = false;
+  std::string iso_dir = "auto";  // laser test pairs for the web page's ISO figures
 };
 
 // A decimated CSV log of the loop: time, alarms, per axis position/correction, per channel value.
@@ -91,15 +99,18 @@ void Run(const Options& o) {
   if (o.duration_s >= 0) c.duration_s = o.duration_s;
   station::Machine m = station::OpenMachine(c);  // + the temperature pipeline ([signal], on by default)
   for (const auto& w : m.warnings) fmt::print(stderr, "warning: {}\n", w);
-  auto comp = runtime::Compensator::ForHardware(c.compensator, *m.link, *m.source, c.axes);
+  // The coolant state the compensator sees can be forced from the web page.
+  web::CoolantOverrideLink link(*m.link);
+  auto comp = runtime::Compensator::ForHardware(c.compensator, link, *m.source, c.axes);
   // InputError (exit 2) on a model that does not fit the machine.
-  const std::string first_revision = station::PublishModelFile(*comp, c);
+  const station::PublishedModel first_model = station::PublishModelFile(*comp, c);
+  const std::string& first_revision = first_model.revision;
   std::error_code ec;
   auto model_mtime = fs::last_write_time(c.model_file, ec);
 
   const auto every = static_cast<std::uint64_t>(std::max(1.0, std::round(c.record_interval_s / c.period_s)));
   runtime::CycleRecorder recorder(8192, every);
-  runtime::LoopRunner runner(*comp, *m.link, *m.source, runtime::LoopOptions{c.period_s, c.temperature_period_s}, &recorder);
+  runtime::LoopRunner runner(*comp, link, *m.source, runtime::LoopOptions{c.period_s, c.temperature_period_s}, &recorder);
   if (m.advance) runner.SetPlantAdvance(m.advance);
 
   const double unix0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
@@ -112,6 +123,27 @@ void Run(const Options& o) {
     writer = std::make_unique<store::HistoryWriter>(c.history_db);
     history = std::make_unique<station::HistoryLogger>(*writer, axis_names, comp->channel_names(), unix0);
     history->LogModelChange(0, model::Sha256OfFile(c.model_file), first_revision, "loaded " + c.model_file);
+  }
+  std::unique_ptr<web::RunBackend> web_backend;
+  cli::WebFrontEnd web_front_end;
+  cli::WebCliOptions web_options = o.web;  // the command line over the config's [web]
+  for (auto [cli_value, config_value] : {std::pair{&web_options.listen, &c.web.listen}, {&web_options.users, &c.web.users},
+                                         {&web_options.cert, &c.web.cert}, {&web_options.key, &c.web.key}})
+    if (cli_value->empty()) *cli_value = *config_value;
+  if (!web_options.listen.empty()) {
+    web::RunBackendOptions wo;
+    wo.machine_id = o.machine_id_given || c.web.machine_id.empty() ? o.machine_id : c.web.machine_id;
+    wo.machine_name = fs::path(c.virtual_machine.machine_file).stem().string();
+    if (c.machine != runtime::MachineKind::kVirtual || wo.machine_name.empty()) wo.machine_name = o.machine_id;
+    wo.history_db = c.history_db;
+    wo.iso_dir = o.iso_dir == "auto" ? (fs::path(c.model_file).parent_path() / "day").string() : o.iso_dir;
+    wo.unix0 = unix0;
+    web_backend = std::make_unique<web::RunBackend>(*comp, &link, writer.get(), wo);
+    if (first_model.composite)
+      web_backend->OnModelPublished(first_model.composite, model::Sha256OfFile(c.model_file), c.model_file, unix0);
+    else
+      fmt::print(stderr, "warning: the web page shows seed-000 models only; the thermal model {} runs but is not listed there\n", c.model_file);
+    web_front_end = cli::StartWebFrontEnd(web_options, *web_backend);
   }
   std::unique_ptr<CsvLog> csv;
   if (!c.log_csv.empty()) {
@@ -140,6 +172,7 @@ void Run(const Options& o) {
     while (recorder.Pop(rec)) {
       have_record = true;
       if (history) history->Log(rec);
+      if (web_backend) web_backend->OnRecord(rec);
       if (csv) csv->Write(rec);
       if (rec.alarms != last_alarms && !o.quiet)
         fmt::print(stderr, "[{:.2f} s] alarms: {}\n", rec.time_s, rec.alarms ? runtime::AlarmNames(rec.alarms) : "cleared");
@@ -160,7 +193,11 @@ void Run(const Options& o) {
         if (!ec && t != model_mtime) {
           model_mtime = t;
           try {
-            const std::string revision = station::PublishModelFile(*comp, c);
+            const station::PublishedModel next = station::PublishModelFile(*comp, c);
+            const std::string& revision = next.revision;
+            if (web_backend && next.composite)
+              web_backend->OnModelPublished(next.composite, model::Sha256OfFile(c.model_file), "reloaded " + c.model_file,
+                                            unix0 + elapsed);
             if (history)
               history->LogModelChange(elapsed, model::Sha256OfFile(c.model_file), revision, "reloaded " + c.model_file);
             if (!o.quiet) fmt::print(stderr, "[{:.2f} s] model reloaded from {} (ramping to it)\n", elapsed, c.model_file);
@@ -179,6 +216,7 @@ void Run(const Options& o) {
     }
     if (c.duration_s > 0 && elapsed >= c.duration_s) break;
   }
+  if (web_front_end.server) web_front_end.server->Stop();
   runner.Stop();
   m.Close();
   drain();
@@ -201,6 +239,13 @@ void Setup(CLI::App& app) {
   cmd->add_option("--duration-s", opts->duration_s, "Stop after this many seconds (default: the config's, else until SIGINT/SIGTERM)");
   cmd->add_option("--status-s", opts->status_interval_s, "Status line interval on stderr")->capture_default_str();
   cmd->add_flag("--quiet", opts->quiet, "No progress on stderr");
+  cli::AddWebOptions(cmd, opts->web, "--web");
+  cmd->add_option("--machine-id", opts->machine_id, "The machine's id on the web page ([A-Za-z0-9_.-])")
+      ->capture_default_str()
+      ->each([opts](const std::string&) { opts->machine_id_given = true; });
+  cmd->add_option("--web-iso-dir", opts->iso_dir,
+                  "Laser tests <stem>_off.csv/<stem>_on.csv for the page's ISO 230-2 figures (auto: <model folder>/day)")
+      ->capture_default_str();
   cmd->callback([opts] { Run(*opts); });
 }
 

@@ -171,6 +171,14 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
     m.Double("record_interval_s", c.record_interval_s, 1e-4, 1e6);
     m.RejectUnknown();
   }
+  if (const toml::table* t = r.Table("web")) {
+    TomlTableReader m(*t, source, "web");
+    m.String("listen", c.web.listen);
+    for (auto [key, path] : {std::pair{"users", &c.web.users}, {"cert", &c.web.cert}, {"key", &c.web.key}})
+      if (m.String(key, *path)) *path = Resolve(base, *path);
+    m.String("machine_id", c.web.machine_id);
+    m.RejectUnknown();
+  }
   r.RejectUnknown();
   std::string why;
   if (!o.IsValid(&why)) throw InputError(source, why);

@@ -38,6 +38,14 @@ struct ModbusConfig {
   double response_timeout_s = 0.1;
 };
 
+// The browser front end of `run` (docs/web.md); the command line's --web/--users/… override it.
+struct WebConfig {
+  std::string listen;           // HOST:PORT, "" = no web front end
+  std::string users;            // user + audit-log database
+  std::string cert, key;        // TLS (PEM)
+  std::string machine_id;       // "" = the command line's (default "machine")
+};
+
 struct RunConfig {
   std::string source;           // the config file path
   MachineKind machine = MachineKind::kVirtual;
@@ -60,6 +68,7 @@ struct RunConfig {
   std::string history_db;       // SQLite history store ("" = none)
   std::string log_csv;          // CSV log of decimated cycles ("" = none)
   double record_interval_s = 1.0;  // how often a cycle is logged (alarm changes always are)
+  WebConfig web;
 };
 
 RunConfig ParseRunConfig(const std::string& text, const std::string& source);

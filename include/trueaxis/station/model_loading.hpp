@@ -3,16 +3,23 @@
 // composite model (`trueaxis fit`), or a data-driven thermal model (`trueaxis thermal fit`: mlr,
 // ridge, pso-bp, hysteresis) deployed on the axes [model] thermal_channels names, through
 // thermal::ThermalAxisModel. Used at start and on every reload (docs/runtime.md).
+#include <memory>
 #include <string>
+
+#include "trueaxis/model/composite_model.hpp"
 
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/run_config.hpp"
 
 namespace trueaxis::station {
 
+struct PublishedModel {
+  std::string revision;  // to record: "3"; "ridge" for a thermal model, which has no revision number of its own
+  std::shared_ptr<const model::CompositeModel> composite;  // the seed-000 model; null for a thermal model
+};
+
 // Throws InputError naming the file (or the config for an axis/channel mismatch); the running
-// model stays in force when it throws. Returns the revision to record ("3"; "ridge" for a thermal
-// model, which has no revision number of its own).
-std::string PublishModelFile(runtime::Compensator& compensator, const runtime::RunConfig& config);
+// model stays in force when it throws.
+PublishedModel PublishModelFile(runtime::Compensator& compensator, const runtime::RunConfig& config);
 
 }  // namespace trueaxis::station

@@ -1,0 +1,252 @@
+#include "trueaxis/web/run_backend.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/station/history_logger.hpp"
+#include "trueaxis/store/history_db.hpp"
+#include "trueaxis/store/history_export.hpp"
+#include "trueaxis/web/model_figures.hpp"
+#include "trueaxis/web/password_hash.hpp"
+
+namespace trueaxis::web {
+
+namespace fs = std::filesystem;
+
+namespace {
+double NowUnixS() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+std::vector<std::string> SplitAlarmNames(std::uint32_t alarms) {
+  std::vector<std::string> out;
+  const std::string names = runtime::AlarmNames(alarms);
+  std::size_t pos = 0;
+  while (pos < names.size()) {
+    const auto bar = names.find('|', pos);
+    out.push_back(names.substr(pos, bar == std::string::npos ? std::string::npos : bar - pos));
+    if (bar == std::string::npos) break;
+    pos = bar + 1;
+  }
+  return out;
+}
+// Keeps at most `max_points` of a trace, evenly spaced (every k-th point).
+bool Decimate(std::vector<HistoryPoint>& points, std::size_t max_points) {
+  if (max_points == 0 || points.size() <= max_points) return false;
+  const std::size_t stride = (points.size() + max_points - 1) / max_points;
+  std::vector<HistoryPoint> kept;
+  for (std::size_t i = 0; i < points.size(); i += stride) kept.push_back(points[i]);
+  points = std::move(kept);
+  return true;
+}
+}  // namespace
+
+RunBackend::RunBackend(runtime::Compensator& compensator, CoolantOverrideLink* coolant, store::HistoryWriter* writer,
+                       RunBackendOptions options)
+    : compensator_(compensator), coolant_(coolant), writer_(writer), options_(std::move(options)),
+      live_(options_.live_capacity) {
+  const std::string& id = options_.machine_id;
+  if (id.empty() || id.size() > 64 ||
+      id.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") != std::string::npos)
+    throw InputError("--machine-id", 0, "machine_id", "'" + id + "': 1 to 64 of A-Z a-z 0-9 _ . -");
+  for (const auto& a : compensator_.axes()) axes_.push_back(a.axis);
+  channels_ = compensator_.channel_names();
+  summary_.id = options_.machine_id;
+  summary_.name = options_.machine_name.empty() ? options_.machine_id : options_.machine_name;
+  for (const auto& a : axes_) summary_.axes.push_back({a, false, 0, 0});
+  for (const auto& c : channels_) summary_.channels.push_back({c, std::nan(""), "lost"});
+  iso_figures_ = IsoFiguresFromLaserPairs(options_.iso_dir);
+}
+
+void RunBackend::OnRecord(const runtime::CycleRecord& r) {
+  const double t = options_.unix0 + r.time_s;
+  const std::vector<std::string> alarms = SplitAlarmNames(r.alarms);
+  {
+    std::lock_guard lock(mutex_);
+    summary_.connected = r.link_read_ok;
+    summary_.alarms = alarms;
+    summary_.coolant = std::string(CoolantStateName(r.coolant));
+    summary_.updated_unix_s = t;
+    LiveSample s{0, t, {}, {}};
+    for (std::size_t i = 0; i < r.axis_count && i < summary_.axes.size(); ++i) {
+      summary_.axes[i].enabled = r.axes[i].enabled;
+      summary_.axes[i].position_mm = r.axes[i].cnc_position_mm;
+      summary_.axes[i].correction_um = r.axes[i].output_um;
+      s.correction_um.push_back(r.axes[i].output_um);
+    }
+    for (std::size_t i = 0; i < r.channel_count && i < summary_.channels.size(); ++i) {
+      summary_.channels[i].temp_c = r.temp_c[i];
+      summary_.channels[i].health = station::ChannelHealthName(r.health[i]);
+      s.temp_c.push_back(r.temp_c[i]);
+    }
+    live_.Push(std::move(s));
+  }
+  alarms_.Update(options_.machine_id, alarms, t);
+}
+
+void RunBackend::OnModelPublished(std::shared_ptr<const model::CompositeModel> model, const std::string& sha256,
+                                  const std::string& label, double unix_s) {
+  Loaded l;
+  l.info = {std::to_string(model->revision), sha256, label, unix_s};
+  l.figures = iso_figures_.empty() ? FiguresFromFitSummary(*model) : iso_figures_;
+  l.model = std::move(model);
+  std::lock_guard lock(mutex_);
+  loaded_.push_back(std::move(l));
+  in_use_.push_back(loaded_.size() - 1);
+  summary_.model_revision = loaded_.back().info.revision;
+}
+
+std::string RunBackend::Describe() const { return "1 machine: " + summary_.name; }
+
+void RunBackend::CheckId(const std::string& id) const {
+  if (id != options_.machine_id) throw BackendError(404, "no machine '" + id + "' (this run is '" + options_.machine_id + "')");
+}
+
+std::vector<MachineSummary> RunBackend::ListMachines() const {
+  std::lock_guard lock(mutex_);
+  return {summary_};
+}
+
+MachineDetail RunBackend::Machine(const std::string& id) const {
+  CheckId(id);
+  std::lock_guard lock(mutex_);
+  MachineDetail d{summary_, "", {}};
+  if (coolant_)
+    if (const auto forced = coolant_->Override()) d.coolant_override = std::string(CoolantStateName(*forced));
+  if (!in_use_.empty()) {
+    const Loaded& cur = loaded_[in_use_.back()];
+    d.model.revision = cur.info.revision;
+    d.model.sha256 = cur.info.sha256;
+    d.model.label = cur.info.label;
+    d.model.figures = cur.figures;
+  }
+  for (const auto& l : loaded_) d.model.available.push_back(l.info);
+  return d;
+}
+
+LiveSeries RunBackend::Live(const std::string& id, std::uint64_t after, std::size_t max_samples) const {
+  CheckId(id);
+  LiveSeries s{channels_, axes_, 0, {}};
+  std::lock_guard lock(mutex_);
+  s.last_sequence = live_.last_sequence();
+  live_.CopyAfter(after, max_samples, s.samples);
+  return s;
+}
+
+std::string RunBackend::HistoryDbOrThrow() const {
+  if (options_.history_db.empty())
+    throw BackendError(409, "this run keeps no history database ([history] db in the run config)");
+  if (writer_) writer_->Flush();  // the newest rows too
+  return options_.history_db;
+}
+
+HistorySeries RunBackend::History(const std::string& id, double from, double to, std::size_t max_points) const {
+  CheckId(id);
+  const store::HistoryDb db(HistoryDbOrThrow(), store::HistoryDb::Mode::kReadOnly);
+  HistorySeries h{from, to, {}, {}, false};
+  std::map<std::string, std::vector<HistoryPoint>> temps, corrs;
+  const store::TimeRange range{from, to};
+  db.ForEachTemperature(range, {}, [&](const store::TemperatureRow& r) { temps[r.channel].push_back({r.time_s, r.filtered_c}); });
+  db.ForEachCompensation(range, {}, [&](const store::CompensationRow& r) { corrs[r.axis].push_back({r.time_s, r.correction_um}); });
+  for (auto& [name, points] : temps) {
+    h.decimated |= Decimate(points, max_points);
+    h.temperatures.push_back({name, "C", std::move(points)});
+  }
+  for (auto& [name, points] : corrs) {
+    h.decimated |= Decimate(points, max_points);
+    h.corrections.push_back({name, "um", std::move(points)});
+  }
+  return h;
+}
+
+std::vector<AlarmEntry> RunBackend::Alarms(std::size_t limit) const { return alarms_.Newest(limit); }
+
+void RunBackend::SetAxisEnabled(const Actor&, const std::string& id, const std::string& axis, bool enabled) {
+  CheckId(id);
+  for (std::size_t i = 0; i < axes_.size(); ++i)
+    if (axes_[i] == axis) return compensator_.SetAxisEnabled(i, enabled);
+  throw BackendError(404, "machine '" + id + "' has no axis '" + axis + "'");
+}
+
+void RunBackend::AcknowledgeAlarm(const Actor& who, const std::string& alarm_id) {
+  alarms_.Acknowledge(alarm_id, who.user, NowUnixS());
+}
+
+void RunBackend::SetCoolantOverride(const Actor&, const std::string& id, const std::string& state) {
+  CheckId(id);
+  if (!coolant_) throw BackendError(409, "this machine has no coolant override");
+  if (state.empty()) return coolant_->SetOverride(std::nullopt);
+  const auto parsed = ParseCoolantState(state);
+  if (!parsed) throw BackendError(400, "coolant state '" + state + "' is not one of off, flood, mist, air (or \"\" to clear)");
+  coolant_->SetOverride(parsed);
+}
+
+void RunBackend::Publish(const Loaded& l, const std::string& note) {
+  try {
+    compensator_.PublishModel(l.model, l.info.label);
+  } catch (const std::exception& e) {
+    throw BackendError(409, std::string("the model does not fit this machine: ") + e.what());
+  }
+  summary_.model_revision = l.info.revision;
+  if (writer_) writer_->PushModelChange(NowUnixS(), l.info.sha256, l.info.revision, note);
+}
+
+void RunBackend::LoadModelRevision(const Actor& who, const std::string& id, const std::string& revision) {
+  CheckId(id);
+  std::lock_guard lock(mutex_);
+  for (std::size_t i = loaded_.size(); i-- > 0;)
+    if (loaded_[i].info.revision == revision) {
+      Publish(loaded_[i], "web: " + who.user + " from " + who.remote + " loaded revision " + revision);
+      in_use_.push_back(i);
+      return;
+    }
+  throw BackendError(404, "revision '" + revision + "' was not loaded by this run");
+}
+
+std::string RunBackend::RollbackModel(const Actor& who, const std::string& id) {
+  CheckId(id);
+  std::lock_guard lock(mutex_);
+  if (in_use_.size() < 2) throw BackendError(409, "no earlier model revision to roll back to");
+  const std::size_t previous = in_use_[in_use_.size() - 2];
+  Publish(loaded_[previous],
+          "web: " + who.user + " from " + who.remote + " rolled back to revision " + loaded_[previous].info.revision);
+  in_use_.pop_back();
+  return loaded_[previous].info.revision;
+}
+
+ExportFile RunBackend::Export(const std::string& id, double from, double to, ExportFormat format) const {
+  CheckId(id);
+  const store::HistoryDb db(HistoryDbOrThrow(), store::HistoryDb::Mode::kReadOnly);
+  const bool xlsx = format == ExportFormat::kXlsx;
+  const fs::path tmp = fs::temp_directory_path() / ("trueaxis-web-export-" + RandomToken(8) + (xlsx ? ".xlsx" : ".csv"));
+  store::ExportRequest request;
+  request.range = {from, to};
+  std::string name = options_.machine_id;
+  if (xlsx) {
+    store::ExportXlsx(db, request, tmp.string());
+  } else if (format == ExportFormat::kCsvTemperature) {
+    request.wide = true;
+    store::ExportCsv(db, store::HistoryTable::kTemperature, request, tmp.string());
+    name += "_temperature";
+  } else {
+    store::ExportCsv(db, store::HistoryTable::kCompensation, request, tmp.string());
+    name += "_compensation";
+  }
+  std::ifstream in(tmp, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  in.close();
+  std::error_code ec;
+  fs::remove(tmp, ec);
+  return {name + (xlsx ? ".xlsx" : ".csv"),
+          xlsx ? "application/vnd.openxmlformats-officedocument.spreadsheetml.sheet" : "text/csv; charset=utf-8",
+          bytes.str()};
+}
+
+}  // namespace trueaxis::web
