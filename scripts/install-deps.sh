@@ -11,6 +11,7 @@ PACKAGES=(
   clang libclang-rt-14-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-calib3d-dev  # vision: camera calibration, marker images (issue 17)
   mbpoll python3-pymodbus python3-serial-asyncio sqlite3 curl
+  libpqxx-dev postgresql-15  # history on a PostgreSQL server (issue 11); tests start a real server
 )
 
 missing=()
