@@ -12,6 +12,7 @@ PACKAGES=(
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-calib3d-dev  # vision: camera calibration, marker images (issue 17)
   mbpoll python3-pymodbus python3-serial-asyncio sqlite3 curl
   libpqxx-dev postgresql-15  # history on a PostgreSQL server (issue 11); tests start a real server
+  libpaho-mqttpp-dev libpaho-mqtt-dev mosquitto mosquitto-clients  # MQTT live values (issue 11); tests start a real broker
 )
 
 missing=()
