@@ -18,6 +18,8 @@
 #include <string>
 #include <thread>
 
+#include "support/local_process.hpp"
+
 extern char** environ;
 
 namespace trueaxis::testing {
@@ -27,7 +29,7 @@ class MosquittoBroker {
   MosquittoBroker() {
     dir_ = std::filesystem::temp_directory_path() / ("trueaxis_mqtt_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir_);
-    port_ = FreePort();
+    port_ = FreeLoopbackPort();
   }
   ~MosquittoBroker() {
     Kill();
@@ -75,31 +77,11 @@ class MosquittoBroker {
   // as "retained qos topic payload" lines; waits up to 5 s for `count` messages.
   std::string Subscribe(const std::string& topic, int count = 1) const {
     const std::string cmd = "timeout 10 mosquitto_sub -h 127.0.0.1 -p " + std::to_string(port_) + " -t '" + topic + "' -q 1 -C " +
-                            std::to_string(count) + " -W 5 -F '%r %q %t %p' 2>&1";
-    std::string out;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return out;
-    char buf[4096];
-    std::size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-    pclose(p);
-    while (!out.empty() && out.back() == '\n') out.pop_back();
-    return out;
+                            std::to_string(count) + " -W 5 -F '%r %q %t %p'";
+    return CommandOutput(cmd);
   }
 
  private:
-  static int FreePort() {
-    const int fd = socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    a.sin_port = 0;
-    bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    socklen_t len = sizeof a;
-    getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-    close(fd);
-    return ntohs(a.sin_port);
-  }
   bool Accepts() const {
     const int fd = socket(AF_INET, SOCK_STREAM, 0);
     sockaddr_in a{};

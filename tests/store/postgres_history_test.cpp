@@ -33,6 +33,18 @@ class PostgresHistory : public ::testing::Test {
   std::unique_ptr<PostgresHistorySink> Open(const std::string& schema) {
     return std::make_unique<PostgresHistorySink>(PostgresHistoryOptions{server_->Url(), schema});
   }
+  // Which of the two refusals opening `schema` gives ("" when it opens, else the message).
+  std::string OpenError(const std::string& schema) {
+    try {
+      Open(schema);
+      return "";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      for (const char* reason : {"another application", "newer trueaxis"})
+        if (what.find(reason) != std::string::npos) return reason;
+      return what;
+    }
+  }
   static testing::PostgresServer* server_;
   static bool started_;
 };
@@ -112,21 +124,11 @@ TEST_F(PostgresHistory, ABatchIsOneTransactionAllOrNothing) {
 
 TEST_F(PostgresHistory, RefusesASchemaOfAnotherApplicationAndANewerOne) {
   server_->Psql("CREATE SCHEMA erp; CREATE TABLE erp.orders(id int)");
-  try {
-    Open("erp");
-    FAIL() << "opened another application's schema";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("another application"), std::string::npos) << e.what();
-  }
+  EXPECT_EQ(OpenError("erp"), "another application");
   EXPECT_EQ(server_->Psql("SELECT count(*) FROM information_schema.tables WHERE table_schema = 'erp'"), "1") << "nothing written";
   Open("future");
   server_->Psql("UPDATE future.meta SET value = '99' WHERE key = 'schema_version'");
-  try {
-    Open("future");
-    FAIL() << "opened a newer schema";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("newer trueaxis"), std::string::npos) << e.what();
-  }
+  EXPECT_EQ(OpenError("future"), "newer trueaxis");
 }
 
 TEST_F(PostgresHistory, MigratesASchemaVersionOneHistory) {
@@ -151,7 +153,6 @@ TEST_F(PostgresHistory, ServerGoneAndBackTheWriterCountsTheLossAndReconnects) {
   auto s = writer.Stats();
   EXPECT_EQ(s.failed, 1u) << s.BriefReport();
   EXPECT_FALSE(s.last_error.empty());
-  EXPECT_EQ(s.last_error.find("trueaxis@"), s.last_error.find("trueaxis@"));  // (no password to leak here)
   ASSERT_TRUE(server_->Resume()) << server_->error();
   writer.PushTemperature(3.0, "x_nut", 20.2, 20.2, "ok");
   writer.Flush();

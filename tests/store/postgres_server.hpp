@@ -16,6 +16,8 @@
 #include <sstream>
 #include <string>
 
+#include "support/local_process.hpp"
+
 namespace trueaxis::testing {
 
 class PostgresServer {
@@ -66,15 +68,7 @@ class PostgresServer {
   }
   // psql as an independent reader: the output of one query, unaligned, tuples only.
   std::string Psql(const std::string& sql) const {
-    std::string out;
-    FILE* p = popen((std::string("timeout 30 ") + kBin + "/psql \"" + Url() + "\" -Atc \"" + sql + "\" 2>&1").c_str(), "r");
-    if (!p) return out;
-    char buf[4096];
-    std::size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-    pclose(p);
-    while (!out.empty() && out.back() == '\n') out.pop_back();
-    return out;
+    return CommandOutput(std::string("timeout 30 ") + kBin + "/psql \"" + Url() + "\" -Atc \"" + sql + "\"");
   }
   const std::string& error() const { return error_; }
 

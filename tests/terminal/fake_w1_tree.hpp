@@ -10,6 +10,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "trueaxis/terminal/one_wire_temperature_source.hpp"
+
 namespace trueaxis::terminal::testing {
 
 // The two w1_slave lines for a temperature in milli-°C (scratchpad bytes as a
@@ -19,6 +21,9 @@ inline std::string W1SlaveText(long milli_c, bool crc_ok = true) {
   const std::string bytes = fmt::format("{:02x} {:02x} 4b 46 7f ff 0c 10 1c", raw & 0xFF, (raw >> 8) & 0xFF);
   return fmt::format("{} : crc=1c {}\n{} t={}\n", bytes, crc_ok ? "YES" : "NO", bytes, milli_c);
 }
+
+inline const std::string kA = "28-0316a2794aff";
+inline const std::string kB = "28-0416b1c2d3e4";
 
 class FakeW1Tree : public ::testing::Test {
  protected:
@@ -38,6 +43,13 @@ class FakeW1Tree : public ::testing::Test {
   void Set(const std::string& id, long milli_c, bool crc_ok = true) { Write(id, W1SlaveText(milli_c, crc_ok)); }
   void Remove(const std::string& id) { std::filesystem::remove_all(root_ / id); }
   std::string root() const { return root_.string(); }
+  // Sensors kA and kB of this tree as channels x_nut and spindle.
+  OneWireOptions TwoSensors() const {
+    OneWireOptions o;
+    o.root = root();
+    o.sensors = {{kA, "x_nut"}, {kB, "spindle"}};
+    return o;
+  }
 
   std::filesystem::path root_;
 };

@@ -12,8 +12,8 @@ namespace trueaxis::terminal {
 namespace {
 
 using testing::FakeW1Tree;
-const std::string kA = "28-0316a2794aff";
-const std::string kB = "28-0416b1c2d3e4";
+using testing::kA;
+using testing::kB;
 
 class OneWireSourceTest : public FakeW1Tree {
  protected:
@@ -21,10 +21,7 @@ class OneWireSourceTest : public FakeW1Tree {
     FakeW1Tree::SetUp();
     Set(kA, 23125);
     Set(kB, 24500);
-    OneWireOptions o;
-    o.root = root();
-    o.sensors = {{kA, "x_nut"}, {kB, "bed"}};
-    source = std::make_unique<OneWireTemperatureSource>(o);
+    source = std::make_unique<OneWireTemperatureSource>(TwoSensors());
     std::string why;
     ASSERT_TRUE(source->Configure(&why)) << why;
   }
@@ -41,7 +38,7 @@ class OneWireSourceTest : public FakeW1Tree {
 
 TEST_F(OneWireSourceTest, ReadsEachSensorUnderItsChannelName) {
   EXPECT_EQ(source->ChannelName(0), "x_nut");
-  EXPECT_EQ(source->ChannelName(1), "bed");
+  EXPECT_EQ(source->ChannelName(1), "spindle");
   const auto t = Read();
   EXPECT_TRUE(Good(t[0], 23.125));
   EXPECT_TRUE(Good(t[1], 24.5));

@@ -17,6 +17,7 @@
 #include "drivers/fake_machine.hpp"
 #include "fake_w1_tree.hpp"
 #include "support/cli_runner.hpp"
+#include "support/local_process.hpp"
 #include "trueaxis/drivers/adam6015_map.hpp"
 #include "trueaxis/drivers/modbus_cnc_link.hpp"
 #include "trueaxis/drivers/register_codec.hpp"
@@ -30,18 +31,13 @@ namespace {
 using drivers::testing::StartServer;
 using drivers::testing::WaitFor;
 using testing::FakeW1Tree;
-const std::string kA = "28-0316a2794aff";
-const std::string kB = "28-0416b1c2d3e4";
+using testing::kA;
+using testing::kB;
 
 // mbpoll's "[ref]: value" lines of one run (bounded by `timeout`), by reference.
 std::map<int, long long> MbpollValues(const std::string& port, const std::string& args, std::string* text) {
-  FILE* p = popen(("timeout 20 mbpoll -m tcp -1 -o 2 -p " + port + " " + args + " 127.0.0.1 2>&1").c_str(), "r");
+  *text += trueaxis::testing::CommandOutput("timeout 20 mbpoll -m tcp -1 -o 2 -p " + port + " " + args + " 127.0.0.1");
   std::map<int, long long> values;
-  if (!p) return values;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) text->append(buf, n);
-  pclose(p);
   const std::regex line(R"(\[(\d+)\]:\s+(-?\d+))");
   for (std::sregex_iterator it(text->begin(), text->end(), line), end; it != end; ++it)
     values[std::stoi((*it)[1])] = std::stoll((*it)[2]);
@@ -56,9 +52,7 @@ class TerminalOverModbus : public FakeW1Tree {
     FakeW1Tree::SetUp();
     Set(kA, 23125);
     Set(kB, 31500);
-    OneWireOptions o;
-    o.root = root();
-    o.sensors = {{kA, "x_nut"}, {kB, "spindle"}};
+    const OneWireOptions o = TwoSensors();
     std::vector<std::unique_ptr<hw::TemperatureSource>> parts;
     auto p = std::make_unique<PolledTemperatureSource>(std::make_unique<OneWireTemperatureSource>(o), 0.1, 1.0);
     polled = p.get();
