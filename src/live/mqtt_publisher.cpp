@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <vector>
 
 #include <fmt/format.h>
 #include <mqtt/async_client.h>
@@ -49,6 +50,7 @@ bool MqttPublisherOptions::IsValid(std::string* why) const {
   if (!ValidLevel(client_id)) return fail(fmt::format("client_id '{}' is not a valid topic level (no / + # $)", client_id));
   if (qos < 0 || qos > 2) return fail(fmt::format("qos {} is not 0, 1 or 2", qos));
   if (max_pending_topics < 1) return fail("max_pending_topics must be >= 1");
+  if (max_in_flight < 1 || max_in_flight > 65535) return fail("max_in_flight must be in 1..65535");
   if (!(connect_timeout_s > 0) || !(publish_timeout_s > 0)) return fail("timeouts must be > 0");
   if (!(reconnect_min_s > 0 && reconnect_max_s >= reconnect_min_s)) return fail("need 0 < reconnect_min_s <= reconnect_max_s");
   if (keepalive_s < 1) return fail("keepalive_s must be >= 1");
@@ -118,13 +120,13 @@ bool MqttPublisher::Enqueue(std::string topic, std::string_view payload) {
 MqttPublisherStats MqttPublisher::Stats() const {
   std::lock_guard<std::mutex> lock(mu_);
   MqttPublisherStats s = stats_;
-  s.pending = pending_.size() + (in_flight_ ? 1 : 0);
+  s.pending = pending_.size() + in_flight_;
   return s;
 }
 
 bool MqttPublisher::Flush(double timeout_s) {
   std::unique_lock<std::mutex> lock(mu_);
-  return progress_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] { return pending_.empty() && !in_flight_; });
+  return progress_.wait_for(lock, std::chrono::duration<double>(timeout_s), [&] { return pending_.empty() && in_flight_ == 0; });
 }
 
 void MqttPublisher::Backoff(double& wait_s) {
@@ -138,6 +140,7 @@ bool MqttPublisher::ConnectOnce() {
   co.set_clean_session(true);
   co.set_keep_alive_interval(options_.keepalive_s);
   co.set_connect_timeout(std::max(1, static_cast<int>(options_.connect_timeout_s + 0.5)));
+  co.set_max_inflight(options_.max_in_flight);
   co.set_automatic_reconnect(false);  // ours: with backoff, and the retained values re-sent
   const std::string offline = "offline", online = "online";
   // A fresh client for every attempt: Paho's state after a lost link (a connect
@@ -200,44 +203,60 @@ void MqttPublisher::Run() {
       }
       continue;
     }
-    std::string topic, payload;
+    // Up to max_in_flight values go out before the first acknowledgement is awaited.
+    std::vector<std::pair<std::string, std::string>> batch;
     {
       std::unique_lock<std::mutex> lock(mu_);
       // Wake at least every 100 ms to notice a lost connection while idle.
       wake_.wait_for(lock, std::chrono::milliseconds(100), [&] { return stop_ || !pending_.empty(); });
-      if (pending_.empty()) continue;
-      topic = std::move(order_.front());
-      order_.pop_front();
-      auto node = pending_.extract(topic);
-      payload = std::move(node.mapped());
-      in_flight_ = true;
+      while (!pending_.empty() && batch.size() < static_cast<std::size_t>(options_.max_in_flight)) {
+        std::string topic = std::move(order_.front());
+        order_.pop_front();
+        auto node = pending_.extract(topic);
+        batch.emplace_back(std::move(topic), std::move(node.mapped()));
+      }
+      in_flight_ = batch.size();
+      if (batch.empty()) continue;
     }
-    bool ok = false;
+    std::vector<mqtt::delivery_token_ptr> tokens;
+    std::vector<bool> acked(batch.size(), false);
     std::string error;
     try {
-      ok = client_->client.publish(topic, payload.data(), payload.size(), options_.qos, options_.retain)->wait_for(publish_timeout_ms);
-      if (!ok) error = "publish: not acknowledged within publish_timeout_s";
+      for (const auto& [topic, payload] : batch)
+        tokens.push_back(client_->client.publish(topic, payload.data(), payload.size(), options_.qos, options_.retain));
+      for (std::size_t i = 0; i < tokens.size(); ++i) {
+        acked[i] = tokens[i]->wait_for(publish_timeout_ms);
+        if (!acked[i]) {
+          error = "publish: not acknowledged within publish_timeout_s";
+          break;
+        }
+      }
     } catch (const std::exception& e) {
       error = std::string("publish: ") + e.what();
     }
     {
       std::lock_guard<std::mutex> lock(mu_);
-      in_flight_ = false;
-      if (ok) {
-        ++stats_.published;
-        sent_[topic] = std::move(payload);
-      } else {
+      in_flight_ = 0;
+      if (!error.empty()) {
         ++stats_.link_faults;
         stats_.last_error = error;
         stats_.connected = false;
-        if (!pending_.count(topic)) {  // not superseded meanwhile: it goes first after the reconnect
+      }
+      // Unacknowledged values go first after the reconnect, unless superseded meanwhile (newest first
+      // into the front keeps their order).
+      for (std::size_t i = batch.size(); i-- > 0;) {
+        auto& [topic, payload] = batch[i];
+        if (acked[i]) {
+          ++stats_.published;
+          sent_[topic] = std::move(payload);
+        } else if (!pending_.count(topic)) {
           order_.push_front(topic);
-          pending_.emplace(topic, std::move(payload));
+          pending_.emplace(std::move(topic), std::move(payload));
         }
       }
     }
     progress_.notify_all();
-    if (!ok) {
+    if (!error.empty()) {
       try {
         client_->client.disconnect(0)->wait_for(100L);
       } catch (const std::exception&) {

@@ -18,7 +18,7 @@
 #include <string>
 #include <thread>
 
-#include "support/local_process.hpp"
+#include "../support/local_process.hpp"
 
 extern char** environ;
 

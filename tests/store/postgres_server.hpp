@@ -16,7 +16,7 @@
 #include <sstream>
 #include <string>
 
-#include "support/local_process.hpp"
+#include "../support/local_process.hpp"
 
 namespace trueaxis::testing {
 

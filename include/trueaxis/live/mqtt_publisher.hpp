@@ -38,6 +38,9 @@ struct MqttPublisherOptions {
   int qos = 1;                                 // 0, 1 or 2
   bool retain = true;
   std::size_t max_pending_topics = 4096;       // distinct topics waiting to be sent
+  int max_in_flight = 1;                       // sent but not yet acknowledged (QoS >= 1); >1 is slower
+                                               // on loopback (Paho sets no TCP_NODELAY: Nagle waits for
+                                               // delayed ACKs), bench/results/shop_io.md
   double connect_timeout_s = 2.0;
   double publish_timeout_s = 2.0;              // a publish not acknowledged by then = link fault
   double reconnect_min_s = 0.1;                // backoff doubles from here ...
@@ -100,7 +103,7 @@ class MqttPublisher {
   std::unordered_map<std::string, std::string> pending_;  // topic -> latest payload not yet sent
   std::deque<std::string> order_;                         // pending topics, oldest first
   std::unordered_map<std::string, std::string> sent_;     // topic -> last payload sent (re-sent after a reconnect)
-  bool in_flight_ = false;
+  std::size_t in_flight_ = 0;  // values handed to Paho, not yet acknowledged
   bool stop_ = false;
   MqttPublisherStats stats_;
   std::thread thread_;
