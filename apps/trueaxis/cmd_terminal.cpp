@@ -23,11 +23,8 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/drivers/modbus_cnc_link.hpp"
 #include "trueaxis/drivers/modbus_machine_server.hpp"
-#include "trueaxis/drivers/modbus_temperature_source.hpp"
-#include "trueaxis/terminal/combined_temperature_source.hpp"
-#include "trueaxis/terminal/one_wire_temperature_source.hpp"
-#include "trueaxis/terminal/polled_temperature_source.hpp"
 #include "trueaxis/terminal/terminal_config.hpp"
+#include "trueaxis/terminal/terminal_sources.hpp"
 
 namespace {
 
@@ -79,7 +76,6 @@ class TerminalView {
         v.temp_c = fault ? NAN : raw[c].temp_c;
         if (!w1.empty()) v.state = terminal::OneWireChannelStateName(w1[c].state);
         else v.state = !ok ? "offline" : fault ? "fault" : "ok";
-        if (!ok && w1.empty()) v.state = "offline";
       }
       offset += raw.size();
     }
@@ -131,23 +127,9 @@ void RunTerminal(const TerminalCliOptions& o) {
     cfg.one_wire.options.root = o.one_wire_root;
   }
 
-  std::vector<std::unique_ptr<hw::TemperatureSource>> parts;
-  std::vector<terminal::PolledTemperatureSource*> polled;
-  terminal::OneWireTemperatureSource* one_wire = nullptr;
-  if (cfg.one_wire.present) {
-    auto w1 = std::make_unique<terminal::OneWireTemperatureSource>(cfg.one_wire.options);
-    one_wire = w1.get();
-    auto p = std::make_unique<terminal::PolledTemperatureSource>(std::move(w1), cfg.one_wire.poll.period_s, cfg.one_wire.poll.stale_after_s);
-    polled.push_back(p.get());
-    parts.push_back(std::move(p));
-  }
-  for (const auto& g : cfg.rtd) {
-    auto p = std::make_unique<terminal::PolledTemperatureSource>(std::make_unique<drivers::ModbusTemperatureSource>(g.options),
-                                                                 g.poll.period_s, g.poll.stale_after_s);
-    polled.push_back(p.get());
-    parts.push_back(std::move(p));
-  }
-  terminal::CombinedTemperatureSource temperatures(std::move(parts));
+  terminal::TerminalSources sources = terminal::BuildTerminalSources(cfg);
+  terminal::CombinedTemperatureSource& temperatures = *sources.combined;
+  terminal::OneWireTemperatureSource* one_wire = sources.one_wire;
   std::string why;
   if (!temperatures.Configure(&why)) throw InputError(o.config, why);
   std::unique_ptr<drivers::ModbusCncLink> cnc;
@@ -190,7 +172,7 @@ void RunTerminal(const TerminalCliOptions& o) {
   }
   std::fflush(stdout);
 
-  TerminalView view(polled, one_wire, names, cfg.server.first_rtd_unit_id);
+  TerminalView view(sources.parts, one_wire, names, cfg.server.first_rtd_unit_id);
   const auto t0 = std::chrono::steady_clock::now();
   auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   double next_status = o.status_interval_s;

@@ -1,0 +1,118 @@
+// A terminal built from its TOML: DS18B20 sensors on a fake 1-Wire tree plus
+// an RTD module reached over MODBUS TCP (here a ModbusMachineServer serving
+// fake RTD channels, as an ADAM-6015 would), served together by the terminal
+// and read with mbpoll; the RTD module going away faults only its channels.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include "drivers/fake_machine.hpp"
+#include "fake_w1_tree.hpp"
+#include "support/local_process.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/drivers/adam6015_map.hpp"
+#include "trueaxis/drivers/register_codec.hpp"
+#include "trueaxis/terminal/terminal_sources.hpp"
+
+namespace trueaxis::terminal {
+namespace {
+
+using drivers::testing::StartServer;
+using drivers::testing::WaitFor;
+using testing::kA;
+using testing::kB;
+
+class TerminalSourcesTest : public testing::FakeW1Tree {};
+
+// mbpoll's values of unit 2's first `count` AI registers, as °C (NaN for burn-out 0xFFFF).
+std::vector<double> ServedCelsius(int port, int count) {
+  const std::string out = trueaxis::testing::CommandOutput(
+      fmt::format("timeout 20 mbpoll -m tcp -1 -o 2 -p {} -a 2 -t 4 -r 1 -c {} 127.0.0.1", port, count));
+  std::vector<double> v;
+  const auto& range = *drivers::FindRtdRange(drivers::adam6015::kDefaultRangeCode);
+  for (int r = 1; r <= count; ++r) {
+    const auto at = out.find(fmt::format("[{}]:", r));
+    if (at == std::string::npos) return {};
+    const long raw = std::stol(out.substr(out.find_first_of("0123456789", at + 3)));
+    v.push_back(raw == 65535 ? std::nan("") : drivers::AdamRawToCelsius(static_cast<std::uint16_t>(raw), range));
+  }
+  return v;
+}
+
+TEST_F(TerminalSourcesTest, OneWireAndRtdServedTogetherAndARtdLossFaultsOnlyItsChannels) {
+  Set(kA, 22500);
+  // The "ADAM-6015" on the shop network: two RTD channels at 20.0 and 20.5 °C.
+  drivers::testing::FakeTemperatures rtd_values(2);
+  std::string why;
+  auto adam = StartServer(nullptr, &rtd_values, {}, &why);
+  ASSERT_NE(adam, nullptr) << why;
+  const std::string toml = fmt::format(R"(
+[serve]
+port = 1502
+[one_wire]
+root = "{}"
+poll_period_s = 0.05
+stale_after_s = 1
+[[one_wire.sensor]]
+id = "{}"
+channel = "x_nut"
+[[rtd]]
+host = "127.0.0.1"
+port = {}
+unit_ids = [2]
+channels = ["spindle_front", "spindle_rear"]
+poll_period_s = 0.05
+stale_after_s = 0.5
+response_timeout_s = 0.2
+[cnc]
+kind = "none"
+)", root(), kA, adam->options().port);
+  const TerminalConfig cfg = ParseTerminalConfig(toml, "terminal.toml");
+  EXPECT_EQ(cfg.ChannelNames(), (std::vector<std::string>{"x_nut", "spindle_front", "spindle_rear"}));
+  TerminalSources sources = BuildTerminalSources(cfg);
+  ASSERT_TRUE(hw::ConfigureAndActivate(*sources.combined, &why)) << why;
+  auto terminal = StartServer(nullptr, sources.combined.get(), cfg.server, &why);
+  ASSERT_NE(terminal, nullptr) << why;
+  const int port = terminal->options().port;
+
+  std::vector<double> v;
+  ASSERT_TRUE(WaitFor([&] { v = ServedCelsius(port, 3); return v.size() == 3 && v[0] > 22 && v[1] > 19; }, 10.0));
+  EXPECT_NEAR(v[0], 22.5, 0.002);
+  EXPECT_NEAR(v[1], 20.0, 0.002);
+  EXPECT_NEAR(v[2], 20.5, 0.002);
+
+  adam->Stop();  // the RTD module is gone: its two channels become burn-out, the DS18B20 stays
+  ASSERT_TRUE(WaitFor([&] { v = ServedCelsius(port, 3); return v.size() == 3 && std::isnan(v[1]); }, 10.0));
+  EXPECT_NEAR(v[0], 22.5, 0.002);
+  EXPECT_TRUE(std::isnan(v[2]));
+  terminal->Stop();
+  sources.combined->Deactivate();
+}
+
+TEST(TerminalConfigFile, ErrorsNameTheKey) {
+  auto error_of = [](const std::string& toml) {
+    try {
+      ParseTerminalConfig(toml, "t.toml");
+      return std::string();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+  };
+  EXPECT_NE(error_of("[one_wire]\n[[one_wire.sensor]]\nid = \"28-0316a2794aff\"\nchannel = \"a\"\n").find("'cnc'"), std::string::npos);
+  EXPECT_NE(error_of("[cnc]\nkind = \"none\"\n").find("no temperature channel"), std::string::npos);
+  EXPECT_NE(error_of("[cnc]\nkind = \"fanuc\"\n").find("cnc.kind"), std::string::npos);
+  EXPECT_NE(error_of("[cnc]\nkind = \"modbus\"\naxes = [\"X\"]\n[[rtd]]\nhost = \"h\"\nchannels = [\"a\"]\n").find("cnc.host"), std::string::npos);
+  EXPECT_NE(error_of("[cnc]\nkind = \"none\"\n[[rtd]]\nhost = \"h\"\nchannels = [\"a\", \"b\", \"c\", \"d\", \"e\", \"f\", \"g\", \"h\"]\n")
+                .find("rtd[0].channels"),
+            std::string::npos);
+  EXPECT_NE(error_of("[cnc]\nkind = \"none\"\n[[rtd]]\nhost = \"h\"\nchannels = [\"a\"]\n[[rtd]]\nhost = \"i\"\nchannels = [\"a\"]\n")
+                .find("named twice"),
+            std::string::npos);
+  EXPECT_NE(error_of("[cnc]\nkind = \"none\"\n[one_wire]\npoll_period_s = 2\nstale_after_s = 1\n[[one_wire.sensor]]\nid = \"28-0316a2794aff\"\nchannel = \"a\"\n")
+                .find("one_wire.stale_after_s"),
+            std::string::npos);
+  EXPECT_NE(error_of("[cnc]\nkind = \"none\"\n[serve]\nprot = 1\n").find("serve.prot"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace trueaxis::terminal
