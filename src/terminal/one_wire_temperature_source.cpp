@@ -64,6 +64,25 @@ std::vector<std::string> OneWireTemperatureSource::UnmappedSensors() const {
 }
 
 hw::RawTemperature OneWireTemperatureSource::ReadChannel(std::size_t i) {
+  // The file read (a whole conversion on real hardware) happens without the lock.
+  std::string text;
+  const char* missing = nullptr;
+  const fs::path dir = fs::path(options_.root) / options_.sensors[i].id;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    missing = "sensor directory is gone";
+  } else {
+    std::ifstream in(dir / "w1_slave", std::ios::binary);
+    std::ostringstream buffer;
+    if (!in) missing = "w1_slave cannot be opened";
+    else if (buffer << in.rdbuf(); in.bad()) missing = "w1_slave read error";
+    text = buffer.str();
+  }
+  std::lock_guard<std::mutex> lock(mu_);
+  return Judge(i, missing, text);
+}
+
+hw::RawTemperature OneWireTemperatureSource::Judge(std::size_t i, const char* missing, const std::string& text) {
   OneWireChannelStatus& st = status_[i];
   const hw::RawTemperature fault{std::numeric_limits<double>::quiet_NaN(), true};
   auto fail = [&](OneWireChannelState state, std::string detail) {
@@ -74,15 +93,8 @@ hw::RawTemperature OneWireTemperatureSource::ReadChannel(std::size_t i) {
     if (state != OneWireChannelState::kPowerOnValue) pending_power_on_[i] = false;
     return fault;
   };
-  const fs::path dir = fs::path(options_.root) / options_.sensors[i].id;
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) return fail(OneWireChannelState::kMissing, "sensor directory is gone");
-  std::ifstream in(dir / "w1_slave", std::ios::binary);
-  if (!in) return fail(OneWireChannelState::kMissing, "w1_slave cannot be opened");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return fail(OneWireChannelState::kMissing, "w1_slave read error");
-  const W1SlaveReading r = ParseW1Slave(text.str());
+  if (missing) return fail(OneWireChannelState::kMissing, missing);
+  const W1SlaveReading r = ParseW1Slave(text);
   switch (r.status) {
     case W1SlaveStatus::kCrcError: return fail(OneWireChannelState::kCrcError, "CRC check failed (crc=.. NO)");
     case W1SlaveStatus::kNoResponse: return fail(OneWireChannelState::kNoResponse, "all-zero scratchpad: the sensor did not answer");
@@ -114,7 +126,6 @@ std::vector<OneWireChannelStatus> OneWireTemperatureSource::StatusSnapshot() con
 }
 
 bool OneWireTemperatureSource::Read(std::span<hw::RawTemperature> out) {
-  std::lock_guard<std::mutex> lock(mu_);  // file reads under the lock: StatusSnapshot() is rare and not real-time
   std::error_code ec;
   if (!fs::is_directory(options_.root, ec)) return false;
   for (std::size_t i = 0; i < options_.sensors.size() && i < out.size(); ++i) out[i] = ReadChannel(i);

@@ -72,8 +72,10 @@ class OneWireTemperatureSource final : public hw::TemperatureSource {
 
  private:
   hw::RawTemperature ReadChannel(std::size_t i);
+  // The verdict on one read (mu_ held): `missing` = why the file could not be read, else its text.
+  hw::RawTemperature Judge(std::size_t i, const char* missing, const std::string& text);
   OneWireOptions options_;
-  mutable std::mutex mu_;  // guards status_ (Read() on the poll thread, StatusSnapshot() anywhere)
+  mutable std::mutex mu_;  // guards status_ and pending_power_on_ (never held during a file read)
   std::vector<OneWireChannelStatus> status_;
   std::vector<bool> pending_power_on_;
 };
