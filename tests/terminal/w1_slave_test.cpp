@@ -1,6 +1,9 @@
 // The w1_slave text format of the kernel's w1_therm driver.
 #include <gtest/gtest.h>
 
+#include <random>
+#include <string>
+
 #include "fake_w1_tree.hpp"
 #include "trueaxis/terminal/w1_slave.hpp"
 
@@ -42,6 +45,32 @@ TEST(W1Slave, GarbageIsMalformedWithAReason) {
     EXPECT_EQ(r.status, W1SlaveStatus::kMalformed) << "'" << text << "'";
     EXPECT_FALSE(r.why.empty());
   }
+}
+
+TEST(W1Slave, MutatedTextsNeverPassAsAReadingTheyDoNotHold) {
+  // Every single-byte change of a valid text: either still a valid reading whose value is the
+  // one written in it, or refused. Never a crash, never a number from nowhere.
+  const std::string good = testing::W1SlaveText(23125);
+  std::mt19937 rng(7);
+  int accepted = 0, refused = 0;
+  for (std::size_t pos = 0; pos < good.size(); ++pos) {
+    for (int k = 0; k < 40; ++k) {
+      std::string text = good;
+      text[pos] = static_cast<char>(rng() & 0xFF);
+      const auto r = ParseW1Slave(text);
+      if (r.status == W1SlaveStatus::kOk) {
+        ++accepted;
+        const auto t = text.rfind("t=");
+        ASSERT_NE(t, std::string::npos) << text;
+        EXPECT_EQ(r.milli_c, std::stol(text.substr(t + 2))) << text;
+        EXPECT_NE(text.find("YES"), std::string::npos) << text;
+      } else {
+        ++refused;
+      }
+    }
+  }
+  EXPECT_GT(refused, 0);
+  EXPECT_GT(accepted, 0);  // changes inside the hex bytes the kernel already judged are not ours to re-check
 }
 
 }  // namespace
