@@ -41,6 +41,14 @@ void CombinedTemperatureSource::Deactivate() {
   for (auto& p : parts_) p->Deactivate();
 }
 
+hw::MeasuringRange CombinedTemperatureSource::ChannelMeasuringRange(std::size_t channel) const {
+  for (const auto& p : parts_) {
+    if (channel < p->ChannelCount()) return p->ChannelMeasuringRange(channel);
+    channel -= p->ChannelCount();
+  }
+  return {};
+}
+
 bool CombinedTemperatureSource::Read(std::span<hw::RawTemperature> out) {
   bool any = false;
   std::size_t offset = 0;

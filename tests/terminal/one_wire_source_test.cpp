@@ -6,7 +6,10 @@
 #include <vector>
 
 #include "fake_w1_tree.hpp"
+#include "support/mock_hardware.hpp"
+#include "trueaxis/terminal/combined_temperature_source.hpp"
 #include "trueaxis/terminal/one_wire_temperature_source.hpp"
+#include "trueaxis/terminal/polled_temperature_source.hpp"
 
 namespace trueaxis::terminal {
 namespace {
@@ -44,6 +47,18 @@ TEST_F(OneWireSourceTest, ReadsEachSensorUnderItsChannelName) {
   EXPECT_TRUE(Good(t[1], 24.5));
   Set(kA, -1250);
   EXPECT_TRUE(Good(Read()[0], -1.25));
+}
+
+TEST_F(OneWireSourceTest, ReportsTheDatasheetRangeThroughThePollerAndTheCombination) {
+  EXPECT_EQ(source->ChannelMeasuringRange(1).min_c, -55.0);
+  EXPECT_EQ(source->ChannelMeasuringRange(1).max_c, 125.0);
+  std::vector<std::unique_ptr<hw::TemperatureSource>> parts;
+  parts.push_back(std::make_unique<trueaxis::testing::MockTemperatures>(1));  // range unknown
+  parts.push_back(std::make_unique<PolledTemperatureSource>(std::make_unique<OneWireTemperatureSource>(TwoSensors()), 1, 2));
+  CombinedTemperatureSource combined(std::move(parts));
+  EXPECT_FALSE(combined.ChannelMeasuringRange(0).known());
+  EXPECT_EQ(combined.ChannelMeasuringRange(2).max_c, 125.0);
+  EXPECT_FALSE(combined.ChannelMeasuringRange(3).known());  // beyond the channels
 }
 
 TEST_F(OneWireSourceTest, CrcErrorFaultsOnlyThatReadOfThatChannel) {

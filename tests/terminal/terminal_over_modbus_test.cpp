@@ -14,7 +14,7 @@
 #include <string>
 #include <thread>
 
-#include "drivers/fake_machine.hpp"
+#include "drivers/modbus_test_server.hpp"
 #include "fake_w1_tree.hpp"
 #include "support/cli_runner.hpp"
 #include "support/local_process.hpp"
@@ -140,7 +140,7 @@ TEST_F(TerminalOverModbus, PowerOnValueNeverReachesTheRegistersUnconfirmed) {
 TEST(TerminalCli, ServesAFakeTreeAndStopsByItself) {
   // The example tree of the README, on a port the test picks (a server probe first).
   std::string why;
-  drivers::testing::FakeTemperatures probe_temps(1);
+  drivers::testing::MockTemperatures probe_temps(1);
   auto probe = StartServer(nullptr, &probe_temps, {}, &why);
   ASSERT_NE(probe, nullptr) << why;
   const int port = probe->options().port;
@@ -180,7 +180,8 @@ TEST(TerminalCli, BadConfigNamesFileLineAndKey) {
 // relayed by the terminal: the server's compensation reaches the CNC, and when
 // the server stops writing the terminal's watchdog ramps it to zero without a jump.
 TEST(TerminalRelay, WatchdogRampsTheRelayedCompensationToZero) {
-  drivers::testing::FakeCnc cnc({"X", "Y"});
+  drivers::testing::MockCnc cnc({"X", "Y"});
+  cnc.record_history = true;  // every vector the CNC accepted, to check the ramp has no jump
   cnc.SetState({CoolantState::kOff, true});
   std::string why;
   auto gateway = StartServer(&cnc, nullptr, {}, &why);
@@ -190,7 +191,7 @@ TEST(TerminalRelay, WatchdogRampsTheRelayedCompensationToZero) {
   lo.axis_names = {"X", "Y"};
   drivers::ModbusCncLink relay(lo);
   ASSERT_TRUE(hw::ConfigureAndActivate(relay, &why)) << why;
-  drivers::testing::FakeTemperatures temps(1);
+  drivers::testing::MockTemperatures temps(1);
   drivers::ModbusMachineServerOptions to;
   to.watchdog_s = 0.3;
   to.watchdog_ramp_um_per_s = 100;

@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "drivers/fake_machine.hpp"
+#include "drivers/modbus_test_server.hpp"
 #include "fake_w1_tree.hpp"
 #include "support/local_process.hpp"
 #include "trueaxis/core/input_error.hpp"
@@ -42,7 +42,7 @@ std::vector<double> ServedCelsius(int port, int count) {
 TEST_F(TerminalSourcesTest, OneWireAndRtdServedTogetherAndARtdLossFaultsOnlyItsChannels) {
   Set(kA, 22500);
   // The "ADAM-6015" on the shop network: two RTD channels at 20.0 and 20.5 °C.
-  drivers::testing::FakeTemperatures rtd_values(2);
+  drivers::testing::MockTemperatures rtd_values(2);
   std::string why;
   auto adam = StartServer(nullptr, &rtd_values, {}, &why);
   ASSERT_NE(adam, nullptr) << why;

@@ -19,6 +19,7 @@ class CombinedTemperatureSource final : public hw::TemperatureSource {
   std::size_t ChannelCount() const override { return names_.size(); }
   std::string ChannelName(std::size_t channel) const override { return names_.at(channel); }
   bool Read(std::span<hw::RawTemperature> out) override;
+  hw::MeasuringRange ChannelMeasuringRange(std::size_t channel) const override;  // the owning part's
 
   // Configure: every part; a channel name used twice across parts is refused.
   bool Configure(std::string* error) override;

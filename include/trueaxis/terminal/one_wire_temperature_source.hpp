@@ -63,6 +63,8 @@ class OneWireTemperatureSource final : public hw::TemperatureSource {
   std::size_t ChannelCount() const override { return options_.sensors.size(); }
   std::string ChannelName(std::size_t channel) const override { return options_.sensors.at(channel).channel; }
   bool Read(std::span<hw::RawTemperature> out) override;
+  // The DS18B20's datasheet range, −55 … 125 °C.
+  hw::MeasuringRange ChannelMeasuringRange(std::size_t) const override { return {kDs18b20MinC, kDs18b20MaxC}; }
   bool Configure(std::string* error) override;
 
   // Per channel, copied under a lock: safe from another thread than Read()'s.

@@ -27,6 +27,7 @@ class PolledTemperatureSource final : public hw::TemperatureSource {
   std::size_t ChannelCount() const override { return inner_->ChannelCount(); }
   std::string ChannelName(std::size_t channel) const override { return inner_->ChannelName(channel); }
   bool Read(std::span<hw::RawTemperature> out) override;
+  hw::MeasuringRange ChannelMeasuringRange(std::size_t channel) const override { return inner_->ChannelMeasuringRange(channel); }
 
   bool Configure(std::string* error) override;
   // Activates the inner source (a failure is reported but the thread starts

@@ -12,6 +12,8 @@
 #include <string>
 #include <string_view>
 
+#include "trueaxis/signal/conversions.hpp"
+
 namespace trueaxis::terminal {
 
 enum class W1SlaveStatus {
@@ -33,7 +35,8 @@ const char* W1SlaveStatusName(W1SlaveStatus status);
 // DS18B20 facts (datasheet): measuring range and the power-on reset value of
 // the temperature register (+85 °C), which a sensor reports when it lost power
 // between the conversion command and the read.
-inline constexpr long kDs18b20PowerOnMilliC = 85000;
+inline constexpr long kDs18b20PowerOnMilliC = static_cast<long>(signal::kDs18b20PowerOnRaw * signal::kDs18b20LsbC * 1000);  // 85000
+static_assert(kDs18b20PowerOnMilliC == 85000);
 inline constexpr double kDs18b20MinC = -55.0;
 inline constexpr double kDs18b20MaxC = 125.0;
 
