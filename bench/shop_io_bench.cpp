@@ -32,14 +32,8 @@ std::vector<store::HistoryRecord> Batch(std::size_t n, double t0) {
   return b;
 }
 
-void BM_PostgresInsertBatch(benchmark::State& state) {
-  static testing::PostgresServer server;
-  static const bool started = server.Start();
-  if (!started) {
-    state.SkipWithError(("PostgreSQL did not start: " + server.error()).c_str());
-    return;
-  }
-  store::PostgresHistorySink sink({server.Url(), "bench"});
+// Batches of range(0) records into `sink`, one transaction each.
+void InsertBatches(benchmark::State& state, store::HistorySink& sink) {
   const auto n = static_cast<std::size_t>(state.range(0));
   double t = 0;
   for (auto _ : state) {
@@ -49,20 +43,24 @@ void BM_PostgresInsertBatch(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
 }
+
+void BM_PostgresInsertBatch(benchmark::State& state) {
+  static testing::PostgresServer server;
+  static const bool started = server.Start();
+  if (!started) {
+    state.SkipWithError(("PostgreSQL did not start: " + server.error()).c_str());
+    return;
+  }
+  store::PostgresHistorySink sink({server.Url(), "bench"});
+  InsertBatches(state, sink);
+}
 BENCHMARK(BM_PostgresInsertBatch)->Arg(64)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_SqliteInsertBatch(benchmark::State& state) {
   const auto path = std::filesystem::temp_directory_path() / ("trueaxis_bench_" + std::to_string(::getpid()) + ".db");
   {
     store::HistoryDb db(path.string(), store::HistoryDb::Mode::kReadWrite);
-    const auto n = static_cast<std::size_t>(state.range(0));
-    double t = 0;
-    for (auto _ : state) {
-      const auto batch = Batch(n, t);
-      db.InsertBatch(batch);
-      t += 1000;
-    }
-    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
+    InsertBatches(state, db);
   }
   for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path.string() + suffix);
 }

@@ -10,12 +10,12 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <string>
 #include <thread>
 
 #include "drivers/modbus_test_server.hpp"
 #include "fake_w1_tree.hpp"
+#include "served_registers.hpp"
 #include "support/cli_runner.hpp"
 #include "support/local_process.hpp"
 #include "trueaxis/drivers/adam6015_map.hpp"
@@ -34,17 +34,8 @@ using testing::FakeW1Tree;
 using testing::kA;
 using testing::kB;
 
-// mbpoll's "[ref]: value" lines of one run (bounded by `timeout`), by reference.
-std::map<int, long long> MbpollValues(const std::string& port, const std::string& args, std::string* text) {
-  *text += trueaxis::testing::CommandOutput("timeout 20 mbpoll -m tcp -1 -o 2 -p " + port + " " + args + " 127.0.0.1");
-  std::map<int, long long> values;
-  const std::regex line(R"(\[(\d+)\]:\s+(-?\d+))");
-  for (std::sregex_iterator it(text->begin(), text->end(), line), end; it != end; ++it)
-    values[std::stoi((*it)[1])] = std::stoll((*it)[2]);
-  return values;
-}
-
-double RawToC(long long raw) { return drivers::AdamRawToCelsius(static_cast<std::uint16_t>(raw), *drivers::FindRtdRange(drivers::adam6015::kDefaultRangeCode)); }
+using testing::MbpollValues;
+using testing::RawToC;
 
 class TerminalOverModbus : public FakeW1Tree {
  protected:

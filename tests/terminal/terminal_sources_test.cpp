@@ -8,7 +8,7 @@
 
 #include "drivers/modbus_test_server.hpp"
 #include "fake_w1_tree.hpp"
-#include "support/local_process.hpp"
+#include "served_registers.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/drivers/adam6015_map.hpp"
 #include "trueaxis/drivers/register_codec.hpp"
@@ -24,17 +24,14 @@ using testing::kB;
 
 class TerminalSourcesTest : public testing::FakeW1Tree {};
 
-// mbpoll's values of unit 2's first `count` AI registers, as °C (NaN for burn-out 0xFFFF).
+// The first `count` AI registers of unit 2 in °C (NaN for burn-out 0xFFFF); empty when mbpoll failed.
 std::vector<double> ServedCelsius(int port, int count) {
-  const std::string out = trueaxis::testing::CommandOutput(
-      fmt::format("timeout 20 mbpoll -m tcp -1 -o 2 -p {} -a 2 -t 4 -r 1 -c {} 127.0.0.1", port, count));
+  std::string text;
+  const auto raw = testing::MbpollValues(std::to_string(port), fmt::format("-a 2 -t 4 -r 1 -c {}", count), &text);
   std::vector<double> v;
-  const auto& range = *drivers::FindRtdRange(drivers::adam6015::kDefaultRangeCode);
   for (int r = 1; r <= count; ++r) {
-    const auto at = out.find(fmt::format("[{}]:", r));
-    if (at == std::string::npos) return {};
-    const long raw = std::stol(out.substr(out.find_first_of("0123456789", at + 3)));
-    v.push_back(raw == 65535 ? std::nan("") : drivers::AdamRawToCelsius(static_cast<std::uint16_t>(raw), range));
+    if (!raw.count(r)) return {};
+    v.push_back(raw.at(r) == 65535 ? std::nan("") : testing::RawToC(raw.at(r)));
   }
   return v;
 }
