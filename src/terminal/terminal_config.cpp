@@ -1,5 +1,6 @@
 #include "trueaxis/terminal/terminal_config.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <set>
 
@@ -90,6 +91,11 @@ TerminalConfig ParseTerminalConfig(const std::string& text, const std::string& s
     }
     std::string why;
     if (!w.options.IsValid(&why)) m.Fail("sensor", t->get("sensor"), why);
+    // One pass converts the sensors one after the other (~0.75 s each at 12 bits): unless the
+    // file says otherwise, a pass may take that long before the channels count as stale.
+    if (!t->contains("stale_after_s"))
+      w.poll.stale_after_s = std::max(w.poll.stale_after_s, kDs18b20ConversionS * 2.0 * static_cast<double>(w.options.sensors.size()) +
+                                                               2.0 * w.poll.period_s);
   }
 
   for (const toml::table* t : TablesOf(r, "rtd")) {

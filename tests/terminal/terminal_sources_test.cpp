@@ -86,6 +86,14 @@ kind = "none"
   sources.combined->Deactivate();
 }
 
+TEST(TerminalConfigFile, OneWireStalenessGrowsWithTheSensorsUnlessGiven) {
+  std::string toml = "[cnc]\nkind = \"none\"\n[one_wire]\n";
+  for (int i = 0; i < 8; ++i) toml += fmt::format("[[one_wire.sensor]]\nid = \"28-00000000000{}\"\nchannel = \"c{}\"\n", i, i);
+  EXPECT_DOUBLE_EQ(ParseTerminalConfig(toml, "t.toml").one_wire.poll.stale_after_s, 8 * 1.5 + 2 * 1.0);  // 8 conversions, twice
+  const std::string given = "[cnc]\nkind = \"none\"\n[one_wire]\nstale_after_s = 3\n[[one_wire.sensor]]\nid = \"28-000000000001\"\nchannel = \"a\"\n";
+  EXPECT_DOUBLE_EQ(ParseTerminalConfig(given, "t.toml").one_wire.poll.stale_after_s, 3.0);
+}
+
 TEST(TerminalConfigFile, ErrorsNameTheKey) {
   auto error_of = [](const std::string& toml) {
     try {

@@ -21,7 +21,7 @@ struct PollSettings {
 struct OneWireSection {
   bool present = false;
   OneWireOptions options;
-  PollSettings poll;  // a DS18B20 needs ~750 ms per conversion: 1 s per sensor set by default
+  PollSettings poll;  // default stale_after_s: max(5 s, 2 × 0.75 s × sensors + 2 × period): a pass converts one sensor after the other
 };
 
 struct RtdSection {

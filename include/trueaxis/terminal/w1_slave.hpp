@@ -39,5 +39,6 @@ inline constexpr long kDs18b20PowerOnMilliC = static_cast<long>(signal::kDs18b20
 static_assert(kDs18b20PowerOnMilliC == 85000);
 inline constexpr double kDs18b20MinC = -55.0;
 inline constexpr double kDs18b20MaxC = 125.0;
+inline constexpr double kDs18b20ConversionS = 0.75;  // max conversion time at 12 bits (datasheet: 750 ms)
 
 }  // namespace trueaxis::terminal
