@@ -51,6 +51,7 @@ struct ChannelView {
   int index = 0;
   double temp_c = NAN;
   std::string state;
+  const terminal::OneWireChannelStatus* one_wire = nullptr;  // the DS18B20's counters (1-Wire channels only)
 };
 
 class TerminalView {
@@ -68,12 +69,15 @@ class TerminalView {
     for (std::size_t p = 0; p < parts_.size(); ++p) {
       std::vector<hw::RawTemperature> raw(parts_[p]->ChannelCount());
       const bool ok = parts_[p]->Read(raw);
-      std::vector<terminal::OneWireChannelStatus> w1;
-      if (p == 0 && one_wire_) w1 = one_wire_->StatusSnapshot();
+      const bool is_one_wire = p == 0 && one_wire_;
+      if (is_one_wire) one_wire_status_ = one_wire_->StatusSnapshot();
+      static const std::vector<terminal::OneWireChannelStatus> kNone;
+      const auto& w1 = is_one_wire ? one_wire_status_ : kNone;
       for (std::size_t c = 0; c < raw.size(); ++c) {
         ChannelView& v = channels_[offset + c];
         const bool fault = !ok || raw[c].hardware_fault || !std::isfinite(raw[c].temp_c);
         v.temp_c = fault ? NAN : raw[c].temp_c;
+        v.one_wire = w1.empty() ? nullptr : &w1[c];
         if (!w1.empty()) v.state = terminal::OneWireChannelStateName(w1[c].state);
         else v.state = !ok ? "offline" : fault ? "fault" : "ok";
       }
@@ -85,6 +89,7 @@ class TerminalView {
  private:
   std::vector<terminal::PolledTemperatureSource*> parts_;
   terminal::OneWireTemperatureSource* one_wire_;
+  std::vector<terminal::OneWireChannelStatus> one_wire_status_;  // the 1-Wire part is the first: its snapshot stays valid
   std::vector<ChannelView> channels_;
 };
 
@@ -96,6 +101,13 @@ nlohmann::json StatusJson(const char* kind, double wall_s, const std::vector<Cha
   for (const auto& c : channels) {
     nlohmann::json ch = {{"name", c.name}, {"unit", c.unit}, {"channel", c.index}, {"state", c.state}};
     ch["temp_c"] = std::isfinite(c.temp_c) ? nlohmann::json(c.temp_c) : nlohmann::json(nullptr);  // null = UNAVAILABLE
+    if (c.one_wire) {
+      ch["good_reads"] = c.one_wire->good_reads;
+      ch["failed_reads"] = c.one_wire->failed_reads;
+      ch["power_on_refused"] = c.one_wire->power_on_refused;
+      ch["losses"] = c.one_wire->losses;
+      if (!c.one_wire->detail.empty()) ch["detail"] = c.one_wire->detail;
+    }
     j["channels"].push_back(ch);
   }
   j["requests"] = stats.requests;

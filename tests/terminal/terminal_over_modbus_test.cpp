@@ -156,6 +156,8 @@ TEST(TerminalCli, ServesAFakeTreeAndStopsByItself) {
   const auto j = nlohmann::json::parse(out.substr(out.rfind('\n') + 1));  // the last line: the final status
   EXPECT_EQ(j["kind"], "final");
   EXPECT_EQ(j["channels"][0]["name"], "x_nut");
+  EXPECT_EQ(j["channels"][2]["power_on_refused"], 1) << "the first 85000 of 'bed' refused, the rest confirmed";
+  EXPECT_EQ(j["channels"][2]["temp_c"], 85.0);
   EXPECT_GE(j["requests"].get<int>(), 1) << r.output;
 }
 
