@@ -15,6 +15,9 @@
 // InsertBatch: one transaction per batch (COPY per table, names resolved
 // first); all or nothing. A lost connection throws (the writer counts the
 // batch as failed) and the next batch reconnects.
+//
+// One connection: use a sink from one thread at a time (the writer's thread owns it; read back
+// through a second sink).
 #include <cstdint>
 #include <memory>
 #include <string>
