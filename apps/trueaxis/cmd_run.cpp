@@ -26,6 +26,7 @@
 #include "trueaxis/runtime/run_config.hpp"
 #include "trueaxis/station/machine_connection.hpp"
 #include "trueaxis/store/history_writer.hpp"
+#include "trueaxis/store/open_history_sink.hpp"
 
 namespace {
 
@@ -112,8 +113,9 @@ void Run(const Options& o) {
   std::vector<std::string> axis_names;
   for (const auto& a : comp->axes()) axis_names.push_back(a.axis);
   if (!c.history_db.empty()) {
-    if (fs::path(c.history_db).has_parent_path()) fs::create_directories(fs::path(c.history_db).parent_path());
-    writer = std::make_unique<store::HistoryWriter>(c.history_db);
+    if (!store::IsPostgresUrl(c.history_db) && fs::path(c.history_db).has_parent_path())
+      fs::create_directories(fs::path(c.history_db).parent_path());
+    writer = std::make_unique<store::HistoryWriter>(store::OpenHistorySink(c.history_db));
     history = std::make_unique<station::HistoryLogger>(*writer, axis_names, comp->channel_names(), unix0);
     history->LogModelChange(0, model::Sha256OfFile(c.model_file), std::to_string(first_revision),
                             "loaded " + c.model_file);
@@ -198,7 +200,7 @@ void Run(const Options& o) {
   if (recorder.Dropped()) fmt::print("log records dropped (consumer too slow): {}\n", recorder.Dropped());
   if (writer) {
     writer->Close();
-    fmt::print("history: {} ({})\n", c.history_db, writer->Stats().BriefReport());
+    fmt::print("history: {} ({})\n", writer->path(), writer->Stats().BriefReport());  // path(): a URL without its password
   }
 }
 
