@@ -13,6 +13,8 @@ PACKAGES=(
   mbpoll python3-pymodbus python3-serial-asyncio sqlite3 curl
   libjs-chart.js                                  # web: Chart.js served from the box (no CDN on the shop network, issue 12)
   chromium chromium-driver python3-selenium       # web: the headless-browser test of the pages (issue 12)
+  libpqxx-dev postgresql-15  # history on a PostgreSQL server (issue 11); tests start a real server
+  libpaho-mqttpp-dev libpaho-mqtt-dev mosquitto mosquitto-clients  # MQTT live values (issue 11); tests start a real broker
 )
 
 missing=()

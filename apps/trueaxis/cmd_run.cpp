@@ -28,6 +28,7 @@
 #include "trueaxis/station/machine_connection.hpp"
 #include "trueaxis/station/model_loading.hpp"
 #include "trueaxis/store/history_writer.hpp"
+#include "trueaxis/store/open_history_sink.hpp"
 #include "trueaxis/web/coolant_override_link.hpp"
 #include "trueaxis/web/run_backend.hpp"
 #include "web_front_end.hpp"
@@ -119,8 +120,9 @@ void Run(const Options& o) {
   std::vector<std::string> axis_names;
   for (const auto& a : comp->axes()) axis_names.push_back(a.axis);
   if (!c.history_db.empty()) {
-    if (fs::path(c.history_db).has_parent_path()) fs::create_directories(fs::path(c.history_db).parent_path());
-    writer = std::make_unique<store::HistoryWriter>(c.history_db);
+    if (!store::IsPostgresUrl(c.history_db) && fs::path(c.history_db).has_parent_path())
+      fs::create_directories(fs::path(c.history_db).parent_path());
+    writer = std::make_unique<store::HistoryWriter>(store::OpenHistorySink(c.history_db));
     history = std::make_unique<station::HistoryLogger>(*writer, axis_names, comp->channel_names(), unix0);
     history->LogModelChange(0, model::Sha256OfFile(c.model_file), first_revision, "loaded " + c.model_file);
   }
@@ -135,7 +137,12 @@ void Run(const Options& o) {
     wo.machine_id = o.machine_id_given || c.web.machine_id.empty() ? o.machine_id : c.web.machine_id;
     wo.machine_name = fs::path(c.virtual_machine.machine_file).stem().string();
     if (c.machine != runtime::MachineKind::kVirtual || wo.machine_name.empty()) wo.machine_name = o.machine_id;
-    wo.history_db = c.history_db;
+    // The page reads a SQLite history; a PostgreSQL history is read with psql or `history` tools.
+    if (store::IsPostgresUrl(c.history_db))
+      fmt::print(stderr, "warning: the web page's history and export read a SQLite history only; {} is not shown there\n",
+                 writer ? writer->path() : std::string("the PostgreSQL history"));
+    else
+      wo.history_db = c.history_db;
     wo.iso_dir = o.iso_dir == "auto" ? (fs::path(c.model_file).parent_path() / "day").string() : o.iso_dir;
     wo.unix0 = unix0;
     web_backend = std::make_unique<web::RunBackend>(*comp, &link, writer.get(), wo);
@@ -228,7 +235,7 @@ void Run(const Options& o) {
   if (recorder.Dropped()) fmt::print("log records dropped (consumer too slow): {}\n", recorder.Dropped());
   if (writer) {
     writer->Close();
-    fmt::print("history: {} ({})\n", c.history_db, writer->Stats().BriefReport());
+    fmt::print("history: {} ({})\n", writer->path(), writer->Stats().BriefReport());  // path(): a URL without its password
   }
 }
 

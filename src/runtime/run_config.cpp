@@ -166,7 +166,8 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
   }
   if (const toml::table* t = r.Table("history")) {
     TomlTableReader m(*t, source, "history");
-    if (m.String("db", c.history_db)) c.history_db = Resolve(base, c.history_db);
+    // A path (SQLite, relative to this file) or a database URL (postgresql://…, taken as written).
+    if (m.String("db", c.history_db) && c.history_db.find("://") == std::string::npos) c.history_db = Resolve(base, c.history_db);
     if (m.String("csv", c.log_csv)) c.log_csv = Resolve(base, c.log_csv);
     m.Double("record_interval_s", c.record_interval_s, 1e-4, 1e6);
     m.RejectUnknown();

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "support/cli_runner.hpp"
+#include "support/local_process.hpp"
 
 namespace fs = std::filesystem;
 
@@ -85,19 +86,6 @@ std::vector<std::string> ExtractCommands(const std::string& readme, const std::s
   return commands;
 }
 
-int FreePort() {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  a.sin_port = 0;
-  bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  const int port = ntohs(a.sin_port);
-  close(fd);
-  return port;
-}
 
 std::string ShellQuote(const std::string& s) {
   std::string out = "'";
@@ -141,7 +129,7 @@ TEST(ReadmeCommands, EveryCommandRunsAsWrittenInOrderAfterTheDemo) {
   // Fails when the section vanishes or its blocks stop being ```sh.
   ASSERT_GE(commands.size(), 20u) << "the README should hold the commands a user runs, in ```sh blocks";
 
-  const std::string port = std::to_string(FreePort());
+  const std::string port = std::to_string(trueaxis::testing::FreeLoopbackPort());
   for (auto& c : commands) c = std::regex_replace(c, std::regex(R"(\b1502\b)"), port);
 
   const fs::path top = fs::temp_directory_path() / ("trueaxis_readme_" + std::to_string(getpid()));

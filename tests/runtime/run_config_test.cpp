@@ -94,6 +94,13 @@ TEST(RunConfig, ParsesEveryField) {
   EXPECT_EQ(c.calibration_file, "/etc/trueaxis/run/cal.json");
 }
 
+TEST(RunConfig, HistoryDatabaseUrlIsKeptAsWritten) {
+  const RunConfig c = ParseRunConfig(
+      "[machine]\nkind = \"modbus\"\naxes = [\"X\"]\n[model]\nfile = \"/m.json\"\n[history]\ndb = \"postgresql://trueaxis@db.shop/hall3\"\n",
+      "/etc/trueaxis/run.toml");
+  EXPECT_EQ(c.history_db, "postgresql://trueaxis@db.shop/hall3");  // not joined to the config's folder like a path
+}
+
 TEST(RunConfig, MinimalModbusConfigGetsDefaults) {
   const RunConfig c = ParseRunConfig("[machine]\nkind = \"modbus\"\nport = 15020\n[model]\nfile = \"/m.json\"\n", "run.toml");
   EXPECT_EQ(c.machine, MachineKind::kModbus);

@@ -65,7 +65,7 @@ struct RunConfig {
   // (signal::MonitoredTemperatureSource: calibration, filtering, fault status); on by default.
   bool signal_processing = true;
   std::string calibration_file;  // signal::CalibrationSet JSON (trueaxis calibrate), "" = none
-  std::string history_db;       // SQLite history store ("" = none)
+  std::string history_db;       // history: SQLite file or postgresql:// URL (store::OpenHistorySink); "" = none
   std::string log_csv;          // CSV log of decimated cycles ("" = none)
   double record_interval_s = 1.0;  // how often a cycle is logged (alarm changes always are)
   WebConfig web;

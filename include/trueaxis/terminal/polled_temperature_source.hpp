@@ -1,0 +1,56 @@
+#pragma once
+// PolledTemperatureSource: reads a slow temperature source (1-Wire: ~750 ms
+// per sensor; RTD modules over the network) on its own thread every
+// period_s, so the terminal's machine thread, which calls Read() every few
+// milliseconds, never waits for it. Read() copies the latest values.
+//
+// Read() returns false when the inner source's last read failed, or when no
+// read has completed for stale_after_s (a reader stuck in the kernel or the
+// network): a stale number is never served as a live one.
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "trueaxis/hw/temperature_source.hpp"
+
+namespace trueaxis::terminal {
+
+class PolledTemperatureSource final : public hw::TemperatureSource {
+ public:
+  PolledTemperatureSource(std::unique_ptr<hw::TemperatureSource> inner, double period_s, double stale_after_s);
+  ~PolledTemperatureSource() override;  // Deactivate()
+
+  std::size_t ChannelCount() const override { return inner_->ChannelCount(); }
+  std::string ChannelName(std::size_t channel) const override { return inner_->ChannelName(channel); }
+  bool Read(std::span<hw::RawTemperature> out) override;
+  hw::MeasuringRange ChannelMeasuringRange(std::size_t channel) const override { return inner_->ChannelMeasuringRange(channel); }
+
+  bool Configure(std::string* error) override;
+  // Activates the inner source (a failure is reported but the thread starts
+  // anyway: the inner source retries on its own) and starts the thread.
+  bool Activate(std::string* error) override;
+  void Deactivate() override;  // stops the thread, then the inner source
+
+  // The inner source, for status (read it only while deactivated or accept a racy view).
+  hw::TemperatureSource& inner() { return *inner_; }
+  std::uint64_t polls() const { return polls_.load(); }
+
+ private:
+  void Run();
+  std::unique_ptr<hw::TemperatureSource> inner_;
+  std::chrono::duration<double> period_, stale_after_;
+  std::mutex mu_;
+  std::condition_variable wake_;
+  std::vector<hw::RawTemperature> latest_;
+  bool latest_ok_ = false;
+  std::chrono::steady_clock::time_point latest_time_{};
+  std::atomic<std::uint64_t> polls_{0};
+  bool stop_ = false;
+  std::thread thread_;
+};
+
+}  // namespace trueaxis::terminal
