@@ -1,0 +1,64 @@
+#pragma once
+// HalCncLink: LinuxCNC seen through HAL pins as an hw::CncLink, so the one compensator
+// (runtime::Step, the same as `trueaxis run` and the MODBUS terminal) drives a LinuxCNC
+// machine (docs/linuxcnc.md). Pins of component C, per axis L (lower case):
+//
+//   in   C.L.pos-cmd   float  commanded position (axis.L.pos-cmd / joint.N.pos-cmd), mm
+//   in   C.L.pos-fb    float  feedback position (joint.N.pos-fb): the model's position, mm
+//   in   C.L.vel-cmd   float  commanded velocity (joint.N.vel-cmd): direction and moving;
+//                             unconnected (always 0) → the change of pos-cmd between reads
+//   out  C.L.eoffset-counts  s32    → axis.L.eoffset-counts (correction / pulse equivalent)
+//   out  C.L.eoffset-scale   float  → axis.L.eoffset-scale (mm per count = δ / 1000)
+//   out  C.L.eoffset-enable  bit    → axis.L.eoffset-enable (true while the component runs)
+//   out  C.L.correction-um   float  the correction the axis holds (CNC units, µm)
+//   in   C.enable           bit    the CNC-side enable (a panel switch, motion.motion-enabled):
+//                             off → every axis ramps to zero ([compensator] follow_cnc_enable)
+//   in   C.coolant-flood, C.coolant-mist  bit  ← iocontrol.0.coolant-flood / -mist
+//
+// The correction reaches the joints through LinuxCNC's external offsets, which its planner
+// applies within the axis's velocity/acceleration reserve ([AXIS_L] OFFSET_AV_RATIO).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "trueaxis/hw/cnc_link.hpp"
+#include "trueaxis/linuxcnc/hal_component.hpp"
+#include "trueaxis/runtime/axis_interface.hpp"
+
+namespace trueaxis::linuxcnc {
+
+class HalCncLink : public hw::CncLink {
+ public:
+  // Creates the pins on `component` (before its Ready). `interfaces[i]` gives axis i's name and
+  // pulse equivalent δ (the eoffset count).
+  HalCncLink(HalComponent& component, std::vector<runtime::AxisInterface> interfaces);
+
+  std::size_t AxisCount() const override { return axes_.size(); }
+  std::string AxisName(std::size_t axis) const override { return axes_[axis].interface.axis; }
+  bool Read(std::span<hw::AxisState> axes, hw::CncState& machine) override;
+  bool WriteCompensation(std::span<const double> correction_um) override;
+  // Every eoffset to zero counts (the component stops: LinuxCNC ramps the offsets out).
+  void ReleaseOffsets();
+  bool CncEnable() const { return enable_.Get(); }
+
+  // A commanded speed below this is "standing" (mm/s).
+  static constexpr double kMovingSpeedMmS = 1e-4;
+
+ private:
+  struct Axis {
+    runtime::AxisInterface interface;
+    Pin<double> pos_cmd, pos_fb, vel_cmd;
+    Pin<std::int32_t> counts;
+    Pin<double> scale, correction_um;
+    Pin<bool> offset_enable;
+    double last_pos_cmd_mm = 0;
+    bool has_last = false;
+  };
+  std::vector<Axis> axes_;
+  Pin<bool> enable_, flood_, mist_;
+};
+
+// "X" → "x": LinuxCNC's axis pins use lower-case letters (axis.x.eoffset-counts).
+std::string HalAxisLetter(const std::string& axis_name);
+
+}  // namespace trueaxis::linuxcnc
