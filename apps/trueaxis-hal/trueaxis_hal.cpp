@@ -108,8 +108,8 @@ int Run(const Options& o) {
   std::signal(SIGINT, OnStopSignal);
   std::signal(SIGTERM, OnStopSignal);
   hal.Ready();  // every pin exists: `loadusr -W` returns, the HAL file nets them
-  // The loop starts at the first C.enable (wired to motion.motion-enabled: the machine is on and
-  // its pins carry values), so it never conditions the zeros of pins not yet driven.
+  // The loop starts at the first C.enable with C.machine-on (the machine is on and its pins
+  // carry values), so it never conditions the zeros of pins not yet driven.
   while (!g_stop.load() && !link.CncEnable()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   if (g_stop.load()) return 0;  // stopped before the first enable
   runner.Start();

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <algorithm>
 #include <limits>
 
 namespace trueaxis::linuxcnc {
@@ -21,6 +22,7 @@ HalCncLink::HalCncLink(HalComponent& component, std::vector<runtime::AxisInterfa
     a.pos_fb = component.FloatPin(l + ".pos-fb", PinDirection::kIn);
     a.vel_cmd = component.FloatPin(l + ".vel-cmd", PinDirection::kIn);
     a.counts = component.S32Pin(l + ".eoffset-counts", PinDirection::kOut);
+    a.request_mm = component.FloatPin(l + ".eoffset-request", PinDirection::kIn);
     a.scale = component.FloatPin(l + ".eoffset-scale", PinDirection::kOut);
     a.offset_enable = component.BitPin(l + ".eoffset-enable", PinDirection::kOut);
     a.correction_um = component.FloatPin(l + ".correction-um", PinDirection::kOut);
@@ -29,6 +31,7 @@ HalCncLink::HalCncLink(HalComponent& component, std::vector<runtime::AxisInterfa
     axes_.push_back(std::move(a));
   }
   enable_ = component.BitPin("enable", PinDirection::kIn);
+  machine_on_ = component.BitPin("machine-on", PinDirection::kIn);
   flood_ = component.BitPin("coolant-flood", PinDirection::kIn);
   mist_ = component.BitPin("coolant-mist", PinDirection::kIn);
 }
@@ -46,25 +49,31 @@ bool HalCncLink::Read(std::span<hw::AxisState> out, hw::CncState& machine) {
     if (out[i].moving) out[i].servo_direction = speed > 0 ? 1 : -1;
   }
   machine.coolant = flood_.Get() ? CoolantState::kFlood : (mist_.Get() ? CoolantState::kMist : CoolantState::kOff);
-  machine.compensation_enabled = enable_.Get();
+  machine.compensation_enabled = CncEnable();
   return true;
 }
 
 bool HalCncLink::WriteCompensation(std::span<const double> correction_um) {
+  const bool accepting = machine_on_.Get();  // LinuxCNC drops deltas while the machine is off
   for (std::size_t i = 0; i < axes_.size() && i < correction_um.size(); ++i) {
-    const double counts = std::round(correction_um[i] / axes_[i].interface.pulse_equivalent_um);
-    if (!std::isfinite(counts) || std::abs(counts) > std::numeric_limits<std::int32_t>::max()) return false;
-    axes_[i].counts.Set(static_cast<std::int32_t>(counts));
-    axes_[i].correction_um.Set(counts * axes_[i].interface.pulse_equivalent_um);
+    Axis& a = axes_[i];
+    const double delta_um = a.interface.pulse_equivalent_um;
+    const double target = std::round(correction_um[i] / delta_um);
+    if (!std::isfinite(target) || std::abs(target) > 1e9) return false;
+    const double held = std::round(a.request_mm.Get() * 1000.0 / delta_um);  // what LinuxCNC holds, counts
+    if (accepting && std::isfinite(held)) {
+      a.counts_out += static_cast<std::int64_t>(target - held);
+      // The pin is s32; LinuxCNC takes differences, so wrapping around keeps every delta right.
+      a.counts.Set(static_cast<std::int32_t>(static_cast<std::uint32_t>(a.counts_out & 0xffffffff)));
+    }
+    a.correction_um.Set(target * delta_um);
   }
   return true;
 }
 
 void HalCncLink::ReleaseOffsets() {
-  for (auto& a : axes_) {
-    a.counts.Set(0);
-    a.correction_um.Set(0);
-  }
+  const double zero[32] = {};
+  WriteCompensation(std::span<const double>(zero, std::min<std::size_t>(axes_.size(), 32)));
 }
 
 }  // namespace trueaxis::linuxcnc

@@ -7,16 +7,25 @@
 //   in   C.L.pos-fb    float  feedback position (joint.N.pos-fb): the model's position, mm
 //   in   C.L.vel-cmd   float  commanded velocity (joint.N.vel-cmd): direction and moving;
 //                             unconnected (always 0) → the change of pos-cmd between reads
-//   out  C.L.eoffset-counts  s32    → axis.L.eoffset-counts (correction / pulse equivalent)
+//   out  C.L.eoffset-counts  s32    → axis.L.eoffset-counts
+//   in   C.L.eoffset-request float  ← axis.L.eoffset-request: the offset LinuxCNC holds (mm)
 //   out  C.L.eoffset-scale   float  → axis.L.eoffset-scale (mm per count = δ / 1000)
 //   out  C.L.eoffset-enable  bit    → axis.L.eoffset-enable (true while the component runs)
 //   out  C.L.correction-um   float  the correction the axis holds (CNC units, µm)
-//   in   C.enable           bit    the CNC-side enable (a panel switch, motion.motion-enabled):
-//                             off → every axis ramps to zero ([compensator] follow_cnc_enable)
+//   in   C.enable           bit    the operator's switch (a panel button, an M-code through
+//                             motion.digital-out-NN): off → every axis ramps to zero
+//   in   C.machine-on       bit    ← motion.motion-enabled: off → no delta is sent (LinuxCNC would
+//                             drop it) and the axes ramp to zero like enable off
 //   in   C.coolant-flood, C.coolant-mist  bit  ← iocontrol.0.coolant-flood / -mist
 //
 // The correction reaches the joints through LinuxCNC's external offsets, which its planner
 // applies within the axis's velocity/acceleration reserve ([AXIS_L] OFFSET_AV_RATIO).
+// LinuxCNC takes eoffset-counts as DELTAS, and drops the deltas that arrive while the machine is
+// off or not homed (motion/control.c), and clears the offset at machine on. So the counts are not
+// the correction: each write adds (target − what LinuxCNC holds, read back on eoffset-request) to
+// the counts, which brings the offset to the target whatever was dropped. No delta is sent while
+// C.machine-on is off, so the counts do not run away; the write
+// period must exceed the servo period (LinuxCNC has taken the previous delta by then).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -39,7 +48,7 @@ class HalCncLink : public hw::CncLink {
   bool WriteCompensation(std::span<const double> correction_um) override;
   // Every eoffset to zero counts (the component stops: LinuxCNC ramps the offsets out).
   void ReleaseOffsets();
-  bool CncEnable() const { return enable_.Get(); }
+  bool CncEnable() const { return enable_.Get() && machine_on_.Get(); }
 
   // A commanded speed below this is "standing" (mm/s).
   static constexpr double kMovingSpeedMmS = 1e-4;
@@ -49,13 +58,14 @@ class HalCncLink : public hw::CncLink {
     runtime::AxisInterface interface;
     Pin<double> pos_cmd, pos_fb, vel_cmd;
     Pin<std::int32_t> counts;
-    Pin<double> scale, correction_um;
+    Pin<double> scale, correction_um, request_mm;
+    std::int64_t counts_out = 0;
     Pin<bool> offset_enable;
     double last_pos_cmd_mm = 0;
     bool has_last = false;
   };
   std::vector<Axis> axes_;
-  Pin<bool> enable_, flood_, mist_;
+  Pin<bool> enable_, machine_on_, flood_, mist_;
 };
 
 // "X" → "x": LinuxCNC's axis pins use lower-case letters (axis.x.eoffset-counts).

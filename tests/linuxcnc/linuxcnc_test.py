@@ -1,0 +1,155 @@
+#!/usr/bin/python3
+"""One headless LinuxCNC session for CTest (tests/linuxcnc/CMakeLists.txt, docs/linuxcnc.md).
+
+  linuxcnc_test.py --scenario hal|enable|lost_terminal|compfile|closed_loop --hal BIN --plant BIN --cli BIN
+
+Copies the simulator configuration (tests/linuxcnc/sim) into a fresh folder, adapts it to the
+scenario, starts LinuxCNC (`linuxcnc` under `script`: the launcher wants a terminal) with
+tests/linuxcnc/lcnc_driver.py as its DISPLAY, and waits at most --timeout-s. Whatever happens,
+every process of the session is killed at the end: the launcher's process group, then every
+process carrying this session's marker in its environment (rtapi_app leaves the group). The
+driver's verdict decides: no verdict (LinuxCNC did not start, the driver crashed, the time ran
+out) is a FAILURE naming the reason and quoting LinuxCNC's output — never a silent pass.
+Root: rtapi_app refuses to run as root unless RTAPI_UID names a user; `nobody` is used.
+"""
+import argparse
+import json
+import os
+import pwd
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import uuid
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SOURCE = os.path.dirname(os.path.dirname(HERE))
+
+
+def kill_session(marker, group_leader):
+    try:
+        os.killpg(group_leader, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    me = os.getpid()
+    for pid in os.listdir("/proc"):
+        if not pid.isdigit() or int(pid) == me:
+            continue
+        try:
+            with open(f"/proc/{pid}/environ", "rb") as f:
+                if marker.encode() in f.read():
+                    os.kill(int(pid), signal.SIGKILL)
+        except (OSError, ProcessLookupError):
+            pass
+
+
+def ini_without_trueaxis(ini):
+    return "\n".join(l for l in ini.splitlines() if l.strip() != "HALFILE = trueaxis.hal") + "\n"
+
+
+def ini_with_joint0(ini, lines):
+    return ini.replace("[JOINT_0]\n", "[JOINT_0]\n" + "".join(l + "\n" for l in lines), 1)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--scenario", required=True)
+    ap.add_argument("--hal", required=True, help="trueaxis-hal")
+    ap.add_argument("--plant", default="", help="trueaxis-hal-plant")
+    ap.add_argument("--cli", required=True, help="trueaxis")
+    ap.add_argument("--comp-file-type", type=int, default=1)
+    ap.add_argument("--timeout-s", type=float, default=60)
+    ap.add_argument("--keep", action="store_true", help="keep the session folder")
+    ap.add_argument("--figures-out", default="", help="also write the driver's figures here (JSON)")
+    a = ap.parse_args()
+
+    for tool in ("linuxcnc", "script", "halcmd"):
+        if shutil.which(tool) is None:
+            print(f"FAIL: {tool} not found: install linuxcnc-uspace (scripts/install-deps.sh)")
+            return 1
+    work = tempfile.mkdtemp(prefix=f"trueaxis-lcnc-{a.scenario}-")
+    os.chmod(work, 0o755)
+    config = os.path.join(work, "config")
+    shutil.copytree(os.path.join(HERE, "sim"), config)
+    ini_path = os.path.join(config, "trueaxis_sim.ini")
+    ini = open(ini_path).read()
+    marker = "trueaxis-lcnc-" + uuid.uuid4().hex
+    env = dict(os.environ)
+    env.update(TRUEAXIS_LCNC_SESSION=marker, TRUEAXIS_LCNC_SCENARIO=a.scenario,
+               TRUEAXIS_LCNC_DRIVER=os.path.join(HERE, "lcnc_driver.py"),
+               TRUEAXIS_LCNC_RESULT=os.path.join(work, "result.json"), TRUEAXIS_CLI=a.cli, TRUEAXIS_HAL=a.hal,
+               TRUEAXIS_PLANT=a.plant, TRUEAXIS_MODEL=os.path.join(SOURCE, "tests/export/golden/example_model.json"),
+               TRUEAXIS_RUN_CONFIG=os.path.join(HERE, "sim/trueaxis_run.toml"), TRUEAXIS_TEMPERATURES="hal")
+    terminal = None
+    if a.scenario == "compfile":
+        ini = ini_without_trueaxis(ini)
+        comp = os.path.join(config, "x.comp")
+        subprocess.check_call([a.cli, "export", "--model", env["TRUEAXIS_MODEL"], "--axis", "X", "--format", "linuxcnc",
+                               "--comp-file-type", str(a.comp_file_type), "--joint", "0", "--out", comp],
+                              stdout=subprocess.DEVNULL)
+        read = subprocess.check_output([a.cli, "export", "--read", comp, "--format", "linuxcnc"]).decode()
+        rows = [l.split(",") for l in read.splitlines() if l and l[0] in "-0123456789"]
+        env["TRUEAXIS_COMP_TABLE"] = json.dumps([[float(v) for v in r] for r in rows])
+        ini = ini_with_joint0(ini, ["COMP_FILE = x.comp", f"COMP_FILE_TYPE = {a.comp_file_type}"])
+    elif a.scenario == "lost_terminal":
+        env["TRUEAXIS_RUN_CONFIG"] = os.path.join(HERE, "sim/trueaxis_run_modbus.toml")
+        env["TRUEAXIS_TEMPERATURES"] = "modbus"
+        env["TRUEAXIS_MODBUS_PORT"] = "15873"
+        terminal = subprocess.Popen([a.cli, "sim", "serve", "--machine", os.path.join(SOURCE, "examples/machines/vmc850.toml"),
+                                     "--port", "15873", "--program", "idle", "--duration-s", str(a.timeout_s),
+                                     "--status-interval-s", "0"], start_new_session=True,
+                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+        env["TRUEAXIS_TERMINAL_PID"] = str(terminal.pid)
+        time.sleep(0.5)
+    open(ini_path, "w").write(ini)
+
+    if os.geteuid() == 0:  # rtapi_app: not as root without a fallback user
+        nobody = pwd.getpwnam("nobody")
+        fifo = os.path.join(work, "rtapi")
+        os.mkdir(fifo)
+        os.chown(fifo, nobody.pw_uid, nobody.pw_gid)
+        env.update(RTAPI_UID=str(nobody.pw_uid), RTAPI_FIFO_PATH=os.path.join(fifo, "rtapi_fifo"))
+
+    log_path = os.path.join(work, "linuxcnc.log")
+    t0 = time.time()
+    with open(log_path, "wb") as log:
+        proc = subprocess.Popen(["script", "-qec", f"linuxcnc {ini_path}", "/dev/null"], cwd=config, env=env,
+                                stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+        timed_out = False
+        try:
+            proc.wait(timeout=a.timeout_s)
+        except subprocess.TimeoutExpired:
+            timed_out = True
+        finally:
+            kill_session(marker, proc.pid)
+            if terminal:
+                kill_session(marker, terminal.pid)
+    wall = time.time() - t0
+    output = open(log_path, errors="replace").read()
+    output = "\n".join(l for l in output.splitlines() if "fallback_uid" not in l)
+
+    result_path = env["TRUEAXIS_LCNC_RESULT"]
+    if not os.path.exists(result_path):
+        why = f"timed out after {a.timeout_s} s" if timed_out else "LinuxCNC exited without the driver's verdict"
+        print(f"FAIL [{a.scenario}]: {why} (LinuxCNC did not start or the driver crashed). LinuxCNC said:\n"
+              + output[-4000:])
+        return 1
+    result = json.load(open(result_path))
+    print(json.dumps({"scenario": a.scenario, "wall_s": round(wall, 1), "figures": result["figures"]}))
+    if a.figures_out:
+        json.dump(result["figures"], open(a.figures_out, "w"), indent=1)
+    if timed_out:
+        result["failures"].append(f"LinuxCNC did not shut down within {a.timeout_s} s (killed)")
+    if result["failures"]:
+        print(f"FAIL [{a.scenario}]:\n  " + "\n  ".join(result["failures"]) + "\nLinuxCNC said:\n" + output[-3000:])
+        return 1
+    if not a.keep:
+        shutil.rmtree(work, ignore_errors=True)
+    print(f"PASS [{a.scenario}] in {wall:.1f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
