@@ -20,7 +20,7 @@ HalCncLink::HalCncLink(HalComponent& component, std::vector<runtime::AxisInterfa
     a.interface = it;
     a.pos_cmd = component.FloatPin(l + ".pos-cmd", PinDirection::kIn);
     a.pos_fb = component.FloatPin(l + ".pos-fb", PinDirection::kIn);
-    a.vel_cmd = component.FloatPin(l + ".vel-cmd", PinDirection::kIn);
+    a.eoffset_mm = component.FloatPin(l + ".eoffset", PinDirection::kIn);
     a.counts = component.S32Pin(l + ".eoffset-counts", PinDirection::kOut);
     a.request_mm = component.FloatPin(l + ".eoffset-request", PinDirection::kIn);
     a.scale = component.FloatPin(l + ".eoffset-scale", PinDirection::kOut);
@@ -39,14 +39,13 @@ HalCncLink::HalCncLink(HalComponent& component, std::vector<runtime::AxisInterfa
 bool HalCncLink::Read(std::span<hw::AxisState> out, hw::CncState& machine) {
   for (std::size_t i = 0; i < axes_.size() && i < out.size(); ++i) {
     Axis& a = axes_[i];
-    const double pos_cmd = a.pos_cmd.Get();
-    double speed = a.vel_cmd.Get();
-    if (speed == 0 && a.has_last) speed = pos_cmd - a.last_pos_cmd_mm;  // only the sign is used
-    a.last_pos_cmd_mm = pos_cmd;
+    const double programmed = a.pos_cmd.Get() - a.eoffset_mm.Get();
+    const double step = a.has_last ? programmed - a.last_programmed_mm : 0.0;
+    a.last_programmed_mm = programmed;
     a.has_last = true;
     out[i].position_mm = a.pos_fb.Get();
-    out[i].moving = std::abs(speed) > kMovingSpeedMmS;
-    if (out[i].moving) out[i].servo_direction = speed > 0 ? 1 : -1;
+    out[i].moving = std::abs(step) > kMovingStepMm;
+    if (out[i].moving) out[i].servo_direction = step > 0 ? 1 : -1;
   }
   machine.coolant = flood_.Get() ? CoolantState::kFlood : (mist_.Get() ? CoolantState::kMist : CoolantState::kOff);
   machine.compensation_enabled = CncEnable();

@@ -3,10 +3,12 @@
 // (runtime::Step, the same as `trueaxis run` and the MODBUS terminal) drives a LinuxCNC
 // machine (docs/linuxcnc.md). Pins of component C, per axis L (lower case):
 //
-//   in   C.L.pos-cmd   float  commanded position (axis.L.pos-cmd / joint.N.pos-cmd), mm
+//   in   C.L.pos-cmd   float  commanded position (joint.N.pos-cmd: includes the external offset), mm
 //   in   C.L.pos-fb    float  feedback position (joint.N.pos-fb): the model's position, mm
-//   in   C.L.vel-cmd   float  commanded velocity (joint.N.vel-cmd): direction and moving;
-//                             unconnected (always 0) → the change of pos-cmd between reads
+//   in   C.L.eoffset   float  ← axis.L.eoffset, the offset applied now (mm). The direction and the
+//                             moving flag come from the PROGRAMMED motion, pos-cmd − eoffset between
+//                             reads: the offset's own µm moves must never flip the direction model
+//                             (it would limit-cycle by the reversal value, docs/runtime.md)
 //   out  C.L.eoffset-counts  s32    → axis.L.eoffset-counts
 //   in   C.L.eoffset-request float  ← axis.L.eoffset-request: the offset LinuxCNC holds (mm)
 //   out  C.L.eoffset-scale   float  → axis.L.eoffset-scale (mm per count = δ / 1000)
@@ -50,18 +52,19 @@ class HalCncLink : public hw::CncLink {
   void ReleaseOffsets();
   bool CncEnable() const { return enable_.Get() && machine_on_.Get(); }
 
-  // A commanded speed below this is "standing" (mm/s).
-  static constexpr double kMovingSpeedMmS = 1e-4;
+  // A programmed move of less than this between two reads is "standing" (mm): above the noise of
+  // reading pos-cmd and eoffset a servo period apart.
+  static constexpr double kMovingStepMm = 5e-4;
 
  private:
   struct Axis {
     runtime::AxisInterface interface;
-    Pin<double> pos_cmd, pos_fb, vel_cmd;
+    Pin<double> pos_cmd, pos_fb, eoffset_mm;
     Pin<std::int32_t> counts;
     Pin<double> scale, correction_um, request_mm;
     std::int64_t counts_out = 0;
     Pin<bool> offset_enable;
-    double last_pos_cmd_mm = 0;
+    double last_programmed_mm = 0;
     bool has_last = false;
   };
   std::vector<Axis> axes_;
