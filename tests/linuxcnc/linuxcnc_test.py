@@ -89,7 +89,8 @@ def main():
         subprocess.check_call([a.cli, "export", "--model", env["TRUEAXIS_MODEL"], "--axis", "X", "--format", "linuxcnc",
                                "--comp-file-type", str(a.comp_file_type), "--joint", "0", "--out", comp],
                               stdout=subprocess.DEVNULL)
-        read = subprocess.check_output([a.cli, "export", "--read", comp, "--format", "linuxcnc"]).decode()
+        read = subprocess.check_output([a.cli, "export", "--read", comp, "--format", "linuxcnc",
+                                        "--comp-file-type", str(a.comp_file_type)]).decode()
         rows = [l.split(",") for l in read.splitlines() if l and l[0] in "-0123456789"]
         env["TRUEAXIS_COMP_TABLE"] = json.dumps([[float(v) for v in r] for r in rows])
         ini = ini_with_joint0(ini, ["COMP_FILE = x.comp", f"COMP_FILE_TYPE = {a.comp_file_type}"])
