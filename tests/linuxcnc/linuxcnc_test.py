@@ -53,6 +53,29 @@ def ini_with_joint0(ini, lines):
     return ini.replace("[JOINT_0]\n", "[JOINT_0]\n" + "".join(l + "\n" for l in lines), 1)
 
 
+PLANT_NETS = """# the plant's motor follows joint 0's motor command (the encoder on the motor reads it back in
+# sim.hal, in the servo thread); the laser is triggered from G-code (M64/M65, M68)
+net j0pos => taplant.x.motor-pos-cmd
+net laser-read   motion.digital-out-00 => taplant.laser-read
+net laser-zero   motion.digital-out-01 => taplant.laser-zero
+net laser-save   motion.digital-out-02 => taplant.laser-save
+net laser-target motion.analog-out-00  => taplant.laser-target
+net laser-run    motion.analog-out-01  => taplant.laser-run
+net laser-dir    motion.analog-out-02  => taplant.laser-direction
+net coolant-flood => taplant.coolant-flood
+""" + "".join(f"net t-{n} taplant.temp.{n} => trueaxis.temp.{n}\nnet t-{n}-fault taplant.temp.{n}-fault => trueaxis.temp.{n}-fault\n"
+              for n in ["x_nut", "x_bearing", "x_motor", "y_nut", "y_bearing", "y_motor", "z_nut", "z_bearing",
+                        "z_motor", "ambient", "bed"])
+
+
+def analyze_a(cli, path):
+    r = subprocess.run([cli, "analyze", path, "--json"], capture_output=True, text=True)
+    if r.returncode != 0:
+        raise RuntimeError(f"trueaxis analyze {path}: {r.stderr.strip()}")
+    out = json.loads(r.stdout)
+    return out["A_um"], out["R_um"]
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--scenario", required=True)
@@ -62,6 +85,10 @@ def main():
     ap.add_argument("--comp-file-type", type=int, default=1)
     ap.add_argument("--timeout-s", type=float, default=60)
     ap.add_argument("--keep", action="store_true", help="keep the session folder")
+    ap.add_argument("--seed", type=int, default=1, help="closed_loop: the demo's seed")
+    ap.add_argument("--warmup-h", type=float, default=3, help="closed_loop: machining before the laser tests")
+    ap.add_argument("--laser", default="--first-mm 50 --last-mm 450 --spacing-mm 100 --runs 2",
+                    help="closed_loop: the plant's laser options (targets, runs, feed, dwell)")
     ap.add_argument("--figures-out", default="", help="also write the driver's figures here (JSON)")
     a = ap.parse_args()
 
@@ -94,6 +121,23 @@ def main():
         rows = [l.split(",") for l in read.splitlines() if l and l[0] in "-0123456789"]
         env["TRUEAXIS_COMP_TABLE"] = json.dumps([[float(v) for v in r] for r in rows])
         ini = ini_with_joint0(ini, ["COMP_FILE = x.comp", f"COMP_FILE_TYPE = {a.comp_file_type}"])
+    elif a.scenario == "closed_loop":
+        plant_out = os.path.join(work, "plant")
+        os.mkdir(plant_out)
+        model_dir = os.path.join(work, "demo")
+        subprocess.check_call([a.cli, "demo", "--fast", "--seed", str(a.seed), "--out", model_dir],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        run_config = os.path.join(work, "loop_run.toml")
+        open(run_config, "w").write(open(os.path.join(HERE, "sim/trueaxis_run_loop.toml")).read()
+                                    .replace("MODEL_FILE", os.path.join(model_dir, "model.json")))
+        env.update(TRUEAXIS_RUN_CONFIG=run_config, TRUEAXIS_PLANT_OUT=plant_out)
+        plant_args = ["--machine", os.path.join(SOURCE, "examples/machines/vmc850.toml"), "--seed", str(a.seed),
+                      "--warmup-h", str(a.warmup_h)] + a.laser.split()
+        ini = ini.replace("HALFILE = trueaxis.hal", "HALFILE = trueaxis.hal\nHALFILE = plant.hal")
+        open(os.path.join(config, "plant.hal"), "w").write(
+            f"loadusr -Wn taplant {a.plant} {' '.join(plant_args)} --out {plant_out}\n" + PLANT_NETS)
+        # The in-process reference: same machine, seed, state, laser cycle and compensator.
+        reference = subprocess.check_output([a.plant] + plant_args + ["--out", plant_out, "--reference", run_config]).decode()
     elif a.scenario == "lost_terminal":
         env["TRUEAXIS_RUN_CONFIG"] = os.path.join(HERE, "sim/trueaxis_run_modbus.toml")
         env["TRUEAXIS_TEMPERATURES"] = "modbus"
@@ -138,6 +182,30 @@ def main():
               + output[-4000:])
         return 1
     result = json.load(open(result_path))
+    if a.scenario == "closed_loop":
+        lc = {}
+        for k, name in ((1, "on"), (2, "off")):
+            path = os.path.join(env["TRUEAXIS_PLANT_OUT"], f"measurement_{k}.csv")
+            if not os.path.exists(path):
+                result["failures"].append(f"no laser measurement {path} (compensation {name})")
+                continue
+            try:
+                lc[name] = analyze_a(a.cli, path)
+            except RuntimeError as e:
+                result["failures"].append(str(e))
+        ref = {n: analyze_a(a.cli, os.path.join(env["TRUEAXIS_PLANT_OUT"], f"reference_{n}.csv")) for n in ("on", "off")}
+        f = result["figures"]
+        for n in ("off", "on"):
+            f[f"A_{n}_linuxcnc_um"], f[f"R_{n}_linuxcnc_um"] = lc.get(n, (float("nan"),) * 2)
+            f[f"A_{n}_in_process_um"], f[f"R_{n}_in_process_um"] = ref[n]
+        if len(lc) == 2:
+            if not lc["on"][0] < lc["off"][0]:
+                result["failures"].append(f"LinuxCNC in the loop: A on {lc['on'][0]:.2f} µm not below A off {lc['off'][0]:.2f} µm")
+            for n in ("off", "on"):
+                tol = max(lc[n][1], ref[n][1])  # within the repeatability R of the two tests
+                if abs(lc[n][0] - ref[n][0]) > tol:
+                    result["failures"].append(f"A {n}: LinuxCNC {lc[n][0]:.2f} µm vs in process {ref[n][0]:.2f} µm differ "
+                                              f"by more than the repeatability {tol:.2f} µm")
     print(json.dumps({"scenario": a.scenario, "wall_s": round(wall, 1), "figures": result["figures"]}))
     if a.figures_out:
         json.dump(result["figures"], open(a.figures_out, "w"), indent=1)
