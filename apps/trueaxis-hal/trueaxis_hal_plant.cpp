@@ -23,6 +23,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -58,10 +59,15 @@ struct Options {
   int day = 30;               // the demo's day_offset
   double warmup_h = 3;        // machining before the laser tests (the demo's "warm" state: 3 h)
   std::string coolant = "off";
-  double spacing_mm = 25, first_mm = NAN, last_mm = NAN, overrun_mm = 5;
-  int runs = 3;
-  double feed_mm_min = 12000;  // the laser cycle's feed (the G-code's F)
-  double dwell_s = 0.3;        // at each target before the reading (the G-code's G4)
+  // The laser cycle (the G-code's targets, F and G4 come from targets.txt): the feed 12000 mm/min
+  // and dwell 0.3 s keep a LinuxCNC run in minutes (the demo's laser: 2000 mm/min, 3 s).
+  sim::LaserOptions laser = [] {
+    sim::LaserOptions lo;
+    lo.runs = 3;
+    lo.feed_mm_min = 12000;
+    lo.dwell_s = 0.3;
+    return lo;
+  }();
   std::string out_dir = ".";
   std::string reference;       // run config: run the in-process reference instead of the HAL plant
 };
@@ -73,18 +79,6 @@ struct Plant {
   double datum_mm;
 };
 
-sim::LaserOptions LaserOptionsFor(const Options& o) {
-  sim::LaserOptions lo;
-  lo.runs = o.runs;
-  lo.spacing_mm = o.spacing_mm;
-  lo.first_mm = o.first_mm;
-  lo.last_mm = o.last_mm;
-  lo.overrun_mm = o.overrun_mm;
-  lo.feed_mm_min = o.feed_mm_min;
-  lo.dwell_s = o.dwell_s;
-  return lo;
-}
-
 // The demo's working day up to the laser tests: cold start at 07:00 `day` days after the
 // campaign, then machining (every axis reciprocating over 10–90 % of its travel, 70 % duty,
 // 3000/4000 mm/min) for warmup_h; the axis back at its reference, the laser zeroed there.
@@ -93,7 +87,7 @@ std::unique_ptr<Plant> Prepare(const Options& o) {
   const int axis = md.AxisIndex(o.axis);
   if (axis < 0) throw InputError(o.machine, 0, "axis", fmt::format("the machine has no axis '{}'", o.axis));
   auto p = std::unique_ptr<Plant>(new Plant{sim::VirtualMachine(md, o.seed + 1000),
-                                            sim::LaserInterferometer(LaserOptionsFor(o), o.seed * 7919 + 4242),
+                                            sim::LaserInterferometer(o.laser, o.seed * 7919 + 4242),
                                             static_cast<std::size_t>(axis), md.axes[axis].reference_mm});
   p->vm.IdleUntil(o.day * 86400.0);
   p->vm.Advance(60);
@@ -115,7 +109,8 @@ void WriteTargets(const Options& o, Plant& p) {
   std::ofstream f(fs::path(o.out_dir) / "targets.txt");
   f << "# laser targets (mm), then: overrun_mm runs datum_mm feed_mm_min dwell_s\n";
   for (double t : p.laser.Targets(p.vm, p.axis)) f << fmt::format("{:.3f}\n", t);
-  f << fmt::format("# {} {} {} {} {}\n", o.overrun_mm, o.runs, p.datum_mm, o.feed_mm_min, o.dwell_s);
+  f << fmt::format("# {} {} {} {} {}\n", o.laser.overrun_mm, o.laser.runs, p.datum_mm, o.laser.feed_mm_min,
+                   o.laser.dwell_s);
 }
 
 std::string Brief(const measure::Measurement& m) {
@@ -175,6 +170,8 @@ int RunHalPlant(const Options& o) {
   double t0 = pl.vm.TimeS();
   bool last_read = false, last_zero = false, last_save = false;
   int n_saved = 0;
+  std::uint64_t clamped_updates = 0;
+  const double travel_mm = pl.vm.description().axes[pl.axis].travel_mm;
   using Clock = std::chrono::steady_clock;
   auto last = Clock::now();
   while (!g_stop.load()) {
@@ -183,7 +180,12 @@ int RunHalPlant(const Options& o) {
     const double dt = std::chrono::duration<double>(now - last).count();
     last = now;
     // The motor goes where LinuxCNC commands it, at the speed that takes (machine time = real time).
-    const double to = cmd.Get();
+    // The virtual machine refuses positions beyond its travel: a correction at the very end of the
+    // travel (µm beyond 0 or the travel) is held at the end, and counted.
+    double to = cmd.Get();
+    const double clamped_to = std::clamp(to, 0.0, travel_mm);
+    if (clamped_to != to) ++clamped_updates;
+    to = clamped_to;
     const double dist = std::abs(to - pl.vm.CommandedMm(pl.axis));
     if (dist > 0) pl.vm.CommandMove(pl.axis, to, std::max(1.0, dist / dt * 60.0));
     pl.vm.SetCoolant(flood.Get() ? CoolantState::kFlood : CoolantState::kOff);
@@ -210,6 +212,8 @@ int RunHalPlant(const Options& o) {
     last_save = save.Get();
     publish();
   }
+  if (clamped_updates)
+    fmt::print(stderr, "trueaxis-hal-plant: {} motor commands beyond the travel were held at its end\n", clamped_updates);
   return 0;
 }
 
@@ -228,22 +232,22 @@ int RunReference(const Options& o) {
     runner.StepSimulated(static_cast<std::uint64_t>(std::llround(seconds / c.period_s)), advance);
   };
   auto move = [&](double x) {
-    pl.vm.CommandMove(pl.axis, x, o.feed_mm_min);
+    pl.vm.CommandMove(pl.axis, x, o.laser.feed_mm_min);
     for (int guard = 0; pl.vm.IsMoving(pl.axis) && guard < 100'000'000; ++guard) cycles(c.period_s);
   };
   fs::create_directories(o.out_dir);
   for (bool on : {true, false}) {
     comp->SetEnabled(on);
-    move(std::max(0.0, pl.datum_mm - std::max(o.overrun_mm, 1.0)));
+    move(std::max(0.0, pl.datum_mm - std::max(o.laser.overrun_mm, 1.0)));
     move(pl.datum_mm);
     cycles(1.0);  // the ramp to the new state (≤ 100 µm at max_step per cycle)
     pl.laser.Setup(pl.vm, pl.axis, pl.datum_mm);
     measure::Measurement m = pl.laser.StartMeasurement(pl.vm);
     const double t0 = pl.vm.TimeS();
-    sim::RunBidirectionalCycle(pl.laser.Targets(pl.vm, pl.axis), o.runs, o.overrun_mm, move,
+    sim::RunBidirectionalCycle(pl.laser.Targets(pl.vm, pl.axis), o.laser.runs, o.laser.overrun_mm, move,
                                [&](int run, Direction d, double t) {
                                  move(t);
-                                 cycles(o.dwell_s);
+                                 cycles(o.laser.dwell_s);
                                  m.points.push_back(pl.laser.Reading(pl.vm, run, d, t, t0));
                                });
     const auto path = fs::path(o.out_dir) / (on ? "reference_on.csv" : "reference_off.csv");
@@ -265,12 +269,12 @@ int main(int argc, char** argv) {
   app.add_option("--day", o.day, "Days after the campaign (the demo's working day)")->capture_default_str();
   app.add_option("--warmup-h", o.warmup_h, "Hours of machining before the laser tests (machine time)")->capture_default_str();
   app.add_option("--coolant", o.coolant, "Coolant during the warm-up")->capture_default_str();
-  app.add_option("--spacing-mm", o.spacing_mm, "Laser target spacing")->capture_default_str();
-  app.add_option("--first-mm", o.first_mm, "First laser target (default: overrun)");
-  app.add_option("--last-mm", o.last_mm, "Last laser target (default: travel − overrun)");
-  app.add_option("--runs", o.runs, "Runs of the bidirectional cycle")->capture_default_str();
-  app.add_option("--feed-mm-min", o.feed_mm_min, "Feed of the laser cycle")->capture_default_str();
-  app.add_option("--dwell-s", o.dwell_s, "Dwell at each target before the reading")->capture_default_str();
+  app.add_option("--spacing-mm", o.laser.spacing_mm, "Laser target spacing")->capture_default_str();
+  app.add_option("--first-mm", o.laser.first_mm, "First laser target (default: overrun)");
+  app.add_option("--last-mm", o.laser.last_mm, "Last laser target (default: travel − overrun)");
+  app.add_option("--runs", o.laser.runs, "Runs of the bidirectional cycle")->capture_default_str();
+  app.add_option("--feed-mm-min", o.laser.feed_mm_min, "Feed of the laser cycle")->capture_default_str();
+  app.add_option("--dwell-s", o.laser.dwell_s, "Dwell at each target before the reading")->capture_default_str();
   app.add_option("--out", o.out_dir, "Folder for targets.txt and the measurements")->capture_default_str();
   app.add_option("--reference", o.reference, "Run config: run the in-process reference instead of the HAL plant")
       ->check(CLI::ExistingFile);

@@ -91,6 +91,8 @@ def main():
                     help="closed_loop: the plant's laser options (targets, runs, feed, dwell)")
     ap.add_argument("--figures-out", default="", help="also write the driver's figures here (JSON)")
     a = ap.parse_args()
+    a.hal, a.cli = os.path.abspath(a.hal), os.path.abspath(a.cli)  # LinuxCNC runs in the session folder
+    a.plant = os.path.abspath(a.plant) if a.plant else ""
 
     for tool in ("linuxcnc", "script", "halcmd"):
         if shutil.which(tool) is None:
