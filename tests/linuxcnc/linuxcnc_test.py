@@ -127,7 +127,8 @@ def main():
         plant_out = os.path.join(work, "plant")
         os.mkdir(plant_out)
         model_dir = os.path.join(work, "demo")
-        subprocess.check_call([a.cli, "demo", "--fast", "--seed", str(a.seed), "--out", model_dir],
+        subprocess.check_call([a.cli, "demo", "--fast", "--seed", str(a.seed), "--out", model_dir, "--machine",
+                               os.path.join(SOURCE, "examples/machines/vmc850.toml")],
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         run_config = os.path.join(work, "loop_run.toml")
         open(run_config, "w").write(open(os.path.join(HERE, "sim/trueaxis_run_loop.toml")).read()
