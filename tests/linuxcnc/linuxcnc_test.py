@@ -150,7 +150,18 @@ def main():
                                      "--status-interval-s", "0"], start_new_session=True,
                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
         env["TRUEAXIS_TERMINAL_PID"] = str(terminal.pid)
-        time.sleep(0.5)
+        import socket
+        deadline = time.time() + 10
+        while time.time() < deadline:  # the terminal listens before LinuxCNC starts
+            try:
+                socket.create_connection(("127.0.0.1", 15873), timeout=0.2).close()
+                break
+            except OSError:
+                time.sleep(0.1)
+        else:
+            print("FAIL [lost_terminal]: the MODBUS terminal (trueaxis sim serve) did not listen on 127.0.0.1:15873")
+            kill_session(marker, terminal.pid)
+            return 1
     open(ini_path, "w").write(ini)
 
     if os.geteuid() == 0:  # rtapi_app: not as root without a fallback user
