@@ -10,6 +10,7 @@ PACKAGES=(
   libxlsxwriter-dev libminizip-dev libpugixml-dev libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-calib3d-dev  # vision: camera calibration, marker images (issue 17)
+  linuxcnc-uspace linuxcnc-uspace-dev  # LinuxCNC through HAL: hal.h for trueaxis-hal, the headless simulator of tests/linuxcnc (issue 20)
   mbpoll python3-pymodbus python3-serial-asyncio sqlite3 curl
   libjs-chart.js                                  # web: Chart.js served from the box (no CDN on the shop network, issue 12)
   chromium chromium-driver python3-selenium       # web: the headless-browser test of the pages (issue 12)

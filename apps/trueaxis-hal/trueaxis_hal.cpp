@@ -1,0 +1,170 @@
+// trueaxis-hal --config RUN.toml [--name trueaxis] [--temperatures modbus|hal]
+// A LinuxCNC userspace HAL component: the real-time compensator of `trueaxis run` (the same
+// runtime::Step, limiter, fault policies and model file) with LinuxCNC as the CNC — positions,
+// velocities, coolant and an enable from HAL pins, the correction out to the axes' external
+// offsets (axis.L.eoffset-counts) — and the temperatures from the terminal's RTD modules over
+// MODBUS TCP ([machine] of the run config) or from HAL pins. Load it from a HAL file:
+//   loadusr -W trueaxis-hal --config /etc/trueaxis/run.toml
+// Pins, INI and HAL snippets: docs/linuxcnc.md. Stops on SIGTERM (halcmd unloadusr) / SIGINT:
+// the correction first ramps to zero through the limiter, then the component leaves HAL.
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cmath>
+#include <memory>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/linuxcnc/hal_cnc_link.hpp"
+#include "trueaxis/linuxcnc/hal_component.hpp"
+#include "trueaxis/linuxcnc/hal_temperature_source.hpp"
+#include "trueaxis/linuxcnc/status_pins.hpp"
+#include "trueaxis/model/model_json.hpp"
+#include "trueaxis/runtime/compensator.hpp"
+#include "trueaxis/runtime/loop_runner.hpp"
+#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/signal/calibration.hpp"
+#include "trueaxis/station/machine_connection.hpp"
+
+namespace {
+
+using namespace trueaxis;
+
+std::atomic<bool> g_stop{false};
+extern "C" void OnStopSignal(int) { g_stop.store(true); }
+
+struct Options {
+  std::string config;
+  std::string name = "trueaxis";
+  std::string temperatures = "modbus";
+  double ramp_out_s = 10;  // longest wait for the correction to ramp to zero at stop
+};
+
+// The axes LinuxCNC has ([machine] axes), each with its interface from [[axis]] (δ = eoffset count).
+std::vector<runtime::AxisInterface> AxisInterfaces(const runtime::RunConfig& c) {
+  std::vector<runtime::AxisInterface> out;
+  for (const auto& name : c.modbus.axis_names) {
+    runtime::AxisInterface it;
+    it.axis = name;
+    for (const auto& a : c.axes)
+      if (a.axis == name) it = a;
+    out.push_back(it);
+  }
+  for (const auto& a : c.axes) {
+    bool found = false;
+    for (const auto& it : out) found = found || it.axis == a.axis;
+    if (!found) throw InputError(c.source, 0, "axis.name", fmt::format("'{}' is not in [machine] axes", a.axis));
+  }
+  return out;
+}
+
+int Run(const Options& o) {
+  const runtime::RunConfig c = runtime::ReadRunConfig(o.config);
+  if (c.machine != runtime::MachineKind::kModbus)
+    throw InputError(c.source, 0, "machine.kind",
+                     "trueaxis-hal needs kind = \"modbus\": [machine] axes are the LinuxCNC axes, channels the "
+                     "temperature channels (RTD modules at host:port, or HAL pins with --temperatures hal)");
+  if (c.modbus.channel_names.empty())
+    throw InputError(c.source, 0, "machine.channels", "the temperature channel names are needed");
+
+  linuxcnc::HalComponent hal(o.name);
+  linuxcnc::HalCncLink link(hal, AxisInterfaces(c));
+  std::unique_ptr<hw::TemperatureSource> raw;
+  station::ModbusClients modbus;
+  if (o.temperatures == "hal") {
+    raw = std::make_unique<linuxcnc::HalTemperatureSource>(hal, c.modbus.channel_names);
+  } else {
+    modbus = station::MakeModbusClients(c.modbus, c.source);
+    std::string why;
+    if (!modbus.temperatures->Configure(&why)) throw InputError(c.source, 0, "machine", why);
+    if (!modbus.temperatures->Activate(&why))
+      fmt::print(stderr, "warning: RTD modules at {}:{} not reachable yet ({}); the loop keeps trying\n", c.modbus.host,
+                 c.modbus.port, why);
+  }
+  hw::TemperatureSource* source = raw ? raw.get() : modbus.temperatures.get();
+  std::unique_ptr<signal::MonitoredTemperatureSource> monitored;
+  if (c.signal_processing) {  // the one temperature pipeline, as in `trueaxis run`
+    const auto t0 = std::chrono::steady_clock::now();
+    monitored = std::make_unique<signal::MonitoredTemperatureSource>(
+        *source, station::MonitorOptionsFor(c.compensator.sensor),
+        [t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); });
+    if (!c.calibration_file.empty())
+      for (const auto& n : monitored->monitor().SetCalibration(signal::ReadCalibrationFile(c.calibration_file)))
+        fmt::print(stderr, "warning: calibration for '{}' matches no channel\n", n);
+    source = monitored.get();
+  }
+  std::vector<std::string> axis_names;
+  for (std::size_t i = 0; i < link.AxisCount(); ++i) axis_names.push_back(link.AxisName(i));
+  linuxcnc::StatusPins status(hal, axis_names);
+
+  auto comp = runtime::Compensator::ForHardware(c.compensator, link, *source, c.axes);
+  comp->PublishModel(std::make_shared<const model::CompositeModel>(model::ReadModelFile(c.model_file)), c.model_file);
+  runtime::LoopRunner runner(*comp, link, *source, runtime::LoopOptions{c.period_s, c.temperature_period_s}, &status);
+
+  g_stop = false;
+  std::signal(SIGINT, OnStopSignal);
+  std::signal(SIGTERM, OnStopSignal);
+  hal.Ready();  // every pin exists: `loadusr -W` returns, the HAL file nets them
+  // The loop starts at the first C.enable with C.machine-on (the machine is on and its pins
+  // carry values), so it never conditions the zeros of pins not yet driven.
+  while (!g_stop.load() && !link.CncEnable()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  if (g_stop.load()) return 0;  // stopped before the first enable
+  runner.Start();
+  fmt::print(stderr, "trueaxis-hal: component {} | {} axes | temperatures {} | model {} | cycle {} ms\n", o.name,
+             axis_names.size(), o.temperatures == "hal" ? "from HAL pins" : fmt::format("MODBUS {}:{}", c.modbus.host, c.modbus.port),
+             c.model_file, c.period_s * 1000);
+  std::uint32_t last_alarms = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  while (!g_stop.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    const std::uint32_t alarms = comp->LastStatus().alarms;  // a racy read for the log line only
+    if (alarms != last_alarms)
+      fmt::print(stderr, "[{:.1f} s] alarms: {}\n", elapsed(), alarms ? runtime::AlarmNames(alarms) : "cleared");
+    last_alarms = alarms;
+    comp->CollectRetired();
+    if (c.duration_s > 0 && elapsed() >= c.duration_s) break;
+  }
+  // Stop: ramp the correction out through the limiter (never a jump), then leave HAL.
+  comp->SetEnabled(false);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(o.ramp_out_s);
+  while (std::chrono::steady_clock::now() < deadline) {
+    bool zero = true;
+    for (const auto& a : comp->LastStatus().axes) zero = zero && a.written_um == 0;
+    if (zero) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  runner.Stop();
+  link.ReleaseOffsets();
+  fmt::print(stderr, "trueaxis-hal: stopped ({})\n", runner.Stats().BriefReport());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"trueaxis-hal: the trueaxis compensator as a LinuxCNC userspace HAL component (docs/linuxcnc.md)"};
+  app.add_option("--config", o.config, "Run configuration (TOML, docs/runtime.md; [machine] kind = \"modbus\")")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--name", o.name, "HAL component name (pin prefix)")->capture_default_str();
+  app.add_option("--temperatures", o.temperatures, "modbus: the RTD modules of [machine]; hal: pins NAME.temp.<channel>")
+      ->check(CLI::IsMember({"modbus", "hal"}))
+      ->capture_default_str();
+  app.add_option("--ramp-out-s", o.ramp_out_s, "At stop, wait at most this long for the correction to ramp to zero")
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  try {
+    return Run(o);
+  } catch (const InputError& e) {
+    fmt::print(stderr, "trueaxis-hal: {}\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "trueaxis-hal: {}\n", e.what());
+    return 1;
+  }
+}
