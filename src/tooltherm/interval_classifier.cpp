@@ -54,6 +54,33 @@ ToolClassifierOptions ClassifierOptionsFor(const SeriesStatistics& s, double win
   return o;
 }
 
+double SlopePercentileCPerH(const std::vector<double>& t, const std::vector<double>& tv, const std::vector<bool>& restart,
+                            double window_s, double p) {
+  thermal::IntervalTracker tracker({window_s, 0});
+  std::vector<double> slopes;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (restart[i]) tracker.Reset();
+    if (tracker.Push(t[i], tv[i]) != ThermalInterval::kStartUp) slopes.push_back(std::abs(tracker.TrendCPerH()));
+  }
+  if (slopes.empty()) return 0;
+  const auto k = static_cast<std::size_t>(p * static_cast<double>(slopes.size() - 1));
+  std::nth_element(slopes.begin(), slopes.begin() + static_cast<long>(k), slopes.end());
+  return slopes[k];
+}
+
+ToolClassifierOptions ChooseClassifierOptions(const std::vector<double>& t, const std::vector<double>& tv,
+                                              const std::vector<bool>& restart) {
+  const SeriesStatistics s = SeriesStatisticsOf(t, tv);
+  ToolClassifierOptions o;
+  for (double steps = 5; steps <= 320; steps *= 2) {
+    o = ClassifierOptionsFor(s, steps, 0);
+    const double p90 = SlopePercentileCPerH(t, tv, restart, o.window_s);
+    o.dead_band_c_per_h = std::max(o.dead_band_c_per_h, 0.1 * p90);
+    if (3 * NoiseSlopeCPerH(s, o.window_s) <= 0.25 * p90) break;
+  }
+  return o;
+}
+
 DwellIntervalClassifier::DwellIntervalClassifier(ToolClassifierOptions options)
     : options_(options), tracker_({options.window_s, options.dead_band_c_per_h}) {
   std::string why;

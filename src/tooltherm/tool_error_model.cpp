@@ -58,13 +58,6 @@ double Rms(const std::vector<double>& a, const std::vector<ToolRecord>& rows) {
   return std::sqrt(s / static_cast<double>(a.size()));
 }
 
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  const auto k = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
-  return v[k];
-}
-
 // Fits the interval sub-models for one classifier setting; returns their training RMS.
 double FitIntervals(ToolErrorModel& m, const std::vector<ToolRecord>& rows, const std::vector<double>& t,
                     const std::vector<double>& tv, const std::vector<bool>& restart) {
@@ -197,15 +190,8 @@ ToolErrorModel FitToolErrorModel(int tool, const std::vector<ToolRecord>& rows, 
   // Intervals: the classifier's window (in sample steps) and dead band floor from the data.
   double best_int = INFINITY;
   ToolErrorModel best = m;
-  for (double steps : {5.0, 10.0, 20.0, 40.0}) {
-    const ToolClassifierOptions base = ClassifierOptionsFor(m.training, steps, 0);
-    thermal::IntervalTracker tracker({base.window_s, 0});
-    std::vector<double> slopes;
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      if (restart[i]) tracker.Reset();
-      if (tracker.Push(t[i], tv[i]) != ThermalInterval::kStartUp) slopes.push_back(std::abs(tracker.TrendCPerH()));
-    }
-    const double p90 = Percentile(slopes, 0.9);
+  for (double steps : {5.0, 10.0, 20.0, 40.0, 80.0, 160.0}) {
+    const double p90 = SlopePercentileCPerH(t, tv, restart, ClassifierOptionsFor(m.training, steps, 0).window_s);
     for (double f : {0.05, 0.1, 0.2, 0.4}) {
       ToolErrorModel trial = m;
       trial.classifier = ClassifierOptionsFor(m.training, steps, f * p90);

@@ -69,7 +69,7 @@ TEST(ZoneTemperature, BadZoneFilesNameLineAndField) {
   ExpectInputError("[[zone]]\nrow_from = 0\nrow_to = 1\ncol_from = 0\ncol_to = 2\n", 1, "zone[0].area_mm2");
   ExpectInputError("[[zone]]\nrow_from = 5\nrow_to = 1\ncol_from = 0\ncol_to = 2\narea_mm2 = 1\n", 3, "zone[0].row_to");
   ExpectInputError("[[zone]]\nrow_from = 0\nrow_to = 1\ncol_from = 0\ncol_to = 2\narea_mm2 = -4\n", 6, "zone[0].area_mm2");
-  ExpectInputError("[[zone]]\nrow_from = 0\nrow_to = 1\ncol_from = 0\ncol_to = 2\narea_mm2 = 1\ncolour = 3\n", 1,
+  ExpectInputError("[[zone]]\nrow_from = 0\nrow_to = 1\ncol_from = 0\ncol_to = 2\narea_mm2 = 1\ncolour = 3\n", 7,
                    "zone[0].colour");
   ExpectInputError("[[zone]]\nrow_from = 0\nrow_to = 1\ncol_from = 0\narea_mm2 = 1\n", 1, "zone[0].col_to");
   ExpectInputError("[[zone]]\nrow_from = 0\nrow_to = 1\ncol_from = 0\ncol_to = 2\narea_mm2 = 1 2\n", 6, "");

@@ -45,6 +45,16 @@ double NoiseSlopeCPerH(const SeriesStatistics& s, double window_s);
 // dwell = max(window / 2, 2 sample steps).
 ToolClassifierOptions ClassifierOptionsFor(const SeriesStatistics& s, double window_steps, double min_dead_band_c_per_h);
 
+// The whole choice from a recorded course (restart marks each mounting): the shortest window of
+// 5·2^k sample steps (k = 0…6) over which the noise slope (3σ) stays under a quarter of the
+// 90th percentile of |slope| (the course's own heating/cooling rate); dead band =
+// max(3σ noise slope, 0.1 · that percentile).
+ToolClassifierOptions ChooseClassifierOptions(const std::vector<double>& time_s, const std::vector<double>& tv_c,
+                                              const std::vector<bool>& restart);
+// 90th percentile of |trailing-window slope| (°C/h) of a course.
+double SlopePercentileCPerH(const std::vector<double>& time_s, const std::vector<double>& tv_c,
+                            const std::vector<bool>& restart, double window_s, double p = 0.9);
+
 class DwellIntervalClassifier {
  public:
   explicit DwellIntervalClassifier(ToolClassifierOptions options);
