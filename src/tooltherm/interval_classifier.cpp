@@ -82,7 +82,7 @@ ToolClassifierOptions ChooseClassifierOptions(const std::vector<double>& t, cons
 }
 
 DwellIntervalClassifier::DwellIntervalClassifier(ToolClassifierOptions options)
-    : options_(options), tracker_({options.window_s, options.dead_band_c_per_h}) {
+    : options_(options), tracker_({options.window_s, options.dead_band_c_per_h}), window_s_(options.window_s), dwell_s_(options.dwell_s) {
   std::string why;
   if (!options_.IsValid(&why)) throw std::invalid_argument("interval classifier: " + why);
 }
@@ -91,9 +91,18 @@ void DwellIntervalClassifier::Reset() {
   tracker_.Reset();
   current_ = candidate_ = ThermalInterval::kStartUp;
   candidate_since_s_ = 0;
+  has_last_ = false;
 }
 
 ThermalInterval DwellIntervalClassifier::Push(double time_s, double tv_c) {
+  if (has_last_ && time_s > last_time_s_ && 5 * (time_s - last_time_s_) > window_s_) {
+    window_s_ = 5 * (time_s - last_time_s_);  // coarser samples than the options were made for
+    dwell_s_ = std::max(options_.dwell_s, 0.5 * window_s_);
+    tracker_ = thermal::IntervalTracker({window_s_, options_.dead_band_c_per_h});
+    current_ = candidate_ = ThermalInterval::kStartUp;
+  }
+  has_last_ = true;
+  last_time_s_ = time_s;
   const ThermalInterval raw = tracker_.Push(time_s, tv_c);
   if (raw == ThermalInterval::kStartUp) {  // (re)start: no trend yet
     current_ = candidate_ = raw;
@@ -109,7 +118,7 @@ ThermalInterval DwellIntervalClassifier::Push(double time_s, double tv_c) {
     candidate_ = raw;
     candidate_since_s_ = time_s;
   }
-  if (candidate_ != current_ && time_s - candidate_since_s_ >= options_.dwell_s) current_ = candidate_;
+  if (candidate_ != current_ && time_s - candidate_since_s_ >= dwell_s_) current_ = candidate_;
   return current_;
 }
 

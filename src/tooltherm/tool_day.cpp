@@ -12,6 +12,8 @@
 namespace trueaxis::tooltherm {
 namespace {
 
+constexpr double kToolChangeS = 8.0;
+
 double CuttingSpeedMPerMin(const std::string& material, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(0, 1);
   if (material == "hss") return 25 + 35 * u(rng);
@@ -38,6 +40,9 @@ std::vector<ToolOperation> DrawToolDayProgram(const ToolTable& table, double hou
     if (table.tools.size() > 1 && static_cast<int>(k) == last) k = (k + 1) % table.tools.size();
     last = static_cast<int>(k);
     const ToolDescription& tool = table.tools[k];
+    // The change itself: spindle stopped, the new tool in it (the offset ramps meanwhile).
+    ops.push_back({t, std::min(end_s, t + kToolChangeS), tool.number, 0, 0, false, 60, 15});
+    t += kToolChangeS;
     ToolOperation op;
     op.tool = tool.number;
     op.start_s = t;
@@ -124,6 +129,7 @@ ToolDayRecording RunToolDay(const ToolTable& table, const ToolDayOptions& o) {
       s.time_s = t;
       s.tool = op.tool;
       s.tv_c = WeightedMeanTemperatureC(tr, ZoneAreas(zones.at(op.tool)));
+      s.zone_c = tr;
       s.true_error_um = vt.TipErrorUm();
       s.restart = op.tool != mounted_before;
       s.rpm = spindle.Rpm();
@@ -156,7 +162,7 @@ std::vector<ToolRecord> ToolRecordsOf(const ToolDayRecording& day, int tool) {
   bool was_mounted = false;
   for (const auto& s : day.samples) {
     const bool mounted = s.tool == tool;
-    if (mounted) rows.push_back({s.time_s, s.tv_c, s.true_error_um, !was_mounted || s.restart});
+    if (mounted) rows.push_back({s.time_s, s.tv_c, s.true_error_um, !was_mounted || s.restart, s.zone_c});
     was_mounted = mounted;
   }
   return rows;

@@ -59,9 +59,13 @@ double Rms(const std::vector<double>& a, const std::vector<ToolRecord>& rows) {
 }
 
 // Fits the interval sub-models for one classifier setting; returns their training RMS.
+// An interval whose Tv span is under half the whole course's span cannot fix a slope of its
+// own: it keeps the one model's slope and fits its intercept only (no wild extrapolation).
 double FitIntervals(ToolErrorModel& m, const std::vector<ToolRecord>& rows, const std::vector<double>& t,
                     const std::vector<double>& tv, const std::vector<bool>& restart) {
   const auto cls = ClassifySeries(t, tv, restart, m.classifier);
+  const auto [lo, hi] = std::minmax_element(tv.begin(), tv.end());
+  const double span_all = *hi - *lo;
   for (int k = 0; k < 3; ++k) {
     std::vector<double> x, y;
     for (std::size_t i = 0; i < rows.size(); ++i)
@@ -71,7 +75,16 @@ double FitIntervals(ToolErrorModel& m, const std::vector<ToolRecord>& rows, cons
       }
     m.interval_rows[k] = static_cast<int>(x.size());
     m.interval_fitted[k] = x.size() >= kMinIntervalRows;
-    m.interval[k] = m.interval_fitted[k] ? FitLine(x, y, m.standard_temp_c, nullptr) : m.one;
+    m.interval[k] = m.one;
+    if (!m.interval_fitted[k]) continue;
+    const auto [xl, xh] = std::minmax_element(x.begin(), x.end());
+    if (*xh - *xl >= 0.5 * span_all) {
+      m.interval[k] = FitLine(x, y, m.standard_temp_c, nullptr);
+    } else {
+      double mean = 0;
+      for (std::size_t i = 0; i < x.size(); ++i) mean += y[i] - m.one.per_c_um * (x[i] - m.standard_temp_c);
+      m.interval[k].intercept_um = mean / static_cast<double>(x.size());
+    }
   }
   return Rms(PredictSeries(m, ToolModelKind::kIntervals, rows), rows);
 }
@@ -85,6 +98,8 @@ const char* ToolModelKindName(ToolModelKind k) {
     case ToolModelKind::kIntervals: return "intervals";
     case ToolModelKind::kLag: return "lag";
     case ToolModelKind::kTwoBody: return "two_body";
+    case ToolModelKind::kZones: return "zones";
+    case ToolModelKind::kBest: return "best";
   }
   return "?";
 }
@@ -92,13 +107,13 @@ const char* ToolModelKindName(ToolModelKind k) {
 ToolModelKind ParseToolModelKind(const std::string& name) {
   for (ToolModelKind k : kToolModelKinds)
     if (name == ToolModelKindName(k)) return k;
-  throw std::invalid_argument("unknown model '" + name + "' (none, one, intervals, lag, two_body)");
+  throw std::invalid_argument("unknown model '" + name + "' (none, one, intervals, lag, two_body, zones, best)");
 }
 
 ToolErrorPredictor::ToolErrorPredictor(const ToolErrorModel& model, ToolModelKind kind)
-    : m_(&model), kind_(kind), classifier_(model.classifier) {}
+    : m_(&model), kind_(kind == ToolModelKind::kBest ? model.best : kind), classifier_(model.classifier) {}
 
-double ToolErrorPredictor::Push(double time_s, double tv_c, bool restart) {
+double ToolErrorPredictor::Push(double time_s, double tv_c, bool restart, std::span<const double> zone_c) {
   const ToolErrorModel& m = *m_;
   if (restart) {
     classifier_.Reset();
@@ -120,6 +135,14 @@ double ToolErrorPredictor::Push(double time_s, double tv_c, bool restart) {
       return l.intercept_um + l.per_c_um * d;
     }
     case ToolModelKind::kLag: return m.lag.intercept_um + m.lag.per_c_um * (lag_c_ - m.standard_temp_c);
+    case ToolModelKind::kZones:
+      if (!m.zone_um_per_c.empty() && zone_c.size() == m.zone_um_per_c.size()) {
+        double e = m.zone_intercept_um;
+        for (std::size_t r = 0; r < zone_c.size(); ++r) e += m.zone_um_per_c[r] * (zone_c[r] - m.standard_temp_c);
+        return e;
+      }
+      return m.one.intercept_um + m.one.per_c_um * d;
+    case ToolModelKind::kBest:  // resolved in the constructor
     case ToolModelKind::kTwoBody:
       return m.two_body_intercept_um + m.two_body_tv_um_per_c * d +
              m.two_body_lag_um_per_c * (two_body_lag_c_ - m.standard_temp_c);
@@ -131,12 +154,14 @@ std::vector<double> PredictSeries(const ToolErrorModel& model, ToolModelKind kin
   ToolErrorPredictor p(model, kind);
   std::vector<double> out;
   out.reserve(rows.size());
-  for (std::size_t i = 0; i < rows.size(); ++i) out.push_back(p.Push(rows[i].time_s, rows[i].tv_c, rows[i].restart || i == 0));
+  for (std::size_t i = 0; i < rows.size(); ++i) out.push_back(p.Push(rows[i].time_s, rows[i].tv_c, rows[i].restart || i == 0, rows[i].zone_c));
   return out;
 }
 
-ToolErrorModel FitToolErrorModel(int tool, const std::vector<ToolRecord>& rows, double t_std,
-                                 std::vector<std::string>* warnings) {
+namespace {
+
+ToolErrorModel FitStructures(int tool, const std::vector<ToolRecord>& rows, double t_std,
+                             std::vector<std::string>* warnings) {
   if (rows.size() < 20) throw std::invalid_argument(fmt::format("tool {}: {} rows, a fit needs ≥ 20", tool, rows.size()));
   if (!rows.front().restart) throw std::invalid_argument("the first row must start a mounting (restart)");
   for (std::size_t i = 1; i < rows.size(); ++i)
@@ -187,6 +212,24 @@ ToolErrorModel FitToolErrorModel(int tool, const std::vector<ToolRecord>& rows, 
     }
   }
 
+  // Zones: ridge least squares on the zone means, when every row has them.
+  const std::size_t nz = rows.front().zone_c.size();
+  const bool zones = nz > 0 && rows.size() >= 5 * (nz + 1) &&
+                     std::all_of(rows.begin(), rows.end(), [&](const ToolRecord& r) { return r.zone_c.size() == nz; });
+  if (zones) {
+    Eigen::MatrixXd x(n, static_cast<Eigen::Index>(nz + 1));
+    for (Eigen::Index i = 0; i < n; ++i) {
+      x(i, 0) = 1;
+      for (std::size_t r = 0; r < nz; ++r) x(i, static_cast<Eigen::Index>(r + 1)) = rows[static_cast<std::size_t>(i)].zone_c[r] - t_std;
+    }
+    Eigen::MatrixXd xtx = x.transpose() * x;
+    const double lambda = 1e-4 * xtx.diagonal().tail(static_cast<Eigen::Index>(nz)).mean();
+    for (std::size_t r = 0; r < nz; ++r) xtx(static_cast<Eigen::Index>(r + 1), static_cast<Eigen::Index>(r + 1)) += lambda;
+    const Eigen::VectorXd b = xtx.ldlt().solve(x.transpose() * y);
+    m.zone_intercept_um = b(0);
+    m.zone_um_per_c.assign(b.data() + 1, b.data() + b.size());
+  }
+
   // Intervals: the classifier's window (in sample steps) and dead band floor from the data.
   double best_int = INFINITY;
   ToolErrorModel best = m;
@@ -212,6 +255,43 @@ ToolErrorModel FitToolErrorModel(int tool, const std::vector<ToolRecord>& rows, 
   return m;
 }
 
+// Two-fold blocked cross-validation: split at the mounting nearest the middle (or the middle).
+void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows) {
+  std::size_t cut = rows.size() / 2, best_d = rows.size();
+  for (std::size_t i = 1; i < rows.size(); ++i)
+    if (rows[i].restart) {
+      const std::size_t d = i > rows.size() / 2 ? i - rows.size() / 2 : rows.size() / 2 - i;
+      if (d < best_d && i >= 20 && rows.size() - i >= 20) best_d = d, cut = i;
+    }
+  std::vector<ToolRecord> a(rows.begin(), rows.begin() + static_cast<long>(cut));
+  std::vector<ToolRecord> b(rows.begin() + static_cast<long>(cut), rows.end());
+  b.front().restart = true;
+  if (a.size() < 20 || b.size() < 20) return;  // too short to tell: the one model
+  const ToolErrorModel ma = FitStructures(m.tool, a, m.standard_temp_c, nullptr);
+  const ToolErrorModel mb = FitStructures(m.tool, b, m.standard_temp_c, nullptr);
+  double lowest = INFINITY;
+  for (ToolModelKind k : {ToolModelKind::kOne, ToolModelKind::kIntervals, ToolModelKind::kLag, ToolModelKind::kTwoBody,
+                          ToolModelKind::kZones}) {
+    if (k == ToolModelKind::kZones && (ma.zone_um_per_c.empty() || mb.zone_um_per_c.empty())) continue;
+    const auto pb = PredictSeries(ma, k, b), pa = PredictSeries(mb, k, a);
+    double sse = 0;
+    for (std::size_t i = 0; i < b.size(); ++i) sse += std::pow(pb[i] - b[i].error_um, 2);
+    for (std::size_t i = 0; i < a.size(); ++i) sse += std::pow(pa[i] - a[i].error_um, 2);
+    const double rms = std::sqrt(sse / static_cast<double>(rows.size()));
+    m.cv_rms_um[static_cast<std::size_t>(k)] = rms;
+    if (rms < lowest) lowest = rms, m.best = k;
+  }
+}
+
+}  // namespace
+
+ToolErrorModel FitToolErrorModel(int tool, const std::vector<ToolRecord>& rows, double t_std,
+                                 std::vector<std::string>* warnings) {
+  ToolErrorModel m = FitStructures(tool, rows, t_std, warnings);
+  ChooseBest(m, rows);
+  return m;
+}
+
 nlohmann::json ToolErrorModel::ToJson() const {
   auto term = [](const LinearTerm& l) { return nlohmann::json{{"intercept_um", l.intercept_um}, {"per_c_um", l.per_c_um}}; };
   nlohmann::json iv = nlohmann::json::array();
@@ -234,6 +314,11 @@ nlohmann::json ToolErrorModel::ToJson() const {
             {"intercept_um", two_body_intercept_um},
             {"tv_um_per_c", two_body_tv_um_per_c},
             {"lag_um_per_c", two_body_lag_um_per_c}}},
+          {"best", ToolModelKindName(best)},
+          {"cv_rms_um",
+           {{"one", cv_rms_um[1]}, {"intervals", cv_rms_um[2]}, {"lag", cv_rms_um[3]}, {"two_body", cv_rms_um[4]},
+            {"zones", cv_rms_um[5]}}},
+          {"zones", {{"intercept_um", zone_intercept_um}, {"um_per_c", zone_um_per_c}}},
           {"training", {{"rows", training_rows}, {"sample_s", training.sample_s}, {"noise_c", training.noise_c}}}};
 }
 
@@ -279,6 +364,25 @@ ToolErrorModel ToolErrorModel::FromJson(const nlohmann::json& j, const std::stri
   m.two_body_tv_um_per_c = num(tb, "tv_um_per_c");
   m.two_body_lag_um_per_c = num(tb, "lag_um_per_c");
   if (!(m.lag_tau_s > 0 && m.two_body_tau_s > 0)) throw InputError(source, 0, "tau_s", "must be > 0");
+  if (j.contains("zones")) {
+    at = "zones.";
+    const auto& z = obj(j, "zones");
+    m.zone_intercept_um = num(z, "intercept_um");
+    if (!z.contains("um_per_c") || !z.at("um_per_c").is_array()) throw InputError(source, 0, "zones.um_per_c", "missing array");
+    for (const auto& v : z.at("um_per_c")) {
+      if (!v.is_number()) throw InputError(source, 0, "zones.um_per_c", "must hold numbers");
+      m.zone_um_per_c.push_back(v.get<double>());
+    }
+  }
+  if (j.contains("best")) {
+    if (!j.at("best").is_string()) throw InputError(source, 0, "best", "must be a model name");
+    try {
+      m.best = ParseToolModelKind(j.at("best").get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw InputError(source, 0, "best", e.what());
+    }
+    if (m.best == ToolModelKind::kBest || m.best == ToolModelKind::kNone) throw InputError(source, 0, "best", "must name a fitted model");
+  }
   if (j.contains("training") && j.at("training").is_object()) {
     m.training_rows = j.at("training").value("rows", 0);
     m.training.sample_s = j.at("training").value("sample_s", 0.0);

@@ -26,7 +26,7 @@ std::vector<double> CompensatedResidualUm(const std::map<int, ToolErrorModel>& m
   ToolOffsetCompensator comp(models, kind, options);
   std::vector<double> out;
   out.reserve(test.samples.size());
-  for (const auto& s : test.samples) out.push_back(s.true_error_um + comp.Cycle(s.time_s, s.tool, s.tv_c).applied_correction_um);
+  for (const auto& s : test.samples) out.push_back(s.true_error_um + comp.Cycle(s.time_s, s.tool, s.tv_c, s.zone_c).applied_correction_um);
   return out;
 }
 

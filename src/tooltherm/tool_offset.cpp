@@ -18,7 +18,7 @@ ToolOffsetCompensator::ToolOffsetCompensator(std::map<int, ToolErrorModel> model
   for (const auto& [number, model] : models_) predictors_.emplace(number, ToolErrorPredictor(models_.at(number), kind_));
 }
 
-ToolOffsetCycle ToolOffsetCompensator::Cycle(double time_s, int tool, double tv_c) {
+ToolOffsetCycle ToolOffsetCompensator::Cycle(double time_s, int tool, double tv_c, std::span<const double> zone_c) {
   ToolOffsetCycle c;
   c.tool = tool;
   const bool restart = tool != mounted_;
@@ -27,7 +27,7 @@ ToolOffsetCycle ToolOffsetCompensator::Cycle(double time_s, int tool, double tv_
   if (it == predictors_.end()) {
     c.unmodelled = true;
   } else {
-    c.predicted_error_um = it->second.Push(time_s, tv_c, restart);
+    c.predicted_error_um = it->second.Push(time_s, tv_c, restart, zone_c);
     c.interval = it->second.interval();
   }
   c.desired_correction_um = -c.predicted_error_um;

@@ -62,10 +62,15 @@ class DwellIntervalClassifier {
   void Reset();  // a tool change: the new tool's course starts anew
   double TrendCPerH() const { return tracker_.TrendCPerH(); }
   ThermalInterval current() const { return current_; }
+  // The window actually used: widened to 5 sample steps when the samples come more
+  // coarsely than the options were chosen for (else the trend could never be measured).
+  double window_s() const { return window_s_; }
 
  private:
   ToolClassifierOptions options_;
   thermal::IntervalTracker tracker_;
+  double window_s_ = 0, dwell_s_ = 0, last_time_s_ = 0;
+  bool has_last_ = false;
   ThermalInterval current_ = ThermalInterval::kStartUp;
   ThermalInterval candidate_ = ThermalInterval::kStartUp;
   double candidate_since_s_ = 0;

@@ -40,7 +40,7 @@ struct ToolDayOptions {
   sim::SpindleDescription spindle;
 };
 
-// Operations of a day: tools in random order, speed from a cutting speed for the tool's
+// Operations of a day: tools in random order (each change an 8 s stop), speed from a cutting speed for the tool's
 // material and diameter, power ∝ diameter, coolant half the time, stops of 3–40 min.
 std::vector<ToolOperation> DrawToolDayProgram(const ToolTable& table, double hours, std::uint64_t seed);
 
@@ -55,6 +55,7 @@ struct ToolDaySample {
   bool restart = false;  // first sample of this mounting
   double rpm = 0;
   bool cutting = false, coolant = false;
+  std::vector<double> zone_c;  // Tr per zone of the mounted tool
 };
 
 struct ToolDayRecording {

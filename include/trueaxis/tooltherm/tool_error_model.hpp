@@ -5,16 +5,25 @@
 //
 //   one        e = a + b·(Tv − T_std)                       one curve for all intervals
 //   intervals  e = a_k + b_k·(Tv − T_std), k = WT1/WT2/WT3   seed 001: a sub-model per interval
-//              (start-up and an interval with too few training rows: the one model)
+//              (start-up and an interval with too few training rows: the one model;
+//              an interval spanning under half the training Tv range: the one model's
+//              slope b with its own intercept a_k)
 //   lag        e = a + b·(L − T_std), dL/dt = (Tv − L)/τ     a first-order lag of Tv
 //   two_body   e = a + b·(Tv − T_std) + c·(L − T_std)        ours: the surface (fast) and
 //              a lagged body (slow); the hysteresis of two bodies is exactly this shape
+//   zones      e = a + Σ b_r·(Tr − T_std)                   ours: the zone means themselves
+//              (Tv's area weights are not the growth's: a hot tip on a thin tool weighs
+//              little in Tv but grows a lot; needs the zone means, ridge λ = 1e-4·mean diag)
+//   best       per tool, the one of {one, intervals, lag, two_body, zones} with the lowest error in a
+//              two-fold blocked cross-validation of the training data (each half of the
+//              mountings fitted on the other): structure chosen by data the model did not see
 //
 // L restarts at Tv when a tool is mounted. τ is chosen by least squares over a
 // geometric grid (5 s … 2 h); the classifier's window and dead band from the
 // data (interval_classifier.hpp) by the training fit of the interval model.
 // Pure: rows in, model out; JSON to store it with the tool.
 #include <array>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -24,10 +33,10 @@
 
 namespace trueaxis::tooltherm {
 
-enum class ToolModelKind { kNone = 0, kOne, kIntervals, kLag, kTwoBody };
-inline constexpr std::array<ToolModelKind, 5> kToolModelKinds = {ToolModelKind::kNone, ToolModelKind::kOne,
-                                                                 ToolModelKind::kIntervals, ToolModelKind::kLag,
-                                                                 ToolModelKind::kTwoBody};
+enum class ToolModelKind { kNone = 0, kOne, kIntervals, kLag, kTwoBody, kZones, kBest };
+inline constexpr std::array<ToolModelKind, 7> kToolModelKinds = {
+    ToolModelKind::kNone,    ToolModelKind::kOne,   ToolModelKind::kIntervals, ToolModelKind::kLag,
+    ToolModelKind::kTwoBody, ToolModelKind::kZones, ToolModelKind::kBest};
 const char* ToolModelKindName(ToolModelKind k);
 ToolModelKind ParseToolModelKind(const std::string& name);  // std::invalid_argument when unknown
 
@@ -36,6 +45,7 @@ struct ToolRecord {
   double tv_c = 0;
   double error_um = 0;   // true tip error (training) — ignored by prediction
   bool restart = false;  // first sample after the tool was mounted
+  std::vector<double> zone_c;  // Tr per zone (optional; the zones model needs it)
 };
 
 struct LinearTerm {
@@ -55,6 +65,10 @@ struct ToolErrorModel {
   LinearTerm lag;
   double two_body_tau_s = 600;
   double two_body_intercept_um = 0, two_body_tv_um_per_c = 0, two_body_lag_um_per_c = 0;
+  double zone_intercept_um = 0;
+  std::vector<double> zone_um_per_c;          // empty: no zones model (no zone means in training)
+  ToolModelKind best = ToolModelKind::kOne;  // chosen by cross-validation
+  std::array<double, kToolModelKinds.size()> cv_rms_um{};          // by ToolModelKind (0 where not evaluated)
   SeriesStatistics training;  // sample interval and Tv noise of the training data
   int training_rows = 0;
 
@@ -66,8 +80,9 @@ struct ToolErrorModel {
 class ToolErrorPredictor {
  public:
   ToolErrorPredictor(const ToolErrorModel& model, ToolModelKind kind);
-  // restart: the tool was just mounted (classifier and lag start anew).
-  double Push(double time_s, double tv_c, bool restart);
+  // restart: the tool was just mounted (classifier and lag start anew). zone_c: Tr per zone;
+  // the zones model without them (or of another count) predicts with the one model.
+  double Push(double time_s, double tv_c, bool restart, std::span<const double> zone_c = {});
   ThermalInterval interval() const { return interval_; }
 
  private:

@@ -14,6 +14,7 @@
 // g µm has error −g at the tip and needs its length offset lengthened by g:
 // offset length = nominal length + correction.
 #include <map>
+#include <span>
 #include <string>
 
 #include "trueaxis/runtime/output_shaper.hpp"
@@ -44,7 +45,7 @@ class ToolOffsetCompensator {
   ToolOffsetCompensator(std::map<int, ToolErrorModel> models, ToolModelKind kind, ToolOffsetOptions options = {});
   ToolOffsetCompensator(const ToolOffsetCompensator&) = delete;  // the predictors point into models_
   ToolOffsetCompensator& operator=(const ToolOffsetCompensator&) = delete;
-  ToolOffsetCycle Cycle(double time_s, int tool, double tv_c);
+  ToolOffsetCycle Cycle(double time_s, int tool, double tv_c, std::span<const double> zone_c = {});
 
  private:
   std::map<int, ToolErrorModel> models_;
