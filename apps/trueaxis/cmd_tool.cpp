@@ -31,6 +31,7 @@ struct DayArgs {
   double hours = 8;
   double sample_s = 2;
   std::string sensor = "camera";
+  std::string program = "mixed";
   std::string out;
 };
 
@@ -52,6 +53,9 @@ ToolDayOptions DayOptions(const DayArgs& a, std::uint64_t seed) {
   if (a.sensor == "camera") o.sensor = TvSensor::kCamera;
   else if (a.sensor == "pyrometer") o.sensor = TvSensor::kPyrometer;
   else throw InputError("command line", 0, "--sensor", "must be camera or pyrometer");
+  if (a.program == "mixed") o.program = ToolDayProgramKind::kMixed;
+  else if (a.program == "blocks") o.program = ToolDayProgramKind::kBlocks;
+  else throw InputError("command line", 0, "--program", "must be mixed or blocks");
   return o;
 }
 
@@ -99,9 +103,9 @@ void RunDay(const DayArgs& a) {
   const ToolEvaluation ev = EvaluateToolModels(table, training, test);
   for (const auto& w : ev.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const std::string md = fmt::format(
-      "Tool thermal day: trained on day seed {}, tested on day seed {} ({} h, Tv every {} s from the {}), "
+      "Tool thermal day ({} program): trained on day seed {}, tested on day seed {} ({} h, Tv every {} s from the {}), "
       "residual tip error after the tool length offset (through the limiter):\n\n{}",
-      a.seed, a.seed + 1, a.hours, a.sample_s, a.sensor, ScoreTable(ev, table));
+      a.program, a.seed, a.seed + 1, a.hours, a.sample_s, a.sensor, ScoreTable(ev, table));
   std::fputs(md.c_str(), stdout);
   if (!a.out.empty()) {
     fs::create_directories(a.out);
@@ -241,6 +245,7 @@ void Setup(CLI::App& app) {
   d->add_option("--hours", day->hours, "length of each day")->capture_default_str();
   d->add_option("--sample-s", day->sample_s, "seconds between Tv readings")->capture_default_str();
   d->add_option("--sensor", day->sensor, "camera or pyrometer")->capture_default_str();
+  d->add_option("--program", day->program, "mixed (job shop) or blocks (long heating and cooling)")->capture_default_str();
   d->add_option("--out", day->out, "folder for tool_models.json, tool_day.md, tool_day_test.csv");
   d->callback([day] { RunDay(*day); });
 

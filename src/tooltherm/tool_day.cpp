@@ -22,7 +22,9 @@ double CuttingSpeedMPerMin(const std::string& material, std::mt19937_64& rng) {
 
 }  // namespace
 
-std::vector<ToolOperation> DrawToolDayProgram(const ToolTable& table, double hours, std::uint64_t seed) {
+std::vector<ToolOperation> DrawToolDayProgram(const ToolTable& table, double hours, std::uint64_t seed,
+                                              ToolDayProgramKind kind) {
+  const bool blocks = kind == ToolDayProgramKind::kBlocks;
   if (table.tools.empty()) throw std::invalid_argument("tool day: the tool table is empty");
   if (!(hours > 0 && hours <= 72)) throw std::invalid_argument("tool day: hours must be in (0, 72]");
   std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + 11);
@@ -46,18 +48,18 @@ std::vector<ToolOperation> DrawToolDayProgram(const ToolTable& table, double hou
     ToolOperation op;
     op.tool = tool.number;
     op.start_s = t;
-    op.end_s = std::min(end_s, t + 60 * (4 + 26 * u(rng)));
+    op.end_s = std::min(end_s, t + 60 * (blocks ? 40 + 50 * u(rng) : 4 + 26 * u(rng)));
     op.rpm = std::clamp(CuttingSpeedMPerMin(tool.material, rng) * 1000 / (std::numbers::pi * tool.diameter_mm), 500.0, 20000.0);
     op.power_w = (0.3 + 0.7 * u(rng)) * 150 * tool.diameter_mm;
     op.coolant = u(rng) < 0.5;
-    op.cut_s = 20 + 160 * u(rng);
+    op.cut_s = blocks ? 300 + 300 * u(rng) : 20 + 160 * u(rng);
     op.air_s = 5 + 35 * u(rng);
     ops.push_back(op);
     t = op.end_s;
-    if (t < end_s && u(rng) < 0.35) {  // a stop: the tool stays in the spindle and cools
+    if (t < end_s && (blocks || u(rng) < 0.35)) {  // a stop: the tool stays in the spindle and cools
       ToolOperation stop = op;
       stop.start_s = t;
-      stop.end_s = std::min(end_s, t + 60 * (3 + 37 * u(rng)));
+      stop.end_s = std::min(end_s, t + 60 * (blocks ? 30 + 60 * u(rng) : 3 + 37 * u(rng)));
       stop.rpm = 0;
       stop.power_w = 0;
       stop.coolant = false;
@@ -93,7 +95,7 @@ ToolDayRecording RunToolDay(const ToolTable& table, const ToolDayOptions& o) {
   if (!(o.sample_s > 0 && o.step_s > 0 && o.step_s <= o.sample_s))
     throw std::invalid_argument("tool day: need 0 < step_s ≤ sample_s");
   ToolDayRecording day;
-  day.program = DrawToolDayProgram(table, o.hours, o.seed);
+  day.program = DrawToolDayProgram(table, o.hours, o.seed, o.program);
   std::vector<sim::SpindleSpeedStep> steps;
   for (const auto& op : day.program) steps.push_back({op.start_s, op.rpm});
   sim::VirtualSpindle spindle(o.spindle, sim::SpindleSpeedProgram(steps), o.ambient_c);

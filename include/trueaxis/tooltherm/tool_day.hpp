@@ -18,6 +18,12 @@ namespace trueaxis::tooltherm {
 
 enum class TvSensor { kCamera, kPyrometer };
 
+// kMixed: a job shop — operations of 4–30 min (cut 20–180 s, air 5–40 s) and stops of 3–40 min.
+// kBlocks: long heating and cooling, the course seed 001 describes — each tool cuts for
+// 40–90 min (cuts of 5–10 min), then the spindle stops for 30–90 min with the tool in it.
+enum class ToolDayProgramKind { kMixed, kBlocks };
+
+
 struct ToolOperation {
   double start_s = 0, end_s = 0;
   int tool = 0;
@@ -32,6 +38,7 @@ struct ToolDayOptions {
   double sample_s = 2;
   double step_s = 0.5;  // simulation step (≤ sample_s)
   std::uint64_t seed = 1;
+  ToolDayProgramKind program = ToolDayProgramKind::kMixed;
   TvSensor sensor = TvSensor::kCamera;
   ThermalCameraOptions camera;
   double ambient_c = 20;
@@ -40,9 +47,11 @@ struct ToolDayOptions {
   sim::SpindleDescription spindle;
 };
 
+
 // Operations of a day: tools in random order (each change an 8 s stop), speed from a cutting speed for the tool's
 // material and diameter, power ∝ diameter, coolant half the time, stops of 3–40 min.
-std::vector<ToolOperation> DrawToolDayProgram(const ToolTable& table, double hours, std::uint64_t seed);
+std::vector<ToolOperation> DrawToolDayProgram(const ToolTable& table, double hours, std::uint64_t seed,
+                                              ToolDayProgramKind kind = ToolDayProgramKind::kMixed);
 
 // count random tools (lengths, diameters, materials, holders) not in any file.
 ToolTable RandomToolTable(int count, std::uint64_t seed);
