@@ -111,7 +111,7 @@ ToolModelKind ParseToolModelKind(const std::string& name) {
 }
 
 ToolErrorPredictor::ToolErrorPredictor(const ToolErrorModel& model, ToolModelKind kind)
-    : m_(&model), kind_(kind == ToolModelKind::kBest ? model.best : kind), classifier_(model.classifier) {}
+    : m_(&model), kind_(kind), classifier_(model.classifier) {}
 
 double ToolErrorPredictor::Push(double time_s, double tv_c, bool restart, std::span<const double> zone_c) {
   const ToolErrorModel& m = *m_;
@@ -126,7 +126,11 @@ double ToolErrorPredictor::Push(double time_s, double tv_c, bool restart, std::s
   last_t_ = time_s;
   interval_ = classifier_.Push(time_s, tv_c);
   const double d = tv_c - m.standard_temp_c;
-  switch (kind_) {
+  ToolModelKind kind = kind_;
+  if (kind == ToolModelKind::kBest)  // zones need this tool's zone means; else the Tv models' choice
+    kind = m.best == ToolModelKind::kZones && zone_c.size() == m.zone_um_per_c.size() ? ToolModelKind::kZones
+                                                                                        : m.best_without_zones;
+  switch (kind) {
     case ToolModelKind::kNone: return 0;
     case ToolModelKind::kOne: return m.one.intercept_um + m.one.per_c_um * d;
     case ToolModelKind::kIntervals: {
@@ -142,7 +146,7 @@ double ToolErrorPredictor::Push(double time_s, double tv_c, bool restart, std::s
         return e;
       }
       return m.one.intercept_um + m.one.per_c_um * d;
-    case ToolModelKind::kBest:  // resolved in the constructor
+    case ToolModelKind::kBest:  // resolved above
     case ToolModelKind::kTwoBody:
       return m.two_body_intercept_um + m.two_body_tv_um_per_c * d +
              m.two_body_lag_um_per_c * (two_body_lag_c_ - m.standard_temp_c);
@@ -255,31 +259,37 @@ ToolErrorModel FitStructures(int tool, const std::vector<ToolRecord>& rows, doub
   return m;
 }
 
-// Two-fold blocked cross-validation: split at the mounting nearest the middle (or the middle).
+// Blocked cross-validation: four contiguous blocks of the rows, each predicted by the models
+// fitted on the other three (a held-out block starts as a fresh mounting).
 void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows) {
-  std::size_t cut = rows.size() / 2, best_d = rows.size();
-  for (std::size_t i = 1; i < rows.size(); ++i)
-    if (rows[i].restart) {
-      const std::size_t d = i > rows.size() / 2 ? i - rows.size() / 2 : rows.size() / 2 - i;
-      if (d < best_d && i >= 20 && rows.size() - i >= 20) best_d = d, cut = i;
+  constexpr std::size_t kFolds = 4;
+  if (rows.size() < kFolds * 40) return;  // too short to tell: the one model
+  const std::array<ToolModelKind, 5> kinds = {ToolModelKind::kOne, ToolModelKind::kIntervals, ToolModelKind::kLag,
+                                              ToolModelKind::kTwoBody, ToolModelKind::kZones};
+  std::array<double, 5> sse{};
+  bool zones = true;
+  for (std::size_t f = 0; f < kFolds; ++f) {
+    const std::size_t lo = rows.size() * f / kFolds, hi = rows.size() * (f + 1) / kFolds;
+    std::vector<ToolRecord> train(rows.begin(), rows.begin() + static_cast<long>(lo));
+    const std::size_t join = train.size();
+    train.insert(train.end(), rows.begin() + static_cast<long>(hi), rows.end());
+    if (join < train.size()) train[join].restart = true;
+    train.front().restart = true;
+    std::vector<ToolRecord> test(rows.begin() + static_cast<long>(lo), rows.begin() + static_cast<long>(hi));
+    test.front().restart = true;
+    const ToolErrorModel fm = FitStructures(m.tool, train, m.standard_temp_c, nullptr);
+    zones = zones && !fm.zone_um_per_c.empty();
+    for (std::size_t k = 0; k < kinds.size(); ++k) {
+      const auto p = PredictSeries(fm, kinds[k], test);
+      for (std::size_t i = 0; i < test.size(); ++i) sse[k] += std::pow(p[i] - test[i].error_um, 2);
     }
-  std::vector<ToolRecord> a(rows.begin(), rows.begin() + static_cast<long>(cut));
-  std::vector<ToolRecord> b(rows.begin() + static_cast<long>(cut), rows.end());
-  b.front().restart = true;
-  if (a.size() < 20 || b.size() < 20) return;  // too short to tell: the one model
-  const ToolErrorModel ma = FitStructures(m.tool, a, m.standard_temp_c, nullptr);
-  const ToolErrorModel mb = FitStructures(m.tool, b, m.standard_temp_c, nullptr);
+  }
   double lowest = INFINITY;
-  for (ToolModelKind k : {ToolModelKind::kOne, ToolModelKind::kIntervals, ToolModelKind::kLag, ToolModelKind::kTwoBody,
-                          ToolModelKind::kZones}) {
-    if (k == ToolModelKind::kZones && (ma.zone_um_per_c.empty() || mb.zone_um_per_c.empty())) continue;
-    const auto pb = PredictSeries(ma, k, b), pa = PredictSeries(mb, k, a);
-    double sse = 0;
-    for (std::size_t i = 0; i < b.size(); ++i) sse += std::pow(pb[i] - b[i].error_um, 2);
-    for (std::size_t i = 0; i < a.size(); ++i) sse += std::pow(pa[i] - a[i].error_um, 2);
-    const double rms = std::sqrt(sse / static_cast<double>(rows.size()));
-    m.cv_rms_um[static_cast<std::size_t>(k)] = rms;
-    if (rms < lowest) lowest = rms, m.best = k;
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    if (kinds[k] == ToolModelKind::kZones && !zones) continue;
+    const double rms = std::sqrt(sse[k] / static_cast<double>(rows.size()));
+    m.cv_rms_um[static_cast<std::size_t>(kinds[k])] = rms;
+    if (kinds[k] != ToolModelKind::kZones && rms < lowest) lowest = rms, m.best = m.best_without_zones = kinds[k];
   }
 }
 
@@ -289,6 +299,10 @@ ToolErrorModel FitToolErrorModel(int tool, const std::vector<ToolRecord>& rows, 
                                  std::vector<std::string>* warnings) {
   ToolErrorModel m = FitStructures(tool, rows, t_std, warnings);
   ChooseBest(m, rows);
+  // The growth is linear in the bodies' temperatures, which the zone means sample: with zone
+  // means the zones model is the structure (cross-validation over the one or two mountings a
+  // tool has in a day proved unreliable, docs/tool-thermal.md).
+  if (!m.zone_um_per_c.empty()) m.best = ToolModelKind::kZones;
   return m;
 }
 
@@ -315,6 +329,7 @@ nlohmann::json ToolErrorModel::ToJson() const {
             {"tv_um_per_c", two_body_tv_um_per_c},
             {"lag_um_per_c", two_body_lag_um_per_c}}},
           {"best", ToolModelKindName(best)},
+          {"best_without_zones", ToolModelKindName(best_without_zones)},
           {"cv_rms_um",
            {{"one", cv_rms_um[1]}, {"intervals", cv_rms_um[2]}, {"lag", cv_rms_um[3]}, {"two_body", cv_rms_um[4]},
             {"zones", cv_rms_um[5]}}},
@@ -374,15 +389,20 @@ ToolErrorModel ToolErrorModel::FromJson(const nlohmann::json& j, const std::stri
       m.zone_um_per_c.push_back(v.get<double>());
     }
   }
-  if (j.contains("best")) {
-    if (!j.at("best").is_string()) throw InputError(source, 0, "best", "must be a model name");
+  auto kind_of = [&](const char* key) {
+    if (!j.at(key).is_string()) throw InputError(source, 0, key, "must be a model name");
+    ToolModelKind k;
     try {
-      m.best = ParseToolModelKind(j.at("best").get<std::string>());
+      k = ParseToolModelKind(j.at(key).get<std::string>());
     } catch (const std::invalid_argument& e) {
-      throw InputError(source, 0, "best", e.what());
+      throw InputError(source, 0, key, e.what());
     }
-    if (m.best == ToolModelKind::kBest || m.best == ToolModelKind::kNone) throw InputError(source, 0, "best", "must name a fitted model");
-  }
+    if (k == ToolModelKind::kBest || k == ToolModelKind::kNone) throw InputError(source, 0, key, "must name a fitted model");
+    return k;
+  };
+  if (j.contains("best")) m.best = kind_of("best");
+  if (j.contains("best_without_zones")) m.best_without_zones = kind_of("best_without_zones");
+  if (m.best == ToolModelKind::kZones && m.zone_um_per_c.empty()) throw InputError(source, 0, "best", "zones without zone coefficients");
   if (j.contains("training") && j.at("training").is_object()) {
     m.training_rows = j.at("training").value("rows", 0);
     m.training.sample_s = j.at("training").value("sample_s", 0.0);

@@ -14,9 +14,10 @@
 //   zones      e = a + Σ b_r·(Tr − T_std)                   ours: the zone means themselves
 //              (Tv's area weights are not the growth's: a hot tip on a thin tool weighs
 //              little in Tv but grows a lot; needs the zone means, ridge λ = 1e-4·mean diag)
-//   best       per tool, the one of {one, intervals, lag, two_body, zones} with the lowest error in a
-//              two-fold blocked cross-validation of the training data (each half of the
-//              mountings fitted on the other): structure chosen by data the model did not see
+//   best       zones when the training rows carry zone means (the growth is linear in the
+//              bodies' temperatures, which they sample); else the one of {one, intervals, lag,
+//              two_body} with the lowest error in a four-fold blocked cross-validation of the
+//              training data (each contiguous quarter predicted by the models fitted on the rest)
 //
 // L restarts at Tv when a tool is mounted. τ is chosen by least squares over a
 // geometric grid (5 s … 2 h); the classifier's window and dead band from the
@@ -67,7 +68,8 @@ struct ToolErrorModel {
   double two_body_intercept_um = 0, two_body_tv_um_per_c = 0, two_body_lag_um_per_c = 0;
   double zone_intercept_um = 0;
   std::vector<double> zone_um_per_c;          // empty: no zones model (no zone means in training)
-  ToolModelKind best = ToolModelKind::kOne;  // chosen by cross-validation
+  ToolModelKind best = ToolModelKind::kOne;          // see `best` above
+  ToolModelKind best_without_zones = ToolModelKind::kOne;  // the cross-validation's choice of the Tv models
   std::array<double, kToolModelKinds.size()> cv_rms_um{};          // by ToolModelKind (0 where not evaluated)
   SeriesStatistics training;  // sample interval and Tv noise of the training data
   int training_rows = 0;
