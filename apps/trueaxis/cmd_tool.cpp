@@ -18,6 +18,7 @@
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/tooltherm/tool_evaluation.hpp"
+#include "trueaxis/tooltherm/tool_report.hpp"
 
 namespace trueaxis::cli {
 namespace {
@@ -32,7 +33,7 @@ struct DayArgs {
   double sample_s = 2;
   std::string sensor = "camera";
   std::string program = "mixed";
-  std::string out;
+  std::string out, report;
 };
 
 ToolTable LoadTools(const DayArgs& a) {
@@ -107,6 +108,11 @@ void RunDay(const DayArgs& a) {
       "residual tip error after the tool length offset (through the limiter):\n\n{}",
       a.program, a.seed, a.seed + 1, a.hours, a.sample_s, a.sensor, ScoreTable(ev, table));
   std::fputs(md.c_str(), stdout);
+  if (!a.report.empty()) {
+    if (fs::path(a.report).has_parent_path()) fs::create_directories(fs::path(a.report).parent_path());
+    std::ofstream(a.report) << ToolDayReportHtml(table, test, ev, md.substr(0, md.find("\n")));
+    std::printf("wrote %s\n", a.report.c_str());
+  }
   if (!a.out.empty()) {
     fs::create_directories(a.out);
     std::ofstream(fs::path(a.out) / "tool_models.json") << ModelsJson(ev.models, table);
@@ -246,6 +252,7 @@ void Setup(CLI::App& app) {
   d->add_option("--sample-s", day->sample_s, "seconds between Tv readings")->capture_default_str();
   d->add_option("--sensor", day->sensor, "camera or pyrometer")->capture_default_str();
   d->add_option("--program", day->program, "mixed (job shop) or blocks (long heating and cooling)")->capture_default_str();
+  d->add_option("--report", day->report, "HTML report: scores, error against Tv by interval, error over the day");
   d->add_option("--out", day->out, "folder for tool_models.json, tool_day.md, tool_day_test.csv");
   d->callback([day] { RunDay(*day); });
 
