@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "trueaxis/core/input_error.hpp"
 #include "trueaxis/tooltherm/tool_evaluation.hpp"
 
 namespace trueaxis::tooltherm {
@@ -93,6 +94,45 @@ TEST(ToolDay, SameSeedSameDayAndTheCompensationHelps) {
   const ToolEvaluation ev = EvaluateToolModels(table, a, RunToolDay(table, o));
   for (const auto& sc : ev.tools)
     if (sc.samples > 50) EXPECT_LT(sc.rms_um[static_cast<std::size_t>(ToolModelKind::kIntervals)], sc.rms_um[0]) << sc.tool;
+}
+
+}  // namespace
+}  // namespace trueaxis::tooltherm
+
+namespace trueaxis::tooltherm {
+namespace {
+
+TEST(ToolModels, ABadModelFileNamesTheField) {
+  ToolErrorModel m;
+  m.tool = 3;
+  nlohmann::json j = m.ToJson();
+  j["classifier"].erase("dwell_s");
+  try {
+    ToolErrorModel::FromJson(j, "models.json");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "classifier.dwell_s");
+  }
+  j = m.ToJson();
+  j["best"] = "magic";
+  EXPECT_THROW(ToolErrorModel::FromJson(j, "models.json"), InputError);
+  j = m.ToJson();
+  j["lag"]["tau_s"] = -1;
+  EXPECT_THROW(ToolErrorModel::FromJson(j, "models.json"), InputError);
+}
+
+TEST(ToolModels, BestUsesTheZoneMeansWhenGivenAndTheTvChoiceOtherwise) {
+  ToolErrorModel m;
+  m.one = {1, 0};
+  m.lag = {2, 0};
+  m.zone_intercept_um = 5;
+  m.zone_um_per_c = {0, 0};
+  m.best = ToolModelKind::kZones;
+  m.best_without_zones = ToolModelKind::kLag;
+  ToolErrorPredictor p(m, ToolModelKind::kBest);
+  const std::vector<double> zones = {30, 40};
+  EXPECT_DOUBLE_EQ(p.Push(0, 25, true, zones), 5);
+  EXPECT_DOUBLE_EQ(p.Push(1, 25, false), 2);  // no zone means: the Tv models' choice
 }
 
 }  // namespace
