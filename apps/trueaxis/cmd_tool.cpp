@@ -205,7 +205,7 @@ std::vector<ToolRecord> ReadTvSeries(const std::string& path) {
     if (!t) throw InputError(path, cur.number(), "time_s", fmt::format("'{}' is not a number", f[0]));
     if (!v || *v < -50 || *v > 600) throw InputError(path, cur.number(), "tv_c", fmt::format("'{}' is not a temperature in [-50, 600] C", f[1]));
     if (!rows.empty() && !(*t > rows.back().time_s)) throw InputError(path, cur.number(), "time_s", "must increase");
-    rows.push_back({*t, *v, 0, rows.empty()});
+    rows.push_back({*t, *v, 0, rows.empty(), {}});
   }
   if (rows.empty()) throw InputError(path, "no samples");
   return rows;

@@ -91,6 +91,17 @@ double FitIntervals(ToolErrorModel& m, const std::vector<ToolRecord>& rows, cons
 
 }  // namespace
 
+ToolColumns ColumnsOf(const std::vector<ToolRecord>& rows) {
+  ToolColumns c;
+  for (const auto& r : rows) {
+    c.time_s.push_back(r.time_s);
+    c.tv_c.push_back(r.tv_c);
+    c.error_um.push_back(r.error_um);
+    c.restart.push_back(r.restart);
+  }
+  return c;
+}
+
 const char* ToolModelKindName(ToolModelKind k) {
   switch (k) {
     case ToolModelKind::kNone: return "none";
@@ -175,14 +186,9 @@ ToolErrorModel FitStructures(int tool, const std::vector<ToolRecord>& rows, doub
   m.tool = tool;
   m.standard_temp_c = t_std;
   m.training_rows = static_cast<int>(rows.size());
-  std::vector<double> t, tv, e;
-  std::vector<bool> restart;
-  for (const auto& r : rows) {
-    t.push_back(r.time_s);
-    tv.push_back(r.tv_c);
-    e.push_back(r.error_um);
-    restart.push_back(r.restart);
-  }
+  const ToolColumns cols = ColumnsOf(rows);
+  const std::vector<double>&t = cols.time_s, &tv = cols.tv_c, &e = cols.error_um;
+  const std::vector<bool>& restart = cols.restart;
   m.training = SeriesStatisticsOf(t, tv);
   m.one = FitLine(tv, e, t_std, nullptr);
 

@@ -36,15 +36,9 @@ std::string ToolDayReportHtml(const ToolTable& table, const ToolDayRecording& te
     page.AddHeading(fmt::format("T{} {}", t.number, t.name));
     const auto rows = ToolRecordsOf(test, t.number);
     if (rows.empty()) continue;
-    std::vector<double> t_s, tv, err;
-    std::vector<bool> restart;
-    for (const auto& r : rows) {
-      t_s.push_back(r.time_s);
-      tv.push_back(r.tv_c);
-      err.push_back(r.error_um);
-      restart.push_back(r.restart);
-    }
-    const auto cls = ClassifySeries(t_s, tv, restart, m->second.classifier);
+    const ToolColumns cols = ColumnsOf(rows);
+    const std::vector<double>&tv = cols.tv_c, &err = cols.error_um;
+    const auto cls = ClassifySeries(cols.time_s, tv, cols.restart, m->second.classifier);
     const std::size_t step = std::max<std::size_t>(1, rows.size() / kMaxPoints);
     report::SvgChartOptions lo;
     lo.title = "true tip error against Tv, by interval (seed 001 classifier)";

@@ -49,6 +49,13 @@ struct ToolRecord {
   std::vector<double> zone_c;  // Tr per zone (optional; the zones model needs it)
 };
 
+// The rows as columns (what the classifier and the fits take).
+struct ToolColumns {
+  std::vector<double> time_s, tv_c, error_um;
+  std::vector<bool> restart;
+};
+ToolColumns ColumnsOf(const std::vector<ToolRecord>& rows);
+
 struct LinearTerm {
   double intercept_um = 0;
   double per_c_um = 0;  // µm per °C of (T − T_std)
