@@ -1,0 +1,112 @@
+#pragma once
+// Tool tip thermal error from Tv (docs/tool-thermal.md, "Models"), per tool.
+// Every model predicts the Z error at the tip in µm (error, not correction:
+// docs/sign-convention.md) from the course of Tv while the tool is mounted:
+//
+//   one        e = a + b·(Tv − T_std)                       one curve for all intervals
+//   intervals  e = a_k + b_k·(Tv − T_std), k = WT1/WT2/WT3   seed 001: a sub-model per interval
+//              (start-up and an interval with too few training rows: the one model;
+//              an interval spanning under half the training Tv range: the one model's
+//              slope b with its own intercept a_k)
+//   lag        e = a + b·(L − T_std), dL/dt = (Tv − L)/τ     a first-order lag of Tv
+//   two_body   e = a + b·(Tv − T_std) + c·(L − T_std)        ours: the surface (fast) and
+//              a lagged body (slow); the hysteresis of two bodies is exactly this shape
+//   zones      e = a + Σ b_r·(Tr − T_std)                   ours: the zone means themselves
+//              (Tv's area weights are not the growth's: a hot tip on a thin tool weighs
+//              little in Tv but grows a lot; needs the zone means, ridge λ = 1e-4·mean diag)
+//   best       zones when the training rows carry zone means (the growth is linear in the
+//              bodies' temperatures, which they sample); else the one of {one, intervals, lag,
+//              two_body} with the lowest error in a four-fold blocked cross-validation of the
+//              training data (each contiguous quarter predicted by the models fitted on the rest)
+//
+// L restarts at Tv when a tool is mounted. τ is chosen by least squares over a
+// geometric grid (5 s … 2 h); the classifier's window and dead band from the
+// data (interval_classifier.hpp) by the training fit of the interval model.
+// Pure: rows in, model out; JSON to store it with the tool.
+#include <array>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "trueaxis/tooltherm/interval_classifier.hpp"
+
+namespace trueaxis::tooltherm {
+
+enum class ToolModelKind { kNone = 0, kOne, kIntervals, kLag, kTwoBody, kZones, kBest };
+inline constexpr std::array<ToolModelKind, 7> kToolModelKinds = {
+    ToolModelKind::kNone,    ToolModelKind::kOne,   ToolModelKind::kIntervals, ToolModelKind::kLag,
+    ToolModelKind::kTwoBody, ToolModelKind::kZones, ToolModelKind::kBest};
+const char* ToolModelKindName(ToolModelKind k);
+ToolModelKind ParseToolModelKind(const std::string& name);  // std::invalid_argument when unknown
+
+struct ToolRecord {
+  double time_s = 0;
+  double tv_c = 0;
+  double error_um = 0;   // true tip error (training) — ignored by prediction
+  bool restart = false;  // first sample after the tool was mounted
+  std::vector<double> zone_c;  // Tr per zone (optional; the zones model needs it)
+};
+
+// The rows as columns (what the classifier and the fits take).
+struct ToolColumns {
+  std::vector<double> time_s, tv_c, error_um;
+  std::vector<bool> restart;
+};
+ToolColumns ColumnsOf(const std::vector<ToolRecord>& rows);
+
+struct LinearTerm {
+  double intercept_um = 0;
+  double per_c_um = 0;  // µm per °C of (T − T_std)
+};
+
+struct ToolErrorModel {
+  int tool = 0;
+  double standard_temp_c = 20;
+  LinearTerm one;
+  std::array<LinearTerm, 3> interval{};
+  std::array<bool, 3> interval_fitted{};
+  std::array<int, 3> interval_rows{};
+  ToolClassifierOptions classifier;
+  double lag_tau_s = 600;
+  LinearTerm lag;
+  double two_body_tau_s = 600;
+  double two_body_intercept_um = 0, two_body_tv_um_per_c = 0, two_body_lag_um_per_c = 0;
+  double zone_intercept_um = 0;
+  std::vector<double> zone_um_per_c;          // empty: no zones model (no zone means in training)
+  ToolModelKind best = ToolModelKind::kOne;          // see `best` above
+  ToolModelKind best_without_zones = ToolModelKind::kOne;  // the cross-validation's choice of the Tv models
+  std::array<double, kToolModelKinds.size()> cv_rms_um{};          // by ToolModelKind (0 where not evaluated)
+  SeriesStatistics training;  // sample interval and Tv noise of the training data
+  int training_rows = 0;
+
+  nlohmann::json ToJson() const;
+  static ToolErrorModel FromJson(const nlohmann::json& j, const std::string& source);
+};
+
+// Causal prediction, one sample at a time (what a runtime does).
+class ToolErrorPredictor {
+ public:
+  ToolErrorPredictor(const ToolErrorModel& model, ToolModelKind kind);
+  // restart: the tool was just mounted (classifier and lag start anew). zone_c: Tr per zone;
+  // the zones model without them (or of another count) predicts with the one model.
+  double Push(double time_s, double tv_c, bool restart, std::span<const double> zone_c = {});
+  ThermalInterval interval() const { return interval_; }
+
+ private:
+  const ToolErrorModel* m_;
+  ToolModelKind kind_;
+  DwellIntervalClassifier classifier_;
+  ThermalInterval interval_ = ThermalInterval::kStartUp;
+  double lag_c_ = 0, two_body_lag_c_ = 0, last_t_ = 0;
+};
+
+std::vector<double> PredictSeries(const ToolErrorModel& model, ToolModelKind kind, const std::vector<ToolRecord>& rows);
+
+// Needs ≥ 20 rows, the first a restart, time increasing within each mounting
+// (std::invalid_argument otherwise). `warnings` gets intervals left to the one model.
+ToolErrorModel FitToolErrorModel(int tool, const std::vector<ToolRecord>& rows, double standard_temp_c,
+                                 std::vector<std::string>* warnings = nullptr);
+
+}  // namespace trueaxis::tooltherm

@@ -1,0 +1,420 @@
+#include "trueaxis/tooltherm/tool_error_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+#include "trueaxis/core/input_error.hpp"
+
+namespace trueaxis::tooltherm {
+namespace {
+
+constexpr int kMinIntervalRows = 20;
+
+// First-order lag of Tv, restarting at Tv on every mounting.
+std::vector<double> LagSeries(const std::vector<ToolRecord>& rows, double tau_s) {
+  std::vector<double> out(rows.size());
+  double l = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (rows[i].restart || i == 0) l = rows[i].tv_c;
+    else l += (1.0 - std::exp(-(rows[i].time_s - rows[i - 1].time_s) / tau_s)) * (rows[i].tv_c - l);
+    out[i] = l;
+  }
+  return out;
+}
+
+// Least squares y ≈ X·β; the RMS of the residual in *rms.
+Eigen::VectorXd Solve(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, double* rms) {
+  Eigen::VectorXd beta = x.colPivHouseholderQr().solve(y);
+  if (rms) *rms = std::sqrt((x * beta - y).squaredNorm() / static_cast<double>(y.size()));
+  return beta;
+}
+
+LinearTerm FitLine(const std::vector<double>& t_c, const std::vector<double>& e_um, double t_std, double* rms) {
+  const auto n = static_cast<Eigen::Index>(t_c.size());
+  Eigen::MatrixXd x(n, 2);
+  Eigen::VectorXd y(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    x(i, 0) = 1;
+    x(i, 1) = t_c[static_cast<std::size_t>(i)] - t_std;
+    y(i) = e_um[static_cast<std::size_t>(i)];
+  }
+  const Eigen::VectorXd b = Solve(x, y, rms);
+  return {b(0), b(1)};
+}
+
+std::vector<double> TauGrid() {
+  std::vector<double> g;
+  for (double tau = 5; tau <= 7200 * 1.0001; tau *= 1.25) g.push_back(tau);
+  return g;
+}
+
+double Rms(const std::vector<double>& a, const std::vector<ToolRecord>& rows) {
+  double s = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - rows[i].error_um) * (a[i] - rows[i].error_um);
+  return std::sqrt(s / static_cast<double>(a.size()));
+}
+
+// Fits the interval sub-models for one classifier setting; returns their training RMS.
+// An interval whose Tv span is under half the whole course's span cannot fix a slope of its
+// own: it keeps the one model's slope and fits its intercept only (no wild extrapolation).
+double FitIntervals(ToolErrorModel& m, const std::vector<ToolRecord>& rows, const std::vector<double>& t,
+                    const std::vector<double>& tv, const std::vector<bool>& restart) {
+  const auto cls = ClassifySeries(t, tv, restart, m.classifier);
+  const auto [lo, hi] = std::minmax_element(tv.begin(), tv.end());
+  const double span_all = *hi - *lo;
+  for (int k = 0; k < 3; ++k) {
+    std::vector<double> x, y;
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      if (static_cast<int>(cls[i]) == k) {
+        x.push_back(tv[i]);
+        y.push_back(rows[i].error_um);
+      }
+    m.interval_rows[k] = static_cast<int>(x.size());
+    m.interval_fitted[k] = x.size() >= kMinIntervalRows;
+    m.interval[k] = m.one;
+    if (!m.interval_fitted[k]) continue;
+    const auto [xl, xh] = std::minmax_element(x.begin(), x.end());
+    if (*xh - *xl >= 0.5 * span_all) {
+      m.interval[k] = FitLine(x, y, m.standard_temp_c, nullptr);
+    } else {
+      double mean = 0;
+      for (std::size_t i = 0; i < x.size(); ++i) mean += y[i] - m.one.per_c_um * (x[i] - m.standard_temp_c);
+      m.interval[k].intercept_um = mean / static_cast<double>(x.size());
+    }
+  }
+  return Rms(PredictSeries(m, ToolModelKind::kIntervals, rows), rows);
+}
+
+}  // namespace
+
+ToolColumns ColumnsOf(const std::vector<ToolRecord>& rows) {
+  ToolColumns c;
+  for (const auto& r : rows) {
+    c.time_s.push_back(r.time_s);
+    c.tv_c.push_back(r.tv_c);
+    c.error_um.push_back(r.error_um);
+    c.restart.push_back(r.restart);
+  }
+  return c;
+}
+
+const char* ToolModelKindName(ToolModelKind k) {
+  switch (k) {
+    case ToolModelKind::kNone: return "none";
+    case ToolModelKind::kOne: return "one";
+    case ToolModelKind::kIntervals: return "intervals";
+    case ToolModelKind::kLag: return "lag";
+    case ToolModelKind::kTwoBody: return "two_body";
+    case ToolModelKind::kZones: return "zones";
+    case ToolModelKind::kBest: return "best";
+  }
+  return "?";
+}
+
+ToolModelKind ParseToolModelKind(const std::string& name) {
+  for (ToolModelKind k : kToolModelKinds)
+    if (name == ToolModelKindName(k)) return k;
+  throw std::invalid_argument("unknown model '" + name + "' (none, one, intervals, lag, two_body, zones, best)");
+}
+
+ToolErrorPredictor::ToolErrorPredictor(const ToolErrorModel& model, ToolModelKind kind)
+    : m_(&model), kind_(kind), classifier_(model.classifier) {}
+
+double ToolErrorPredictor::Push(double time_s, double tv_c, bool restart, std::span<const double> zone_c) {
+  const ToolErrorModel& m = *m_;
+  if (restart) {
+    classifier_.Reset();
+    lag_c_ = two_body_lag_c_ = tv_c;
+  } else {
+    const double dt = std::max(time_s - last_t_, 0.0);
+    lag_c_ += (1.0 - std::exp(-dt / m.lag_tau_s)) * (tv_c - lag_c_);
+    two_body_lag_c_ += (1.0 - std::exp(-dt / m.two_body_tau_s)) * (tv_c - two_body_lag_c_);
+  }
+  last_t_ = time_s;
+  interval_ = classifier_.Push(time_s, tv_c);
+  const double d = tv_c - m.standard_temp_c;
+  ToolModelKind kind = kind_;
+  if (kind == ToolModelKind::kBest)  // zones need this tool's zone means; else the Tv models' choice
+    kind = m.best == ToolModelKind::kZones && zone_c.size() == m.zone_um_per_c.size() ? ToolModelKind::kZones
+                                                                                        : m.best_without_zones;
+  switch (kind) {
+    case ToolModelKind::kNone: return 0;
+    case ToolModelKind::kOne: return m.one.intercept_um + m.one.per_c_um * d;
+    case ToolModelKind::kIntervals: {
+      const int k = static_cast<int>(interval_);
+      const LinearTerm& l = (k < 3 && m.interval_fitted[static_cast<std::size_t>(k)]) ? m.interval[static_cast<std::size_t>(k)] : m.one;
+      return l.intercept_um + l.per_c_um * d;
+    }
+    case ToolModelKind::kLag: return m.lag.intercept_um + m.lag.per_c_um * (lag_c_ - m.standard_temp_c);
+    case ToolModelKind::kZones:
+      if (!m.zone_um_per_c.empty() && zone_c.size() == m.zone_um_per_c.size()) {
+        double e = m.zone_intercept_um;
+        for (std::size_t r = 0; r < zone_c.size(); ++r) e += m.zone_um_per_c[r] * (zone_c[r] - m.standard_temp_c);
+        return e;
+      }
+      return m.one.intercept_um + m.one.per_c_um * d;
+    case ToolModelKind::kBest:  // resolved above
+    case ToolModelKind::kTwoBody:
+      return m.two_body_intercept_um + m.two_body_tv_um_per_c * d +
+             m.two_body_lag_um_per_c * (two_body_lag_c_ - m.standard_temp_c);
+  }
+  return 0;
+}
+
+std::vector<double> PredictSeries(const ToolErrorModel& model, ToolModelKind kind, const std::vector<ToolRecord>& rows) {
+  ToolErrorPredictor p(model, kind);
+  std::vector<double> out;
+  out.reserve(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) out.push_back(p.Push(rows[i].time_s, rows[i].tv_c, rows[i].restart || i == 0, rows[i].zone_c));
+  return out;
+}
+
+namespace {
+
+ToolErrorModel FitStructures(int tool, const std::vector<ToolRecord>& rows, double t_std,
+                             std::vector<std::string>* warnings) {
+  if (rows.size() < 20) throw std::invalid_argument(fmt::format("tool {}: {} rows, a fit needs ≥ 20", tool, rows.size()));
+  if (!rows.front().restart) throw std::invalid_argument("the first row must start a mounting (restart)");
+  for (std::size_t i = 1; i < rows.size(); ++i)
+    if (!rows[i].restart && !(rows[i].time_s > rows[i - 1].time_s))
+      throw std::invalid_argument(fmt::format("row {}: time must increase within a mounting", i + 1));
+  ToolErrorModel m;
+  m.tool = tool;
+  m.standard_temp_c = t_std;
+  m.training_rows = static_cast<int>(rows.size());
+  const ToolColumns cols = ColumnsOf(rows);
+  const std::vector<double>&t = cols.time_s, &tv = cols.tv_c, &e = cols.error_um;
+  const std::vector<bool>& restart = cols.restart;
+  m.training = SeriesStatisticsOf(t, tv);
+  m.one = FitLine(tv, e, t_std, nullptr);
+
+  // Lag and two-body: τ on the grid, least squares for the rest.
+  double best_lag = INFINITY, best_two = INFINITY;
+  const auto n = static_cast<Eigen::Index>(rows.size());
+  Eigen::VectorXd y(n);
+  for (Eigen::Index i = 0; i < n; ++i) y(i) = e[static_cast<std::size_t>(i)];
+  for (double tau : TauGrid()) {
+    const std::vector<double> l = LagSeries(rows, tau);
+    Eigen::MatrixXd x(n, 3);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      x(i, 0) = 1;
+      x(i, 1) = l[static_cast<std::size_t>(i)] - t_std;
+      x(i, 2) = tv[static_cast<std::size_t>(i)] - t_std;
+    }
+    double rms_lag = 0, rms_two = 0;
+    const Eigen::VectorXd bl = Solve(x.leftCols(2), y, &rms_lag);
+    const Eigen::VectorXd bt = Solve(x, y, &rms_two);
+    if (rms_lag < best_lag) {
+      best_lag = rms_lag;
+      m.lag_tau_s = tau;
+      m.lag = {bl(0), bl(1)};
+    }
+    if (rms_two < best_two) {
+      best_two = rms_two;
+      m.two_body_tau_s = tau;
+      m.two_body_intercept_um = bt(0);
+      m.two_body_lag_um_per_c = bt(1);
+      m.two_body_tv_um_per_c = bt(2);
+    }
+  }
+
+  // Zones: ridge least squares on the zone means, when every row has them.
+  const std::size_t nz = rows.front().zone_c.size();
+  const bool zones = nz > 0 && rows.size() >= 5 * (nz + 1) &&
+                     std::all_of(rows.begin(), rows.end(), [&](const ToolRecord& r) { return r.zone_c.size() == nz; });
+  if (zones) {
+    Eigen::MatrixXd x(n, static_cast<Eigen::Index>(nz + 1));
+    for (Eigen::Index i = 0; i < n; ++i) {
+      x(i, 0) = 1;
+      for (std::size_t r = 0; r < nz; ++r) x(i, static_cast<Eigen::Index>(r + 1)) = rows[static_cast<std::size_t>(i)].zone_c[r] - t_std;
+    }
+    Eigen::MatrixXd xtx = x.transpose() * x;
+    const double lambda = 1e-4 * xtx.diagonal().tail(static_cast<Eigen::Index>(nz)).mean();
+    for (std::size_t r = 0; r < nz; ++r) xtx(static_cast<Eigen::Index>(r + 1), static_cast<Eigen::Index>(r + 1)) += lambda;
+    const Eigen::VectorXd b = xtx.ldlt().solve(x.transpose() * y);
+    m.zone_intercept_um = b(0);
+    m.zone_um_per_c.assign(b.data() + 1, b.data() + b.size());
+  }
+
+  // Intervals: the classifier's window (in sample steps) and dead band floor from the data.
+  double best_int = INFINITY;
+  ToolErrorModel best = m;
+  for (double steps : {5.0, 10.0, 20.0, 40.0, 80.0, 160.0}) {
+    const double p90 = SlopePercentileCPerH(t, tv, restart, ClassifierOptionsFor(m.training, steps, 0).window_s);
+    for (double f : {0.05, 0.1, 0.2, 0.4}) {
+      ToolErrorModel trial = m;
+      trial.classifier = ClassifierOptionsFor(m.training, steps, f * p90);
+      const double rms = FitIntervals(trial, rows, t, tv, restart);
+      if (rms < best_int) {
+        best_int = rms;
+        best = trial;
+      }
+    }
+  }
+  m = best;
+  if (warnings)
+    for (int k = 0; k < 3; ++k)
+      if (!m.interval_fitted[k])
+        warnings->push_back(fmt::format("tool {}: {} interval has {} training rows (< {}): the one model stands in", tool,
+                                        thermal::ThermalIntervalName(static_cast<ThermalInterval>(k)), m.interval_rows[k],
+                                        kMinIntervalRows));
+  return m;
+}
+
+// Blocked cross-validation: four contiguous blocks of the rows, each predicted by the models
+// fitted on the other three (a held-out block starts as a fresh mounting).
+void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows) {
+  constexpr std::size_t kFolds = 4;
+  if (rows.size() < kFolds * 40) return;  // too short to tell: the one model
+  const std::array<ToolModelKind, 5> kinds = {ToolModelKind::kOne, ToolModelKind::kIntervals, ToolModelKind::kLag,
+                                              ToolModelKind::kTwoBody, ToolModelKind::kZones};
+  std::array<double, 5> sse{};
+  bool zones = true;
+  for (std::size_t f = 0; f < kFolds; ++f) {
+    const std::size_t lo = rows.size() * f / kFolds, hi = rows.size() * (f + 1) / kFolds;
+    std::vector<ToolRecord> train(rows.begin(), rows.begin() + static_cast<long>(lo));
+    const std::size_t join = train.size();
+    train.insert(train.end(), rows.begin() + static_cast<long>(hi), rows.end());
+    if (join < train.size()) train[join].restart = true;
+    train.front().restart = true;
+    std::vector<ToolRecord> test(rows.begin() + static_cast<long>(lo), rows.begin() + static_cast<long>(hi));
+    test.front().restart = true;
+    const ToolErrorModel fm = FitStructures(m.tool, train, m.standard_temp_c, nullptr);
+    zones = zones && !fm.zone_um_per_c.empty();
+    for (std::size_t k = 0; k < kinds.size(); ++k) {
+      const auto p = PredictSeries(fm, kinds[k], test);
+      for (std::size_t i = 0; i < test.size(); ++i) sse[k] += std::pow(p[i] - test[i].error_um, 2);
+    }
+  }
+  double lowest = INFINITY;
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    if (kinds[k] == ToolModelKind::kZones && !zones) continue;
+    const double rms = std::sqrt(sse[k] / static_cast<double>(rows.size()));
+    m.cv_rms_um[static_cast<std::size_t>(kinds[k])] = rms;
+    if (kinds[k] != ToolModelKind::kZones && rms < lowest) lowest = rms, m.best = m.best_without_zones = kinds[k];
+  }
+}
+
+}  // namespace
+
+ToolErrorModel FitToolErrorModel(int tool, const std::vector<ToolRecord>& rows, double t_std,
+                                 std::vector<std::string>* warnings) {
+  ToolErrorModel m = FitStructures(tool, rows, t_std, warnings);
+  ChooseBest(m, rows);
+  // The growth is linear in the bodies' temperatures, which the zone means sample: with zone
+  // means the zones model is the structure (cross-validation over the one or two mountings a
+  // tool has in a day proved unreliable, docs/tool-thermal.md).
+  if (!m.zone_um_per_c.empty()) m.best = ToolModelKind::kZones;
+  return m;
+}
+
+nlohmann::json ToolErrorModel::ToJson() const {
+  auto term = [](const LinearTerm& l) { return nlohmann::json{{"intercept_um", l.intercept_um}, {"per_c_um", l.per_c_um}}; };
+  nlohmann::json iv = nlohmann::json::array();
+  for (int k = 0; k < 3; ++k) {
+    auto j = term(interval[k]);
+    j["interval"] = thermal::ThermalIntervalName(static_cast<ThermalInterval>(k));
+    j["fitted"] = interval_fitted[k];
+    j["training_rows"] = interval_rows[k];
+    iv.push_back(j);
+  }
+  return {{"tool", tool},
+          {"standard_temp_c", standard_temp_c},
+          {"one", term(one)},
+          {"intervals", iv},
+          {"classifier",
+           {{"window_s", classifier.window_s}, {"dead_band_c_per_h", classifier.dead_band_c_per_h}, {"dwell_s", classifier.dwell_s}}},
+          {"lag", {{"tau_s", lag_tau_s}, {"intercept_um", lag.intercept_um}, {"per_c_um", lag.per_c_um}}},
+          {"two_body",
+           {{"tau_s", two_body_tau_s},
+            {"intercept_um", two_body_intercept_um},
+            {"tv_um_per_c", two_body_tv_um_per_c},
+            {"lag_um_per_c", two_body_lag_um_per_c}}},
+          {"best", ToolModelKindName(best)},
+          {"best_without_zones", ToolModelKindName(best_without_zones)},
+          {"cv_rms_um",
+           {{"one", cv_rms_um[1]}, {"intervals", cv_rms_um[2]}, {"lag", cv_rms_um[3]}, {"two_body", cv_rms_um[4]},
+            {"zones", cv_rms_um[5]}}},
+          {"zones", {{"intercept_um", zone_intercept_um}, {"um_per_c", zone_um_per_c}}},
+          {"training", {{"rows", training_rows}, {"sample_s", training.sample_s}, {"noise_c", training.noise_c}}}};
+}
+
+ToolErrorModel ToolErrorModel::FromJson(const nlohmann::json& j, const std::string& source) {
+  ToolErrorModel m;
+  std::string at;
+  auto num = [&](const nlohmann::json& o, const char* key) {
+    if (!o.is_object() || !o.contains(key) || !o.at(key).is_number())
+      throw InputError(source, 0, at + key, "missing or not a number");
+    return o.at(key).get<double>();
+  };
+  auto obj = [&](const nlohmann::json& o, const char* key) -> const nlohmann::json& {
+    if (!o.is_object() || !o.contains(key) || !o.at(key).is_object()) throw InputError(source, 0, at + key, "missing object");
+    return o.at(key);
+  };
+  m.tool = static_cast<int>(num(j, "tool"));
+  m.standard_temp_c = num(j, "standard_temp_c");
+  at = "one.";
+  m.one = {num(obj(j, "one"), "intercept_um"), num(obj(j, "one"), "per_c_um")};
+  at = "";
+  if (!j.contains("intervals") || !j.at("intervals").is_array() || j.at("intervals").size() != 3)
+    throw InputError(source, 0, "intervals", "must be an array of 3 (heating, steady, cooling)");
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto& o = j.at("intervals")[k];
+    at = fmt::format("intervals[{}].", k);
+    m.interval[k] = {num(o, "intercept_um"), num(o, "per_c_um")};
+    m.interval_fitted[k] = o.value("fitted", false);
+    m.interval_rows[k] = o.value("training_rows", 0);
+  }
+  at = "classifier.";
+  const auto& c = obj(j, "classifier");
+  m.classifier = {num(c, "window_s"), num(c, "dead_band_c_per_h"), num(c, "dwell_s")};
+  std::string why;
+  if (!m.classifier.IsValid(&why)) throw InputError(source, 0, "classifier", why);
+  at = "lag.";
+  const auto& l = obj(j, "lag");
+  m.lag_tau_s = num(l, "tau_s");
+  m.lag = {num(l, "intercept_um"), num(l, "per_c_um")};
+  at = "two_body.";
+  const auto& tb = obj(j, "two_body");
+  m.two_body_tau_s = num(tb, "tau_s");
+  m.two_body_intercept_um = num(tb, "intercept_um");
+  m.two_body_tv_um_per_c = num(tb, "tv_um_per_c");
+  m.two_body_lag_um_per_c = num(tb, "lag_um_per_c");
+  if (!(m.lag_tau_s > 0 && m.two_body_tau_s > 0)) throw InputError(source, 0, "tau_s", "must be > 0");
+  if (j.contains("zones")) {
+    at = "zones.";
+    const auto& z = obj(j, "zones");
+    m.zone_intercept_um = num(z, "intercept_um");
+    if (!z.contains("um_per_c") || !z.at("um_per_c").is_array()) throw InputError(source, 0, "zones.um_per_c", "missing array");
+    for (const auto& v : z.at("um_per_c")) {
+      if (!v.is_number()) throw InputError(source, 0, "zones.um_per_c", "must hold numbers");
+      m.zone_um_per_c.push_back(v.get<double>());
+    }
+  }
+  auto kind_of = [&](const char* key) {
+    if (!j.at(key).is_string()) throw InputError(source, 0, key, "must be a model name");
+    ToolModelKind k;
+    try {
+      k = ParseToolModelKind(j.at(key).get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw InputError(source, 0, key, e.what());
+    }
+    if (k == ToolModelKind::kBest || k == ToolModelKind::kNone) throw InputError(source, 0, key, "must name a fitted model");
+    return k;
+  };
+  if (j.contains("best")) m.best = kind_of("best");
+  if (j.contains("best_without_zones")) m.best_without_zones = kind_of("best_without_zones");
+  if (m.best == ToolModelKind::kZones && m.zone_um_per_c.empty()) throw InputError(source, 0, "best", "zones without zone coefficients");
+  if (j.contains("training") && j.at("training").is_object()) {
+    m.training_rows = j.at("training").value("rows", 0);
+    m.training.sample_s = j.at("training").value("sample_s", 0.0);
+    m.training.noise_c = j.at("training").value("noise_c", 0.0);
+  }
+  return m;
+}
+
+}  // namespace trueaxis::tooltherm

@@ -1,0 +1,69 @@
+#include "trueaxis/tooltherm/tool_evaluation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace trueaxis::tooltherm {
+
+std::map<int, ToolErrorModel> FitToolModels(const ToolTable& table, const ToolDayRecording& training,
+                                            std::vector<std::string>* warnings) {
+  std::map<int, ToolErrorModel> models;
+  for (const auto& t : table.tools) {
+    const auto rows = ToolRecordsOf(training, t.number);
+    if (rows.size() < 20) {
+      if (warnings) warnings->push_back(fmt::format("tool {}: {} training samples, no model", t.number, rows.size()));
+      continue;
+    }
+    models.emplace(t.number, FitToolErrorModel(t.number, rows, table.standard_temp_c, warnings));
+  }
+  return models;
+}
+
+std::vector<double> CompensatedResidualUm(const std::map<int, ToolErrorModel>& models, ToolModelKind kind,
+                                          const ToolDayRecording& test, const ToolOffsetOptions& options) {
+  ToolOffsetCompensator comp(models, kind, options);
+  std::vector<double> out;
+  out.reserve(test.samples.size());
+  for (const auto& s : test.samples) out.push_back(s.true_error_um + comp.Cycle(s.time_s, s.tool, s.tv_c, s.zone_c).applied_correction_um);
+  return out;
+}
+
+ToolEvaluation EvaluateToolModels(const ToolTable& table, const ToolDayRecording& training, const ToolDayRecording& test,
+                                  const ToolOffsetOptions& options) {
+  ToolEvaluation ev;
+  ev.models = FitToolModels(table, training, &ev.warnings);
+  std::array<std::vector<double>, kToolModelKinds.size()> residual;
+  for (ToolModelKind k : kToolModelKinds)
+    residual[static_cast<std::size_t>(k)] = CompensatedResidualUm(ev.models, k, test, options);
+  for (const auto& t : table.tools) {
+    ToolScore sc;
+    sc.tool = t.number;
+    std::array<double, kToolModelKinds.size()> sum{};
+    double sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+    for (std::size_t i = 0; i < test.samples.size(); ++i) {
+      const auto& s = test.samples[i];
+      if (s.tool != t.number || !s.cutting) continue;
+      ++sc.samples;
+      for (std::size_t k = 0; k < kToolModelKinds.size(); ++k) {
+        sum[k] += residual[k][i] * residual[k][i];
+        sc.max_um[k] = std::max(sc.max_um[k], std::abs(residual[k][i]));
+      }
+      sx += s.tv_c;
+      sy += s.true_error_um;
+      sxx += s.tv_c * s.tv_c;
+      sxy += s.tv_c * s.true_error_um;
+      syy += s.true_error_um * s.true_error_um;
+    }
+    if (sc.samples == 0) continue;
+    const double n = sc.samples;
+    for (std::size_t k = 0; k < kToolModelKinds.size(); ++k) sc.rms_um[k] = std::sqrt(sum[k] / n);
+    const double vx = sxx - sx * sx / n, vy = syy - sy * sy / n, cxy = sxy - sx * sy / n;
+    sc.curve_spread_um = std::sqrt(std::max(0.0, (vx > 0 ? vy - cxy * cxy / vx : vy) / n));
+    ev.tools.push_back(sc);
+  }
+  return ev;
+}
+
+}  // namespace trueaxis::tooltherm
