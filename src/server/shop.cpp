@@ -33,6 +33,7 @@
 #include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/runtime/cycle_step.hpp"
 #include "trueaxis/server/mbap.hpp"
+#include "trueaxis/server/open_file_limit.hpp"
 #include "trueaxis/station/history_logger.hpp"
 #include "trueaxis/store/history_writer.hpp"
 
@@ -682,6 +683,8 @@ Shop::~Shop() { Stop(); }
 void Shop::Start() {
   Impl& s = *impl_;
   if (s.thread.joinable()) return;
+  std::string why;
+  if (!EnsureOpenFileLimit(s.machines.size() + 256, &why)) throw std::runtime_error("trueaxis server: " + why);
   s.epoll_fd = epoll_create1(EPOLL_CLOEXEC);
   s.wake_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   epoll_event ev{};

@@ -86,9 +86,6 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
     m.Double("min_backoff_s", mc.min_backoff_s, 1e-3, 60);
     m.Double("max_backoff_s", mc.max_backoff_s, 1e-3, 3600);
     if (mc.max_backoff_s < mc.min_backoff_s) m.Fail("max_backoff_s", t.get("max_backoff_s"), "must be at least min_backoff_s");
-    if (mc.response_timeout_s * (3 + (mc.channels.size() + 6) / 7) > mc.period_s * 4)
-      m.Fail("response_timeout_s", t.get("response_timeout_s"),
-             "too long for the period: a slow terminal would miss more than four periods per cycle");
     std::vector<runtime::AxisInterface> axes;
     runtime::ReadCompensatorTables(m, mc.period_s, mc.compensator, axes);
     m.RejectUnknown();

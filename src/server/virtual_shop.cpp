@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstring>
 #include <deque>
+#include <exception>
 #include <mutex>
 #include <random>
 #include <thread>
@@ -26,6 +27,7 @@
 #include "trueaxis/drivers/pmc_window_map.hpp"
 #include "trueaxis/drivers/register_codec.hpp"
 #include "trueaxis/server/mbap.hpp"
+#include "trueaxis/server/open_file_limit.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
 
 namespace trueaxis::server {
@@ -113,6 +115,40 @@ struct VirtualShop::Impl {
   VirtualShopStats stats;
   std::deque<DelayedReply> delayed;  // loop thread only
   std::uint64_t serial = 0;
+
+  std::unique_ptr<Terminal> MakeTerminal(int i, const sim::MachineDescription& description) const {
+    auto t = std::make_unique<Terminal>();
+    t->index = static_cast<std::size_t>(i);
+    t->name = fmt::format("vm-{:04d}", i);
+    t->port = opt.base_port + i;
+    t->vm = std::make_unique<sim::VirtualMachine>(description,
+                                                  opt.seed + static_cast<std::uint64_t>(i));
+    for (std::size_t a = 0; a < t->vm->AxisCount(); ++a) t->axes.push_back(t->vm->AxisName(a));
+    for (std::size_t c = 0; c < t->vm->ChannelCount(); ++c) t->channels.push_back(t->vm->ChannelName(c));
+    if (t->axes.size() > pmc::kMaxAxes) throw InputError("virtual shop", "a machine has more axes than the PMC window holds");
+    t->axis_state.resize(t->axes.size());
+    t->raw.resize(t->channels.size());
+    t->applied_um.assign(t->axes.size(), 0.0);
+    t->ir[pmc::kIrLayoutVersion] = pmc::kLayoutVersion;
+    t->ir[pmc::kIrAxisCount] = static_cast<std::uint16_t>(t->axes.size());
+    t->hr[pmc::kHrEnable] = 1;
+    const std::size_t modules = (t->channels.size() + adam::kChannelCount - 1) / adam::kChannelCount;
+    t->modules.resize(modules);
+    t->coils.resize(modules);
+    for (std::size_t k = 0; k < modules; ++k) {
+      auto& m = t->modules[k];
+      m.fill(0);
+      t->coils[k].fill(0);
+      const std::size_t n = ModuleChannels(*t, k);
+      for (std::size_t c = 0; c < n; ++c) m[adam::kTypeCodeAddress + c] = adam::kDefaultRangeCode;
+      m[adam::kModuleNameAddress] = adam::kModuleName;
+      m[adam::kChannelEnableAddress] = static_cast<std::uint16_t>((1u << n) - 1);
+    }
+    std::mt19937_64 rng(opt.seed * 7919 + static_cast<std::uint64_t>(i));
+    t->day_offset_s = std::uniform_real_distribution<double>(0, opt.day_s)(rng);
+    t->work_coolant = static_cast<CoolantState>(1 + i % 3);
+    return t;
+  }
 
   double Now() const { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -449,45 +485,33 @@ VirtualShop::VirtualShop(VirtualShopOptions options) : impl_(std::make_unique<Im
   if (!s.opt.IsValid(&why)) throw InputError("virtual shop", why);
   std::vector<sim::MachineDescription> descriptions;
   for (const auto& f : s.opt.machine_files) descriptions.push_back(sim::ReadMachineFile(f));
-  for (int i = 0; i < s.opt.machines; ++i) {
-    auto t = std::make_unique<Terminal>();
-    t->index = static_cast<std::size_t>(i);
-    t->name = fmt::format("vm-{:04d}", i);
-    t->port = s.opt.base_port + i;
-    t->vm = std::make_unique<sim::VirtualMachine>(descriptions[static_cast<std::size_t>(i) % descriptions.size()],
-                                                  s.opt.seed + static_cast<std::uint64_t>(i));
-    for (std::size_t a = 0; a < t->vm->AxisCount(); ++a) t->axes.push_back(t->vm->AxisName(a));
-    for (std::size_t c = 0; c < t->vm->ChannelCount(); ++c) t->channels.push_back(t->vm->ChannelName(c));
-    if (t->axes.size() > pmc::kMaxAxes) throw InputError("virtual shop", "a machine has more axes than the PMC window holds");
-    t->axis_state.resize(t->axes.size());
-    t->raw.resize(t->channels.size());
-    t->applied_um.assign(t->axes.size(), 0.0);
-    t->ir[pmc::kIrLayoutVersion] = pmc::kLayoutVersion;
-    t->ir[pmc::kIrAxisCount] = static_cast<std::uint16_t>(t->axes.size());
-    t->hr[pmc::kHrEnable] = 1;
-    const std::size_t modules = (t->channels.size() + adam::kChannelCount - 1) / adam::kChannelCount;
-    t->modules.resize(modules);
-    t->coils.resize(modules);
-    for (std::size_t k = 0; k < modules; ++k) {
-      auto& m = t->modules[k];
-      m.fill(0);
-      t->coils[k].fill(0);
-      const std::size_t n = s.ModuleChannels(*t, k);
-      for (std::size_t c = 0; c < n; ++c) m[adam::kTypeCodeAddress + c] = adam::kDefaultRangeCode;
-      m[adam::kModuleNameAddress] = adam::kModuleName;
-      m[adam::kChannelEnableAddress] = static_cast<std::uint16_t>((1u << n) - 1);
+  s.terminals.resize(static_cast<std::size_t>(s.opt.machines));
+  // A virtual machine takes ~20 ms to build (its thermal network soaked overnight): build them on every core.
+  std::atomic<int> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mu;
+  auto build = [&] {
+    for (int i = next++; i < s.opt.machines; i = next++) {
+      try {
+        s.terminals[static_cast<std::size_t>(i)] = s.MakeTerminal(i, descriptions[static_cast<std::size_t>(i) % descriptions.size()]);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(failure_mu);
+        failure = std::current_exception();
+      }
     }
-    std::mt19937_64 rng(s.opt.seed * 7919 + static_cast<std::uint64_t>(i));
-    t->day_offset_s = std::uniform_real_distribution<double>(0, s.opt.day_s)(rng);
-    t->work_coolant = static_cast<CoolantState>(1 + i % 3);
-    s.terminals.push_back(std::move(t));
-  }
+  };
+  std::vector<std::thread> workers;
+  for (unsigned k = 1; k < std::max(1u, std::thread::hardware_concurrency()); ++k) workers.emplace_back(build);
+  build();
+  for (auto& w : workers) w.join();
+  if (failure) std::rethrow_exception(failure);
 }
 
 VirtualShop::~VirtualShop() { Stop(); }
 
 bool VirtualShop::Start(std::string* error) {
   Impl& s = *impl_;
+  if (!EnsureOpenFileLimit(2 * s.terminals.size() + 64, error)) return false;  // a listener + a connection each
   s.epoll_fd = epoll_create1(EPOLL_CLOEXEC);
   s.wake_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   s.wake.fd = s.wake_fd;
