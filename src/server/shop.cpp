@@ -820,7 +820,9 @@ void Shop::SetAxisEnabled(const std::string& machine, const std::string& axis, b
     throw InputError("request", 0, "axis", fmt::format("machine '{}' has no axis '{}'", machine, axis));
   {
     std::lock_guard<std::mutex> lock(m.mu);
-    m.wanted.axis_enabled[static_cast<std::size_t>(it - m.cfg.axes.begin())] = enabled ? 1 : 0;
+    const auto a = static_cast<std::size_t>(it - m.cfg.axes.begin());
+    m.wanted.axis_enabled[a] = enabled ? 1 : 0;
+    m.status.axes[a].enabled = enabled;  // shown at once; the loop applies it next cycle (ramping)
   }
   if (impl_->history)
     impl_->history->PushAlarm(UnixNowS(), "info", machine, fmt::format("axis {} {} by {}", axis, enabled ? "enabled" : "disabled", user));
@@ -843,6 +845,7 @@ void Shop::SetCoolantOverride(const std::string& machine, std::optional<CoolantS
   {
     std::lock_guard<std::mutex> lock(m.mu);
     m.wanted.coolant_override = coolant;
+    m.status.coolant_override = coolant ? std::optional<std::string>(std::string(CoolantStateName(*coolant))) : std::nullopt;
   }
   if (impl_->history)
     impl_->history->PushAlarm(UnixNowS(), "info", machine,
