@@ -34,6 +34,7 @@
 #include "trueaxis/runtime/cycle_step.hpp"
 #include "trueaxis/server/mbap.hpp"
 #include "trueaxis/server/open_file_limit.hpp"
+#include "trueaxis/server/thread_cpu.hpp"
 #include "trueaxis/station/history_logger.hpp"
 #include "trueaxis/store/history_writer.hpp"
 
@@ -102,6 +103,8 @@ struct MachineSlot {
   std::vector<const adam::RtdRange*> ranges;  // per channel
   bool seed_pending = true;         // the limiter starts from what the CNC applies after each (re)connect
   bool cnc_ok = false, temps_ok = false;
+  bool temps_read = false;          // this cycle reads the ADAM-6015 modules (every temperature_period_s)
+  double temps_read_s = -1e9;       // when they were last read
   std::uint32_t heartbeat = 0;
   double heartbeat_changed_s = -1e9;
   std::vector<double> applied_um;   // CNC units, as the window reports
@@ -235,10 +238,15 @@ struct Shop::Impl {
   // ------------------------------------------------------------ the compensator
   void RunStep(MachineSlot& m, double now) {
     ++m.sequence;
-    m.cnc.sequence = m.temps.sequence = m.sequence;
-    m.cnc.sampled_at_s = m.temps.sampled_at_s = now;
+    m.cnc.sequence = m.sequence;
+    m.cnc.sampled_at_s = now;
     m.cnc.read_ok = m.cnc_ok;
-    m.temps.ok = m.temps_ok;
+    if (m.temps_read || !m.temps_ok) {  // a new temperature snapshot (read, or failed: the link is gone)
+      m.temps.sequence = m.sequence;
+      m.temps.sampled_at_s = now;
+      m.temps.ok = m.temps_ok;
+      if (m.temps_read && m.temps_ok) m.temps_read_s = now;
+    }
     if (m.cnc_ok) m.last_good_read_unix_s = now + unix_offset_s;
     {
       std::lock_guard<std::mutex> lock(m.mu);
@@ -305,6 +313,7 @@ struct Shop::Impl {
     const bool was_open = m.link == Link::kOpen;
     CloseLink(m);
     m.cnc_ok = m.temps_ok = false;
+    m.temps_read_s = -1e9;
     m.ranges_known = false;
     m.seed_pending = true;
     m.backoff_s = m.backoff_s <= 0 ? m.cfg.min_backoff_s : std::min(2 * m.backoff_s, m.cfg.max_backoff_s);
@@ -415,7 +424,9 @@ struct Shop::Impl {
   void BeginCycle(MachineSlot& m, double now) {
     m.cycle_start_s = now;
     m.cnc_ok = false;
-    m.temps_ok = m.module_count > 0 || m.channel_names.empty();
+    // Temperatures every temperature_period_s (half a period early rather than a period late).
+    m.temps_read = m.module_count > 0 && now - m.temps_read_s >= m.cfg.temperature_period_s - 0.5 * m.cfg.period_s;
+    m.temps_ok = m.temps_read ? true : m.temps.ok;
     m.module = 0;
     m.phase = (!m.ranges_known && m.module_count > 0) ? Phase::kConfig : Phase::kWindow;
     Send(m, now);
@@ -469,12 +480,12 @@ struct Shop::Impl {
       case Phase::kWindow:
         if (ok && !DecodeWindow(m, now)) return;
         if (!ok) m.cnc_ok = false;
-        if (m.module_count > 0 && m.ranges_known) {
+        if (m.temps_read && m.ranges_known) {
           m.phase = Phase::kTemperatures;
           m.module = 0;
           return Send(m, now);
         }
-        m.temps_ok = m.channel_names.empty();
+        if (m.temps_read) m.temps_ok = m.channel_names.empty();  // the modules' ranges are unknown: no reading
         return StepAndWrite(m, now);
       case Phase::kTemperatures:
         if (ok) {
@@ -766,6 +777,7 @@ ShopStats Shop::Stats() const {
     s.latency_max_ms = *std::max_element(v.begin(), v.end());
   }
   if (impl_->history) s.history_dropped = impl_->history->Stats().dropped;
+  s.loop_cpu_s = ThreadCpuSeconds(impl_->thread);
   return s;
 }
 

@@ -81,6 +81,8 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
     m.Strings("rtd_channels", mc.channels);
     if (m.String("model", mc.model_file, true)) mc.model_file = Resolve(base, mc.model_file);
     m.Double("period_s", mc.period_s, 1e-3, 60);
+    m.Double("temperature_period_s", mc.temperature_period_s, 1e-3, 600);
+    if (mc.temperature_period_s < mc.period_s) mc.temperature_period_s = mc.period_s;
     m.Double("response_timeout_s", mc.response_timeout_s, 1e-3, 10);
     m.Double("connect_timeout_s", mc.connect_timeout_s, 1e-3, 30);
     m.Double("min_backoff_s", mc.min_backoff_s, 1e-3, 60);

@@ -28,6 +28,7 @@
 #include "trueaxis/drivers/register_codec.hpp"
 #include "trueaxis/server/mbap.hpp"
 #include "trueaxis/server/open_file_limit.hpp"
+#include "trueaxis/server/thread_cpu.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
 
 namespace trueaxis::server {
@@ -436,7 +437,7 @@ struct VirtualShop::Impl {
     std::size_t next = 0;  // ticks come round robin: the start staggered them and they share one period
     while (!stop.load(std::memory_order_relaxed)) {
       double now = Now();
-      for (std::size_t k = 0; k < terminals.size(); ++k) {
+      for (std::size_t k = 0; k < std::min<std::size_t>(terminals.size(), 64); ++k) {  // then serve the network
         Terminal& t = *terminals[next];
         if (t.next_tick_s > now) break;
         t.next_tick_s += opt.tick_s;
@@ -557,8 +558,13 @@ std::vector<VirtualMachineInfo> VirtualShop::Machines() const {
 }
 
 VirtualShopStats VirtualShop::Stats() const {
-  std::lock_guard<std::mutex> lock(impl_->mu);
-  return impl_->stats;
+  VirtualShopStats s;
+  {
+    std::lock_guard<std::mutex> lock(impl_->mu);
+    s = impl_->stats;
+  }
+  s.loop_cpu_s = ThreadCpuSeconds(impl_->thread);
+  return s;
 }
 
 void VirtualShop::SetFault(std::size_t machine, TerminalFault fault, double delay_s) {

@@ -92,6 +92,7 @@ struct ShopStats {
   double latency_p50_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;  // read → write, since the last ResetLatency
   std::uint64_t latency_samples = 0;
   std::uint64_t history_dropped = 0;
+  double loop_cpu_s = 0;              // CPU time of the event-loop thread so far
 };
 
 class Shop {

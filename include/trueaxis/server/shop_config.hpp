@@ -22,6 +22,8 @@ struct MachineConfig {
   std::vector<std::string> channels;// rtd_channels: RTD channel names in module order ([channels] stays the model→channel map)
   std::string model_file;           // the model in force at start
   double period_s = 0.1;            // poll period: read → step → write once per period
+  double temperature_period_s = 1.0;// the ADAM-6015 values are read this often (temperatures change over
+                                    // minutes; each module read is one more request per cycle)
   double response_timeout_s = 0.05; // per request (and per connect attempt: connect_timeout_s)
   double connect_timeout_s = 0.5;
   double min_backoff_s = 0.1;       // reconnect delay after a fault, doubling up to max_backoff_s

@@ -54,6 +54,7 @@ enum class TerminalFault {
 
 struct VirtualShopStats {
   std::uint64_t requests = 0, exceptions = 0, connections = 0, compensation_writes = 0, ticks = 0, watchdog_steps = 0;
+  double loop_cpu_s = 0;  // CPU time of the serving thread so far
 };
 
 struct VirtualMachineInfo {

@@ -1,0 +1,69 @@
+#!/usr/bin/python3
+"""The comparison poller of bench/server_bench.cpp: the same work as the
+workshop server's cycle done the plain way with pymodbus 3.0 (Debian's
+python3-pymodbus), one synchronous client per terminal, one thread:
+per machine and period, FC 04 the PMC window, FC 03 the AI values of each
+ADAM-6015, FC 16 the compensation vector (written back as read: no model).
+
+usage: pymodbus_poller.py BASE_PORT MACHINES AXES CHANNELS PERIOD_S DURATION_S
+prints one JSON object: complete cycles per second, latency percentiles.
+"""
+import json
+import sys
+import time
+import types
+
+for name in ("serial", "serial_asyncio"):  # Debian's pymodbus 3.0 imports them even for TCP
+    try:
+        __import__(name)
+    except ImportError:
+        stub = types.ModuleType(name)
+        stub.create_serial_connection = None
+        sys.modules[name] = stub
+
+from pymodbus.client import ModbusTcpClient  # noqa: E402
+
+
+def main():
+    base, n, axes, channels = (int(x) for x in sys.argv[1:5])
+    period, duration = float(sys.argv[5]), float(sys.argv[6])
+    clients = []
+    for i in range(n):
+        c = ModbusTcpClient("127.0.0.1", port=base + i, timeout=1)
+        c.connect()
+        clients.append(c)
+    modules = (channels + 6) // 7
+    window = 16 + 8 * axes
+    lat = []
+    done = 0
+    start = time.monotonic()
+    next_t = start
+    while time.monotonic() - start < duration:
+        for c in clients:
+            t0 = time.monotonic()
+            r = c.read_input_registers(0, window, slave=1)
+            if r.isError():
+                continue
+            for k in range(modules):
+                c.read_holding_registers(0, min(7, channels - 7 * k), slave=2 + k)
+            words = []
+            for a in range(axes):
+                words += r.registers[20 + 8 * a: 22 + 8 * a]  # applied compensation, written back
+            w = c.write_registers(16, words, slave=1)
+            if not w.isError():
+                done += 1
+                lat.append((time.monotonic() - t0) * 1000)
+        next_t += period
+        delay = next_t - time.monotonic()
+        if delay > 0:
+            time.sleep(delay)
+    elapsed = time.monotonic() - start
+    lat.sort()
+    pick = lambda q: lat[min(len(lat) - 1, int(q * len(lat)))] if lat else 0
+    print(json.dumps({"machines": n, "cycles_per_s": done / elapsed, "per_machine_hz": done / elapsed / n,
+                      "p50_ms": pick(0.5), "p99_ms": pick(0.99), "max_ms": lat[-1] if lat else 0,
+                      "cpu_s": time.process_time(), "elapsed_s": elapsed}))
+
+
+if __name__ == "__main__":
+    main()
