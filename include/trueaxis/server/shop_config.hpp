@@ -24,7 +24,7 @@ struct MachineConfig {
   double period_s = 0.1;            // poll period: read → step → write once per period
   double temperature_period_s = 1.0;// the ADAM-6015 values are read this often (temperatures change over
                                     // minutes; each module read is one more request per cycle)
-  double response_timeout_s = 0.05; // per request (and per connect attempt: connect_timeout_s)
+  double response_timeout_s = 0.2;  // per request (a connect attempt has connect_timeout_s)
   double connect_timeout_s = 0.5;
   double min_backoff_s = 0.1;       // reconnect delay after a fault, doubling up to max_backoff_s
   double max_backoff_s = 5.0;

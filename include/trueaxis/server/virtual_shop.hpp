@@ -30,7 +30,7 @@ struct VirtualShopOptions {
   int machines = 1;
   std::string bind_address = "127.0.0.1";
   int base_port = 15000;                   // machine i listens on base_port + i
-  double time_scale = 60;                  // machine seconds per wall second
+  double time_scale = 1;                   // machine seconds per wall second (cost grows with it)
   std::uint64_t seed = 1;                  // machine i uses seed + i
   double tick_s = 0.1;                     // each machine is advanced and its registers refreshed this often
   double watchdog_s = 0;                   // 0: hold; else ramp to 0 after this long without a client write
