@@ -3,7 +3,8 @@
 workshop server's cycle done the plain way with pymodbus 3.0 (Debian's
 python3-pymodbus), one synchronous client per terminal, one thread:
 per machine and period, FC 04 the PMC window, FC 03 the AI values of each
-ADAM-6015, FC 16 the compensation vector (written back as read: no model).
+ADAM-6015 (once per second, as the server's temperature_period_s), FC 16 the
+compensation vector (written back as read: no model).
 
 usage: pymodbus_poller.py BASE_PORT MACHINES AXES CHANNELS PERIOD_S DURATION_S
 prints one JSON object: complete cycles per second, latency percentiles.
@@ -38,13 +39,15 @@ def main():
     done = 0
     start = time.monotonic()
     next_t = start
+    cycle = 0
+    every = max(1, round(1.0 / period))  # temperatures once per second
     while time.monotonic() - start < duration:
         for c in clients:
             t0 = time.monotonic()
             r = c.read_input_registers(0, window, slave=1)
             if r.isError():
                 continue
-            for k in range(modules):
+            for k in range(modules if cycle % every == 0 else 0):
                 c.read_holding_registers(0, min(7, channels - 7 * k), slave=2 + k)
             words = []
             for a in range(axes):
@@ -53,6 +56,7 @@ def main():
             if not w.isError():
                 done += 1
                 lat.append((time.monotonic() - t0) * 1000)
+        cycle += 1
         next_t += period
         delay = next_t - time.monotonic()
         if delay > 0:

@@ -134,7 +134,7 @@ void BM_Shop(benchmark::State& state) {
   }
   std::filesystem::remove_all(dir);
 }
-BENCHMARK(BM_Shop)->Arg(10)->Arg(100)->Arg(1000)->Arg(2000)->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
+BENCHMARK(BM_Shop)->Arg(10)->Arg(100)->Arg(1000)->Arg(1500)->Arg(2000)->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
 
 void BM_PymodbusPoller(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
@@ -169,7 +169,7 @@ void BM_PymodbusPoller(benchmark::State& state) {
     }
   }
 }
-BENCHMARK(BM_PymodbusPoller)->Arg(10)->Arg(50)->Arg(100)->Arg(200)->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
+BENCHMARK(BM_PymodbusPoller)->Arg(10)->Arg(100)->Arg(200)->Arg(300)->Arg(400)->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
 
 }  // namespace
 

@@ -7,7 +7,6 @@
 #include <chrono>
 #include <csignal>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <thread>
 
@@ -16,6 +15,7 @@
 #include "command.hpp"
 #include "sim_command.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/text_file.hpp"
 #include "trueaxis/server/virtual_shop.hpp"
 
 namespace {
@@ -46,11 +46,11 @@ void RunShop(ShopOptions o) {
   if (!o.write_shop.empty()) {
     const auto parent = std::filesystem::path(o.write_shop).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
-    // Paths in the shop file resolve against its folder: write them absolute.
-    std::ofstream f(o.write_shop);
-    f << server::ShopFileFor(machines, o.shop.bind_address, std::filesystem::absolute(o.model).lexically_normal().string(),
-                             o.history, o.period_s, o.http_port);
-    if (!f) throw InputError(o.write_shop, 0, "--write-shop", "cannot write the shop file");
+    // Paths in the shop file resolve against its folder: the model's is written absolute. Atomic: a server
+    // started beside the shop never reads half a file.
+    WriteTextFile(o.write_shop, server::ShopFileFor(machines, o.shop.bind_address,
+                                                    std::filesystem::absolute(o.model).lexically_normal().string(),
+                                                    o.history, o.period_s, o.http_port));
   }
   std::string error;
   if (!shop.Start(&error)) {
@@ -88,7 +88,7 @@ void Setup(CLI::App& app) {
   CLI::App* cmd = trueaxis::cli::SimCommand(app)->add_subcommand(
       "shop", "Serve N virtual machines, one MODBUS TCP terminal each on base-port + i, from one process (docs/server.md)");
   cmd->add_option("--machines", o->shop.machines, "Number of machines")->capture_default_str();
-  cmd->add_option("--base-port", o->shop.base_port, "Machine i listens on base-port + i")->capture_default_str();
+  cmd->add_option("--base-port,--port", o->shop.base_port, "Machine i listens on base-port + i")->capture_default_str();
   cmd->add_option("--machine-files", o->shop.machine_files, "Machine descriptions, used round robin (docs/machine-file.md)")
       ->delimiter(',')->capture_default_str()->check(CLI::ExistingFile);
   cmd->add_option("--bind", o->shop.bind_address, "IPv4 address to listen on")->capture_default_str();
