@@ -10,19 +10,13 @@ usage: pymodbus_poller.py BASE_PORT MACHINES AXES CHANNELS PERIOD_S DURATION_S
 prints one JSON object: complete cycles per second, latency percentiles.
 """
 import json
+import os
 import sys
 import time
-import types
 
-for name in ("serial", "serial_asyncio"):  # Debian's pymodbus 3.0 imports them even for TCP
-    try:
-        __import__(name)
-    except ImportError:
-        stub = types.ModuleType(name)
-        stub.create_serial_connection = None
-        sys.modules[name] = stub
-
-from pymodbus.client import ModbusTcpClient  # noqa: E402
+# The test peer's import (it stubs the serial modules Debian's pymodbus 3.0 imports even for TCP).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "drivers", "peers"))
+from pymodbus_peer import ModbusTcpClient  # noqa: E402
 
 
 def main():

@@ -13,14 +13,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <random>
 #include <string>
 #include <thread>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
-#include "trueaxis/model/model_json.hpp"
+#include "../tests/server/shop_fixture.hpp"  // the tests' model and free-port virtual shop
 #include "trueaxis/server/shop.hpp"
 #include "trueaxis/server/virtual_shop.hpp"
 #include "trueaxis/store/history_writer.hpp"
@@ -45,49 +44,12 @@ std::string Dir() {
   return d.string();
 }
 
-// The demo's kind of model over the VMC-850's sensors (key = nut, ambient ρ term).
-std::string Model(const std::string& dir) {
-  model::CompositeModel m;
-  m.machine = "VMC-850";
-  for (const char* axis : {"X", "Y", "Z"}) {
-    model::AxisModel a;
-    a.axis = axis;
-    a.key_sensors = {std::string(1, static_cast<char>(axis[0] + 32)) + "_nut"};
-    a.baseline_temp_c = {20};
-    a.ambient_sensor = "ambient";
-    a.ambient_baseline_c = 20;
-    a.rho_um_per_mm_per_c = 0.0115;
-    for (auto& d : a.directions) {
-      d.geometric.center_mm = 300;
-      d.geometric.half_span_mm = 300;
-      d.geometric.coefficients_um = {10, 8, -3};
-    }
-    m.axes.push_back(a);
-  }
-  const std::string path = dir + "/model.json";
-  model::WriteModelFile(m, path);
-  return path;
-}
-
-std::unique_ptr<server::VirtualShop> StartShop(int n) {
-  server::VirtualShopOptions o;
-  o.machine_files = {std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850.toml"};
-  o.machines = n;
-  std::mt19937 rng(static_cast<unsigned>(getpid()));
-  for (int attempt = 0; attempt < 20; ++attempt) {
-    o.base_port = 20000 + static_cast<int>(rng() % (40000 - static_cast<unsigned>(n)));
-    auto shop = std::make_unique<server::VirtualShop>(o);
-    if (shop->Start(nullptr)) return shop;
-  }
-  return nullptr;
-}
-
 void BM_Shop(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const std::string dir = Dir();
-  const std::string model = Model(dir);
+  const std::string model = server::testing::WriteModel(dir + "/model.json");
   for (auto _ : state) {
-    auto vshop = StartShop(n);
+    auto vshop = server::testing::StartVirtualShop(n);
     if (!vshop) {
       state.SkipWithError("cannot bind the virtual shop's ports");
       return;
@@ -139,7 +101,7 @@ BENCHMARK(BM_Shop)->Arg(10)->Arg(100)->Arg(1000)->Arg(1500)->Arg(2000)->Iteratio
 void BM_PymodbusPoller(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   for (auto _ : state) {
-    auto vshop = StartShop(n);
+    auto vshop = server::testing::StartVirtualShop(n);
     if (!vshop) {
       state.SkipWithError("cannot bind the virtual shop's ports");
       return;

@@ -5,12 +5,10 @@
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <sys/epoll.h>
-#include <sys/eventfd.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cerrno>
 #include <cmath>
@@ -18,7 +16,6 @@
 #include <cstring>
 #include <mutex>
 #include <queue>
-#include <thread>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -32,6 +29,7 @@
 #include "trueaxis/runtime/bound_model.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/runtime/cycle_step.hpp"
+#include "trueaxis/server/event_loop.hpp"
 #include "trueaxis/server/mbap.hpp"
 #include "trueaxis/server/open_file_limit.hpp"
 #include "trueaxis/server/thread_cpu.hpp"
@@ -140,10 +138,8 @@ struct Shop::Impl {
   ShopConfig& config;
   store::HistoryWriter* history = nullptr;
   std::vector<std::unique_ptr<MachineSlot>> machines;
-  int epoll_fd = -1;
-  int wake_fd = -1;
-  std::atomic<bool> stop{false};
-  std::thread thread;
+  EventLoop loop;
+  int epoll_fd = loop.epoll_fd();
   Clock::time_point t0 = Clock::now();
   double unix_offset_s = UnixNowS();  // unix time = loop time + offset
   struct Timer {
@@ -609,7 +605,7 @@ struct Shop::Impl {
 
   void Loop() {
     std::vector<epoll_event> events(1024);
-    while (!stop.load(std::memory_order_relaxed)) {
+    while (!loop.stopping()) {
       double now = Now();
       while (!timers.empty() && timers.top().due_s <= now) {
         const Timer t = timers.top();
@@ -623,7 +619,7 @@ struct Shop::Impl {
       const int n = epoll_wait(epoll_fd, events.data(), static_cast<int>(events.size()), wait_ms);
       now = Now();
       for (int i = 0; i < n; ++i) {
-        if (events[i].data.u64 == ~0ull) continue;  // wake-up
+        if (events[i].data.u64 == EventLoop::kWakeToken) continue;
         MachineSlot& m = *machines[events[i].data.u64];
         if (m.fd < 0) continue;
         if (m.link == Link::kConnecting) {
@@ -693,15 +689,9 @@ Shop::~Shop() { Stop(); }
 
 void Shop::Start() {
   Impl& s = *impl_;
-  if (s.thread.joinable()) return;
+  if (s.loop.thread().joinable()) return;
   std::string why;
   if (!EnsureOpenFileLimit(s.machines.size() + 256, &why)) throw std::runtime_error("trueaxis server: " + why);
-  s.epoll_fd = epoll_create1(EPOLL_CLOEXEC);
-  s.wake_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
-  epoll_event ev{};
-  ev.events = EPOLLIN;
-  ev.data.u64 = ~0ull;
-  epoll_ctl(s.epoll_fd, EPOLL_CTL_ADD, s.wake_fd, &ev);
   // Staggered start: machine i's first cycle is i/N of a period in, so the shop's requests spread over the period.
   const double now = s.Now();
   const std::size_t n = s.machines.size();
@@ -711,21 +701,13 @@ void Shop::Start() {
     s.timers.push({m.next_tick_s, static_cast<std::uint32_t>(i), true, 0});
     m.reconnect_at_s = m.next_tick_s;
   }
-  s.stop.store(false);
-  s.thread = std::thread([&s] { s.Loop(); });
+  s.loop.Start([&s] { s.Loop(); });
 }
 
 void Shop::Stop() {
   Impl& s = *impl_;
-  if (!s.thread.joinable()) return;
-  s.stop.store(true);
-  const std::uint64_t one = 1;
-  [[maybe_unused]] auto w = write(s.wake_fd, &one, sizeof one);
-  s.thread.join();
+  if (!s.loop.Stop()) return;
   for (auto& m : s.machines) s.CloseLink(*m);
-  close(s.wake_fd);
-  close(s.epoll_fd);
-  s.wake_fd = s.epoll_fd = -1;
 }
 
 namespace {
@@ -777,7 +759,7 @@ ShopStats Shop::Stats() const {
     s.latency_max_ms = *std::max_element(v.begin(), v.end());
   }
   if (impl_->history) s.history_dropped = impl_->history->Stats().dropped;
-  s.loop_cpu_s = ThreadCpuSeconds(impl_->thread);
+  s.loop_cpu_s = ThreadCpuSeconds(impl_->loop.thread());
   return s;
 }
 

@@ -4,7 +4,6 @@
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <sys/epoll.h>
-#include <sys/eventfd.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -26,6 +25,7 @@
 #include "trueaxis/drivers/adam6015_map.hpp"
 #include "trueaxis/drivers/pmc_window_map.hpp"
 #include "trueaxis/drivers/register_codec.hpp"
+#include "trueaxis/server/event_loop.hpp"
 #include "trueaxis/server/mbap.hpp"
 #include "trueaxis/server/open_file_limit.hpp"
 #include "trueaxis/server/thread_cpu.hpp"
@@ -106,11 +106,9 @@ bool VirtualShopOptions::IsValid(std::string* why) const {
 struct VirtualShop::Impl {
   VirtualShopOptions opt;
   std::vector<std::unique_ptr<Terminal>> terminals;
-  int epoll_fd = -1, wake_fd = -1;
-  Endpoint wake;
-  std::atomic<bool> stop{false};
+  EventLoop loop;
+  int epoll_fd = loop.epoll_fd();
   std::atomic<bool> faults_changed{false};
-  std::thread thread;
   Clock::time_point t0 = Clock::now();
   mutable std::mutex mu;  // stats, faults, applied values (the loop holds it while handling a machine)
   VirtualShopStats stats;
@@ -435,7 +433,7 @@ struct VirtualShop::Impl {
   void Loop() {
     std::vector<epoll_event> events(1024);
     std::size_t next = 0;  // ticks come round robin: the start staggered them and they share one period
-    while (!stop.load(std::memory_order_relaxed)) {
+    while (!loop.stopping()) {
       double now = Now();
       for (std::size_t k = 0; k < std::min<std::size_t>(terminals.size(), 64); ++k) {  // then serve the network
         Terminal& t = *terminals[next];
@@ -454,8 +452,8 @@ struct VirtualShop::Impl {
       const int n = epoll_wait(epoll_fd, events.data(), static_cast<int>(events.size()), 2);
       now = Now();
       for (int i = 0; i < n; ++i) {
+        if (events[i].data.u64 == EventLoop::kWakeToken) continue;
         auto* e = static_cast<Endpoint*>(events[i].data.ptr);
-        if (e == &wake) continue;
         Terminal& t = *e->terminal;
         if (e->listening) {
           Accept(t);
@@ -513,13 +511,6 @@ VirtualShop::~VirtualShop() { Stop(); }
 bool VirtualShop::Start(std::string* error) {
   Impl& s = *impl_;
   if (!EnsureOpenFileLimit(2 * s.terminals.size() + 64, error)) return false;  // a listener + a connection each
-  s.epoll_fd = epoll_create1(EPOLL_CLOEXEC);
-  s.wake_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
-  s.wake.fd = s.wake_fd;
-  epoll_event ev{};
-  ev.events = EPOLLIN;
-  ev.data.ptr = &s.wake;
-  epoll_ctl(s.epoll_fd, EPOLL_CTL_ADD, s.wake_fd, &ev);
   const double now = s.Now();
   for (auto& t : s.terminals) {
     if (!s.Listen(*t, error)) {
@@ -531,24 +522,17 @@ bool VirtualShop::Start(std::string* error) {
     t->next_tick_s = now + s.opt.tick_s * static_cast<double>(t->index) / static_cast<double>(s.terminals.size());
     s.TickMachine(*t, now);  // registers hold real state before the first request
   }
-  s.stop.store(false);
-  s.thread = std::thread([&s] { s.Loop(); });
+  s.loop.Start([&s] { s.Loop(); });
   return true;
 }
 
 void VirtualShop::Stop() {
   Impl& s = *impl_;
-  if (!s.thread.joinable()) return;
-  s.stop.store(true);
-  const std::uint64_t one = 1;
-  [[maybe_unused]] auto w = write(s.wake_fd, &one, sizeof one);
-  s.thread.join();
+  if (!s.loop.Stop()) return;
   for (auto& t : s.terminals) {
     s.CloseListener(*t);
     while (!t->connections.empty()) s.CloseConnection(*t, t->connections.front().get());
   }
-  close(s.wake_fd);
-  close(s.epoll_fd);
 }
 
 std::vector<VirtualMachineInfo> VirtualShop::Machines() const {
@@ -563,7 +547,7 @@ VirtualShopStats VirtualShop::Stats() const {
     std::lock_guard<std::mutex> lock(impl_->mu);
     s = impl_->stats;
   }
-  s.loop_cpu_s = ThreadCpuSeconds(impl_->thread);
+  s.loop_cpu_s = ThreadCpuSeconds(impl_->loop.thread());
   return s;
 }
 

@@ -53,20 +53,21 @@ void ExpectError(const std::string& text, int line, const std::string& field) {
 }
 
 TEST(ShopConfig, ErrorsNameLineAndField) {
-  std::string s = kShop;
   ExpectError(std::string(kShop) + "\n[[machine]]\nname = \"mill-1\"\naxes=[\"X\"]\nmodel=\"m.json\"\n", 20, "machine[1].name");
-  s = kShop;
-  s.replace(s.find("port = 15001"), 12, "port = 99999");
-  ExpectError(s, 8, "machine[0].port");
-  s = kShop;
-  s.replace(s.find("host = \"127.0.0.1\""), 18, "host = \"mill.local\"");
-  ExpectError(s, 7, "machine[0].host");
-  s = kShop;
-  s.replace(s.find("period_s = 0.1"), 14, "perod_s = 0.1");
-  ExpectError(s, 12, "machine[0].perod_s");
-  s = kShop;
-  s.replace(s.find("name = \"Y\""), 10, "name = \"W\"");
-  ExpectError(s, 15, "machine[0].axis");
+  struct Edit {
+    const char* from;
+    const char* to;
+    int line;
+    const char* field;
+  };
+  for (const Edit& e : {Edit{"port = 15001", "port = 99999", 8, "machine[0].port"},
+                        Edit{"host = \"127.0.0.1\"", "host = \"mill.local\"", 7, "machine[0].host"},
+                        Edit{"period_s = 0.1", "perod_s = 0.1", 12, "machine[0].perod_s"},
+                        Edit{"name = \"Y\"", "name = \"W\"", 15, "machine[0].axis"}}) {
+    std::string s = kShop;
+    s.replace(s.find(e.from), std::string(e.from).size(), e.to);
+    ExpectError(s, e.line, e.field);
+  }
   ExpectError("history = \"x.db\"\n", 1, "machine");
 }
 
