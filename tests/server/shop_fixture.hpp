@@ -9,6 +9,7 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <vector>
 #include <unistd.h>
 
 #include "trueaxis/model/composite_model.hpp"
@@ -18,10 +19,20 @@
 
 namespace trueaxis::server::testing {
 
+// A fresh scratch folder, removed when the test program exits (a failed test's folder stays while it runs).
 inline std::string TempDir(const std::string& name) {
+  struct RemovedAtExit {
+    std::vector<std::filesystem::path> dirs;
+    ~RemovedAtExit() {
+      std::error_code ignored;
+      for (const auto& d : dirs) std::filesystem::remove_all(d, ignored);
+    }
+  };
+  static RemovedAtExit scratch;
   const auto dir = std::filesystem::temp_directory_path() / ("trueaxis_server_" + name + "_" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  scratch.dirs.push_back(dir);
   return dir.string();
 }
 
