@@ -14,8 +14,13 @@ const char* ChannelHealthName(ChannelHealth h) {
 }
 
 HistoryLogger::HistoryLogger(store::HistoryWriter& writer, std::vector<std::string> axis_names,
-                             std::vector<std::string> channel_names, double time_offset_s)
-    : writer_(writer), axis_names_(std::move(axis_names)), channel_names_(std::move(channel_names)), offset_s_(time_offset_s) {}
+                             std::vector<std::string> channel_names, double time_offset_s,
+                             std::string alarm_source)
+    : writer_(writer),
+      axis_names_(std::move(axis_names)),
+      channel_names_(std::move(channel_names)),
+      offset_s_(time_offset_s),
+      alarm_source_(std::move(alarm_source)) {}
 
 void HistoryLogger::Log(const CycleRecord& r) {
   const double t = r.time_s + offset_s_;
@@ -28,8 +33,8 @@ void HistoryLogger::Log(const CycleRecord& r) {
   }
   const std::uint32_t raised = r.alarms & ~last_alarms_;
   const std::uint32_t cleared = last_alarms_ & ~r.alarms;
-  if (raised) writer_.PushAlarm(t, "warning", "compensator", "raised: " + AlarmNames(raised));
-  if (cleared) writer_.PushAlarm(t, "info", "compensator", "cleared: " + AlarmNames(cleared));
+  if (raised) writer_.PushAlarm(t, "warning", alarm_source_, "raised: " + AlarmNames(raised));
+  if (cleared) writer_.PushAlarm(t, "info", alarm_source_, "cleared: " + AlarmNames(cleared));
   last_alarms_ = r.alarms;
   ++records_;
 }

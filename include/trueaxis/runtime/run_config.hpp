@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "trueaxis/core/coolant.hpp"
+#include "trueaxis/core/toml_reader.hpp"
 #include "trueaxis/runtime/axis_interface.hpp"
 #include "trueaxis/runtime/compensator_options.hpp"
 
@@ -70,6 +71,11 @@ struct RunConfig {
   double record_interval_s = 1.0;  // how often a cycle is logged (alarm changes always are)
   WebConfig web;
 };
+
+// The compensator's own tables of a TOML table ([limits], [sensor_fault], [link], [channels],
+// [[axis]]: docs/runtime.md), read through `r`; shared by `run` and the shop file's machines
+// (docs/server.md). `period_s` is the cycle period (the CNC snapshot goes stale after 3 of them).
+void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptions& o, std::vector<AxisInterface>& axes);
 
 RunConfig ParseRunConfig(const std::string& text, const std::string& source);
 RunConfig ReadRunConfig(const std::string& path);

@@ -21,8 +21,10 @@ using runtime::CycleRecord;
 class HistoryLogger {
  public:
   // `time_offset_s` is added to the loop's time (e.g. the Unix time the loop started).
+  // `alarm_source` names who raised the alarms (the workshop server: the machine's name).
   HistoryLogger(store::HistoryWriter& writer, std::vector<std::string> axis_names,
-                std::vector<std::string> channel_names, double time_offset_s = 0);
+                std::vector<std::string> channel_names, double time_offset_s = 0,
+                std::string alarm_source = "compensator");
   void Log(const CycleRecord& record);
   // A model was published (label, revision, sha).
   void LogModelChange(double time_s, const std::string& sha256, const std::string& revision, const std::string& note);
@@ -32,6 +34,7 @@ class HistoryLogger {
   store::HistoryWriter& writer_;
   std::vector<std::string> axis_names_, channel_names_;
   double offset_s_;
+  std::string alarm_source_;
   std::uint32_t last_alarms_ = 0;
   std::uint64_t records_ = 0;
 };

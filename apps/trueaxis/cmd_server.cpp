@@ -1,0 +1,211 @@
+// trueaxis server: the workshop server (seed 003, docs/server.md). Polls every
+// machine's terminal over MODBUS TCP from one event loop, runs each machine's
+// compensator (the same step as `run`), writes the corrections back, records
+// the shop's history and serves the JSON control API.
+//
+//   trueaxis server --config shop.toml [--duration-s S]
+//   trueaxis server status --url http://127.0.0.1:8650 [--json]
+//   trueaxis server model load --url ... --machine M --file model.json --user alice
+//   trueaxis server model rollback --url ... --machine M --user alice
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <memory>
+#include <thread>
+
+#include <fmt/format.h>
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/server/http_api.hpp"
+#include "trueaxis/server/shop.hpp"
+#include "trueaxis/server/shop_config.hpp"
+#include "trueaxis/store/history_writer.hpp"
+
+namespace {
+
+using namespace trueaxis;
+
+std::atomic<bool> g_stop{false};
+extern "C" void OnServerStop(int) { g_stop.store(true); }
+
+struct ServerOptions {
+  std::string config;
+  double duration_s = 0;
+  double status_interval_s = 5;
+  int http_port = -1;  // -1: the shop file's
+  bool quiet = false;
+};
+
+std::string Summary(const server::Shop& shop, double wall_s, double since_s, std::uint64_t cycles_before) {
+  const auto snap = shop.Snapshot();
+  std::size_t connected = 0, alarmed = 0;
+  for (const auto& m : snap) {
+    connected += m.connected ? 1 : 0;
+    alarmed += m.alarms ? 1 : 0;
+  }
+  const auto st = shop.Stats();
+  const double rate = since_s > 0 ? static_cast<double>(st.complete_cycles - cycles_before) / since_s : 0;
+  return fmt::format("[{:7.1f} s] {}/{} machines connected, {} with alarms | {:.0f} complete cycles/s | read->write p50 {:.2f} "
+                     "p99 {:.2f} max {:.2f} ms | {} faults, {} overruns",
+                     wall_s, connected, snap.size(), alarmed, rate, st.latency_p50_ms, st.latency_p99_ms, st.latency_max_ms,
+                     st.faults, st.overruns);
+}
+
+void RunServer(const ServerOptions& o) {
+  g_stop.store(false);
+  std::signal(SIGINT, OnServerStop);
+  std::signal(SIGTERM, OnServerStop);
+  if (o.duration_s < 0) throw InputError("command line", 0, "--duration-s", "must be >= 0 (0 = until stopped)");
+  server::ShopConfig config = server::ReadShopConfig(o.config);  // InputError: file, line, field
+  if (o.http_port >= 0) config.http_port = o.http_port;
+  std::unique_ptr<store::HistoryWriter> history;
+  if (!config.history.empty()) {
+    const auto parent = std::filesystem::path(config.history).parent_path();
+    if (!parent.empty()) std::filesystem::create_directories(parent);
+    store::HistoryWriterOptions ho;
+    ho.queue_capacity = 1u << 18;  // a thousand machines' records for several seconds of a slow disk
+    history = std::make_unique<store::HistoryWriter>(config.history, ho);
+  }
+  server::Shop shop(config, history.get());  // InputError: a model that does not fit its machine
+  std::unique_ptr<server::HttpApi> api;
+  if (config.http_port > 0) {
+    api = std::make_unique<server::HttpApi>(shop, config.http_bind, config.http_port);
+    std::string error;
+    if (!api->Start(&error)) {
+      fmt::print(stderr, "trueaxis server: {}:{}: {}\n", config.http_bind, config.http_port, error);
+      throw CLI::RuntimeError(cli::kExitFailure);
+    }
+  }
+  shop.Start();
+  fmt::print("trueaxis server: {} machines from {}, history {}{}\n", config.machines.size(), config.source,
+             config.history.empty() ? "off" : config.history,
+             api ? fmt::format(", API http://{}:{}/api/machines", config.http_bind, api->port()) : "");
+  std::fflush(stdout);
+  const auto t0 = std::chrono::steady_clock::now();
+  auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  double next_status = o.status_interval_s, last_status = 0;
+  std::uint64_t last_cycles = 0;
+  while (!g_stop.load() && (o.duration_s <= 0 || wall() < o.duration_s)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (!o.quiet && o.status_interval_s > 0 && wall() >= next_status) {
+      fmt::print("{}\n", Summary(shop, wall(), wall() - last_status, last_cycles));
+      std::fflush(stdout);
+      last_cycles = shop.Stats().complete_cycles;
+      last_status = wall();
+      next_status += o.status_interval_s;
+    }
+  }
+  if (api) api->Stop();
+  shop.Stop();
+  fmt::print("{}\n", Summary(shop, wall(), wall(), 0));
+  for (const auto& m : shop.Snapshot()) {
+    std::string axes;
+    for (const auto& a : m.axes)
+      axes += fmt::format(" {} {}", a.name, a.applied_um ? fmt::format("{:+.1f} um", *a.applied_um) : "UNAVAILABLE");
+    if (m.name == shop.Snapshot().front().name || m.alarms || !m.connected)
+      fmt::print("  {} {} | model rev {} | applied{} | alarms {}{}\n", m.name, m.connected ? "connected" : "DOWN",
+                 m.model.revision, axes, m.alarm_names.empty() ? "none" : m.alarm_names,
+                 m.last_fault.empty() ? "" : " | last fault: " + m.last_fault);
+  }
+  if (history) {
+    history->Close();
+    fmt::print("history: {} ({})\n", config.history, history->Stats().BriefReport());
+  }
+}
+
+// ---- the CLI against a running server ----
+
+httplib::Result Call(const std::string& url, const std::string& method, const std::string& path, const nlohmann::json& body) {
+  httplib::Client client(url);
+  client.set_connection_timeout(2);
+  client.set_read_timeout(5);
+  auto res = method == "GET" ? client.Get(path.c_str()) : client.Post(path.c_str(), body.dump(), "application/json");
+  if (!res) {
+    fmt::print(stderr, "trueaxis server: cannot reach {}: {}\n", url, httplib::to_string(res.error()));
+    throw CLI::RuntimeError(cli::kExitFailure);
+  }
+  return res;
+}
+
+void PrintOrFail(const httplib::Result& res) {
+  if (res->status == 200) {
+    fmt::print("{}", res->body);
+    return;
+  }
+  std::string why = res->body;
+  try {
+    why = nlohmann::json::parse(res->body).value("error", res->body);
+  } catch (...) {
+  }
+  fmt::print(stderr, "trueaxis server: HTTP {}: {}\n", res->status, why);
+  throw CLI::RuntimeError(res->status == 404 || res->status == 400 || res->status == 422 ? cli::kExitBadInput : cli::kExitFailure);
+}
+
+void PrintStatus(const std::string& url, bool json) {
+  auto res = Call(url, "GET", "/api/machines", nullptr);
+  if (json || res->status != 200) return PrintOrFail(res);
+  for (const auto& m : nlohmann::json::parse(res->body)) {
+    std::string axes;
+    for (const auto& a : m["axes"])
+      axes += fmt::format(" {} {}", a["name"].get<std::string>(),
+                          a["applied_um"].is_null() ? "UNAVAILABLE" : fmt::format("{:+.1f} um", a["applied_um"].get<double>()));
+    const std::string alarms = m["alarms"].get<std::string>();
+    fmt::print("{:<12} {:<9} model rev {} | applied{} | alarms {}\n", m["name"].get<std::string>(),
+               m["connected"].get<bool>() ? "connected" : "DOWN", m["model"]["revision"].get<int>(), axes,
+               alarms.empty() ? "none" : alarms);
+  }
+}
+
+void Setup(CLI::App& app) {
+  auto o = std::make_shared<ServerOptions>();
+  CLI::App* cmd = app.add_subcommand("server", "The workshop server: poll every machine's terminal, compensate, record (docs/server.md)");
+  cmd->add_option("--config", o->config, "Shop file (TOML, docs/server.md)")->check(CLI::ExistingFile);
+  cmd->add_option("--duration-s", o->duration_s, "Stop after this many seconds (0: until Ctrl-C / SIGTERM)")->capture_default_str();
+  cmd->add_option("--status-interval-s", o->status_interval_s, "Seconds between status lines (0: none)")->capture_default_str();
+  cmd->add_option("--http-port", o->http_port, "HTTP control API port, overriding the shop file's [http] port (0: off)");
+  cmd->add_flag("--quiet", o->quiet, "No status lines");
+  cmd->require_subcommand(0, 1);
+
+  auto url = std::make_shared<std::string>("http://127.0.0.1:8650");
+  auto json = std::make_shared<bool>(false);
+  CLI::App* status = cmd->add_subcommand("status", "Status of every machine of a running server");
+  status->add_option("--url", *url, "The server's HTTP API")->capture_default_str();
+  status->add_flag("--json", *json, "The API's JSON as is");
+  status->callback([url, json] { PrintStatus(*url, *json); });
+
+  CLI::App* model = cmd->add_subcommand("model", "Change a machine's model on a running server");
+  model->require_subcommand(1);
+  auto machine = std::make_shared<std::string>();
+  auto file = std::make_shared<std::string>();
+  auto user = std::make_shared<std::string>();
+  CLI::App* load = model->add_subcommand("load", "Load / replace the machine's model (ramps through the limiter)");
+  load->add_option("--url", *url, "The server's HTTP API")->capture_default_str();
+  load->add_option("--machine", *machine, "Machine name")->required();
+  load->add_option("--file", *file, "Model file (a path on the server)")->required();
+  load->add_option("--user", *user, "Who makes the change (recorded)")->required();
+  load->callback([url, machine, file, user] {
+    const std::string path = std::filesystem::absolute(*file).lexically_normal().string();
+    PrintOrFail(Call(*url, "POST", "/api/machines/" + *machine + "/model", {{"file", path}, {"user", *user}}));
+  });
+  CLI::App* rollback = model->add_subcommand("rollback", "Go back to the machine's previous model");
+  rollback->add_option("--url", *url, "The server's HTTP API")->capture_default_str();
+  rollback->add_option("--machine", *machine, "Machine name")->required();
+  rollback->add_option("--user", *user, "Who makes the change (recorded)")->required();
+  rollback->callback([url, machine, user] {
+    PrintOrFail(Call(*url, "POST", "/api/machines/" + *machine + "/rollback", {{"user", *user}}));
+  });
+
+  cmd->callback([o, cmd] {
+    if (!cmd->get_subcommands().empty()) return;  // status / model ran
+    if (o->config.empty()) throw InputError("command line", 0, "--config", "missing (required): the shop file");
+    RunServer(*o);
+  });
+}
+
+trueaxis::cli::CommandRegistrar reg("server", Setup);
+
+}  // namespace

@@ -1,0 +1,44 @@
+#pragma once
+// HttpApi: the shop's JSON control API over HTTP (cpp-httplib), bound to
+// 127.0.0.1 by default — the CLI (`trueaxis server status|model ...`) and the
+// web front end use it. Endpoints and payloads: docs/server.md.
+//
+//   GET  /api/machines                       every machine's status
+//   GET  /api/machines/{name}                one machine
+//   GET  /api/machines/{name}/models         its model changes (who, when, old → new)
+//   POST /api/machines/{name}/model          {"file": "...", "user": "..."}   load / replace
+//   POST /api/machines/{name}/rollback       {"user": "..."}
+//   POST /api/machines/{name}/axes/{axis}    {"enabled": true|false, "user": "..."}
+//   POST /api/machines/{name}/acknowledge    {"user": "..."}
+//   POST /api/machines/{name}/coolant        {"override": "flood"|null, "user": "..."}
+//   GET  /api/stats                          poll rate, latency, faults
+// Errors: 400/404 with {"error": "..."}; a model that does not fit: 422.
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "trueaxis/server/shop.hpp"
+
+namespace trueaxis::server {
+
+nlohmann::json ToJson(const MachineStatus& status);  // UNAVAILABLE values are JSON null
+nlohmann::json ToJson(const ModelChange& change);
+nlohmann::json ToJson(const ShopStats& stats);
+
+class HttpApi {
+ public:
+  HttpApi(Shop& shop, std::string bind_address, int port);
+  ~HttpApi();  // Stop()
+  bool Start(std::string* error);  // port 0: any free port (see port())
+  void Stop();
+  int port() const { return port_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::string bind_;
+  int port_;
+};
+
+}  // namespace trueaxis::server

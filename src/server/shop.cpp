@@ -1,0 +1,849 @@
+#include "trueaxis/server/shop.hpp"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/epoll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+#include <queue>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/drivers/adam6015_map.hpp"
+#include "trueaxis/drivers/pmc_window_map.hpp"
+#include "trueaxis/drivers/register_codec.hpp"
+#include "trueaxis/model/model_json.hpp"
+#include "trueaxis/model/sha256.hpp"
+#include "trueaxis/runtime/bound_model.hpp"
+#include "trueaxis/runtime/cycle_recorder.hpp"
+#include "trueaxis/runtime/cycle_step.hpp"
+#include "trueaxis/server/event_loop.hpp"
+#include "trueaxis/server/mbap.hpp"
+#include "trueaxis/server/open_file_limit.hpp"
+#include "trueaxis/server/thread_cpu.hpp"
+#include "trueaxis/station/history_logger.hpp"
+#include "trueaxis/store/history_writer.hpp"
+
+namespace trueaxis::server {
+namespace {
+
+namespace pmc = drivers::pmc;
+namespace adam = drivers::adam6015;
+using Clock = std::chrono::steady_clock;
+
+double UnixNowS() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+// What a cycle is doing: the request in flight belongs to this phase.
+enum class Phase { kIdle, kConfig, kWindow, kTemperatures, kWrite };
+const char* PhaseName(Phase p) {
+  switch (p) {
+    case Phase::kIdle: return "idle";
+    case Phase::kConfig: return "reading the ADAM-6015 type codes";
+    case Phase::kWindow: return "reading the PMC window";
+    case Phase::kTemperatures: return "reading the ADAM-6015 AI values";
+    case Phase::kWrite: return "writing the compensation";
+  }
+  return "?";
+}
+enum class Link { kDown, kConnecting, kOpen };
+
+struct ModelEntry {
+  std::shared_ptr<const model::CompositeModel> model;
+  ModelInfo info;
+};
+
+// A registered change of the controls, applied by the loop thread at the next cycle.
+struct Controls {
+  std::vector<std::uint8_t> axis_enabled;
+  std::optional<CoolantState> coolant_override;
+};
+
+}  // namespace
+
+// One machine: its terminal link, its compensator state and its published status.
+struct MachineSlot {
+  MachineConfig cfg;
+  std::size_t index = 0;
+  sockaddr_in addr{};
+  std::size_t module_count = 0;
+  std::vector<std::string> channel_names;
+
+  // ---- loop thread only ----
+  Link link = Link::kDown;
+  int fd = -1;
+  Phase phase = Phase::kIdle;
+  std::size_t module = 0;           // ADAM module of the request in flight
+  mbap::Request request;
+  std::uint16_t next_transaction = 1;
+  std::uint64_t deadline_generation = 0;
+  std::uint8_t in[mbap::kMaxFrameBytes * 2];
+  std::size_t in_len = 0;
+  std::uint16_t registers[mbap::kMaxReadRegisters];
+  double next_tick_s = 0;
+  double cycle_start_s = 0;
+  double reconnect_at_s = 0;
+  double backoff_s = 0;
+  bool ranges_known = false;
+  std::vector<const adam::RtdRange*> ranges;  // per channel
+  bool seed_pending = true;         // the limiter starts from what the CNC applies after each (re)connect
+  bool cnc_ok = false, temps_ok = false;
+  bool temps_read = false;          // this cycle reads the ADAM-6015 modules (every temperature_period_s)
+  double temps_read_s = -1e9;       // when they were last read
+  std::uint32_t heartbeat = 0;
+  double heartbeat_changed_s = -1e9;
+  std::vector<double> applied_um;   // CNC units, as the window reports
+  std::uint64_t sequence = 0;
+  runtime::CncSnapshot cnc;
+  runtime::TemperatureSnapshot temps;
+  runtime::StepState state;
+  std::unique_ptr<runtime::StepOutputs> out;
+  std::shared_ptr<const runtime::BoundModel> bound;
+  ModelInfo bound_info;
+  Controls controls;
+  std::unique_ptr<station::HistoryLogger> logger;
+  double next_record_s = 0;
+  std::uint32_t logged_alarms = 0;
+  std::uint64_t cycles = 0, complete_cycles = 0, faults = 0, connects = 0, overruns = 0;
+  double last_good_read_unix_s = 0;
+  double last_latency_ms = 0;
+  std::string last_fault;
+
+  // ---- shared, under mu ----
+  mutable std::mutex mu;
+  MachineStatus status;
+  Controls wanted;                  // written by the API, copied by the loop each cycle
+  std::shared_ptr<const runtime::BoundModel> pending_bound;
+  ModelInfo pending_info;
+  std::vector<ModelEntry> models;   // every model this machine has had, in order
+  std::size_t current_model = 0;
+  std::vector<ModelChange> changes;
+  std::uint64_t bind_count = 0;
+};
+
+struct Shop::Impl {
+  ShopConfig& config;
+  store::HistoryWriter* history = nullptr;
+  std::vector<std::unique_ptr<MachineSlot>> machines;
+  EventLoop loop;
+  int epoll_fd = loop.epoll_fd();
+  Clock::time_point t0 = Clock::now();
+  double unix_offset_s = UnixNowS();  // unix time = loop time + offset
+  struct Timer {
+    double due_s;
+    std::uint32_t machine;
+    bool tick;                 // else a request / connect deadline
+    std::uint64_t generation;  // deadlines: valid while the machine's generation matches
+    bool operator>(const Timer& o) const { return due_s > o.due_s; }
+  };
+  std::priority_queue<Timer, std::vector<Timer>, std::greater<Timer>> timers;
+  mutable std::mutex stats_mu;
+  std::vector<float> latency_ms;
+  ShopStats totals;
+  std::mutex audit_mu;
+
+  explicit Impl(ShopConfig& c) : config(c) {}
+
+  double Now() const { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+  // ------------------------------------------------------------ model binding
+  std::shared_ptr<const runtime::BoundModel> Bind(MachineSlot& m, std::shared_ptr<const model::CompositeModel> model,
+                                                  const std::string& label, std::uint64_t id) {
+    auto bound = runtime::BindModel(std::move(model), label, m.cfg.axis_interfaces, m.channel_names,
+                                    m.cfg.compensator.channel_map);
+    bound->id = id;
+    return bound;
+  }
+
+  void Audit(const ModelChange& c) {
+    if (config.audit_log.empty()) return;
+    nlohmann::json j = {{"time_unix_s", c.time_unix_s}, {"machine", c.machine}, {"action", c.action},
+                        {"user", c.user},               {"from", c.from},       {"old_file", c.old_model.file},
+                        {"old_sha256", c.old_model.sha256}, {"old_revision", c.old_model.revision},
+                        {"new_file", c.new_model.file}, {"new_sha256", c.new_model.sha256},
+                        {"new_revision", c.new_model.revision}};
+    std::lock_guard<std::mutex> lock(audit_mu);
+    FILE* f = std::fopen(config.audit_log.c_str(), "a");
+    if (!f) return;
+    const std::string line = j.dump() + "\n";
+    std::fwrite(line.data(), 1, line.size(), f);
+    std::fflush(f);
+    fsync(fileno(f));  // a model change is never lost, even across kill -9
+    std::fclose(f);
+  }
+
+  void RecordChange(MachineSlot& m, const ModelChange& c) {
+    if (history)
+      history->PushModelChange(c.time_unix_s, c.new_model.sha256, std::to_string(c.new_model.revision),
+                               fmt::format("{} {} by {} from {}: rev {} ({}) -> rev {} ({})", m.cfg.name, c.action,
+                                           c.user, c.from, c.old_model.revision, c.old_model.sha256.substr(0, 12),
+                                           c.new_model.revision, c.new_model.sha256.substr(0, 12)));
+    Audit(c);
+  }
+
+  // ------------------------------------------------------------ status
+  void Publish(MachineSlot& m) {
+    const runtime::StepOutputs& o = *m.out;
+    std::lock_guard<std::mutex> lock(m.mu);
+    MachineStatus& s = m.status;
+    s.connected = m.link == Link::kOpen;
+    s.last_good_read_unix_s = m.last_good_read_unix_s;
+    s.alarms = o.status.alarms;
+    s.alarm_names = runtime::AlarmNames(o.status.alarms);
+    s.unacknowledged |= o.status.alarms;
+    s.last_fault = m.last_fault;
+    s.cycles = m.cycles;
+    s.complete_cycles = m.complete_cycles;
+    s.faults = m.faults;
+    s.connects = m.connects;
+    s.overruns = m.overruns;
+    s.last_latency_ms = m.last_latency_ms;
+    s.coolant = std::string(CoolantStateName(o.status.coolant));
+    s.coolant_override = m.controls.coolant_override ? std::optional<std::string>(std::string(CoolantStateName(*m.controls.coolant_override))) : std::nullopt;
+    s.model = m.bound_info;
+    const bool fresh = s.connected && m.cnc_ok;
+    for (std::size_t a = 0; a < s.axes.size(); ++a) {
+      AxisView& v = s.axes[a];
+      v.position_mm = fresh ? Reading(m.cnc.axes[a].position_mm) : std::nullopt;
+      v.applied_um = fresh ? Reading(m.applied_um[a]) : std::nullopt;
+      v.target_um = o.axes[a].desired_um;
+      v.output_um = o.axes[a].output_um;
+      v.enabled = m.controls.axis_enabled[a] != 0;
+    }
+    for (std::size_t c = 0; c < s.channels.size(); ++c) {
+      ChannelView& v = s.channels[c];
+      const auto& raw = m.temps.channels[c];
+      v.temp_c = (s.connected && m.temps_ok && !raw.hardware_fault) ? Reading(raw.temp_c) : std::nullopt;
+      v.health = station::ChannelHealthName(o.channels[c].health);
+    }
+  }
+
+  // ------------------------------------------------------------ the compensator
+  void RunStep(MachineSlot& m, double now) {
+    ++m.sequence;
+    m.cnc.sequence = m.sequence;
+    m.cnc.sampled_at_s = now;
+    m.cnc.read_ok = m.cnc_ok;
+    if (m.temps_read || !m.temps_ok) {  // a new temperature snapshot (read, or failed: the link is gone)
+      m.temps.sequence = m.sequence;
+      m.temps.sampled_at_s = now;
+      m.temps.ok = m.temps_ok;
+      if (m.temps_read && m.temps_ok) m.temps_read_s = now;
+    }
+    if (m.cnc_ok) m.last_good_read_unix_s = now + unix_offset_s;
+    {
+      std::lock_guard<std::mutex> lock(m.mu);
+      m.controls = m.wanted;
+      if (m.pending_bound) {
+        m.bound = std::move(m.pending_bound);
+        m.bound_info = m.pending_info;
+        m.pending_bound.reset();
+      }
+    }
+    if (m.cnc_ok && m.seed_pending) {
+      // Pick the machine up where it is: the limiter continues from what the CNC applies now.
+      for (std::size_t a = 0; a < m.cfg.axis_interfaces.size(); ++a) {
+        const auto& ai = m.cfg.axis_interfaces[a];
+        const double physical_um = m.applied_um[a] / ai.CncScale();
+        const double q = ai.PhysicalQuantumUm();
+        m.state.shaper[a].ramp_um = physical_um;
+        m.state.shaper[a].counts = std::llround(physical_um / q);
+      }
+      m.seed_pending = false;
+    }
+    if (m.controls.coolant_override) m.cnc.machine.coolant = *m.controls.coolant_override;
+    runtime::StepModel model{m.cfg.compensator, m.cfg.axis_interfaces, m.bound.get()};
+    runtime::StepInputs in;
+    in.now_s = now;
+    in.temperatures = &m.temps;
+    in.cnc = &m.cnc;
+    in.axis_enabled = m.controls.axis_enabled;
+    runtime::Step(model, m.state, in, *m.out);
+  }
+
+  void AfterStep(MachineSlot& m, double now) {
+    Publish(m);
+    if (!m.logger) return;
+    const std::uint32_t alarms = m.out->status.alarms;
+    if (now < m.next_record_s && alarms == m.logged_alarms) return;
+    m.next_record_s = std::max(m.next_record_s + config.record_interval_s, now);
+    m.logged_alarms = alarms;
+    runtime::CycleRecord rec;
+    runtime::FillRecord(m.out->status, rec);
+    if (!m.cnc_ok)
+      for (std::size_t a = 0; a < rec.axis_count; ++a) rec.axes[a].cnc_position_mm = std::nan("");  // UNAVAILABLE
+    m.logger->Log(rec);
+  }
+
+  // ------------------------------------------------------------ link
+  void PushDeadline(MachineSlot& m, double due) {
+    timers.push({due, static_cast<std::uint32_t>(m.index), false, ++m.deadline_generation});
+  }
+
+  void CloseLink(MachineSlot& m) {
+    if (m.fd >= 0) {
+      epoll_ctl(epoll_fd, EPOLL_CTL_DEL, m.fd, nullptr);
+      close(m.fd);
+    }
+    m.fd = -1;
+    m.link = Link::kDown;
+    m.phase = Phase::kIdle;
+    m.in_len = 0;
+    ++m.deadline_generation;
+  }
+
+  void Fault(MachineSlot& m, double now, const std::string& why) {
+    const bool was_open = m.link == Link::kOpen;
+    CloseLink(m);
+    m.cnc_ok = m.temps_ok = false;
+    m.temps_read_s = -1e9;
+    m.ranges_known = false;
+    m.seed_pending = true;
+    m.backoff_s = m.backoff_s <= 0 ? m.cfg.min_backoff_s : std::min(2 * m.backoff_s, m.cfg.max_backoff_s);
+    m.reconnect_at_s = now + m.backoff_s;
+    ++m.faults;
+    m.last_fault = why;
+    {
+      std::lock_guard<std::mutex> lock(stats_mu);
+      ++totals.faults;
+    }
+    if (history && (was_open || m.faults == 1 || m.backoff_s >= m.cfg.max_backoff_s))
+      history->PushAlarm(now + unix_offset_s, "warning", m.cfg.name,
+                         fmt::format("terminal {}:{}: {} (retry in {:.2f} s)", m.cfg.host, m.cfg.port, why, m.backoff_s));
+    std::lock_guard<std::mutex> lock(m.mu);
+    m.status.connected = false;
+    m.status.last_fault = why;
+    m.status.faults = m.faults;
+    for (auto& a : m.status.axes) a.position_mm = a.applied_um = std::nullopt;
+    for (auto& c : m.status.channels) c.temp_c = std::nullopt;
+  }
+
+  void Connect(MachineSlot& m, double now) {
+    m.fd = socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    if (m.fd < 0) return Fault(m, now, fmt::format("socket: {}", std::strerror(errno)));
+    int one = 1;
+    setsockopt(m.fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    epoll_event ev{};
+    ev.events = EPOLLOUT | EPOLLIN;
+    ev.data.u64 = m.index;
+    if (epoll_ctl(epoll_fd, EPOLL_CTL_ADD, m.fd, &ev) != 0) return Fault(m, now, fmt::format("epoll: {}", std::strerror(errno)));
+    m.link = Link::kConnecting;
+    if (connect(m.fd, reinterpret_cast<const sockaddr*>(&m.addr), sizeof m.addr) != 0 && errno != EINPROGRESS)
+      return Fault(m, now, fmt::format("connect: {}", std::strerror(errno)));
+    PushDeadline(m, now + m.cfg.connect_timeout_s);
+  }
+
+  void OnConnected(MachineSlot& m, double now) {
+    int err = 0;
+    socklen_t len = sizeof err;
+    if (getsockopt(m.fd, SOL_SOCKET, SO_ERROR, &err, &len) != 0 || err != 0)
+      return Fault(m, now, fmt::format("connect: {}", std::strerror(err ? err : errno)));
+    epoll_event ev{};
+    ev.events = EPOLLIN | EPOLLRDHUP;
+    ev.data.u64 = m.index;
+    epoll_ctl(epoll_fd, EPOLL_CTL_MOD, m.fd, &ev);
+    m.link = Link::kOpen;
+    ++m.deadline_generation;
+    ++m.connects;
+    m.seed_pending = true;
+    m.ranges_known = false;
+    if (history && m.faults > 0)
+      history->PushAlarm(now + unix_offset_s, "info", m.cfg.name, fmt::format("terminal {}:{}: connected", m.cfg.host, m.cfg.port));
+  }
+
+  void Send(MachineSlot& m, double now) {
+    std::uint8_t frame[mbap::kMaxFrameBytes];
+    std::size_t len = 0;
+    mbap::Request& r = m.request;
+    r.transaction = m.next_transaction++;
+    const std::size_t axes = m.cfg.axes.size();
+    switch (m.phase) {
+      case Phase::kConfig:
+        r.unit = static_cast<std::uint8_t>(m.cfg.first_rtd_unit_id + m.module);
+        r.function = mbap::kReadHoldingRegisters;
+        r.address = adam::kTypeCodeAddress;
+        r.count = adam::kChannelEnableAddress - adam::kTypeCodeAddress + 1;
+        break;
+      case Phase::kWindow:
+        r.unit = static_cast<std::uint8_t>(m.cfg.pmc_unit_id);
+        r.function = mbap::kReadInputRegisters;
+        r.address = 0;
+        r.count = static_cast<std::uint16_t>(pmc::InputWindowLength(axes));
+        break;
+      case Phase::kTemperatures:
+        r.unit = static_cast<std::uint8_t>(m.cfg.first_rtd_unit_id + m.module);
+        r.function = mbap::kReadHoldingRegisters;
+        r.address = adam::kAiValueAddress;
+        r.count = static_cast<std::uint16_t>(ModuleChannels(m, m.module));
+        break;
+      case Phase::kWrite: {
+        std::uint16_t values[2 * pmc::kMaxAxes];
+        for (std::size_t a = 0; a < axes; ++a) {
+          std::int32_t counts = 0;
+          drivers::MicrometresToCounts(m.out->command.correction_um[a], &counts);
+          drivers::SplitInt32(counts, values + 2 * a);
+        }
+        r.unit = static_cast<std::uint8_t>(m.cfg.pmc_unit_id);
+        r.function = mbap::kWriteMultipleRegisters;
+        r.address = pmc::kHrCompensationBase;
+        r.count = static_cast<std::uint16_t>(2 * axes);
+        len = mbap::EncodeWriteRegisters(frame, r.transaction, r.unit, r.address, {values, 2 * axes});
+        break;
+      }
+      case Phase::kIdle:
+        return;
+    }
+    if (len == 0) len = mbap::EncodeRead(frame, r.transaction, r.unit, r.function, r.address, r.count);
+    const ssize_t n = send(m.fd, frame, len, MSG_NOSIGNAL);
+    if (n != static_cast<ssize_t>(len))
+      return Fault(m, now, fmt::format("send failed while {}: {}", PhaseName(m.phase), n < 0 ? std::strerror(errno) : "short write"));
+    PushDeadline(m, now + m.cfg.response_timeout_s);
+  }
+
+  static std::size_t ModuleChannels(const MachineSlot& m, std::size_t k) {
+    return std::min<std::size_t>(adam::kChannelCount, m.channel_names.size() - k * adam::kChannelCount);
+  }
+
+  void BeginCycle(MachineSlot& m, double now) {
+    m.cycle_start_s = now;
+    m.cnc_ok = false;
+    // Temperatures every temperature_period_s (half a period early rather than a period late).
+    m.temps_read = m.module_count > 0 && now - m.temps_read_s >= m.cfg.temperature_period_s - 0.5 * m.cfg.period_s;
+    m.temps_ok = m.temps_read ? true : m.temps.ok;
+    m.module = 0;
+    m.phase = (!m.ranges_known && m.module_count > 0) ? Phase::kConfig : Phase::kWindow;
+    Send(m, now);
+  }
+
+  // After the reads: the step, then the write (which also refreshes the terminal's watchdog).
+  void StepAndWrite(MachineSlot& m, double now) {
+    RunStep(m, now);
+    if (m.seed_pending) {  // no applied values read yet since the connect: writing could jump
+      runtime::CommitWrite({m.cfg.compensator, m.cfg.axis_interfaces, m.bound.get()}, m.state, false, *m.out);
+      AfterStep(m, now);
+      m.phase = Phase::kIdle;
+      return;
+    }
+    AfterStep(m, now);
+    m.phase = Phase::kWrite;
+    Send(m, now);
+  }
+
+  void OnFrame(MachineSlot& m, std::span<const std::uint8_t> frame, double now) {
+    std::uint8_t exception = 0;
+    const mbap::Reply reply = mbap::ParseReply(frame, m.request, m.registers, nullptr, &exception);
+    ++m.deadline_generation;  // answered: its deadline no longer applies
+    if (reply == mbap::Reply::kMismatch || reply == mbap::Reply::kMalformed) {
+      const int unit = frame.size() > 6 ? frame[6] : -1;
+      return Fault(m, now, fmt::format("{} while {} (asked unit {} fc {}, got unit {} fc {})", mbap::ReplyName(reply),
+                                       PhaseName(m.phase), m.request.unit, m.request.function, unit,
+                                       frame.size() > 7 ? frame[7] : -1));
+    }
+    const bool ok = reply == mbap::Reply::kOk;
+    switch (m.phase) {
+      case Phase::kConfig:
+        if (ok) {
+          if (m.registers[adam::kModuleNameAddress - adam::kTypeCodeAddress] != adam::kModuleName)
+            return Fault(m, now, fmt::format("unit {} is not an ADAM-6015 (name register 0x{:04X})", m.request.unit,
+                                             m.registers[adam::kModuleNameAddress - adam::kTypeCodeAddress]));
+          for (std::size_t c = 0; c < ModuleChannels(m, m.module); ++c) {
+            const auto* range = drivers::FindRtdRange(m.registers[c]);
+            if (!range)
+              return Fault(m, now, fmt::format("unit {} channel {}: unknown RTD type code 0x{:04X}", m.request.unit, c, m.registers[c]));
+            m.ranges[m.module * adam::kChannelCount + c] = range;
+          }
+        } else {
+          m.temps_ok = false;  // the module does not answer now; its ranges are read again next cycle
+        }
+        if (ok && ++m.module < m.module_count) return Send(m, now);
+        m.ranges_known = ok;
+        m.module = 0;
+        m.phase = Phase::kWindow;
+        return Send(m, now);
+      case Phase::kWindow:
+        if (ok && !DecodeWindow(m, now)) return;
+        if (!ok) m.cnc_ok = false;
+        if (m.temps_read && m.ranges_known) {
+          m.phase = Phase::kTemperatures;
+          m.module = 0;
+          return Send(m, now);
+        }
+        if (m.temps_read) m.temps_ok = m.channel_names.empty();  // the modules' ranges are unknown: no reading
+        return StepAndWrite(m, now);
+      case Phase::kTemperatures:
+        if (ok) {
+          for (std::size_t c = 0; c < ModuleChannels(m, m.module); ++c) {
+            const std::size_t ch = m.module * adam::kChannelCount + c;
+            const std::uint16_t raw = m.registers[c];
+            m.temps.channels[ch].hardware_fault = raw == adam::kBurnoutRaw;
+            m.temps.channels[ch].temp_c = drivers::AdamRawToCelsius(raw, *m.ranges[ch]);
+          }
+        } else {
+          m.temps_ok = false;
+        }
+        if (++m.module < m.module_count) return Send(m, now);
+        return StepAndWrite(m, now);
+      case Phase::kWrite: {
+        runtime::CommitWrite({m.cfg.compensator, m.cfg.axis_interfaces, m.bound.get()}, m.state, ok, *m.out);
+        m.phase = Phase::kIdle;
+        if (!ok) return;
+        ++m.complete_cycles;
+        m.backoff_s = 0;
+        m.last_latency_ms = (now - m.cycle_start_s) * 1000.0;
+        std::lock_guard<std::mutex> lock(stats_mu);
+        ++totals.complete_cycles;
+        if (latency_ms.size() < (1u << 22)) latency_ms.push_back(static_cast<float>(m.last_latency_ms));
+        return;
+      }
+      case Phase::kIdle:
+        return Fault(m, now, "unsolicited data from the terminal");
+    }
+  }
+
+  // False after a fault (the window does not match the shop file).
+  bool DecodeWindow(MachineSlot& m, double now) {
+    const std::uint16_t* r = m.registers;
+    const std::size_t axes = m.cfg.axes.size();
+    if (r[pmc::kIrLayoutVersion] != pmc::kLayoutVersion || r[pmc::kIrAxisCount] != axes) {
+      Fault(m, now, fmt::format("PMC window layout {} with {} axes; the shop file expects layout {} with {} axes",
+                                r[pmc::kIrLayoutVersion], r[pmc::kIrAxisCount], pmc::kLayoutVersion, axes));
+      return false;
+    }
+    const std::uint32_t hb = drivers::JoinUint32(r + pmc::kIrHeartbeatHi);
+    if (hb != m.heartbeat) {
+      m.heartbeat = hb;
+      m.heartbeat_changed_s = now;
+    }
+    const double stale_after_s = std::max(0.5, 5 * m.cfg.period_s);
+    const std::uint16_t status = r[pmc::kIrStatus];
+    m.cnc_ok = (status & pmc::kStatusMachineReadOk) && now - m.heartbeat_changed_s <= stale_after_s;
+    const int coolant = r[pmc::kIrCoolant];
+    m.cnc.machine.coolant = coolant >= 0 && coolant < kCoolantStateCount ? static_cast<CoolantState>(coolant) : CoolantState::kOff;
+    m.cnc.machine.compensation_enabled = (status & pmc::kStatusCompensationEnabled) != 0;
+    for (std::size_t a = 0; a < axes; ++a) {
+      hw::AxisState& s = m.cnc.axes[a];
+      s.position_mm = drivers::CountsToMillimetres(drivers::JoinInt32(r + pmc::InputAxisRegister(a, pmc::kIrAxisPositionHi)));
+      s.servo_direction = static_cast<std::int16_t>(r[pmc::InputAxisRegister(a, pmc::kIrAxisDirection)]);
+      s.moving = r[pmc::InputAxisRegister(a, pmc::kIrAxisMoving)] != 0;
+      m.applied_um[a] = drivers::CountsToMicrometres(drivers::JoinInt32(r + pmc::InputAxisRegister(a, pmc::kIrAxisAppliedHi)));
+    }
+    return true;
+  }
+
+  void OnReadable(MachineSlot& m, double now) {
+    for (;;) {
+      const ssize_t n = recv(m.fd, m.in + m.in_len, sizeof m.in - m.in_len, 0);
+      if (n == 0) return Fault(m, now, fmt::format("connection closed by the terminal while {}", PhaseName(m.phase)));
+      if (n < 0) {
+        if (errno == EAGAIN || errno == EWOULDBLOCK) break;
+        if (errno == EINTR) continue;
+        return Fault(m, now, fmt::format("recv: {}", std::strerror(errno)));
+      }
+      m.in_len += static_cast<std::size_t>(n);
+      if (m.in_len == sizeof m.in) break;
+    }
+    while (m.link == Link::kOpen && m.in_len > 0) {
+      const int frame = mbap::FrameLength({m.in, m.in_len});
+      if (frame < 0) return Fault(m, now, fmt::format("garbage from the terminal while {} (not MODBUS TCP)", PhaseName(m.phase)));
+      if (frame == 0) return;
+      if (m.phase == Phase::kIdle) return Fault(m, now, "unsolicited data from the terminal");
+      std::uint8_t copy[mbap::kMaxFrameBytes];
+      std::memcpy(copy, m.in, static_cast<std::size_t>(frame));
+      std::memmove(m.in, m.in + frame, m.in_len - static_cast<std::size_t>(frame));
+      m.in_len -= static_cast<std::size_t>(frame);
+      OnFrame(m, {copy, static_cast<std::size_t>(frame)}, now);
+    }
+  }
+
+  // ------------------------------------------------------------ timers
+  void Tick(MachineSlot& m, double now) {
+    const double period = m.cfg.period_s;
+    m.next_tick_s += period;
+    if (m.next_tick_s <= now) m.next_tick_s += std::ceil((now - m.next_tick_s) / period) * period;  // fell behind: skip
+    timers.push({m.next_tick_s, static_cast<std::uint32_t>(m.index), true, 0});
+    ++m.cycles;
+    {
+      std::lock_guard<std::mutex> lock(stats_mu);
+      ++totals.cycles;
+    }
+    if (m.link == Link::kOpen) {
+      if (m.phase != Phase::kIdle) {  // the terminal is still answering the last cycle: never queue a second
+        ++m.overruns;
+        std::lock_guard<std::mutex> lock(stats_mu);
+        ++totals.overruns;
+        return;
+      }
+      return BeginCycle(m, now);
+    }
+    // No link: the compensator sees the loss (its status and history say so); values are UNAVAILABLE.
+    m.cnc_ok = m.temps_ok = false;
+    RunStep(m, now);
+    runtime::CommitWrite({m.cfg.compensator, m.cfg.axis_interfaces, m.bound.get()}, m.state, false, *m.out);
+    AfterStep(m, now);
+    if (m.link == Link::kDown && now >= m.reconnect_at_s) Connect(m, now);
+  }
+
+  void Deadline(MachineSlot& m, double now) {
+    if (m.link == Link::kConnecting)
+      return Fault(m, now, fmt::format("connect timed out after {:.0f} ms", m.cfg.connect_timeout_s * 1000));
+    if (m.link == Link::kOpen && m.phase != Phase::kIdle)
+      return Fault(m, now, fmt::format("no answer within {:.0f} ms while {}", m.cfg.response_timeout_s * 1000, PhaseName(m.phase)));
+  }
+
+  void Loop() {
+    std::vector<epoll_event> events(1024);
+    while (!loop.stopping()) {
+      double now = Now();
+      while (!timers.empty() && timers.top().due_s <= now) {
+        const Timer t = timers.top();
+        timers.pop();
+        MachineSlot& m = *machines[t.machine];
+        if (t.tick) Tick(m, now);
+        else if (t.generation == m.deadline_generation) Deadline(m, now);
+      }
+      int wait_ms = 100;
+      if (!timers.empty()) wait_ms = std::clamp(static_cast<int>(std::ceil((timers.top().due_s - Now()) * 1000.0)), 0, 100);
+      const int n = epoll_wait(epoll_fd, events.data(), static_cast<int>(events.size()), wait_ms);
+      now = Now();
+      for (int i = 0; i < n; ++i) {
+        if (events[i].data.u64 == EventLoop::kWakeToken) continue;
+        MachineSlot& m = *machines[events[i].data.u64];
+        if (m.fd < 0) continue;
+        if (m.link == Link::kConnecting) {
+          if (events[i].events & (EPOLLOUT | EPOLLERR | EPOLLHUP)) OnConnected(m, now);
+          continue;
+        }
+        if (events[i].events & (EPOLLIN | EPOLLERR | EPOLLHUP | EPOLLRDHUP)) OnReadable(m, now);
+      }
+    }
+  }
+};
+
+Shop::Shop(ShopConfig config, store::HistoryWriter* history) : config_(std::move(config)), impl_(std::make_unique<Impl>(config_)) {
+  impl_->history = history;
+  const double unix0 = impl_->unix_offset_s;
+  for (std::size_t i = 0; i < config_.machines.size(); ++i) {
+    auto m = std::make_unique<MachineSlot>();
+    MachineConfig& c = config_.machines[i];
+    m->cfg = c;
+    m->index = i;
+    m->addr.sin_family = AF_INET;
+    m->addr.sin_port = htons(static_cast<std::uint16_t>(c.port));
+    inet_pton(AF_INET, c.host.c_str(), &m->addr.sin_addr);
+    m->channel_names = c.channels;
+    m->module_count = (c.channels.size() + adam::kChannelCount - 1) / adam::kChannelCount;
+    m->ranges.assign(c.channels.size(), nullptr);
+    const std::size_t axes = c.axes.size();
+    m->applied_um.assign(axes, 0.0);
+    m->cnc = runtime::CncSnapshot(axes);
+    m->temps = runtime::TemperatureSnapshot(c.channels.size());
+    m->state = runtime::StepState(axes, c.channels.size(), c.compensator);
+    m->out = std::make_unique<runtime::StepOutputs>(axes, c.channels.size());
+    m->wanted.axis_enabled.assign(axes, 1);
+    for (std::size_t a = 0; a < axes; ++a) m->wanted.axis_enabled[a] = c.axis_interfaces[a].enabled ? 1 : 0;
+    m->controls = m->wanted;
+    // The first model: a model that does not fit this machine is an input error naming it.
+    std::shared_ptr<const model::CompositeModel> model;
+    try {
+      model = std::make_shared<const model::CompositeModel>(model::ReadModelFile(c.model_file));
+      ModelEntry e{model, {c.model_file, model::Sha256OfFile(c.model_file), model->revision, 0}};
+      m->bound = impl_->Bind(*m, model, c.model_file, ++m->bind_count);
+      m->bound_info = e.info;
+      m->models.push_back(e);
+    } catch (const InputError& e) {
+      throw InputError(config_.source, c.line, fmt::format("machine[{}].model", i),
+                       fmt::format("machine '{}': {}", c.name, e.what()));
+    }
+    MachineStatus& s = m->status;
+    s.name = c.name;
+    s.endpoint = fmt::format("{}:{}", c.host, c.port);
+    s.model = m->bound_info;
+    for (std::size_t a = 0; a < axes; ++a) s.axes.push_back({c.axes[a], std::nullopt, std::nullopt, 0, 0, m->wanted.axis_enabled[a] != 0});
+    for (const auto& ch : c.channels) s.channels.push_back({ch, std::nullopt, "lost"});
+    if (history) {
+      std::vector<std::string> axis_names, channel_names;
+      for (const auto& a : c.axes) axis_names.push_back(c.name + "/" + a);
+      for (const auto& ch : c.channels) channel_names.push_back(c.name + "/" + ch);
+      m->logger = std::make_unique<station::HistoryLogger>(*history, axis_names, channel_names, unix0, c.name);
+      history->PushModelChange(UnixNowS(), m->bound_info.sha256, std::to_string(m->bound_info.revision),
+                               fmt::format("{} start: {}", c.name, c.model_file));
+    }
+    impl_->machines.push_back(std::move(m));
+  }
+}
+
+Shop::~Shop() { Stop(); }
+
+void Shop::Start() {
+  Impl& s = *impl_;
+  if (s.loop.thread().joinable()) return;
+  std::string why;
+  if (!EnsureOpenFileLimit(s.machines.size() + 256, &why)) throw std::runtime_error("trueaxis server: " + why);
+  // Staggered start: machine i's first cycle is i/N of a period in, so the shop's requests spread over the period.
+  const double now = s.Now();
+  const std::size_t n = s.machines.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    MachineSlot& m = *s.machines[i];
+    m.next_tick_s = now + m.cfg.period_s * static_cast<double>(i) / static_cast<double>(n);
+    s.timers.push({m.next_tick_s, static_cast<std::uint32_t>(i), true, 0});
+    m.reconnect_at_s = m.next_tick_s;
+  }
+  s.loop.Start([&s] { s.Loop(); });
+}
+
+void Shop::Stop() {
+  Impl& s = *impl_;
+  if (!s.loop.Stop()) return;
+  for (auto& m : s.machines) s.CloseLink(*m);
+}
+
+namespace {
+MachineSlot& Find(const std::vector<std::unique_ptr<MachineSlot>>& machines, const std::string& name) {
+  for (const auto& m : machines)
+    if (m->cfg.name == name) return *m;
+  throw InputError("request", 0, "machine", fmt::format("no machine named '{}' in this shop", name));
+}
+}  // namespace
+
+std::vector<MachineStatus> Shop::Snapshot() const {
+  std::vector<MachineStatus> out;
+  out.reserve(impl_->machines.size());
+  for (const auto& m : impl_->machines) {
+    std::lock_guard<std::mutex> lock(m->mu);
+    out.push_back(m->status);
+  }
+  return out;
+}
+
+std::optional<MachineStatus> Shop::Machine(const std::string& name) const {
+  for (const auto& m : impl_->machines)
+    if (m->cfg.name == name) {
+      std::lock_guard<std::mutex> lock(m->mu);
+      return m->status;
+    }
+  return std::nullopt;
+}
+
+std::vector<std::string> Shop::MachineNames() const {
+  std::vector<std::string> out;
+  for (const auto& m : impl_->machines) out.push_back(m->cfg.name);
+  return out;
+}
+
+ShopStats Shop::Stats() const {
+  std::lock_guard<std::mutex> lock(impl_->stats_mu);
+  ShopStats s = impl_->totals;
+  std::vector<float> v = impl_->latency_ms;
+  s.latency_samples = v.size();
+  if (!v.empty()) {
+    auto at = [&](double q) {
+      const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())));
+      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+      return static_cast<double>(v[k]);
+    };
+    s.latency_p50_ms = at(0.5);
+    s.latency_p99_ms = at(0.99);
+    s.latency_max_ms = *std::max_element(v.begin(), v.end());
+  }
+  if (impl_->history) s.history_dropped = impl_->history->Stats().dropped;
+  s.loop_cpu_s = ThreadCpuSeconds(impl_->loop.thread());
+  return s;
+}
+
+void Shop::ResetLatency() {
+  std::lock_guard<std::mutex> lock(impl_->stats_mu);
+  impl_->latency_ms.clear();
+}
+
+ModelChange Shop::LoadModel(const std::string& machine, const std::string& model_file, const std::string& user,
+                            const std::string& from) {
+  MachineSlot& m = Find(impl_->machines, machine);
+  auto model = std::make_shared<const model::CompositeModel>(model::ReadModelFile(model_file));  // InputError
+  const std::string sha = model::Sha256OfFile(model_file);
+  std::lock_guard<std::mutex> lock(m.mu);
+  ModelChange c{machine, user, from, UnixNowS(), m.models[m.current_model].info, {}, "load"};
+  c.new_model = {model_file, sha, model->revision, m.models.size()};
+  auto bound = impl_->Bind(m, model, model_file, ++m.bind_count);  // InputError: the running model stays
+  m.models.push_back({model, c.new_model});
+  m.current_model = m.models.size() - 1;
+  m.pending_bound = std::move(bound);
+  m.pending_info = c.new_model;
+  m.changes.push_back(c);
+  impl_->RecordChange(m, c);
+  return c;
+}
+
+ModelChange Shop::Rollback(const std::string& machine, const std::string& user, const std::string& from) {
+  MachineSlot& m = Find(impl_->machines, machine);
+  std::lock_guard<std::mutex> lock(m.mu);
+  if (m.current_model == 0)
+    throw InputError("request", 0, "rollback", fmt::format("machine '{}' runs its first model: nothing to roll back to", machine));
+  const ModelEntry& back = m.models[m.current_model - 1];
+  ModelChange c{machine, user, from, UnixNowS(), m.models[m.current_model].info, back.info, "rollback"};
+  m.pending_bound = impl_->Bind(m, back.model, back.info.file, ++m.bind_count);
+  m.pending_info = back.info;
+  --m.current_model;
+  m.changes.push_back(c);
+  impl_->RecordChange(m, c);
+  return c;
+}
+
+std::vector<ModelChange> Shop::ModelChanges(const std::string& machine) const {
+  MachineSlot& m = Find(impl_->machines, machine);
+  std::lock_guard<std::mutex> lock(m.mu);
+  return m.changes;
+}
+
+void Shop::SetAxisEnabled(const std::string& machine, const std::string& axis, bool enabled, const std::string& user) {
+  MachineSlot& m = Find(impl_->machines, machine);
+  const auto it = std::find(m.cfg.axes.begin(), m.cfg.axes.end(), axis);
+  if (it == m.cfg.axes.end())
+    throw InputError("request", 0, "axis", fmt::format("machine '{}' has no axis '{}'", machine, axis));
+  {
+    std::lock_guard<std::mutex> lock(m.mu);
+    const auto a = static_cast<std::size_t>(it - m.cfg.axes.begin());
+    m.wanted.axis_enabled[a] = enabled ? 1 : 0;
+    m.status.axes[a].enabled = enabled;  // shown at once; the loop applies it next cycle (ramping)
+  }
+  if (impl_->history)
+    impl_->history->PushAlarm(UnixNowS(), "info", machine, fmt::format("axis {} {} by {}", axis, enabled ? "enabled" : "disabled", user));
+}
+
+void Shop::AcknowledgeAlarms(const std::string& machine, const std::string& user) {
+  MachineSlot& m = Find(impl_->machines, machine);
+  std::string names;
+  {
+    std::lock_guard<std::mutex> lock(m.mu);
+    names = runtime::AlarmNames(m.status.unacknowledged);
+    m.status.unacknowledged = m.status.alarms;  // what still holds stays raised
+  }
+  if (impl_->history)
+    impl_->history->PushAlarm(UnixNowS(), "info", machine, fmt::format("alarms acknowledged by {}: {}", user, names.empty() ? "none" : names));
+}
+
+void Shop::SetCoolantOverride(const std::string& machine, std::optional<CoolantState> coolant, const std::string& user) {
+  MachineSlot& m = Find(impl_->machines, machine);
+  {
+    std::lock_guard<std::mutex> lock(m.mu);
+    m.wanted.coolant_override = coolant;
+    m.status.coolant_override = coolant ? std::optional<std::string>(std::string(CoolantStateName(*coolant))) : std::nullopt;
+  }
+  if (impl_->history)
+    impl_->history->PushAlarm(UnixNowS(), "info", machine,
+                              fmt::format("coolant override {} by {}", coolant ? std::string(CoolantStateName(*coolant)) : "off (follow the CNC)", user));
+}
+
+}  // namespace trueaxis::server

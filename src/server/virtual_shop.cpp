@@ -1,0 +1,589 @@
+#include "trueaxis/server/virtual_shop.hpp"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/epoll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <deque>
+#include <exception>
+#include <mutex>
+#include <random>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/drivers/adam6015_map.hpp"
+#include "trueaxis/drivers/pmc_window_map.hpp"
+#include "trueaxis/drivers/register_codec.hpp"
+#include "trueaxis/server/event_loop.hpp"
+#include "trueaxis/server/mbap.hpp"
+#include "trueaxis/server/open_file_limit.hpp"
+#include "trueaxis/server/thread_cpu.hpp"
+#include "trueaxis/sim/virtual_machine.hpp"
+
+namespace trueaxis::server {
+namespace {
+
+namespace pmc = drivers::pmc;
+namespace adam = drivers::adam6015;
+using Clock = std::chrono::steady_clock;
+
+struct Terminal;
+
+// What an epoll event belongs to.
+struct Endpoint {
+  Terminal* terminal = nullptr;
+  int fd = -1;
+  bool listening = false;
+  std::uint8_t in[2 * mbap::kMaxFrameBytes];
+  std::size_t in_len = 0;
+};
+
+struct DelayedReply {
+  double due_s;
+  Endpoint* connection;
+  std::uint64_t connection_serial;
+  std::vector<std::uint8_t> bytes;
+};
+
+// One virtual machine behind its terminal's register image.
+struct Terminal {
+  std::size_t index = 0;
+  std::string name;
+  int port = 0;
+  std::unique_ptr<sim::VirtualMachine> vm;
+  std::vector<std::string> axes, channels;
+  Endpoint listener;
+  std::vector<std::unique_ptr<Endpoint>> connections;
+  std::uint16_t ir[pmc::kInputRegisterCount] = {};
+  std::uint16_t hr[pmc::kHoldingRegisterCount] = {};
+  std::vector<std::array<std::uint16_t, adam::kRegisterCount>> modules;
+  std::vector<std::array<std::uint8_t, adam::kCoilCount>> coils;
+  std::vector<hw::AxisState> axis_state;
+  std::vector<hw::RawTemperature> raw;
+  std::vector<double> applied_um;
+  bool temperatures_online = false;
+  std::uint32_t heartbeat = 0;
+  double last_client_write_s = 0;
+  double last_tick_s = 0;
+  double next_tick_s = 0;
+  // The day: work (reciprocating) with coolant for part of it, then idle, on this machine's own schedule.
+  double day_offset_s = 0;
+  CoolantState work_coolant = CoolantState::kFlood;
+  int day_phase = -1;
+  TerminalFault fault = TerminalFault::kNone;
+  double fault_delay_s = 0;
+};
+
+}  // namespace
+
+bool VirtualShopOptions::IsValid(std::string* why) const {
+  auto fail = [&](std::string m) {
+    if (why) *why = std::move(m);
+    return false;
+  };
+  if (machine_files.empty()) return fail("no machine description given");
+  if (machines < 1 || machines > 20000) return fail("machines must be in 1..20000");
+  if (base_port < 1 || base_port + machines - 1 > 65535) return fail("base_port + machines - 1 must stay within 1..65535");
+  if (!(time_scale > 0 && time_scale <= 1e5)) return fail("time_scale must be in (0, 100000]");
+  if (!(tick_s >= 0.001 && tick_s <= 10)) return fail("tick_s must be in [0.001, 10] s");
+  if (!(watchdog_s >= 0)) return fail("watchdog_s must be >= 0 (0 = hold)");
+  if (!(watchdog_ramp_um_per_s > 0)) return fail("watchdog_ramp_um_per_s must be > 0");
+  if (!(day_s > 0)) return fail("day_s must be > 0");
+  return true;
+}
+
+struct VirtualShop::Impl {
+  VirtualShopOptions opt;
+  std::vector<std::unique_ptr<Terminal>> terminals;
+  EventLoop loop;
+  int epoll_fd = loop.epoll_fd();
+  std::atomic<bool> faults_changed{false};
+  Clock::time_point t0 = Clock::now();
+  mutable std::mutex mu;  // stats, faults, applied values (the loop holds it while handling a machine)
+  VirtualShopStats stats;
+  std::deque<DelayedReply> delayed;  // loop thread only
+  std::uint64_t serial = 0;
+
+  std::unique_ptr<Terminal> MakeTerminal(int i, const sim::MachineDescription& description) const {
+    auto t = std::make_unique<Terminal>();
+    t->index = static_cast<std::size_t>(i);
+    t->name = fmt::format("vm-{:04d}", i);
+    t->port = opt.base_port + i;
+    t->vm = std::make_unique<sim::VirtualMachine>(description,
+                                                  opt.seed + static_cast<std::uint64_t>(i));
+    for (std::size_t a = 0; a < t->vm->AxisCount(); ++a) t->axes.push_back(t->vm->AxisName(a));
+    for (std::size_t c = 0; c < t->vm->ChannelCount(); ++c) t->channels.push_back(t->vm->ChannelName(c));
+    if (t->axes.size() > pmc::kMaxAxes) throw InputError("virtual shop", "a machine has more axes than the PMC window holds");
+    t->axis_state.resize(t->axes.size());
+    t->raw.resize(t->channels.size());
+    t->applied_um.assign(t->axes.size(), 0.0);
+    t->ir[pmc::kIrLayoutVersion] = pmc::kLayoutVersion;
+    t->ir[pmc::kIrAxisCount] = static_cast<std::uint16_t>(t->axes.size());
+    t->hr[pmc::kHrEnable] = 1;
+    const std::size_t modules = (t->channels.size() + adam::kChannelCount - 1) / adam::kChannelCount;
+    t->modules.resize(modules);
+    t->coils.resize(modules);
+    for (std::size_t k = 0; k < modules; ++k) {
+      auto& m = t->modules[k];
+      m.fill(0);
+      t->coils[k].fill(0);
+      const std::size_t n = ModuleChannels(*t, k);
+      for (std::size_t c = 0; c < n; ++c) m[adam::kTypeCodeAddress + c] = adam::kDefaultRangeCode;
+      m[adam::kModuleNameAddress] = adam::kModuleName;
+      m[adam::kChannelEnableAddress] = static_cast<std::uint16_t>((1u << n) - 1);
+    }
+    std::mt19937_64 rng(opt.seed * 7919 + static_cast<std::uint64_t>(i));
+    t->day_offset_s = std::uniform_real_distribution<double>(0, opt.day_s)(rng);
+    t->work_coolant = static_cast<CoolantState>(1 + i % 3);
+    return t;
+  }
+
+  double Now() const { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+  std::size_t ModuleChannels(const Terminal& t, std::size_t k) const {
+    return std::min<std::size_t>(adam::kChannelCount, t.channels.size() - k * adam::kChannelCount);
+  }
+
+  bool Listen(Terminal& t, std::string* error) {
+    const int fd = socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    int one = 1;
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(static_cast<std::uint16_t>(t.port));
+    inet_pton(AF_INET, opt.bind_address.c_str(), &a.sin_addr);
+    if (bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 || listen(fd, 64) != 0) {
+      if (error) *error = fmt::format("cannot listen on {}:{}: {}", opt.bind_address, t.port, std::strerror(errno));
+      close(fd);
+      return false;
+    }
+    t.listener.fd = fd;
+    t.listener.listening = true;
+    t.listener.terminal = &t;
+    epoll_event ev{};
+    ev.events = EPOLLIN;
+    ev.data.ptr = &t.listener;
+    epoll_ctl(epoll_fd, EPOLL_CTL_ADD, fd, &ev);
+    return true;
+  }
+
+  void CloseListener(Terminal& t) {
+    if (t.listener.fd < 0) return;
+    epoll_ctl(epoll_fd, EPOLL_CTL_DEL, t.listener.fd, nullptr);
+    close(t.listener.fd);
+    t.listener.fd = -1;
+  }
+
+  void CloseConnection(Terminal& t, Endpoint* c) {
+    epoll_ctl(epoll_fd, EPOLL_CTL_DEL, c->fd, nullptr);
+    close(c->fd);
+    std::erase_if(delayed, [c](const DelayedReply& d) { return d.connection == c; });
+    std::erase_if(t.connections, [c](const std::unique_ptr<Endpoint>& e) { return e.get() == c; });
+  }
+
+  // ---------------------------------------------------------------- machine side
+  void ApplyDay(Terminal& t) {
+    const double u = std::fmod(t.vm->TimeS() + t.day_offset_s, opt.day_s) / opt.day_s;
+    const int phase = u < 0.35 ? 0 : u < 0.7 ? 1 : 2;  // work, work with coolant, idle
+    if (phase == t.day_phase) return;
+    t.day_phase = phase;
+    t.vm->SetCoolant(phase == 1 ? t.work_coolant : CoolantState::kOff);
+    for (std::size_t a = 0; a < t.axes.size(); ++a) {
+      if (phase == 2) {
+        t.vm->CommandStop(a);
+      } else {
+        const double travel = t.vm->description().axes[a].travel_mm;
+        t.vm->CommandReciprocate(a, 0.1 * travel, 0.9 * travel, 2000 + 200.0 * static_cast<double>(t.index % 11), 0.7);
+      }
+    }
+  }
+
+  void Forward(Terminal& t) {
+    for (std::size_t a = 0; a < t.axes.size(); ++a)
+      t.applied_um[a] = drivers::CountsToMicrometres(drivers::JoinInt32(t.hr + pmc::CompensationRegister(a)));
+    const bool ok = t.vm->WriteCompensation(t.applied_um);
+    std::uint16_t& status = t.ir[pmc::kIrStatus];
+    if (ok) {
+      ++t.ir[pmc::kIrWriteCount];
+      status |= pmc::kStatusLastWriteOk;
+      for (std::size_t a = 0; a < t.axes.size(); ++a)
+        std::copy_n(t.hr + pmc::CompensationRegister(a), 2, t.ir + pmc::InputAxisRegister(a, pmc::kIrAxisAppliedHi));
+    } else {
+      status &= static_cast<std::uint16_t>(~pmc::kStatusLastWriteOk);
+    }
+  }
+
+  void TickMachine(Terminal& t, double now) {
+    const double elapsed = now - t.last_tick_s;
+    t.last_tick_s = now;
+    ApplyDay(t);
+    if (elapsed > 0) t.vm->Advance(elapsed * opt.time_scale);
+    hw::CncState state;
+    const bool read_ok = t.vm->Read(t.axis_state, state);
+    const bool temps_ok = t.vm->Read(std::span<hw::RawTemperature>(t.raw));
+    ++t.heartbeat;
+    std::uint16_t* ir = t.ir;
+    ir[pmc::kIrHeartbeatHi] = static_cast<std::uint16_t>(t.heartbeat >> 16);
+    ir[pmc::kIrHeartbeatLo] = static_cast<std::uint16_t>(t.heartbeat & 0xFFFF);
+    std::uint16_t status = ir[pmc::kIrStatus] & pmc::kStatusLastWriteOk;
+    if (read_ok) {
+      status |= pmc::kStatusMachineReadOk;
+      ir[pmc::kIrCoolant] = static_cast<std::uint16_t>(state.coolant);
+      if (state.compensation_enabled && t.hr[pmc::kHrEnable] == 1) status |= pmc::kStatusCompensationEnabled;
+      for (std::size_t a = 0; a < t.axes.size(); ++a) {
+        std::int32_t c = 0;
+        drivers::MillimetresToCounts(t.axis_state[a].position_mm, &c);
+        drivers::SplitInt32(c, ir + pmc::InputAxisRegister(a, pmc::kIrAxisPositionHi));
+        ir[pmc::InputAxisRegister(a, pmc::kIrAxisDirection)] = static_cast<std::uint16_t>(static_cast<std::int16_t>(t.axis_state[a].servo_direction));
+        ir[pmc::InputAxisRegister(a, pmc::kIrAxisMoving)] = t.axis_state[a].moving ? 1 : 0;
+      }
+      ir[pmc::kIrReadAgeMs] = 0;
+    }
+    if (temps_ok) status |= pmc::kStatusTemperatureReadOk;
+    t.temperatures_online = temps_ok;
+    if (temps_ok) {
+      for (std::size_t ch = 0; ch < t.channels.size(); ++ch) {
+        auto& m = t.modules[ch / adam::kChannelCount];
+        const std::size_t c = ch % adam::kChannelCount;
+        const auto* range = drivers::FindRtdRange(m[adam::kTypeCodeAddress + c]);
+        const bool fault = t.raw[ch].hardware_fault || !std::isfinite(t.raw[ch].temp_c);
+        const std::uint16_t v = fault ? adam::kBurnoutRaw : drivers::CelsiusToAdamRaw(t.raw[ch].temp_c, *range);
+        m[adam::kAiValueAddress + c] = v;
+        t.coils[ch / adam::kChannelCount][adam::kBurnoutCoilAddress + c] = fault ? 1 : 0;
+        if (!fault) {
+          m[adam::kAiMaxAddress + c] = std::max(m[adam::kAiMaxAddress + c], v);
+          m[adam::kAiMinAddress + c] = m[adam::kAiMinAddress + c] == 0 ? v : std::min(m[adam::kAiMinAddress + c], v);
+        }
+      }
+    }
+    // Watchdog: no client write for watchdog_s → ramp every compensation register towards 0, forwarding each step.
+    bool ramped = false;
+    if (opt.watchdog_s > 0 && now - t.last_client_write_s > opt.watchdog_s) {
+      const double step = std::max(1.0, std::round(opt.watchdog_ramp_um_per_s * elapsed / drivers::kLengthQuantumUm));
+      for (std::size_t a = 0; a < t.axes.size(); ++a) {
+        std::uint16_t* r = t.hr + pmc::CompensationRegister(a);
+        const std::int32_t c = drivers::JoinInt32(r);
+        if (c == 0) continue;
+        const auto s = static_cast<std::int32_t>(std::min<double>(step, std::abs(static_cast<double>(c))));
+        drivers::SplitInt32(c > 0 ? c - s : c + s, r);
+        ramped = true;
+      }
+    }
+    if (ramped) {
+      status |= pmc::kStatusWatchdogRamping;
+      ++stats.watchdog_steps;
+    }
+    ir[pmc::kIrStatus] = status;
+    if (ramped) Forward(t);
+    ++stats.ticks;
+  }
+
+  // ---------------------------------------------------------------- network side
+  // The answer to one request (0 bytes: none).
+  std::size_t Answer(Terminal& t, const mbap::ParsedRequest& q, bool parsed, std::uint8_t* out, double now) {
+    const mbap::Request& h = q.head;
+    ++stats.requests;
+    auto refuse = [&](std::uint8_t code) {
+      ++stats.exceptions;
+      return mbap::EncodeException(out, h, code);
+    };
+    const bool known = h.function == mbap::kReadCoils || h.function == mbap::kReadHoldingRegisters ||
+                       h.function == mbap::kReadInputRegisters || h.function == mbap::kWriteSingleRegister ||
+                       h.function == mbap::kWriteMultipleRegisters;
+    if (!known) return refuse(mbap::kIllegalFunction);
+    if (!parsed) return refuse(mbap::kIllegalDataValue);
+    const int end = h.address + h.count;
+    if (h.unit == opt.pmc_unit_id) {
+      const int hr_count = pmc::kHrCompensationBase + pmc::kHrCompensationStride * static_cast<int>(t.axes.size());
+      switch (h.function) {
+        case mbap::kReadInputRegisters:
+          if (end > pmc::InputWindowLength(t.axes.size())) return refuse(mbap::kIllegalDataAddress);
+          return mbap::EncodeRegistersReply(out, h, t.ir + h.address);
+        case mbap::kReadHoldingRegisters:
+          if (end > hr_count) return refuse(mbap::kIllegalDataAddress);
+          return mbap::EncodeRegistersReply(out, h, t.hr + h.address);
+        case mbap::kWriteSingleRegister:
+        case mbap::kWriteMultipleRegisters: {
+          std::uint16_t candidate[pmc::kHoldingRegisterCount];
+          std::copy(t.hr, t.hr + pmc::kHoldingRegisterCount, candidate);
+          for (int i = 0; i < h.count; ++i) {
+            const int a = h.address + i;
+            if (!(a == pmc::kHrEnable || (a >= pmc::kHrCompensationBase && a < hr_count))) return refuse(mbap::kIllegalDataAddress);
+            candidate[a] = mbap::WordAt(q.values, i);
+          }
+          if (candidate[pmc::kHrEnable] > 1) return refuse(mbap::kIllegalDataValue);
+          for (std::size_t a = 0; a < t.axes.size(); ++a)
+            if (std::abs(drivers::CountsToMicrometres(drivers::JoinInt32(candidate + pmc::CompensationRegister(a)))) > opt.max_compensation_um)
+              return refuse(mbap::kIllegalDataValue);
+          std::copy(candidate, candidate + pmc::kHoldingRegisterCount, t.hr);
+          t.last_client_write_s = now;
+          ++stats.compensation_writes;
+          Forward(t);
+          return mbap::EncodeWriteReply(out, q);
+        }
+        default:
+          return refuse(mbap::kIllegalFunction);
+      }
+    }
+    const int k = h.unit - opt.first_rtd_unit_id;
+    if (k < 0 || k >= static_cast<int>(t.modules.size())) return refuse(mbap::kGatewayTargetFailed);
+    if (!t.temperatures_online) return refuse(mbap::kGatewayTargetFailed);
+    auto& m = t.modules[static_cast<std::size_t>(k)];
+    switch (h.function) {
+      case mbap::kReadHoldingRegisters:
+      case mbap::kReadInputRegisters:
+        if (end > adam::kRegisterCount) return refuse(mbap::kIllegalDataAddress);
+        return mbap::EncodeRegistersReply(out, h, m.data() + h.address);
+      case mbap::kReadCoils:
+        if (end > adam::kCoilCount) return refuse(mbap::kIllegalDataAddress);
+        return mbap::EncodeBitsReply(out, h, t.coils[static_cast<std::size_t>(k)].data() + h.address);
+      case mbap::kWriteSingleRegister:
+      case mbap::kWriteMultipleRegisters: {
+        const int n = static_cast<int>(ModuleChannels(t, static_cast<std::size_t>(k)));
+        for (int i = 0; i < h.count; ++i) {
+          const int a = h.address + i;
+          if (a < adam::kTypeCodeAddress || a >= adam::kTypeCodeAddress + n) return refuse(mbap::kIllegalDataAddress);
+          if (!drivers::FindRtdRange(mbap::WordAt(q.values, i))) return refuse(mbap::kIllegalDataValue);
+        }
+        for (int i = 0; i < h.count; ++i) m[static_cast<std::size_t>(h.address + i)] = mbap::WordAt(q.values, i);
+        return mbap::EncodeWriteReply(out, q);
+      }
+      default:
+        return refuse(mbap::kIllegalFunction);
+    }
+  }
+
+  // False: close the connection.
+  bool Serve(Terminal& t, Endpoint& c, double now) {
+    for (;;) {
+      const ssize_t n = recv(c.fd, c.in + c.in_len, sizeof c.in - c.in_len, 0);
+      if (n == 0) return false;
+      if (n < 0) {
+        if (errno == EAGAIN || errno == EWOULDBLOCK) break;
+        if (errno == EINTR) continue;
+        return false;
+      }
+      c.in_len += static_cast<std::size_t>(n);
+      if (c.in_len == sizeof c.in) break;
+    }
+    while (c.in_len > 0) {
+      const int frame = mbap::FrameLength({c.in, c.in_len});
+      if (frame < 0) return false;
+      if (frame == 0) break;
+      std::uint8_t reply[mbap::kMaxFrameBytes];
+      std::size_t len = 0;
+      std::lock_guard<std::mutex> lock(mu);
+      const TerminalFault fault = t.fault;
+      if (fault == TerminalFault::kDropMidRequest) return false;
+      if (c.in[mbap::kHeaderBytes] >= 0x80) return false;  // an exception code as a request: not MODBUS
+      if (fault != TerminalFault::kSilent) {
+        mbap::ParsedRequest q;
+        const bool parsed = mbap::ParseRequest({c.in, static_cast<std::size_t>(frame)}, &q);
+        len = Answer(t, q, parsed, reply, now);
+        if (fault == TerminalFault::kWrongUnit && len > 6) reply[6] = static_cast<std::uint8_t>(reply[6] + 7);
+        if (fault == TerminalFault::kGarbage) {
+          static constexpr char kJunk[] = "HTTP/1.1 400 Bad Request\r\n\r\n";
+          len = sizeof kJunk - 1;
+          std::memcpy(reply, kJunk, len);
+        }
+      }
+      std::memmove(c.in, c.in + frame, c.in_len - static_cast<std::size_t>(frame));
+      c.in_len -= static_cast<std::size_t>(frame);
+      if (len == 0) continue;
+      if (fault == TerminalFault::kSlow) {
+        delayed.push_back({now + t.fault_delay_s, &c, 0, std::vector<std::uint8_t>(reply, reply + len)});
+        continue;
+      }
+      if (send(c.fd, reply, len, MSG_NOSIGNAL) != static_cast<ssize_t>(len)) return false;
+    }
+    return true;
+  }
+
+  void Accept(Terminal& t) {
+    for (;;) {
+      const int fd = accept4(t.listener.fd, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
+      if (fd < 0) return;
+      int one = 1;
+      setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+      if (t.connections.size() >= 16) CloseConnection(t, t.connections.front().get());  // the oldest makes room
+      auto c = std::make_unique<Endpoint>();
+      c->fd = fd;
+      c->terminal = &t;
+      epoll_event ev{};
+      ev.events = EPOLLIN | EPOLLRDHUP;
+      ev.data.ptr = c.get();
+      epoll_ctl(epoll_fd, EPOLL_CTL_ADD, fd, &ev);
+      t.connections.push_back(std::move(c));
+      std::lock_guard<std::mutex> lock(mu);
+      ++stats.connections;
+    }
+  }
+
+  void Loop() {
+    std::vector<epoll_event> events(1024);
+    std::size_t next = 0;  // ticks come round robin: the start staggered them and they share one period
+    while (!loop.stopping()) {
+      double now = Now();
+      for (std::size_t k = 0; k < std::min<std::size_t>(terminals.size(), 64); ++k) {  // then serve the network
+        Terminal& t = *terminals[next];
+        if (t.next_tick_s > now) break;
+        t.next_tick_s += opt.tick_s;
+        if (t.next_tick_s < now) t.next_tick_s = now + opt.tick_s;
+        std::lock_guard<std::mutex> lock(mu);
+        TickMachine(t, now);
+        next = (next + 1) % terminals.size();
+      }
+      while (!delayed.empty() && delayed.front().due_s <= now) {
+        DelayedReply d = std::move(delayed.front());
+        delayed.pop_front();
+        [[maybe_unused]] auto n = send(d.connection->fd, d.bytes.data(), d.bytes.size(), MSG_NOSIGNAL);
+      }
+      const int n = epoll_wait(epoll_fd, events.data(), static_cast<int>(events.size()), 2);
+      now = Now();
+      for (int i = 0; i < n; ++i) {
+        if (events[i].data.u64 == EventLoop::kWakeToken) continue;
+        auto* e = static_cast<Endpoint*>(events[i].data.ptr);
+        Terminal& t = *e->terminal;
+        if (e->listening) {
+          Accept(t);
+        } else if (!Serve(t, *e, now)) {
+          CloseConnection(t, e);
+        }
+      }
+      // Faults the loop must act on: a terminal "down" closes its port and connections.
+      if (!faults_changed.exchange(false)) continue;
+      std::lock_guard<std::mutex> lock(mu);
+      for (auto& tp : terminals) {
+        Terminal& t = *tp;
+        if (t.fault == TerminalFault::kDown && t.listener.fd >= 0) {
+          CloseListener(t);
+          while (!t.connections.empty()) CloseConnection(t, t.connections.front().get());
+        } else if (t.fault != TerminalFault::kDown && t.listener.fd < 0) {
+          Listen(t, nullptr);
+        }
+      }
+    }
+  }
+};
+
+VirtualShop::VirtualShop(VirtualShopOptions options) : impl_(std::make_unique<Impl>()) {
+  Impl& s = *impl_;
+  s.opt = std::move(options);
+  std::string why;
+  if (!s.opt.IsValid(&why)) throw InputError("virtual shop", why);
+  std::vector<sim::MachineDescription> descriptions;
+  for (const auto& f : s.opt.machine_files) descriptions.push_back(sim::ReadMachineFile(f));
+  s.terminals.resize(static_cast<std::size_t>(s.opt.machines));
+  // A virtual machine takes ~20 ms to build (its thermal network soaked overnight): build them on every core.
+  std::atomic<int> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mu;
+  auto build = [&] {
+    for (int i = next++; i < s.opt.machines; i = next++) {
+      try {
+        s.terminals[static_cast<std::size_t>(i)] = s.MakeTerminal(i, descriptions[static_cast<std::size_t>(i) % descriptions.size()]);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(failure_mu);
+        failure = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> workers;
+  for (unsigned k = 1; k < std::max(1u, std::thread::hardware_concurrency()); ++k) workers.emplace_back(build);
+  build();
+  for (auto& w : workers) w.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
+VirtualShop::~VirtualShop() { Stop(); }
+
+bool VirtualShop::Start(std::string* error) {
+  Impl& s = *impl_;
+  if (!EnsureOpenFileLimit(2 * s.terminals.size() + 64, error)) return false;  // a listener + a connection each
+  const double now = s.Now();
+  for (auto& t : s.terminals) {
+    if (!s.Listen(*t, error)) {
+      for (auto& u : s.terminals) s.CloseListener(*u);
+      return false;
+    }
+    t->last_tick_s = now;
+    t->last_client_write_s = now;
+    t->next_tick_s = now + s.opt.tick_s * static_cast<double>(t->index) / static_cast<double>(s.terminals.size());
+    s.TickMachine(*t, now);  // registers hold real state before the first request
+  }
+  s.loop.Start([&s] { s.Loop(); });
+  return true;
+}
+
+void VirtualShop::Stop() {
+  Impl& s = *impl_;
+  if (!s.loop.Stop()) return;
+  for (auto& t : s.terminals) {
+    s.CloseListener(*t);
+    while (!t->connections.empty()) s.CloseConnection(*t, t->connections.front().get());
+  }
+}
+
+std::vector<VirtualMachineInfo> VirtualShop::Machines() const {
+  std::vector<VirtualMachineInfo> out;
+  for (const auto& t : impl_->terminals) out.push_back({t->name, t->vm->description().name, t->port, t->axes, t->channels});
+  return out;
+}
+
+VirtualShopStats VirtualShop::Stats() const {
+  VirtualShopStats s;
+  {
+    std::lock_guard<std::mutex> lock(impl_->mu);
+    s = impl_->stats;
+  }
+  s.loop_cpu_s = ThreadCpuSeconds(impl_->loop.thread());
+  return s;
+}
+
+void VirtualShop::SetFault(std::size_t machine, TerminalFault fault, double delay_s) {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  Terminal& t = *impl_->terminals.at(machine);
+  t.fault = fault;
+  t.fault_delay_s = delay_s;
+  impl_->faults_changed.store(true);
+}
+
+std::vector<double> VirtualShop::AppliedUm(std::size_t machine) const {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  return impl_->terminals.at(machine)->applied_um;
+}
+
+bool VirtualShop::WatchdogRamping(std::size_t machine) const {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  return (impl_->terminals.at(machine)->ir[pmc::kIrStatus] & pmc::kStatusWatchdogRamping) != 0;
+}
+
+std::string ShopFileFor(const std::vector<VirtualMachineInfo>& machines, const std::string& bind_address,
+                        const std::string& model_file, const std::string& history, double period_s, int http_port) {
+  auto list = [](const std::vector<std::string>& v) {
+    std::string s = "[";
+    for (std::size_t i = 0; i < v.size(); ++i) s += fmt::format("{}\"{}\"", i ? ", " : "", v[i]);
+    return s + "]";
+  };
+  std::string out = fmt::format("# Shop file for `trueaxis server` (docs/server.md), written by `trueaxis sim shop`.\n"
+                                "history = \"{}\"\n", history);
+  if (http_port > 0) out += fmt::format("\n[http]\nport = {}\n", http_port);
+  for (const auto& m : machines)
+    out += fmt::format("\n[[machine]]\nname = \"{}\"   # {}\nhost = \"{}\"\nport = {}\naxes = {}\nrtd_channels = {}\n"
+                       "model = \"{}\"\nperiod_s = {}\n",
+                       m.name, m.description, bind_address, m.port, list(m.axes), list(m.channels), model_file, period_s);
+  return out;
+}
+
+}  // namespace trueaxis::server

@@ -1,0 +1,75 @@
+// The shop file: errors name the file, the line and the field.
+#include <gtest/gtest.h>
+
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/server/shop_config.hpp"
+
+namespace trueaxis::server {
+namespace {
+
+const char* kShop = R"(history = "shop.db"
+[limits]
+max_step_um = 0.5
+
+[[machine]]
+name = "mill-1"
+host = "127.0.0.1"
+port = 15001
+axes = ["X", "Y"]
+rtd_channels = ["x_nut", "ambient"]
+model = "m.json"
+period_s = 0.1
+[machine.limits]
+max_correction_um = 40
+[[machine.axis]]
+name = "Y"
+pulse_equivalent_um = 0.5
+)";
+
+TEST(ShopConfig, ReadsMachinesWithShopDefaultsAndTheirOwnTables) {
+  const ShopConfig c = ParseShopConfig(kShop, "/shops/a/shop.toml");
+  EXPECT_EQ(c.history, "/shops/a/shop.db");
+  EXPECT_EQ(c.audit_log, "/shops/a/shop.db.audit.jsonl");
+  ASSERT_EQ(c.machines.size(), 1u);
+  const MachineConfig& m = c.machines[0];
+  EXPECT_EQ(m.model_file, "/shops/a/m.json");
+  EXPECT_EQ(m.compensator.shaper.max_step_um, 0.5);          // shop default
+  EXPECT_EQ(m.compensator.shaper.max_correction_um, 40);     // the machine's own
+  ASSERT_EQ(m.axis_interfaces.size(), 2u);
+  EXPECT_EQ(m.axis_interfaces[1].pulse_equivalent_um, 0.5);
+  EXPECT_EQ(m.axis_interfaces[0].pulse_equivalent_um, 1.0);
+  EXPECT_GE(m.compensator.link_stale_after_s, 3 * m.period_s);
+}
+
+void ExpectError(const std::string& text, int line, const std::string& field) {
+  try {
+    ParseShopConfig(text, "shop.toml");
+    FAIL() << "accepted: " << text;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_EQ(e.field(), field) << e.what();
+    EXPECT_EQ(e.source(), "shop.toml");
+  }
+}
+
+TEST(ShopConfig, ErrorsNameLineAndField) {
+  ExpectError(std::string(kShop) + "\n[[machine]]\nname = \"mill-1\"\naxes=[\"X\"]\nmodel=\"m.json\"\n", 20, "machine[1].name");
+  struct Edit {
+    const char* from;
+    const char* to;
+    int line;
+    const char* field;
+  };
+  for (const Edit& e : {Edit{"port = 15001", "port = 99999", 8, "machine[0].port"},
+                        Edit{"host = \"127.0.0.1\"", "host = \"mill.local\"", 7, "machine[0].host"},
+                        Edit{"period_s = 0.1", "perod_s = 0.1", 12, "machine[0].perod_s"},
+                        Edit{"name = \"Y\"", "name = \"W\"", 15, "machine[0].axis"}}) {
+    std::string s = kShop;
+    s.replace(s.find(e.from), std::string(e.from).size(), e.to);
+    ExpectError(s, e.line, e.field);
+  }
+  ExpectError("history = \"x.db\"\n", 1, "machine");
+}
+
+}  // namespace
+}  // namespace trueaxis::server
