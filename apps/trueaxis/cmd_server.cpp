@@ -3,7 +3,7 @@
 // compensator (the same step as `run`), writes the corrections back, records
 // the shop's history and serves the JSON control API.
 //
-//   trueaxis server --config shop.toml [--duration-s S]
+//   trueaxis server --config shop.toml [--duration-s S] [--web HOST:PORT --users FILE]
 //   trueaxis server status --url http://127.0.0.1:8650 [--json]
 //   trueaxis server model load --url ... --machine M --file model.json --user alice
 //   trueaxis server model rollback --url ... --machine M --user alice
@@ -24,6 +24,9 @@
 #include "trueaxis/server/shop.hpp"
 #include "trueaxis/server/shop_config.hpp"
 #include "trueaxis/store/history_writer.hpp"
+#include "trueaxis/store/open_history_sink.hpp"
+#include "trueaxis/web/shop_backend.hpp"
+#include "web_front_end.hpp"
 
 namespace {
 
@@ -38,6 +41,7 @@ struct ServerOptions {
   double status_interval_s = 5;
   int http_port = -1;  // -1: the shop file's
   bool quiet = false;
+  cli::WebCliOptions web;  // the browser front end over the whole shop (docs/web.md)
 };
 
 std::string Summary(const server::Shop& shop, double wall_s, double since_s, std::uint64_t cycles_before) {
@@ -65,10 +69,11 @@ void RunServer(const ServerOptions& o) {
   std::unique_ptr<store::HistoryWriter> history;
   if (!config.history.empty()) {
     const auto parent = std::filesystem::path(config.history).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent);
+    if (!store::IsPostgresUrl(config.history) && !parent.empty()) std::filesystem::create_directories(parent);
     store::HistoryWriterOptions ho;
     ho.queue_capacity = 1u << 18;  // a thousand machines' records for several seconds of a slow disk
-    history = std::make_unique<store::HistoryWriter>(config.history, ho);
+    // A SQLite file, or a PostgreSQL server named by URL when one box is not enough (docs/server.md).
+    history = std::make_unique<store::HistoryWriter>(store::OpenHistorySink(config.history), ho);
   }
   server::Shop shop(config, history.get());  // InputError: a model that does not fit its machine
   std::unique_ptr<server::HttpApi> api;
@@ -80,9 +85,22 @@ void RunServer(const ServerOptions& o) {
       throw CLI::RuntimeError(cli::kExitFailure);
     }
   }
+  std::unique_ptr<web::ShopBackend> web_backend;
+  cli::WebFrontEnd web_front_end;
+  if (!o.web.listen.empty()) {
+    web::ShopBackendOptions wo;
+    if (history && store::IsPostgresUrl(config.history))
+      fmt::print(stderr, "warning: the web page's history and export read a SQLite history only; {} is not shown there\n",
+                 history->path());
+    else
+      wo.history_db = config.history;
+    web_backend = std::make_unique<web::ShopBackend>(shop, history.get(), wo);
+    web_front_end = cli::StartWebFrontEnd(o.web, *web_backend);  // InputError: no user, bad address or certificate
+  }
   shop.Start();
+  if (web_backend) web_backend->Start();
   fmt::print("trueaxis server: {} machines from {}, history {}{}\n", config.machines.size(), config.source,
-             config.history.empty() ? "off" : config.history,
+             history ? history->path() : "off",
              api ? fmt::format(", API http://{}:{}/api/machines", config.http_bind, api->port()) : "");
   std::fflush(stdout);
   const auto t0 = std::chrono::steady_clock::now();
@@ -99,6 +117,8 @@ void RunServer(const ServerOptions& o) {
       next_status += o.status_interval_s;
     }
   }
+  if (web_front_end.server) web_front_end.server->Stop();
+  if (web_backend) web_backend->Stop();
   if (api) api->Stop();
   shop.Stop();
   fmt::print("{}\n", Summary(shop, wall(), wall(), 0));
@@ -113,7 +133,7 @@ void RunServer(const ServerOptions& o) {
   }
   if (history) {
     history->Close();
-    fmt::print("history: {} ({})\n", config.history, history->Stats().BriefReport());
+    fmt::print("history: {} ({})\n", history->path(), history->Stats().BriefReport());
   }
 }
 
@@ -168,6 +188,7 @@ void Setup(CLI::App& app) {
   cmd->add_option("--status-interval-s", o->status_interval_s, "Seconds between status lines (0: none)")->capture_default_str();
   cmd->add_option("--http-port", o->http_port, "HTTP control API port, overriding the shop file's [http] port (0: off)");
   cmd->add_flag("--quiet", o->quiet, "No status lines");
+  cli::AddWebOptions(cmd, o->web, "--web");
   cmd->require_subcommand(0, 1);
 
   auto url = std::make_shared<std::string>("http://127.0.0.1:8650");

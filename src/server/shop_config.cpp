@@ -10,6 +10,7 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
+#include "trueaxis/store/open_history_sink.hpp"
 #include "trueaxis/core/toml_reader.hpp"
 #include "trueaxis/drivers/pmc_window_map.hpp"
 #include "trueaxis/runtime/run_config.hpp"
@@ -37,9 +38,14 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
   c.source = source;
   const std::string base = std::filesystem::path(source).parent_path().string();
   TomlTableReader r(root, source, "");
-  if (r.String("history", c.history)) c.history = Resolve(base, c.history);
+  // A PostgreSQL URL is kept as written; a file name resolves against the shop file's folder.
+  if (r.String("history", c.history) && !store::IsPostgresUrl(c.history)) c.history = Resolve(base, c.history);
   if (r.String("audit_log", c.audit_log)) c.audit_log = Resolve(base, c.audit_log);
-  if (c.audit_log.empty() && !c.history.empty()) c.audit_log = c.history + ".audit.jsonl";
+  if (c.audit_log.empty() && !c.history.empty()) {
+    if (store::IsPostgresUrl(c.history))
+      throw InputError(source, 0, "audit_log", "required when the history is a PostgreSQL URL (a file for the model-change audit log)");
+    c.audit_log = c.history + ".audit.jsonl";
+  }
   r.Double("record_interval_s", c.record_interval_s, 1e-3, 3600);
   if (const toml::table* t = r.Table("http")) {
     TomlTableReader m(*t, source, "http");

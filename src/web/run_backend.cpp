@@ -2,48 +2,19 @@
 
 #include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <map>
-#include <sstream>
 
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/station/history_logger.hpp"
-#include "trueaxis/store/history_db.hpp"
-#include "trueaxis/store/history_export.hpp"
+#include "trueaxis/web/history_files.hpp"
 #include "trueaxis/web/model_figures.hpp"
-#include "trueaxis/web/password_hash.hpp"
 
 namespace trueaxis::web {
-
-namespace fs = std::filesystem;
 
 namespace {
 double NowUnixS() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
-std::vector<std::string> SplitAlarmNames(std::uint32_t alarms) {
-  std::vector<std::string> out;
-  const std::string names = runtime::AlarmNames(alarms);
-  std::size_t pos = 0;
-  while (pos < names.size()) {
-    const auto bar = names.find('|', pos);
-    out.push_back(names.substr(pos, bar == std::string::npos ? std::string::npos : bar - pos));
-    if (bar == std::string::npos) break;
-    pos = bar + 1;
-  }
-  return out;
-}
-// Keeps at most `max_points` of a trace, evenly spaced (every k-th point).
-bool Decimate(std::vector<HistoryPoint>& points, std::size_t max_points) {
-  if (max_points == 0 || points.size() <= max_points) return false;
-  const std::size_t stride = (points.size() + max_points - 1) / max_points;
-  std::vector<HistoryPoint> kept;
-  for (std::size_t i = 0; i < points.size(); i += stride) kept.push_back(points[i]);
-  points = std::move(kept);
-  return true;
 }
 }  // namespace
 
@@ -66,7 +37,7 @@ RunBackend::RunBackend(runtime::Compensator& compensator, CoolantOverrideLink* c
 
 void RunBackend::OnRecord(const runtime::CycleRecord& r) {
   const double t = options_.unix0 + r.time_s;
-  const std::vector<std::string> alarms = SplitAlarmNames(r.alarms);
+  const std::vector<std::string> alarms = SplitAlarmNames(runtime::AlarmNames(r.alarms));
   {
     std::lock_guard lock(mutex_);
     summary_.connected = r.link_read_ok;
@@ -148,21 +119,7 @@ std::string RunBackend::HistoryDbOrThrow() const {
 
 HistorySeries RunBackend::History(const std::string& id, double from, double to, std::size_t max_points) const {
   CheckId(id);
-  const store::HistoryDb db(HistoryDbOrThrow(), store::HistoryDb::Mode::kReadOnly);
-  HistorySeries h{from, to, {}, {}, false};
-  std::map<std::string, std::vector<HistoryPoint>> temps, corrs;
-  const store::TimeRange range{from, to};
-  db.ForEachTemperature(range, {}, [&](const store::TemperatureRow& r) { temps[r.channel].push_back({r.time_s, r.filtered_c}); });
-  db.ForEachCompensation(range, {}, [&](const store::CompensationRow& r) { corrs[r.axis].push_back({r.time_s, r.correction_um}); });
-  for (auto& [name, points] : temps) {
-    h.decimated |= Decimate(points, max_points);
-    h.temperatures.push_back({name, "C", std::move(points)});
-  }
-  for (auto& [name, points] : corrs) {
-    h.decimated |= Decimate(points, max_points);
-    h.corrections.push_back({name, "um", std::move(points)});
-  }
-  return h;
+  return ReadHistorySeries({HistoryDbOrThrow(), {}, {}, ""}, from, to, max_points);
 }
 
 std::vector<AlarmEntry> RunBackend::Alarms(std::size_t limit) const { return alarms_.Newest(limit); }
@@ -222,31 +179,7 @@ std::string RunBackend::RollbackModel(const Actor& who, const std::string& id) {
 
 ExportFile RunBackend::Export(const std::string& id, double from, double to, ExportFormat format) const {
   CheckId(id);
-  const store::HistoryDb db(HistoryDbOrThrow(), store::HistoryDb::Mode::kReadOnly);
-  const bool xlsx = format == ExportFormat::kXlsx;
-  const fs::path tmp = fs::temp_directory_path() / ("trueaxis-web-export-" + RandomToken(8) + (xlsx ? ".xlsx" : ".csv"));
-  store::ExportRequest request;
-  request.range = {from, to};
-  std::string name = options_.machine_id;
-  if (xlsx) {
-    store::ExportXlsx(db, request, tmp.string());
-  } else if (format == ExportFormat::kCsvTemperature) {
-    request.wide = true;
-    store::ExportCsv(db, store::HistoryTable::kTemperature, request, tmp.string());
-    name += "_temperature";
-  } else {
-    store::ExportCsv(db, store::HistoryTable::kCompensation, request, tmp.string());
-    name += "_compensation";
-  }
-  std::ifstream in(tmp, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  in.close();
-  std::error_code ec;
-  fs::remove(tmp, ec);
-  return {name + (xlsx ? ".xlsx" : ".csv"),
-          xlsx ? "application/vnd.openxmlformats-officedocument.spreadsheetml.sheet" : "text/csv; charset=utf-8",
-          bytes.str()};
+  return ExportHistory({HistoryDbOrThrow(), {}, {}, ""}, from, to, format, options_.machine_id);
 }
 
 }  // namespace trueaxis::web

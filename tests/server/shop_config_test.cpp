@@ -41,6 +41,22 @@ TEST(ShopConfig, ReadsMachinesWithShopDefaultsAndTheirOwnTables) {
   EXPECT_GE(m.compensator.link_stale_after_s, 3 * m.period_s);
 }
 
+TEST(ShopConfig, APostgresHistoryIsKeptAsWrittenAndNeedsAnAuditFile) {
+  std::string text = kShop;
+  text.replace(text.find("\"shop.db\""), 9, "\"postgresql://shop@db:5432/shop\"\naudit_log = \"audit.jsonl\"");
+  const ShopConfig c = ParseShopConfig(text, "/shops/a/shop.toml");
+  EXPECT_EQ(c.history, "postgresql://shop@db:5432/shop");
+  EXPECT_EQ(c.audit_log, "/shops/a/audit.jsonl");
+  std::string without_audit = kShop;
+  without_audit.replace(without_audit.find("\"shop.db\""), 9, "\"postgresql://shop@db:5432/shop\"");
+  try {
+    ParseShopConfig(without_audit, "shop.toml");
+    FAIL() << "a PostgreSQL history without audit_log was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "audit_log") << e.what();
+  }
+}
+
 void ExpectError(const std::string& text, int line, const std::string& field) {
   try {
     ParseShopConfig(text, "shop.toml");
