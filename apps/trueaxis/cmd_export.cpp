@@ -253,8 +253,10 @@ void RunExport(const ExportArgs& a) {
   if (rr.table.axis.empty()) rr.table.axis = "X";
   fmt::print("{}\n", rr.BriefReport());
   if (thermal_axis) {
-    fmt::print("note: {}; frozen at the given temperatures, model dynamics at start-up (lagged inputs settled; "
-               "hysteresis: its all-data model)\n", thermal_axis->Describe());
+    fmt::print("note: {}; frozen at the given temperatures{}\n", thermal_axis->Describe(),
+               thermal_axis->HasDynamics() ? " (model dynamics at start-up: lagged inputs settled at them, a hysteresis "
+                                             "model's all-data prediction)"
+                                           : "");
     if (IsConstantAlongAxis(rr.table) && rr.zero_shift_um != 0)
       fmt::print("warning: the model predicts the same error at every position, so zeroing at the reference removes "
                  "all of it ({:.4f} um): this table compensates nothing; a position-independent offset belongs in a "
