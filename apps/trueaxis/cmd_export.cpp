@@ -31,6 +31,7 @@
 #include "trueaxis/measure/measurement_csv.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/pitch/error_file.hpp"
+#include "trueaxis/thermal/pso_bp_network.hpp"
 #include "trueaxis/thermal/thermal_axis_model.hpp"
 #include "trueaxis/thermal/thermal_model.hpp"
 
@@ -202,6 +203,23 @@ void RunRead(const ExportArgs& a) {
   fmt::print("{}", PrintTable(t));
 }
 
+// The positions a PSO-BP network that takes the position was trained on (its input scaling);
+// unknown (NaN) for models that do not use the position.
+AxisModelValidity TrainedPositions(const thermal::ThermalErrorModel& fitted, const std::string& channel) {
+  AxisModelValidity v;
+  const auto* network = dynamic_cast<const thermal::PsoBpNetworkModel*>(&fitted);
+  if (!network) return v;
+  const auto& names = network->Channels();
+  for (std::size_t c = 0; c < names.size() && c < network->networks().size(); ++c) {
+    const auto& n = network->networks()[c];
+    if (names[c] == channel && n.uses_position && !n.input_min.empty()) {
+      v.min_mm = n.input_min.back();
+      v.max_mm = n.input_max.back();
+    }
+  }
+  return v;
+}
+
 void RunExport(const ExportArgs& a) {
   const TableFormat f = FormatOf(a);
   if (a.out.empty()) Bad("--out", "required: the file to write");
@@ -220,6 +238,7 @@ void RunExport(const ExportArgs& a) {
   measure::Measurement meas;
   pitch::PitchErrorTable pitch_table;  // --pitch-file (docs/pitch-error-file.md)
   std::unique_ptr<thermal::ThermalAxisModel> thermal_axis;  // --thermal-model
+  AxisModelValidity thermal_validity;  // a network taking the position: its training positions
   if (!a.pitch_path.empty()) {
     pitch_table = pitch::ReadPitchErrorFile(a.pitch_path);
   } else if (!a.thermal_model_path.empty()) {
@@ -231,6 +250,7 @@ void RunExport(const ExportArgs& a) {
     if (a.coolant != "off")
       Bad("--coolant", "a data-driven thermal model has no coolant gains; its table is the same for every coolant state");
     thermal_axis = std::make_unique<thermal::ThermalAxisModel>(fitted, a.channel, a.axis, a.thermal_model_path);
+    thermal_validity = TrainedPositions(*fitted, a.channel);
   } else if (!a.model_path.empty()) {
     if (a.axis.empty()) Bad("--axis", "required with --model");
     cm = model::ReadModelFile(a.model_path);
@@ -245,7 +265,7 @@ void RunExport(const ExportArgs& a) {
   }
   auto resample = [&](const ResampleOptions& o) {
     if (!a.pitch_path.empty()) return pitch::ResamplePitchTable(pitch_table, o, a.pitch_path);
-    if (thermal_axis) return ResampleAxisErrorModel(*thermal_axis, o, a.thermal_model_path);
+    if (thermal_axis) return ResampleAxisErrorModel(*thermal_axis, o, a.thermal_model_path, thermal_validity);
     return axis ? ResampleModel(*axis, o, a.model_path) : ResampleMeasurement(meas, o);
   };
   ResampleResult rr = resample(ro);

@@ -49,15 +49,16 @@ bool IsConstantAlongAxis(const CompensationTable& t) {
   return true;
 }
 
-ResampleResult ResampleAxisErrorModel(const model::AxisErrorModel& m, const ResampleOptions& o, const std::string& source) {
+ResampleResult ResampleAxisErrorModel(const model::AxisErrorModel& m, const ResampleOptions& o, const std::string& source,
+                                      const AxisModelValidity& validity) {
   const std::vector<double> sensors = FrozenSensors(m, o.thermal, source);
   if (std::isnan(o.range_min_mm) || std::isnan(o.range_max_mm))
     throw InputError(source, 0, "--range",
                      "required: this model has no position range of its own; give MIN:MAX in mm, the travel the "
                      "table is to cover");
   ResampleResult r;
-  r.valid_min_mm = o.range_min_mm;
-  r.valid_max_mm = o.range_max_mm;
+  r.valid_min_mm = std::isnan(validity.min_mm) ? o.range_min_mm : validity.min_mm;
+  r.valid_max_mm = std::isnan(validity.max_mm) ? o.range_max_mm : validity.max_mm;
   auto& t = r.table;
   t.axis = m.Axis();
   t.reference_position_mm = std::isnan(o.reference_position_mm) ? o.range_min_mm : o.reference_position_mm;

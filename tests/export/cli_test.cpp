@@ -253,6 +253,36 @@ TEST_F(ExportThermalCli, BadOptionsExitTwoNamingTheOptionAndTheSensor) {
   EXPECT_FALSE(fs::exists(Path("bad.csv")));
 }
 
+// A PSO-BP network that takes the position (seed 003): the table follows the position with the
+// correction's sign (error 0.01 µm/mm·(a − 20 °C), so the correction falls along the axis), and a
+// range beyond the positions it was trained on (0…399 mm) is refused.
+TEST_F(ExportThermalCli, PositionNetworkFollowsThePositionWithinItsTrainingRange) {
+  std::string csv = "time_s,position_mm,t_a_c,e_x_um\n";
+  for (int r = 0; r < 300; ++r) {
+    const double a = 20 + 8 * (1 - std::exp(-r / 60.0)), x = (r * 37) % 400;
+    csv += fmt::format("{},{},{:.6f},{:.6f}\n", r * 30, x, a, 0.01 * x * (a - 20));
+  }
+  WriteTextFile(Path("p.csv"), csv);
+  ASSERT_EQ(Cli("thermal fit --series " + Path("p.csv") + " --model pso-bp -o " + Path("p.json")).code, 0);
+  const std::string p = "export --thermal-model " + Path("p.json") + " --channel x --axis X --temp a=28 --format csv ";
+  const auto w = Cli(p + "--range 0:350 --spacing 50 --out " + Path("p_table.csv"));
+  ASSERT_EQ(w.code, 0) << w.out;
+  const auto back = Cli("export --read " + Path("p_table.csv") + " --format csv");
+  std::vector<double> fwd;
+  for (const auto& line : SplitLines(back.out)) {
+    double x, f, r;
+    if (!line.empty() && line[0] != '#' && std::sscanf(line.c_str(), "%lf,%lf,%lf", &x, &f, &r) == 3) {
+      EXPECT_NEAR(f, -0.01 * x * 8, 4.0) << line;  // the network's fit is within a few µm of the truth
+      fwd.push_back(f);
+    }
+  }
+  ASSERT_EQ(fwd.size(), 8u) << back.out;
+  EXPECT_LT(fwd.back(), fwd.front() - 20) << back.out;
+  const auto beyond = Cli(p + "--range 0:500 --spacing 50 --out " + Path("beyond.csv"));
+  EXPECT_EQ(beyond.code, 2) << beyond.out;
+  EXPECT_NE(beyond.out.find("'--range'"), std::string::npos) << beyond.out;
+}
+
 TEST_F(ExportCli, CorruptTableOnReadNamesTheLine) {
   WriteTextFile(Path("c.txt"), "0 0 0\n10 0.001\n");
   const auto r = Cli("export --read " + Path("c.txt") + " --format linuxcnc");

@@ -105,6 +105,15 @@ TEST(ResampleAxisModel, RangeIsRequired) {
   EXPECT_EQ(ErrorOf([&] { ResampleAxisErrorModel(FakeModel(), o, "fake.json"); }).field(), "--spacing");
 }
 
+TEST(ResampleAxisModel, AModelThatKnowsItsPositionsIsNotExtrapolated) {
+  const AxisModelValidity trained{0, 400};
+  EXPECT_EQ(ErrorOf([&] { ResampleAxisErrorModel(FakeModel(), Options({{"a", 30}, {"b", 25}}), "fake.json", trained); }).field(),
+            "--range");
+  auto o = Options({{"a", 30}, {"b", 25}});
+  o.range_max_mm = 400;
+  EXPECT_EQ(ResampleAxisErrorModel(FakeModel(), o, "fake.json", trained).table.position_mm.back(), 400);
+}
+
 // 8 h, 30 s samples, spindle blocks 0/2500/0/3500 rpm: s0 heats with the spindle, s1 swings slowly,
 // the error follows s0's lagged rise (so lags and intervals matter).
 thermal::ThermalSeries SyntheticSeries(unsigned seed) {

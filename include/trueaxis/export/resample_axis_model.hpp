@@ -25,9 +25,17 @@
 
 namespace trueaxis::exporter {
 
-// `source` names the model file in error messages and in the table's provenance.
+// Where the model is valid along the axis, when it knows (a network that takes the position: the
+// positions it was trained on); NaN: it does not, and the --range given is trusted.
+struct AxisModelValidity {
+  double min_mm = ResampleOptions::kNaN;
+  double max_mm = ResampleOptions::kNaN;
+};
+
+// `source` names the model file in error messages and in the table's provenance. A --range or
+// grid beyond `validity` is refused like any extrapolation (InputError on --range / the grid option).
 ResampleResult ResampleAxisErrorModel(const model::AxisErrorModel& model, const ResampleOptions& options,
-                                      const std::string& source);
+                                      const std::string& source, const AxisModelValidity& validity = {});
 
 // True when every value of both curves is the same (within 1 nm): a model that
 // does not use the axis position gives one offset over the whole range.
