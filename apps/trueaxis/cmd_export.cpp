@@ -239,6 +239,7 @@ void RunExport(const ExportArgs& a) {
   pitch::PitchErrorTable pitch_table;  // --pitch-file (docs/pitch-error-file.md)
   std::unique_ptr<thermal::ThermalAxisModel> thermal_axis;  // --thermal-model
   AxisModelValidity thermal_validity;  // a network taking the position: its training positions
+  std::string thermal_kind;
   if (!a.pitch_path.empty()) {
     pitch_table = pitch::ReadPitchErrorFile(a.pitch_path);
   } else if (!a.thermal_model_path.empty()) {
@@ -251,6 +252,7 @@ void RunExport(const ExportArgs& a) {
       Bad("--coolant", "a data-driven thermal model has no coolant gains; its table is the same for every coolant state");
     thermal_axis = std::make_unique<thermal::ThermalAxisModel>(fitted, a.channel, a.axis, a.thermal_model_path);
     thermal_validity = TrainedPositions(*fitted, a.channel);
+    thermal_kind = fitted->Kind();
   } else if (!a.model_path.empty()) {
     if (a.axis.empty()) Bad("--axis", "required with --model");
     cm = model::ReadModelFile(a.model_path);
@@ -273,7 +275,8 @@ void RunExport(const ExportArgs& a) {
   if (rr.table.axis.empty()) rr.table.axis = "X";
   fmt::print("{}\n", rr.BriefReport());
   if (thermal_axis) {
-    fmt::print("note: {}; frozen at the given temperatures{}\n", thermal_axis->Describe(),
+    fmt::print("note: {} thermal model, channel {} on axis {}, frozen at the given temperatures{}\n", thermal_kind,
+               a.channel, a.axis,
                thermal_axis->HasDynamics() ? " (model dynamics at start-up: lagged inputs settled at them, a hysteresis "
                                              "model's all-data prediction)"
                                            : "");
