@@ -195,17 +195,24 @@ class ExportThermalCli : public ExportCli {
     ASSERT_EQ(fit.code, 0) << fit.out;
     base_ = "export --thermal-model " + Path("m.json") + " --channel x --axis X --range 0:400 --spacing 50 ";
   }
-  // Every data row of `export --read` output: forward and reverse equal `correction_um` (±1 nm·10).
-  static int ExpectEveryPoint(const std::string& printed, double correction_um) {
-    int rows = 0;
+  // The data rows of `export --read` output: position, forward and reverse correction.
+  static std::vector<std::array<double, 3>> Rows(const std::string& printed) {
+    std::vector<std::array<double, 3>> rows;
     for (const auto& line : SplitLines(printed)) {
-      double x, f, r;
-      if (line.empty() || line[0] == '#' || std::sscanf(line.c_str(), "%lf,%lf,%lf", &x, &f, &r) != 3) continue;
-      EXPECT_NEAR(f, correction_um, 1e-3) << line;
-      EXPECT_NEAR(r, correction_um, 1e-3) << line;
-      ++rows;
+      std::array<double, 3> v;
+      if (!line.empty() && line[0] != '#' && std::sscanf(line.c_str(), "%lf,%lf,%lf", &v[0], &v[1], &v[2]) == 3)
+        rows.push_back(v);
     }
     return rows;
+  }
+  // Every row's forward and reverse equal `correction_um` (the read-back prints 4 decimals).
+  static std::size_t ExpectEveryPoint(const std::string& printed, double correction_um) {
+    const auto rows = Rows(printed);
+    for (const auto& [x, f, r] : rows) {
+      EXPECT_NEAR(f, correction_um, 1e-3) << x;
+      EXPECT_NEAR(r, correction_um, 1e-3) << x;
+    }
+    return rows.size();
   }
   std::string base_;
 };
@@ -220,7 +227,7 @@ TEST_F(ExportThermalCli, EveryFormatHoldsMinusThePredictedErrorAndReadsBack) {
       EXPECT_NE(w.out.find("the table is one offset"), std::string::npos) << w.out;
       const auto r = Cli("export --read " + Path(file) + " --format " + format + " --axis X");
       ASSERT_EQ(r.code, 0) << format << ": " << r.out;
-      EXPECT_EQ(ExpectEveryPoint(r.out, correction), 9) << format << " " << temps << ":\n" << r.out;
+      EXPECT_EQ(ExpectEveryPoint(r.out, correction), 9u) << format << " " << temps << ":\n" << r.out;
     }
   }
   // FANUC tables are zero at the reference: a position-independent offset vanishes, and is said to.
@@ -228,7 +235,7 @@ TEST_F(ExportThermalCli, EveryFormatHoldsMinusThePredictedErrorAndReadsBack) {
   ASSERT_EQ(f.code, 0) << f.out;
   EXPECT_NE(f.out.find("warning: the model predicts the same error at every position"), std::string::npos) << f.out;
   const auto r = Cli("export --read " + Path("x.tape") + " --format fanuc --axis X");
-  EXPECT_GE(ExpectEveryPoint(r.out, 0.0), 9) << r.out;
+  EXPECT_GE(ExpectEveryPoint(r.out, 0.0), 9u) << r.out;
 }
 
 TEST_F(ExportThermalCli, BadOptionsExitTwoNamingTheOptionAndTheSensor) {
@@ -269,12 +276,9 @@ TEST_F(ExportThermalCli, PositionNetworkFollowsThePositionWithinItsTrainingRange
   ASSERT_EQ(w.code, 0) << w.out;
   const auto back = Cli("export --read " + Path("p_table.csv") + " --format csv");
   std::vector<double> fwd;
-  for (const auto& line : SplitLines(back.out)) {
-    double x, f, r;
-    if (!line.empty() && line[0] != '#' && std::sscanf(line.c_str(), "%lf,%lf,%lf", &x, &f, &r) == 3) {
-      EXPECT_NEAR(f, -0.01 * x * 8, 4.0) << line;  // the network's fit is within a few µm of the truth
-      fwd.push_back(f);
-    }
+  for (const auto& [x, f, r] : Rows(back.out)) {
+    EXPECT_NEAR(f, -0.01 * x * 8, 4.0) << x;  // the network's fit is within a few µm of the truth
+    fwd.push_back(f);
   }
   ASSERT_EQ(fwd.size(), 8u) << back.out;
   EXPECT_LT(fwd.back(), fwd.front() - 20) << back.out;
