@@ -1,5 +1,6 @@
 // trueaxis export: compensation tables for real CNC controllers (issue 6,
-// docs/export.md). Input: a fitted model (--model, --axis) or a measurement
+// docs/export.md). Input: a fitted model (--model, --axis), a data-driven thermal
+// model (--thermal-model, --channel, --axis, --range; issue 15) or a measurement
 // (--measurement). Output: LinuxCNC COMP_FILE, SINUMERIK LEC table, FANUC
 // pitch-error tape, HEIDENHAIN .COM/.CMA, or plain CSV. `--read FILE` reads a
 // table back and prints it as corrections (the round trip a user can check).
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
@@ -23,11 +25,15 @@
 #include "trueaxis/export/heidenhain_table.hpp"
 #include "trueaxis/export/linuxcnc_table.hpp"
 #include "trueaxis/export/resample.hpp"
+#include "trueaxis/export/resample_axis_model.hpp"
 #include "trueaxis/export/sinumerik_table.hpp"
 #include "trueaxis/export/table_format.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/pitch/error_file.hpp"
+#include "trueaxis/thermal/pso_bp_network.hpp"
+#include "trueaxis/thermal/thermal_axis_model.hpp"
+#include "trueaxis/thermal/thermal_model.hpp"
 
 namespace trueaxis::cli {
 namespace {
@@ -38,6 +44,7 @@ constexpr const char* kCli = "command line";
 
 struct ExportArgs {
   std::string model_path, measurement_path, pitch_path, axis, format, out, read;
+  std::string thermal_model_path, channel;  // a `thermal fit` model and its error channel for --axis
   double start = ResampleOptions::kNaN, spacing = ResampleOptions::kNaN;
   int count = 0;
   std::string range;
@@ -196,11 +203,33 @@ void RunRead(const ExportArgs& a) {
   fmt::print("{}", PrintTable(t));
 }
 
+// The positions a PSO-BP network that takes the position was trained on (its input scaling);
+// unknown (NaN) for models that do not use the position.
+AxisModelValidity TrainedPositions(const thermal::ThermalErrorModel& fitted, const std::string& channel) {
+  AxisModelValidity v;
+  const auto* network = dynamic_cast<const thermal::PsoBpNetworkModel*>(&fitted);
+  if (!network) return v;
+  const auto& names = network->Channels();
+  for (std::size_t c = 0; c < names.size() && c < network->networks().size(); ++c) {
+    const auto& n = network->networks()[c];
+    if (names[c] == channel && n.uses_position && !n.input_min.empty()) {
+      v.min_mm = n.input_min.back();
+      v.max_mm = n.input_max.back();
+    }
+  }
+  return v;
+}
+
 void RunExport(const ExportArgs& a) {
   const TableFormat f = FormatOf(a);
   if (a.out.empty()) Bad("--out", "required: the file to write");
-  if (!a.model_path.empty() + !a.measurement_path.empty() + !a.pitch_path.empty() != 1)
-    Bad("--model", "give exactly one of --model (with --axis), --measurement or --pitch-file");
+  if (!a.model_path.empty() && !a.thermal_model_path.empty())
+    Bad("--thermal-model", "give either --model (a seed-000 model file) or --thermal-model (a `trueaxis thermal fit` "
+                           "model), not both");
+  if (!a.model_path.empty() + !a.thermal_model_path.empty() + !a.measurement_path.empty() + !a.pitch_path.empty() != 1)
+    Bad("--model", "give exactly one of --model (with --axis), --thermal-model (with --channel, --axis, --range), "
+                   "--measurement or --pitch-file");
+  if (!a.channel.empty() && a.thermal_model_path.empty()) Bad("--channel", "applies to --thermal-model only");
   const ValueSign sign = SignOf(a, f);
   const ResampleOptions ro = ResampleOf(a, f);
 
@@ -208,8 +237,22 @@ void RunExport(const ExportArgs& a) {
   const model::AxisModel* axis = nullptr;
   measure::Measurement meas;
   pitch::PitchErrorTable pitch_table;  // --pitch-file (docs/pitch-error-file.md)
+  std::unique_ptr<thermal::ThermalAxisModel> thermal_axis;  // --thermal-model
+  AxisModelValidity thermal_validity;  // a network taking the position: its training positions
+  std::string thermal_kind;
   if (!a.pitch_path.empty()) {
     pitch_table = pitch::ReadPitchErrorFile(a.pitch_path);
+  } else if (!a.thermal_model_path.empty()) {
+    if (a.axis.empty()) Bad("--axis", "required with --thermal-model: the CNC axis the table is for");
+    std::shared_ptr<const thermal::ThermalErrorModel> fitted = thermal::ReadThermalModelFile(a.thermal_model_path);
+    if (a.channel.empty())
+      Bad("--channel", fmt::format("required with --thermal-model: the model's error channel for axis {} (it has: {})",
+                                   a.axis, fmt::join(fitted->Channels(), ", ")));
+    if (a.coolant != "off")
+      Bad("--coolant", "a data-driven thermal model has no coolant gains; its table is the same for every coolant state");
+    thermal_axis = std::make_unique<thermal::ThermalAxisModel>(fitted, a.channel, a.axis, a.thermal_model_path);
+    thermal_validity = TrainedPositions(*fitted, a.channel);
+    thermal_kind = fitted->Kind();
   } else if (!a.model_path.empty()) {
     if (a.axis.empty()) Bad("--axis", "required with --model");
     cm = model::ReadModelFile(a.model_path);
@@ -224,12 +267,27 @@ void RunExport(const ExportArgs& a) {
   }
   auto resample = [&](const ResampleOptions& o) {
     if (!a.pitch_path.empty()) return pitch::ResamplePitchTable(pitch_table, o, a.pitch_path);
+    if (thermal_axis) return ResampleAxisErrorModel(*thermal_axis, o, a.thermal_model_path, thermal_validity);
     return axis ? ResampleModel(*axis, o, a.model_path) : ResampleMeasurement(meas, o);
   };
   ResampleResult rr = resample(ro);
   if (!axis && !a.axis.empty()) rr.table.axis = a.axis;
   if (rr.table.axis.empty()) rr.table.axis = "X";
   fmt::print("{}\n", rr.BriefReport());
+  if (thermal_axis) {
+    fmt::print("note: {} thermal model, channel {} on axis {}, frozen at the given temperatures{}\n", thermal_kind,
+               a.channel, a.axis,
+               thermal_axis->HasDynamics() ? " (model dynamics at start-up: lagged inputs settled at them, a hysteresis "
+                                             "model's all-data prediction)"
+                                           : "");
+    if (IsConstantAlongAxis(rr.table) && rr.zero_shift_um != 0)
+      fmt::print("warning: the model predicts the same error at every position, so zeroing at the reference removes "
+                 "all of it ({:.4f} um): this table compensates nothing; a position-independent offset belongs in a "
+                 "work or tool offset\n", rr.zero_shift_um);
+    else if (IsConstantAlongAxis(rr.table))
+      fmt::print("note: the model predicts the same error at every position (channel {} does not use the position): "
+                 "the table is one offset\n", a.channel);
+  }
   if (!a.pitch_path.empty())
     for (const auto& p : rr.table.provenance)
       if (p.rfind("resampled", 0) == 0) fmt::print("note: {}\n", p);
@@ -282,7 +340,9 @@ void RunExport(const ExportArgs& a) {
       const std::filesystem::path out(a.out);
       if (Upper(out.extension().string()) != ".CMA") Bad("--out", "for heidenhain give the .CMA file; the .COM files go next to it");
       std::vector<HeidenhainState> states;
-      if (axis) {
+      if (thermal_axis) {
+        states.push_back({"THERMAL", "thermal model frozen at the given temperatures", rr.table, true});
+      } else if (axis) {
         states = HeidenhainModelStates(*axis, ro, a.model_path);
         if (std::none_of(states.begin(), states.end(), [](const auto& s) { return s.active; }))
           Bad("--coolant", fmt::format("the model has no thermal gains for coolant '{}'", CoolantStateName(ro.thermal.coolant)));
@@ -308,6 +368,9 @@ void Setup(CLI::App& app) {
   cmd->add_option("--model", a->model_path, "fitted model JSON (docs/model-file.md)");
   cmd->add_option("--measurement", a->measurement_path, "measurement CSV: per-target mean deviations per direction");
   cmd->add_option("--pitch-file", a->pitch_path, "pitch error file (once per lead, docs/pitch-error-file.md)");
+  cmd->add_option("--thermal-model", a->thermal_model_path,
+                  "data-driven thermal model from `trueaxis thermal fit` (needs --channel, --axis, --range, --temp)");
+  cmd->add_option("--channel", a->channel, "the thermal model's error channel that is --axis's error (as run's thermal_channels)");
   cmd->add_option("--axis", a->axis, "axis name in the model (X, Y, Z, ...)");
   cmd->add_option("--format", a->format, "linuxcnc | sinumerik | fanuc | heidenhain | csv")->required();
   cmd->add_option("--out", a->out, "file to write (heidenhain: the .CMA; .COM files go next to it)");
@@ -315,12 +378,12 @@ void Setup(CLI::App& app) {
   cmd->add_option("--start", a->start, "first table position, mm (default: derived, aligned on the reference)");
   cmd->add_option("--spacing", a->spacing, "distance between points, mm (default: smallest 1-2-5 step that fits)");
   cmd->add_option("--count", a->count, "number of points (default: derived)");
-  cmd->add_option("--range", a->range, "MIN:MAX axis range to cover, mm (default: where the model is valid)");
+  cmd->add_option("--range", a->range, "MIN:MAX axis range to cover, mm (default: where the model is valid; required with --thermal-model)");
   cmd->add_option("--max-points", a->max_points, "point limit (default: the format's)");
   cmd->add_option("--mode", a->mode, "auto | bidirectional | unidirectional (mean curve + one backlash value)");
   cmd->add_option("--sign", a->sign, "csv/heidenhain: correction (default) or error");
   cmd->add_flag("--zero-at-reference", a->zero_at_reference, "shift the table to 0 at the reference point");
-  cmd->add_option("--reference-mm", a->reference_mm, "reference point, mm (default: the model's Px; fanuc --read: 0)");
+  cmd->add_option("--reference-mm", a->reference_mm, "reference point, mm (default: the model's Px; --thermal-model: the --range minimum; fanuc --read: 0)");
   cmd->add_option("--temp", a->temps, "NAME=DEGREES: freeze the thermal part at this sensor temperature (repeat, or "
                   "comma separated as predict takes them)")
       ->delimiter(',')

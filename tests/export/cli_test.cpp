@@ -1,10 +1,12 @@
 // The `trueaxis export` command end to end (TRUEAXIS_CLI_PATH): good runs
 // reproduce the golden files, bad options exit 2 naming the option.
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -174,6 +176,115 @@ TEST_F(ExportCli, FanucDefaultTapesOfTwoAxesUseDisjointPointNumbers) {
   ASSERT_GE(ry.second, ry.first);
   EXPECT_TRUE(rx.second < ry.first || ry.second < rx.first)
       << "A1 " << rx.first << "…" << rx.second << " overlaps A2 " << ry.first << "…" << ry.second;
+}
+
+// A data-driven thermal model (issue 15): fitted by `trueaxis thermal fit` on a synthetic series
+// whose error is 2 µm/°C on a and 0.5 µm/°C on b (+0.3 µm), exported to every format at frozen
+// temperatures and read back: every point holds the correction −error the data imply.
+class ExportThermalCli : public ExportCli {
+ protected:
+  void SetUp() override {
+    ExportCli::SetUp();
+    std::string csv = "time_s,t_a_c,t_b_c,e_x_um\n";
+    for (int r = 0; r < 200; ++r) {
+      const double a = 20 + 8 * (1 - std::exp(-r / 50.0)), b = 21 + 0.7 * std::sin(r / 17.0);
+      csv += fmt::format("{},{:.6f},{:.6f},{:.6f}\n", r * 30, a, b, 2 * (a - 20) + 0.5 * (b - 21) + 0.3);
+    }
+    WriteTextFile(Path("series.csv"), csv);
+    const auto fit = Cli("thermal fit --series " + Path("series.csv") + " --model mlr --sensors-list a,b -o " + Path("m.json"));
+    ASSERT_EQ(fit.code, 0) << fit.out;
+    base_ = "export --thermal-model " + Path("m.json") + " --channel x --axis X --range 0:400 --spacing 50 ";
+  }
+  // The data rows of `export --read` output: position, forward and reverse correction.
+  static std::vector<std::array<double, 3>> Rows(const std::string& printed) {
+    std::vector<std::array<double, 3>> rows;
+    for (const auto& line : SplitLines(printed)) {
+      std::array<double, 3> v;
+      if (!line.empty() && line[0] != '#' && std::sscanf(line.c_str(), "%lf,%lf,%lf", &v[0], &v[1], &v[2]) == 3)
+        rows.push_back(v);
+    }
+    return rows;
+  }
+  // Every row's forward and reverse equal `correction_um` (the read-back prints 4 decimals).
+  static std::size_t ExpectEveryPoint(const std::string& printed, double correction_um) {
+    const auto rows = Rows(printed);
+    for (const auto& [x, f, r] : rows) {
+      EXPECT_NEAR(f, correction_um, 1e-3) << x;
+      EXPECT_NEAR(r, correction_um, 1e-3) << x;
+    }
+    return rows.size();
+  }
+  std::string base_;
+};
+
+TEST_F(ExportThermalCli, EveryFormatHoldsMinusThePredictedErrorAndReadsBack) {
+  for (const auto& [temps, correction] : {std::pair<std::string, double>{"--temp a=30 --temp b=22", -20.8},
+                                          {"--temp a=25,b=20", -9.8}}) {
+    for (const auto& [format, file] : {std::pair<std::string, std::string>{"linuxcnc", "x.txt"}, {"sinumerik", "X_EEC.INI"},
+                                       {"heidenhain", "X.CMA"}, {"csv", "x.csv"}}) {
+      const auto w = Cli(base_ + temps + " --format " + format + " --out " + Path(file));
+      ASSERT_EQ(w.code, 0) << format << ": " << w.out;
+      EXPECT_NE(w.out.find("the table is one offset"), std::string::npos) << w.out;
+      const auto r = Cli("export --read " + Path(file) + " --format " + format + " --axis X");
+      ASSERT_EQ(r.code, 0) << format << ": " << r.out;
+      EXPECT_EQ(ExpectEveryPoint(r.out, correction), 9u) << format << " " << temps << ":\n" << r.out;
+    }
+  }
+  // FANUC tables are zero at the reference: a position-independent offset vanishes, and is said to.
+  const auto f = Cli(base_ + "--temp a=30,b=22 --format fanuc --out " + Path("x.tape"));
+  ASSERT_EQ(f.code, 0) << f.out;
+  EXPECT_NE(f.out.find("warning: the model predicts the same error at every position"), std::string::npos) << f.out;
+  const auto r = Cli("export --read " + Path("x.tape") + " --format fanuc --axis X");
+  EXPECT_GE(ExpectEveryPoint(r.out, 0.0), 9u) << r.out;
+}
+
+TEST_F(ExportThermalCli, BadOptionsExitTwoNamingTheOptionAndTheSensor) {
+  const std::string out = " --format csv --out " + Path("bad.csv");
+  const std::pair<std::string, std::vector<std::string>> cases[] = {
+      {base_ + "--temp a=30" + out, {"'--temp'", "missing sensor 'b'", "(a, b)"}},
+      {base_ + "--temp a=30,b=22,c=21" + out, {"'--temp'", "unknown sensor 'c'", "reads a, b"}},
+      {"export --thermal-model " + Path("m.json") + " --channel x --axis X --temp a=30,b=22" + out, {"'--range'"}},
+      {"export --thermal-model " + Path("m.json") + " --channel y_um --axis X --range 0:400 --temp a=30,b=22" + out,
+       {"'channel'", "'y_um'", "it has: x"}},
+      {"export --thermal-model " + Path("m.json") + " --axis X --range 0:400 --temp a=30,b=22" + out, {"'--channel'", "it has: x"}},
+      {base_ + "--temp a=30,b=22 --model " + kModel + out, {"'--thermal-model'", "not both"}},
+      {"export --model " + kModel + " --axis X --channel x" + out, {"'--channel'"}},
+      {base_ + "--temp a=30,b=22 --coolant flood" + out, {"'--coolant'"}},
+      {base_ + "--temp a=30,b=999" + out, {"'--temp'", "150"}},
+  };
+  for (const auto& [args, needles] : cases) {
+    const auto r = Cli(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+    for (const auto& needle : needles) EXPECT_NE(r.out.find(needle), std::string::npos) << args << "\n" << r.out;
+  }
+  EXPECT_FALSE(fs::exists(Path("bad.csv")));
+}
+
+// A PSO-BP network that takes the position (seed 003): the table follows the position with the
+// correction's sign (error 0.01 µm/mm·(a − 20 °C), so the correction falls along the axis), and a
+// range beyond the positions it was trained on (0…399 mm) is refused.
+TEST_F(ExportThermalCli, PositionNetworkFollowsThePositionWithinItsTrainingRange) {
+  std::string csv = "time_s,position_mm,t_a_c,e_x_um\n";
+  for (int r = 0; r < 300; ++r) {
+    const double a = 20 + 8 * (1 - std::exp(-r / 60.0)), x = (r * 37) % 400;
+    csv += fmt::format("{},{},{:.6f},{:.6f}\n", r * 30, x, a, 0.01 * x * (a - 20));
+  }
+  WriteTextFile(Path("p.csv"), csv);
+  ASSERT_EQ(Cli("thermal fit --series " + Path("p.csv") + " --model pso-bp -o " + Path("p.json")).code, 0);
+  const std::string p = "export --thermal-model " + Path("p.json") + " --channel x --axis X --temp a=28 --format csv ";
+  const auto w = Cli(p + "--range 0:350 --spacing 50 --out " + Path("p_table.csv"));
+  ASSERT_EQ(w.code, 0) << w.out;
+  const auto back = Cli("export --read " + Path("p_table.csv") + " --format csv");
+  std::vector<double> fwd;
+  for (const auto& [x, f, r] : Rows(back.out)) {
+    EXPECT_NEAR(f, -0.01 * x * 8, 4.0) << x;  // the network's fit is within a few µm of the truth
+    fwd.push_back(f);
+  }
+  ASSERT_EQ(fwd.size(), 8u) << back.out;
+  EXPECT_LT(fwd.back(), fwd.front() - 20) << back.out;
+  const auto beyond = Cli(p + "--range 0:500 --spacing 50 --out " + Path("beyond.csv"));
+  EXPECT_EQ(beyond.code, 2) << beyond.out;
+  EXPECT_NE(beyond.out.find("'--range'"), std::string::npos) << beyond.out;
 }
 
 TEST_F(ExportCli, CorruptTableOnReadNamesTheLine) {
