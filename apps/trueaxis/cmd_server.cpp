@@ -23,6 +23,7 @@
 #include "trueaxis/server/http_api.hpp"
 #include "trueaxis/server/shop.hpp"
 #include "trueaxis/server/shop_config.hpp"
+#include "trueaxis/server/shop_mqtt.hpp"
 #include "trueaxis/store/history_writer.hpp"
 #include "trueaxis/store/open_history_sink.hpp"
 #include "trueaxis/web/shop_backend.hpp"
@@ -97,11 +98,15 @@ void RunServer(const ServerOptions& o) {
     web_backend = std::make_unique<web::ShopBackend>(shop, history.get(), wo);
     web_front_end = cli::StartWebFrontEnd(o.web, *web_backend);  // InputError: no user, bad address or certificate
   }
+  std::unique_ptr<server::ShopMqttRelay> mqtt;
+  if (!config.mqtt.broker.empty()) mqtt = std::make_unique<server::ShopMqttRelay>(shop, config.mqtt);  // InputError
   shop.Start();
   if (web_backend) web_backend->Start();
-  fmt::print("trueaxis server: {} machines from {}, history {}{}\n", config.machines.size(), config.source,
+  if (mqtt) mqtt->Start();
+  fmt::print("trueaxis server: {} machines from {}, history {}{}{}\n", config.machines.size(), config.source,
              history ? history->path() : "off",
-             api ? fmt::format(", API http://{}:{}/api/machines", config.http_bind, api->port()) : "");
+             api ? fmt::format(", API http://{}:{}/api/machines", config.http_bind, api->port()) : "",
+             mqtt ? fmt::format(", MQTT {} ({}/{}/…)", config.mqtt.broker, config.mqtt.topic_root, config.mqtt.shop) : "");
   std::fflush(stdout);
   const auto t0 = std::chrono::steady_clock::now();
   auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
@@ -119,6 +124,10 @@ void RunServer(const ServerOptions& o) {
   }
   if (web_front_end.server) web_front_end.server->Stop();
   if (web_backend) web_backend->Stop();
+  if (mqtt) {
+    mqtt->Stop();
+    fmt::print("mqtt: {} ({})\n", config.mqtt.broker, mqtt->Stats().BriefReport());
+  }
   if (api) api->Stop();
   shop.Stop();
   fmt::print("{}\n", Summary(shop, wall(), wall(), 0));

@@ -53,6 +53,17 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
     m.Int("port", c.http_port, 0, 65535);
     m.RejectUnknown();
   }
+  if (const toml::table* t = r.Table("mqtt")) {
+    TomlTableReader m(*t, source, "mqtt");
+    if (!m.String("broker", c.mqtt.broker) || c.mqtt.broker.rfind("tcp://", 0) != 0)
+      m.Fail("broker", m.Node("broker"), "required: the broker as tcp://HOST:PORT (e.g. tcp://127.0.0.1:1883)");
+    m.String("shop", c.mqtt.shop);
+    m.String("topic_root", c.mqtt.topic_root);
+    m.String("client_id", c.mqtt.client_id);
+    m.Int("qos", c.mqtt.qos, 0, 2);
+    m.Double("period_s", c.mqtt.period_s, 0.05, 3600);
+    m.RejectUnknown();
+  }
   // Shop-wide defaults of the compensator ([limits], [sensor_fault], [link], [channels]); a machine's own tables
   // override them key by key. [[axis]] is per machine only.
   runtime::CompensatorOptions defaults;

@@ -33,6 +33,16 @@ struct MachineConfig {
   int line = 0;                     // where it is in the shop file
 };
 
+// [mqtt]: each machine's live values to an MQTT broker for other consumers (docs/mqtt.md).
+struct MqttConfig {
+  std::string broker;                  // "tcp://host:port"; "" = no MQTT
+  std::string shop = "shop";           // the second topic level: <topic_root>/<shop>/<machine>/...
+  std::string topic_root = "trueaxis";
+  std::string client_id = "trueaxis-server";
+  int qos = 1;
+  double period_s = 1.0;               // every machine's values this often
+};
+
 struct ShopConfig {
   std::string source;
   std::string history;              // SQLite file ("" = no history). A database server goes beside it later.
@@ -40,6 +50,7 @@ struct ShopConfig {
   double record_interval_s = 1.0;   // per machine: every channel and axis this often, alarms on change
   std::string http_bind = "127.0.0.1";
   int http_port = 0;                // 0: no HTTP control API
+  MqttConfig mqtt;
   std::vector<MachineConfig> machines;
 };
 

@@ -1,0 +1,73 @@
+#include "trueaxis/server/shop_mqtt.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "trueaxis/server/http_api.hpp"
+
+namespace trueaxis::server {
+
+namespace {
+live::MqttPublisherOptions PublisherOptions(const MqttConfig& c) {
+  live::MqttPublisherOptions o;
+  o.broker = c.broker;
+  o.shop = c.shop;
+  o.topic_root = c.topic_root;
+  o.client_id = c.client_id;
+  o.qos = c.qos;
+  return o;
+}
+
+nlohmann::json ValueWithStatus(const std::optional<double>& value, const char* key) {
+  return value ? nlohmann::json{{key, *value}, {"status", "ok"}} : nlohmann::json{{key, nullptr}, {"status", "UNAVAILABLE"}};
+}
+}  // namespace
+
+ShopMqttRelay::ShopMqttRelay(const Shop& shop, const MqttConfig& config)
+    : shop_(shop), config_(config), publisher_(PublisherOptions(config)) {}
+
+ShopMqttRelay::~ShopMqttRelay() { Stop(); }
+
+void ShopMqttRelay::PublishOnce() {
+  for (const MachineStatus& m : shop_.Snapshot()) {
+    publisher_.Publish(m.name, ToJson(m).dump());
+    for (const auto& a : m.axes) {
+      nlohmann::json j = ValueWithStatus(m.connected ? a.position_mm : std::nullopt, "position_mm");
+      j["correction_um"] = m.connected && std::isfinite(a.output_um) ? nlohmann::json(a.output_um) : nlohmann::json(nullptr);
+      j["applied_um"] = a.applied_um ? nlohmann::json(*a.applied_um) : nlohmann::json(nullptr);
+      j["enabled"] = a.enabled;
+      publisher_.PublishAt(m.name, "axis/" + a.name, j.dump());
+    }
+    for (const auto& c : m.channels) {
+      nlohmann::json j = ValueWithStatus(c.temp_c, "temp_c");
+      if (c.temp_c) j["status"] = c.health;  // ok | held | lost: the compensator's verdict
+      publisher_.PublishAt(m.name, "temperature/" + c.name, j.dump());
+    }
+  }
+}
+
+void ShopMqttRelay::Start() {
+  if (thread_.joinable()) return;
+  thread_ = std::thread([this] {
+    std::unique_lock lock(mutex_);
+    do {
+      lock.unlock();
+      PublishOnce();
+      lock.lock();
+    } while (!cv_.wait_for(lock, std::chrono::duration<double>(config_.period_s), [this] { return stop_; }));
+  });
+}
+
+void ShopMqttRelay::Stop() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  cv_.notify_all();
+  if (thread_.joinable()) thread_.join();
+  publisher_.Close();
+}
+
+}  // namespace trueaxis::server
