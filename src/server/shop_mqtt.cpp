@@ -1,6 +1,5 @@
 #include "trueaxis/server/shop_mqtt.hpp"
 
-#include <chrono>
 #include <cmath>
 
 #include <nlohmann/json.hpp>
@@ -49,25 +48,13 @@ void ShopMqttRelay::PublishOnce() {
 }
 
 void ShopMqttRelay::Start() {
-  if (thread_.joinable()) return;
-  thread_ = std::thread([this] {
-    std::unique_lock lock(mutex_);
-    do {
-      lock.unlock();
-      PublishOnce();
-      lock.lock();
-    } while (!cv_.wait_for(lock, std::chrono::duration<double>(config_.period_s), [this] { return stop_; }));
-  });
+  if (!closed_ && !worker_.running()) worker_.Start(config_.period_s, [this] { PublishOnce(); });
 }
 
 void ShopMqttRelay::Stop() {
-  {
-    std::lock_guard lock(mutex_);
-    stop_ = true;
-  }
-  cv_.notify_all();
-  if (thread_.joinable()) thread_.join();
+  worker_.Stop();
   publisher_.Close();
+  closed_ = true;
 }
 
 }  // namespace trueaxis::server

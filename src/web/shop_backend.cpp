@@ -85,29 +85,10 @@ void ShopBackend::Sample(double unix_s) {
 }
 
 void ShopBackend::Start() {
-  Stop();
-  {
-    std::lock_guard lock(stop_mutex_);
-    stop_ = false;
-  }
-  thread_ = std::thread([this] {
-    std::unique_lock lock(stop_mutex_);
-    do {
-      lock.unlock();
-      Sample(NowUnixS());
-      lock.lock();
-    } while (!stop_cv_.wait_for(lock, std::chrono::duration<double>(options_.sample_period_s), [this] { return stop_; }));
-  });
+  worker_.Start(options_.sample_period_s, [this] { Sample(NowUnixS()); });
 }
 
-void ShopBackend::Stop() {
-  {
-    std::lock_guard lock(stop_mutex_);
-    stop_ = true;
-  }
-  stop_cv_.notify_all();
-  if (thread_.joinable()) thread_.join();
-}
+void ShopBackend::Stop() { worker_.Stop(); }
 
 std::string ShopBackend::Describe() const { return fmt::format("shop: {} machines", index_.size()); }
 

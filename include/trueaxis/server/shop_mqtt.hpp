@@ -6,11 +6,9 @@
 // last number (MTConnect). Publishing never waits on the broker (live::MqttPublisher's own thread:
 // last value per topic, retained, reconnect with backoff), so a broker that is down costs the
 // shop nothing; its faults show in Stats().
-#include <condition_variable>
-#include <mutex>
 #include <string>
-#include <thread>
 
+#include "trueaxis/core/periodic_worker.hpp"
 #include "trueaxis/live/mqtt_publisher.hpp"
 #include "trueaxis/server/shop.hpp"
 
@@ -33,10 +31,8 @@ class ShopMqttRelay {
   const Shop& shop_;
   MqttConfig config_;
   live::MqttPublisher publisher_;
-  std::mutex mutex_;
-  std::condition_variable cv_;
-  bool stop_ = false;
-  std::thread thread_;
+  bool closed_ = false;
+  core::PeriodicWorker worker_;  // last: stopped first
 };
 
 }  // namespace trueaxis::server

@@ -11,16 +11,14 @@
 // file loaded since), so the page can go back to any of them; new files are loaded with
 // `trueaxis server model load`. History and export read the shop's SQLite history, selecting the
 // machine's "name/..." rows.
-#include <atomic>
-#include <condition_variable>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <string>
-#include <thread>
 #include <unordered_map>
 #include <vector>
 
+#include "trueaxis/core/periodic_worker.hpp"
 #include "trueaxis/server/shop.hpp"
 #include "trueaxis/web/alarm_book.hpp"
 #include "trueaxis/web/live_ring.hpp"
@@ -75,10 +73,7 @@ class ShopBackend : public MonitorBackend {
   std::vector<LiveRing> live_;  // per machine, under mutex_
   mutable std::unordered_map<std::string, std::vector<ModelFigure>> figures_;  // by model sha256, under mutex_
   AlarmBook alarms_;
-  std::mutex stop_mutex_;
-  std::condition_variable stop_cv_;
-  bool stop_ = false;
-  std::thread thread_;
+  core::PeriodicWorker worker_;  // the sampler (last: stopped before the rest goes)
 };
 
 }  // namespace trueaxis::web
