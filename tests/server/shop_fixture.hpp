@@ -70,6 +70,18 @@ inline bool WaitFor(const std::function<bool()>& done, double limit_s = 10) {
   return done();
 }
 
+// Until every machine of a running shop is connected and has read its temperatures.
+template <class ShopT>
+bool WaitUntilEveryMachineReads(const ShopT& shop, double limit_s = 10) {
+  return WaitFor(
+      [&] {
+        for (const auto& m : shop.Snapshot())
+          if (!m.connected || m.channels.empty() || !m.channels[0].temp_c) return false;
+        return true;
+      },
+      limit_s);
+}
+
 // A virtual shop of `n` VMC-850s on free ports.
 inline std::unique_ptr<VirtualShop> StartVirtualShop(int n, VirtualShopOptions o = {}) {
   o.machine_files = {std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850.toml"};

@@ -17,6 +17,7 @@ using testing::ConfigFor;
 using testing::StartVirtualShop;
 using testing::TempDir;
 using testing::WaitFor;
+using testing::WaitUntilEveryMachineReads;
 using testing::WriteModel;
 
 // The payload of "%r %q %t %p" (retained, QoS, topic, payload).
@@ -38,11 +39,7 @@ TEST(ShopMqtt, EveryMachineIsPublishedAndALostTerminalBecomesUnavailable) {
   config.mqtt.shop = "hall3";
   Shop shop(config, nullptr);
   shop.Start();
-  ASSERT_TRUE(WaitFor([&] {
-    for (const auto& m : shop.Snapshot())
-      if (!m.connected || m.channels.empty() || !m.channels[0].temp_c) return false;
-    return true;
-  }));
+  ASSERT_TRUE(WaitUntilEveryMachineReads(shop));
   ShopMqttRelay relay(shop, config.mqtt);
   relay.PublishOnce();
   ASSERT_TRUE(relay.Flush(10)) << relay.Stats().BriefReport();

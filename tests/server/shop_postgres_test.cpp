@@ -16,6 +16,7 @@ using testing::ConfigFor;
 using testing::StartVirtualShop;
 using testing::TempDir;
 using testing::WaitFor;
+using testing::WaitUntilEveryMachineReads;
 using testing::WriteModel;
 
 TEST(ShopPostgres, EveryMachinesHistoryLandsInPostgresql) {
@@ -30,11 +31,7 @@ TEST(ShopPostgres, EveryMachinesHistoryLandsInPostgresql) {
   {
     Shop shop(config, &writer);
     shop.Start();
-    ASSERT_TRUE(WaitFor([&] {
-      for (const auto& m : shop.Snapshot())
-        if (!m.connected || m.channels.empty() || !m.channels[0].temp_c) return false;
-      return true;
-    }));
+    ASSERT_TRUE(WaitUntilEveryMachineReads(shop));
     // rows with temperatures of every machine (a record every record_interval_s per machine)
     const std::uint64_t at_connect = writer.Stats().accepted;
     ASSERT_TRUE(WaitFor([&] { return writer.Stats().accepted > at_connect + 4 * config.machines.size(); }, 20));
