@@ -202,8 +202,8 @@ double ToolErrorPredictor::Push(double time_s, double tv_c, bool restart, std::s
       const IntervalTerm& it = m.interval[k];
       const double dc = std::clamp(tv_c, it.tv_from_c, it.tv_to_c) - m.standard_temp_c;
       const double rc = std::clamp(rise_c_, it.rise_from_c, it.rise_to_c);
-      return one + (it.line.intercept_um - m.one.intercept_um) + (it.line.per_c_um - m.one.per_c_um) * dc +
-             it.per_c_since_start_um * rc;
+      return one + it.weight * ((it.line.intercept_um - m.one.intercept_um) + (it.line.per_c_um - m.one.per_c_um) * dc +
+                                it.per_c_since_start_um * rc);
     }
     case ToolModelKind::kLag: return m.lag.intercept_um + m.lag.per_c_um * (lag_c_ - m.standard_temp_c);
     case ToolModelKind::kZones:
@@ -323,12 +323,13 @@ ToolErrorModel FitStructures(int tool, const std::vector<ToolRecord>& rows, doub
 
 // Blocked cross-validation: four contiguous blocks of the rows, each predicted by the models
 // fitted on the other three (a held-out block starts as a fresh mounting).
-// The same folds decide each interval sub-model: it is kept only where, on the held-out rows the
-// fold models put in its interval, it predicted better than the one curve; else (or with no
-// held-out rows in it, or data too short to tell) the one model stands in for it.
+// The same folds weigh each interval sub-model: on the held-out rows the fold models put in its
+// interval, the share w ∈ [0, 1] of its difference from the one curve that predicts them best
+// (least squares of the blend one + w·(sub − one)). w = 0 (the sub-model did not help, or no
+// held-out rows fell in it, or the data are too short to tell): the one model stands in.
 void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows, std::vector<std::string>* warnings) {
   constexpr std::size_t kFolds = 4;
-  std::array<double, 3> sse_int{}, sse_one{};
+  std::array<double, 3> sse_int{}, sse_one{}, blend_num{}, blend_den{};
   std::array<int, 3> n_int{};
   auto gate_intervals = [&] {
     for (std::size_t k = 0; k < 3; ++k) {
@@ -336,14 +337,17 @@ void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows, std::vec
       it.cv_rows = n_int[k];
       it.cv_rms_um = n_int[k] ? std::sqrt(sse_int[k] / n_int[k]) : 0.0;
       it.cv_one_rms_um = n_int[k] ? std::sqrt(sse_one[k] / n_int[k]) : 0.0;
-      if (!m.interval_fitted[k] || (n_int[k] > 0 && sse_int[k] < sse_one[k])) continue;
+      // The blend e = one + w·(sub-model − one) with the lowest held-out error, w in [0, 1].
+      it.weight = blend_den[k] > 0 ? std::clamp(blend_num[k] / blend_den[k], 0.0, 1.0) : 0.0;
+      if (!m.interval_fitted[k] || it.weight > 0) continue;
       m.interval_fitted[k] = false;
       const IntervalTerm kept = it;
       it = IntervalTerm{m.one};
       it.cv_rows = kept.cv_rows, it.cv_rms_um = kept.cv_rms_um, it.cv_one_rms_um = kept.cv_one_rms_um;
+      it.weight = 0;
       if (warnings)
         warnings->push_back(fmt::format(
-            "tool {}: the {} sub-model did not predict held-out data better than one curve ({} rows, {:.2f} vs {:.2f} µm): "
+            "tool {}: the {} sub-model did not improve on one curve for held-out data ({} rows, {:.2f} vs {:.2f} µm): "
             "the one model stands in",
             m.tool, thermal::ThermalIntervalName(static_cast<ThermalInterval>(k)), n_int[k], it.cv_rms_um, it.cv_one_rms_um));
     }
@@ -380,6 +384,8 @@ void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows, std::vec
       ++n_int[k];
       sse_int[k] += ei * ei;
       sse_one[k] += eo * eo;
+      blend_num[k] += eo * (eo - ei);
+      blend_den[k] += (eo - ei) * (eo - ei);
     }
   }
   gate_intervals();
@@ -416,6 +422,7 @@ nlohmann::json ToolErrorModel::ToJson() const {
     j["interval"] = thermal::ThermalIntervalName(static_cast<ThermalInterval>(k));
     j["fitted"] = interval_fitted[k];
     j["training_rows"] = interval_rows[k];
+    j["weight"] = interval[k].weight;
     j["held_out"] = {{"rows", interval[k].cv_rows}, {"rms_um", interval[k].cv_rms_um}, {"one_rms_um", interval[k].cv_one_rms_um}};
     iv.push_back(j);
   }
@@ -474,6 +481,8 @@ ToolErrorModel ToolErrorModel::FromJson(const nlohmann::json& j, const std::stri
       *to = a[1].get<double>();
     };
     range("tv_range_c", &it.tv_from_c, &it.tv_to_c);
+    it.weight = o.value("weight", 1.0);  // absent in files written before the held-out blend
+    if (!(it.weight >= 0 && it.weight <= 1)) throw InputError(source, 0, at + "weight", "must be in [0, 1]");
     range("rise_range_c", &it.rise_from_c, &it.rise_to_c);
     m.interval_fitted[k] = o.value("fitted", false);
     m.interval_rows[k] = o.value("training_rows", 0);

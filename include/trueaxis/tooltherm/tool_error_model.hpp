@@ -12,8 +12,9 @@
 //              slope b; c_k for heating and cooling only, where the rise is not Tv again,
 //              |corr| < 0.95). Outside the interval's own training ranges of Tv and of the
 //              rise the sub-model's difference from the one model is held at the edge, never
-//              extrapolated. A sub-model that did not predict the held-out quarters of `best`'s
-//              cross-validation better than the one curve falls back to it (fitted = false).
+//              extrapolated. That difference is applied with a weight w ∈ [0, 1]: the blend
+//              that best predicted the held-out quarters of `best`'s cross-validation; w = 0
+//              falls back to the one curve (fitted = false).
 //   lag        e = a + b·(L − T_std), dL/dt = (Tv − L)/τ     a first-order lag of Tv
 //   two_body   e = a + b·(Tv − T_std) + c·(L − T_std)        ours: the surface (fast) and
 //              a lagged body (slow); the hysteresis of two bodies is exactly this shape
@@ -68,8 +69,8 @@ struct LinearTerm {
 };
 
 // Seed 001's sub-model of one interval: e = a_k + b_k·(Tv − T_std) + c_k·(Tv − Tv_k0), applied as
-// the one model plus its difference, the difference evaluated with Tv and the rise clamped to
-// the ranges the interval was trained on.
+// the one model plus weight × its difference, the difference evaluated with Tv and the rise
+// clamped to the ranges the interval was trained on.
 struct IntervalTerm {
   LinearTerm line;                 // a_k, b_k
   double per_c_since_start_um = 0; // c_k, µm per °C of rise since the interval began
@@ -79,6 +80,7 @@ struct IntervalTerm {
   // rows the fold models put in this interval, of this sub-model and of the one model there.
   int cv_rows = 0;
   double cv_rms_um = 0, cv_one_rms_um = 0;
+  double weight = 1;  // share of the difference from the one model that is applied (held-out blend)
 };
 
 struct ToolErrorModel {
