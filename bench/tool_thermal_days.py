@@ -40,8 +40,9 @@ def main():
     args = ap.parse_args()
     configs = [("camera", "2", "mixed"), ("camera", "30", "mixed"), ("pyrometer", "10", "mixed"), ("camera", "5", "blocks")]
     print("| program, sensor, sample | tools | RMS reduction, all tools pooled: one / sub-models / lag / two-body / zones / best | "
-          "worst tool's reduction: one / sub-models / zones / best | worst tool by best | where hysteresis > 1 µm: one vs sub-models RMS µm |")
-    print("|---|---|---|---|---|---|")
+          "worst tool's reduction: one / sub-models / zones / best | worst tool by best | where hysteresis > 1 µm: one vs sub-models RMS µm | "
+          "sub-models vs one curve per tool: > 10 % worse / > 10 % better, worst RMS ratio |")
+    print("|---|---|---|---|---|---|---|")
     for sensor, sample, program in configs:
         allrows = []
         for s in args.seeds.split(","):
@@ -58,12 +59,14 @@ def main():
         worst = max(allrows, key=lambda r: r["rms"][6] / r["rms"][0])
         worst_red = [min(100 * (1 - r["rms"][k] / r["rms"][0]) for r in allrows) for k in (1, 2, 5, 6)]
         hyst = [r for r in allrows if r["spread"] > 1.0]
+        ratio = [r["rms"][2] / r["rms"][1] for r in allrows]
+        vs_one = f"{sum(x > 1.1 for x in ratio)} / {sum(x < 0.9 for x in ratio)}, {max(ratio):.2f}"
         hyst_txt = "; ".join(f"seed {r['seed']} {r['tool'].split()[0]} {r['rms'][1]:.2f} vs {r['rms'][2]:.2f}" for r in hyst) or "none"
         print(f"| {program}, {sensor}, {sample} s | {len(allrows)} | " + " / ".join(f"{x:.0f} %" for x in red[1:]) +
               " | " + " / ".join(f"{x:.0f} %" for x in worst_red) +
               f" | seed {worst['seed']} {worst['tool']}: {worst['rms'][0]:.2f} → {worst['rms'][6]:.2f} µm RMS "
               f"({100 * (1 - worst['rms'][6] / worst['rms'][0]):.0f} %, {worst['best']}), max {worst['max'][0]:.1f} → {worst['max'][6]:.1f} µm"
-              f" | {hyst_txt} |")
+              f" | {hyst_txt} | {vs_one} |")
 
 
 if __name__ == "__main__":

@@ -58,33 +58,76 @@ double Rms(const std::vector<double>& a, const std::vector<ToolRecord>& rows) {
   return std::sqrt(s / static_cast<double>(a.size()));
 }
 
+double Correlation(const std::vector<double>& a, const std::vector<double>& b) {
+  const double n = static_cast<double>(a.size());
+  double ma = 0, mb = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) ma += a[i] / n, mb += b[i] / n;
+  double saa = 0, sbb = 0, sab = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    saa += (a[i] - ma) * (a[i] - ma);
+    sbb += (b[i] - mb) * (b[i] - mb);
+    sab += (a[i] - ma) * (b[i] - mb);
+  }
+  return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 1.0;
+}
+
 // Fits the interval sub-models for one classifier setting; returns their training RMS.
-// An interval whose Tv span is under half the whole course's span cannot fix a slope of its
-// own: it keeps the one model's slope and fits its intercept only (no wild extrapolation).
-double FitIntervals(ToolErrorModel& m, const std::vector<ToolRecord>& rows, const std::vector<double>& t,
-                    const std::vector<double>& tv, const std::vector<bool>& restart) {
-  const auto cls = ClassifySeries(t, tv, restart, m.classifier);
-  const auto [lo, hi] = std::minmax_element(tv.begin(), tv.end());
-  const double span_all = *hi - *lo;
+// The classes and the rise since each interval's start come from the predictor itself, so the
+// fit sees exactly what a runtime will. An interval whose Tv span is under half the whole
+// course's span cannot fix a slope of its own: it keeps the one model's slope. The rise term
+// is fitted for heating and cooling (a steady interval has no branch to follow) and only where
+// it is not Tv again (|correlation| < 0.95: the branches began from different temperatures). Prediction holds the difference from the one model at the edges of
+// the interval's training ranges (no wild extrapolation).
+double FitIntervals(ToolErrorModel& m, const std::vector<ToolRecord>& rows) {
+  std::vector<ThermalInterval> cls(rows.size());
+  std::vector<double> rise(rows.size());
+  {
+    ToolErrorPredictor p(m, ToolModelKind::kOne);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      p.Push(rows[i].time_s, rows[i].tv_c, rows[i].restart || i == 0);
+      cls[i] = p.interval();
+      rise[i] = p.rise_c();
+    }
+  }
+  double lo_all = INFINITY, hi_all = -INFINITY;
+  for (const auto& r : rows) lo_all = std::min(lo_all, r.tv_c), hi_all = std::max(hi_all, r.tv_c);
   for (int k = 0; k < 3; ++k) {
-    std::vector<double> x, y;
+    std::vector<double> d, r, y;
     for (std::size_t i = 0; i < rows.size(); ++i)
       if (static_cast<int>(cls[i]) == k) {
-        x.push_back(tv[i]);
+        d.push_back(rows[i].tv_c - m.standard_temp_c);
+        r.push_back(rise[i]);
         y.push_back(rows[i].error_um);
       }
-    m.interval_rows[k] = static_cast<int>(x.size());
-    m.interval_fitted[k] = x.size() >= kMinIntervalRows;
-    m.interval[k] = m.one;
+    m.interval_rows[k] = static_cast<int>(d.size());
+    m.interval_fitted[k] = d.size() >= kMinIntervalRows;
+    m.interval[k] = IntervalTerm{m.one};
     if (!m.interval_fitted[k]) continue;
-    const auto [xl, xh] = std::minmax_element(x.begin(), x.end());
-    if (*xh - *xl >= 0.5 * span_all) {
-      m.interval[k] = FitLine(x, y, m.standard_temp_c, nullptr);
-    } else {
-      double mean = 0;
-      for (std::size_t i = 0; i < x.size(); ++i) mean += y[i] - m.one.per_c_um * (x[i] - m.standard_temp_c);
-      m.interval[k].intercept_um = mean / static_cast<double>(x.size());
+    IntervalTerm& it = m.interval[k];
+    const auto [dl, dh] = std::minmax_element(d.begin(), d.end());
+    const auto [rl, rh] = std::minmax_element(r.begin(), r.end());
+    it.tv_from_c = *dl + m.standard_temp_c;
+    it.tv_to_c = *dh + m.standard_temp_c;
+    it.rise_from_c = *rl;
+    it.rise_to_c = *rh;
+    const bool own_slope = *dh - *dl >= 0.5 * (hi_all - lo_all);
+    const bool use_rise = k != static_cast<int>(ThermalInterval::kSteady) && *rh > *rl && std::abs(Correlation(d, r)) < 0.95;
+    const auto n = static_cast<Eigen::Index>(d.size());
+    Eigen::MatrixXd x(n, 1 + (own_slope ? 1 : 0) + (use_rise ? 1 : 0));
+    Eigen::VectorXd yy(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto j = static_cast<std::size_t>(i);
+      Eigen::Index c = 0;
+      x(i, c++) = 1;
+      if (own_slope) x(i, c++) = d[j];
+      if (use_rise) x(i, c++) = r[j];
+      yy(i) = y[j] - (own_slope ? 0.0 : m.one.per_c_um * d[j]);
     }
+    const Eigen::VectorXd b = Solve(x, yy, nullptr);
+    Eigen::Index c = 0;
+    it.line.intercept_um = b(c++);
+    it.line.per_c_um = own_slope ? b(c++) : m.one.per_c_um;
+    it.per_c_since_start_um = use_rise ? b(c++) : 0.0;
   }
   return Rms(PredictSeries(m, ToolModelKind::kIntervals, rows), rows);
 }
@@ -126,16 +169,24 @@ ToolErrorPredictor::ToolErrorPredictor(const ToolErrorModel& model, ToolModelKin
 
 double ToolErrorPredictor::Push(double time_s, double tv_c, bool restart, std::span<const double> zone_c) {
   const ToolErrorModel& m = *m_;
+  const double dt_s = restart ? 0.0 : std::max(time_s - last_t_, 0.0);
   if (restart) {
     classifier_.Reset();
     lag_c_ = two_body_lag_c_ = tv_c;
   } else {
-    const double dt = std::max(time_s - last_t_, 0.0);
-    lag_c_ += (1.0 - std::exp(-dt / m.lag_tau_s)) * (tv_c - lag_c_);
-    two_body_lag_c_ += (1.0 - std::exp(-dt / m.two_body_tau_s)) * (tv_c - two_body_lag_c_);
+    lag_c_ += (1.0 - std::exp(-dt_s / m.lag_tau_s)) * (tv_c - lag_c_);
+    two_body_lag_c_ += (1.0 - std::exp(-dt_s / m.two_body_tau_s)) * (tv_c - two_body_lag_c_);
   }
   last_t_ = time_s;
+  const ThermalInterval before = interval_;
   interval_ = classifier_.Push(time_s, tv_c);
+  if (restart) {
+    smooth_tv_c_ = interval_start_tv_c_ = tv_c;
+  } else {
+    smooth_tv_c_ += (1.0 - std::exp(-dt_s / (0.5 * classifier_.window_s()))) * (tv_c - smooth_tv_c_);
+    if (interval_ != before) interval_start_tv_c_ = smooth_tv_c_;
+  }
+  rise_c_ = tv_c - interval_start_tv_c_;
   const double d = tv_c - m.standard_temp_c;
   ToolModelKind kind = kind_;
   if (kind == ToolModelKind::kBest)  // zones need this tool's zone means; else the Tv models' choice
@@ -145,9 +196,14 @@ double ToolErrorPredictor::Push(double time_s, double tv_c, bool restart, std::s
     case ToolModelKind::kNone: return 0;
     case ToolModelKind::kOne: return m.one.intercept_um + m.one.per_c_um * d;
     case ToolModelKind::kIntervals: {
-      const int k = static_cast<int>(interval_);
-      const LinearTerm& l = (k < 3 && m.interval_fitted[static_cast<std::size_t>(k)]) ? m.interval[static_cast<std::size_t>(k)] : m.one;
-      return l.intercept_um + l.per_c_um * d;
+      const auto k = static_cast<std::size_t>(interval_);
+      const double one = m.one.intercept_um + m.one.per_c_um * d;
+      if (k >= 3 || !m.interval_fitted[k]) return one;
+      const IntervalTerm& it = m.interval[k];
+      const double dc = std::clamp(tv_c, it.tv_from_c, it.tv_to_c) - m.standard_temp_c;
+      const double rc = std::clamp(rise_c_, it.rise_from_c, it.rise_to_c);
+      return one + it.weight * ((it.line.intercept_um - m.one.intercept_um) + (it.line.per_c_um - m.one.per_c_um) * dc +
+                                it.per_c_since_start_um * rc);
     }
     case ToolModelKind::kLag: return m.lag.intercept_um + m.lag.per_c_um * (lag_c_ - m.standard_temp_c);
     case ToolModelKind::kZones:
@@ -248,7 +304,7 @@ ToolErrorModel FitStructures(int tool, const std::vector<ToolRecord>& rows, doub
     for (double f : {0.05, 0.1, 0.2, 0.4}) {
       ToolErrorModel trial = m;
       trial.classifier = ClassifierOptionsFor(m.training, steps, f * p90);
-      const double rms = FitIntervals(trial, rows, t, tv, restart);
+      const double rms = FitIntervals(trial, rows);
       if (rms < best_int) {
         best_int = rms;
         best = trial;
@@ -267,9 +323,39 @@ ToolErrorModel FitStructures(int tool, const std::vector<ToolRecord>& rows, doub
 
 // Blocked cross-validation: four contiguous blocks of the rows, each predicted by the models
 // fitted on the other three (a held-out block starts as a fresh mounting).
-void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows) {
+// The same folds weigh each interval sub-model: on the held-out rows the fold models put in its
+// interval, the share w ∈ [0, 1] of its difference from the one curve that predicts them best
+// (least squares of the blend one + w·(sub − one)). w = 0 (the sub-model did not help, or no
+// held-out rows fell in it, or the data are too short to tell): the one model stands in.
+void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows, std::vector<std::string>* warnings) {
   constexpr std::size_t kFolds = 4;
-  if (rows.size() < kFolds * 40) return;  // too short to tell: the one model
+  std::array<double, 3> sse_int{}, sse_one{}, blend_num{}, blend_den{};
+  std::array<int, 3> n_int{};
+  auto gate_intervals = [&] {
+    for (std::size_t k = 0; k < 3; ++k) {
+      IntervalTerm& it = m.interval[k];
+      it.cv_rows = n_int[k];
+      it.cv_rms_um = n_int[k] ? std::sqrt(sse_int[k] / n_int[k]) : 0.0;
+      it.cv_one_rms_um = n_int[k] ? std::sqrt(sse_one[k] / n_int[k]) : 0.0;
+      // The blend e = one + w·(sub-model − one) with the lowest held-out error, w in [0, 1].
+      it.weight = blend_den[k] > 0 ? std::clamp(blend_num[k] / blend_den[k], 0.0, 1.0) : 0.0;
+      if (!m.interval_fitted[k] || it.weight > 0) continue;
+      m.interval_fitted[k] = false;
+      const IntervalTerm kept = it;
+      it = IntervalTerm{m.one};
+      it.cv_rows = kept.cv_rows, it.cv_rms_um = kept.cv_rms_um, it.cv_one_rms_um = kept.cv_one_rms_um;
+      it.weight = 0;
+      if (warnings)
+        warnings->push_back(fmt::format(
+            "tool {}: the {} sub-model did not improve on one curve for held-out data ({} rows, {:.2f} vs {:.2f} µm): "
+            "the one model stands in",
+            m.tool, thermal::ThermalIntervalName(static_cast<ThermalInterval>(k)), n_int[k], it.cv_rms_um, it.cv_one_rms_um));
+    }
+  };
+  if (rows.size() < kFolds * 40) {  // too short to tell: the one model
+    gate_intervals();
+    return;
+  }
   const std::array<ToolModelKind, 5> kinds = {ToolModelKind::kOne, ToolModelKind::kIntervals, ToolModelKind::kLag,
                                               ToolModelKind::kTwoBody, ToolModelKind::kZones};
   std::array<double, 5> sse{};
@@ -289,7 +375,20 @@ void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows) {
       const auto p = PredictSeries(fm, kinds[k], test);
       for (std::size_t i = 0; i < test.size(); ++i) sse[k] += std::pow(p[i] - test[i].error_um, 2);
     }
+    ToolErrorPredictor pi(fm, ToolModelKind::kIntervals), po(fm, ToolModelKind::kOne);
+    for (std::size_t i = 0; i < test.size(); ++i) {
+      const double ei = pi.Push(test[i].time_s, test[i].tv_c, test[i].restart || i == 0) - test[i].error_um;
+      const double eo = po.Push(test[i].time_s, test[i].tv_c, test[i].restart || i == 0) - test[i].error_um;
+      const auto k = static_cast<std::size_t>(pi.interval());
+      if (k >= 3) continue;
+      ++n_int[k];
+      sse_int[k] += ei * ei;
+      sse_one[k] += eo * eo;
+      blend_num[k] += eo * (eo - ei);
+      blend_den[k] += (eo - ei) * (eo - ei);
+    }
   }
+  gate_intervals();
   double lowest = INFINITY;
   for (std::size_t k = 0; k < kinds.size(); ++k) {
     if (kinds[k] == ToolModelKind::kZones && !zones) continue;
@@ -304,7 +403,7 @@ void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows) {
 ToolErrorModel FitToolErrorModel(int tool, const std::vector<ToolRecord>& rows, double t_std,
                                  std::vector<std::string>* warnings) {
   ToolErrorModel m = FitStructures(tool, rows, t_std, warnings);
-  ChooseBest(m, rows);
+  ChooseBest(m, rows, warnings);
   // The growth is linear in the bodies' temperatures, which the zone means sample: with zone
   // means the zones model is the structure (cross-validation over the one or two mountings a
   // tool has in a day proved unreliable, docs/tool-thermal.md).
@@ -316,10 +415,15 @@ nlohmann::json ToolErrorModel::ToJson() const {
   auto term = [](const LinearTerm& l) { return nlohmann::json{{"intercept_um", l.intercept_um}, {"per_c_um", l.per_c_um}}; };
   nlohmann::json iv = nlohmann::json::array();
   for (int k = 0; k < 3; ++k) {
-    auto j = term(interval[k]);
+    auto j = term(interval[k].line);
+    j["per_c_since_start_um"] = interval[k].per_c_since_start_um;
+    j["tv_range_c"] = {interval[k].tv_from_c, interval[k].tv_to_c};
+    j["rise_range_c"] = {interval[k].rise_from_c, interval[k].rise_to_c};
     j["interval"] = thermal::ThermalIntervalName(static_cast<ThermalInterval>(k));
     j["fitted"] = interval_fitted[k];
     j["training_rows"] = interval_rows[k];
+    j["weight"] = interval[k].weight;
+    j["held_out"] = {{"rows", interval[k].cv_rows}, {"rms_um", interval[k].cv_rms_um}, {"one_rms_um", interval[k].cv_one_rms_um}};
     iv.push_back(j);
   }
   return {{"tool", tool},
@@ -365,7 +469,21 @@ ToolErrorModel ToolErrorModel::FromJson(const nlohmann::json& j, const std::stri
   for (std::size_t k = 0; k < 3; ++k) {
     const auto& o = j.at("intervals")[k];
     at = fmt::format("intervals[{}].", k);
-    m.interval[k] = {num(o, "intercept_um"), num(o, "per_c_um")};
+    IntervalTerm& it = m.interval[k];
+    it.line = {num(o, "intercept_um"), num(o, "per_c_um")};
+    it.per_c_since_start_um = o.value("per_c_since_start_um", 0.0);  // absent in version-1 files: Tv only
+    auto range = [&](const char* key, double* from, double* to) {
+      if (!o.contains(key)) return;
+      const auto& a = o.at(key);
+      if (!a.is_array() || a.size() != 2 || !a[0].is_number() || !a[1].is_number() || a[0].get<double>() > a[1].get<double>())
+        throw InputError(source, 0, at + key, "must be [from, to] with from <= to");
+      *from = a[0].get<double>();
+      *to = a[1].get<double>();
+    };
+    range("tv_range_c", &it.tv_from_c, &it.tv_to_c);
+    it.weight = o.value("weight", 1.0);  // absent in files written before the held-out blend
+    if (!(it.weight >= 0 && it.weight <= 1)) throw InputError(source, 0, at + "weight", "must be in [0, 1]");
+    range("rise_range_c", &it.rise_from_c, &it.rise_to_c);
     m.interval_fitted[k] = o.value("fitted", false);
     m.interval_rows[k] = o.value("training_rows", 0);
   }

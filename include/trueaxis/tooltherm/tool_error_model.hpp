@@ -4,10 +4,17 @@
 // docs/sign-convention.md) from the course of Tv while the tool is mounted:
 //
 //   one        e = a + b·(Tv − T_std)                       one curve for all intervals
-//   intervals  e = a_k + b_k·(Tv − T_std), k = WT1/WT2/WT3   seed 001: a sub-model per interval
+//   intervals  e = a_k + b_k·(Tv − T_std) + c_k·(Tv − Tv_k0), k = WT1/WT2/WT3
+//              seed 001: a sub-model per interval; Tv_k0 = the (smoothed) Tv when the
+//              current interval began, so a cooling branch starts from where heating ended
 //              (start-up and an interval with too few training rows: the one model;
 //              an interval spanning under half the training Tv range: the one model's
-//              slope b with its own intercept a_k)
+//              slope b; c_k for heating and cooling only, where the rise is not Tv again,
+//              |corr| < 0.95). Outside the interval's own training ranges of Tv and of the
+//              rise the sub-model's difference from the one model is held at the edge, never
+//              extrapolated. That difference is applied with a weight w ∈ [0, 1]: the blend
+//              that best predicted the held-out quarters of `best`'s cross-validation; w = 0
+//              falls back to the one curve (fitted = false).
 //   lag        e = a + b·(L − T_std), dL/dt = (Tv − L)/τ     a first-order lag of Tv
 //   two_body   e = a + b·(Tv − T_std) + c·(L − T_std)        ours: the surface (fast) and
 //              a lagged body (slow); the hysteresis of two bodies is exactly this shape
@@ -61,11 +68,26 @@ struct LinearTerm {
   double per_c_um = 0;  // µm per °C of (T − T_std)
 };
 
+// Seed 001's sub-model of one interval: e = a_k + b_k·(Tv − T_std) + c_k·(Tv − Tv_k0), applied as
+// the one model plus weight × its difference, the difference evaluated with Tv and the rise
+// clamped to the ranges the interval was trained on.
+struct IntervalTerm {
+  LinearTerm line;                 // a_k, b_k
+  double per_c_since_start_um = 0; // c_k, µm per °C of rise since the interval began
+  double tv_from_c = -1e9, tv_to_c = 1e9;      // training range of Tv
+  double rise_from_c = 0, rise_to_c = 0;       // training range of Tv − Tv_k0
+  // Held-out evidence (the four-fold blocked cross-validation of `best`): RMS over the held-out
+  // rows the fold models put in this interval, of this sub-model and of the one model there.
+  int cv_rows = 0;
+  double cv_rms_um = 0, cv_one_rms_um = 0;
+  double weight = 1;  // share of the difference from the one model that is applied (held-out blend)
+};
+
 struct ToolErrorModel {
   int tool = 0;
   double standard_temp_c = 20;
   LinearTerm one;
-  std::array<LinearTerm, 3> interval{};
+  std::array<IntervalTerm, 3> interval{};
   std::array<bool, 3> interval_fitted{};
   std::array<int, 3> interval_rows{};
   ToolClassifierOptions classifier;
@@ -93,6 +115,9 @@ class ToolErrorPredictor {
   // the zones model without them (or of another count) predicts with the one model.
   double Push(double time_s, double tv_c, bool restart, std::span<const double> zone_c = {});
   ThermalInterval interval() const { return interval_; }
+  // Tv − Tv_k0: the rise of Tv since the current interval began (Tv_k0 = Tv smoothed over half
+  // the classifier's window when the class changed; 0 right after a mounting).
+  double rise_c() const { return rise_c_; }
 
  private:
   const ToolErrorModel* m_;
@@ -100,6 +125,7 @@ class ToolErrorPredictor {
   DwellIntervalClassifier classifier_;
   ThermalInterval interval_ = ThermalInterval::kStartUp;
   double lag_c_ = 0, two_body_lag_c_ = 0, last_t_ = 0;
+  double smooth_tv_c_ = 0, interval_start_tv_c_ = 0, rise_c_ = 0;  // Tv_k0 of the current interval
 };
 
 std::vector<double> PredictSeries(const ToolErrorModel& model, ToolModelKind kind, const std::vector<ToolRecord>& rows);
