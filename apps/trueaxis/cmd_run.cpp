@@ -146,10 +146,7 @@ void Run(const Options& o) {
     wo.iso_dir = o.iso_dir == "auto" ? (fs::path(c.model_file).parent_path() / "day").string() : o.iso_dir;
     wo.unix0 = unix0;
     web_backend = std::make_unique<web::RunBackend>(*comp, &link, writer.get(), wo);
-    if (first_model.composite)
-      web_backend->OnModelPublished(first_model.composite, model::Sha256OfFile(c.model_file), c.model_file, unix0);
-    else
-      fmt::print(stderr, "warning: the web page shows seed-000 models only; the thermal model {} runs but is not listed there\n", c.model_file);
+    web_backend->OnModelPublished(first_model, model::Sha256OfFile(c.model_file), c.model_file, unix0);
     web_front_end = cli::StartWebFrontEnd(web_options, *web_backend);
   }
   std::unique_ptr<CsvLog> csv;
@@ -202,8 +199,8 @@ void Run(const Options& o) {
           try {
             const station::PublishedModel next = station::PublishModelFile(*comp, c);
             const std::string& revision = next.revision;
-            if (web_backend && next.composite)
-              web_backend->OnModelPublished(next.composite, model::Sha256OfFile(c.model_file), "reloaded " + c.model_file,
+            if (web_backend)
+              web_backend->OnModelPublished(next, model::Sha256OfFile(c.model_file), "reloaded " + c.model_file,
                                             unix0 + elapsed);
             if (history)
               history->LogModelChange(elapsed, model::Sha256OfFile(c.model_file), revision, "reloaded " + c.model_file);

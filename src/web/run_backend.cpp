@@ -61,11 +61,16 @@ void RunBackend::OnRecord(const runtime::CycleRecord& r) {
   alarms_.Update(options_.machine_id, alarms, t);
 }
 
-void RunBackend::OnModelPublished(std::shared_ptr<const model::CompositeModel> model, const std::string& sha256,
-                                  const std::string& label, double unix_s) {
+void RunBackend::OnModelPublished(station::PublishedModel model, const std::string& sha256, const std::string& label,
+                                  double unix_s) {
   Loaded l;
-  l.info = {std::to_string(model->revision), sha256, label, unix_s};
-  l.figures = iso_figures_.empty() ? FiguresFromFitSummary(*model) : iso_figures_;
+  // A thermal model's "revision" is its kind ("ridge"): the file's hash tells two of them apart.
+  const bool numbered = !model.revision.empty() && model.revision.find_first_not_of("0123456789") == std::string::npos;
+  l.info = {numbered ? model.revision : model.revision + "-" + sha256.substr(0, 8), sha256, label, unix_s};
+  if (!iso_figures_.empty())
+    l.figures = iso_figures_;
+  else if (model.composite)
+    l.figures = FiguresFromFitSummary(*model.composite);  // a thermal model has no fit summary over travel
   l.model = std::move(model);
   std::lock_guard lock(mutex_);
   loaded_.push_back(std::move(l));
@@ -146,7 +151,7 @@ void RunBackend::SetCoolantOverride(const Actor&, const std::string& id, const s
 
 void RunBackend::Publish(const Loaded& l, const std::string& note) {
   try {
-    compensator_.PublishModel(l.model, l.info.label);
+    station::PublishTo(compensator_, l.model, l.info.label);
   } catch (const std::exception& e) {
     throw BackendError(409, std::string("the model does not fit this machine: ") + e.what());
   }

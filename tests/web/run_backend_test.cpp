@@ -2,6 +2,7 @@
 // compensator on mock hardware, its cycle records handed over as the run's loop does, history in
 // a real history database.
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <unistd.h>
@@ -14,6 +15,7 @@
 #include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/station/history_logger.hpp"
 #include "trueaxis/store/history_writer.hpp"
+#include "trueaxis/station/model_loading.hpp"
 #include "trueaxis/web/run_backend.hpp"
 
 namespace trueaxis::web {
@@ -39,7 +41,7 @@ class RunBackendTest : public trueaxis::testing::TempDirTest {
     o.history_db = (dir_ / "history.sqlite").string();
     o.unix0 = unix0_;
     backend_ = std::make_unique<RunBackend>(*comp_, &link_, writer_.get(), o);
-    backend_->OnModelPublished(model_, "aa", "example_model.json", unix0_);
+    backend_->OnModelPublished({std::to_string(model_->revision), model_, {}}, "aa", "example_model.json", unix0_);
     cnc_.axes[0].position_mm = 200;
     cnc_.axes[0].servo_direction = 1;
   }
@@ -124,7 +126,7 @@ TEST_F(RunBackendTest, LoadsAndRollsBackModelRevisions) {
   auto second = std::make_shared<model::CompositeModel>(*model_);
   second->revision = model_->revision + 1;
   comp_->PublishModel(second, "second");
-  backend_->OnModelPublished(second, "bb", "reloaded", unix0_ + 1);
+  backend_->OnModelPublished({std::to_string(second->revision), second, {}}, "bb", "reloaded", unix0_ + 1);
   EXPECT_EQ(backend_->Machine("vmc1").model.revision, std::to_string(second->revision));
   EXPECT_EQ(backend_->RollbackModel(kWho, "vmc1"), std::to_string(model_->revision));
   EXPECT_EQ(backend_->Machine("vmc1").model.revision, std::to_string(model_->revision));
@@ -133,6 +135,43 @@ TEST_F(RunBackendTest, LoadsAndRollsBackModelRevisions) {
   EXPECT_EQ(backend_->Machine("vmc1").model.revision, std::to_string(second->revision));
   EXPECT_EQ(backend_->Machine("vmc1").model.available.size(), 2u);
   EXPECT_THROW(backend_->LoadModelRevision(kWho, "vmc1", "77"), BackendError);
+}
+
+// A per-axis model as a deployed thermal model is (station::PublishedModel without a composite):
+// a constant error, so the compensator's target tells which model runs.
+class ConstantAxisModel final : public model::AxisErrorModel {
+ public:
+  explicit ConstantAxisModel(double error_um) : error_um_(error_um) {}
+  const std::string& Axis() const override { return axis_; }
+  const std::vector<std::string>& Sensors() const override { return sensors_; }
+  std::string Describe() const override { return "constant"; }
+  double ErrorUm(double, Direction, std::span<const double>, CoolantState, const model::AxisModelDynamics&) const override {
+    return error_um_;
+  }
+
+ private:
+  double error_um_;
+  std::string axis_ = "X";
+  std::vector<std::string> sensors_ = {"nut"};
+};
+
+TEST_F(RunBackendTest, AThermalModelIsListedAndCanBeRolledBackAndLoadedAgain) {
+  const station::PublishedModel thermal{"ridge", nullptr, {std::make_shared<const ConstantAxisModel>(7.0)}};
+  station::PublishTo(*comp_, thermal, "thermal.json");
+  backend_->OnModelPublished(thermal, "cc0123456789", "thermal.json", unix0_ + 1);
+  const auto target = [&] {
+    double desired = 0;
+    for (int i = 0; i < 5; ++i) desired = comp_->RunCycle(link_, temps_, t_ += 0.01).axes[0].desired_um;
+    return desired;
+  };
+  EXPECT_NEAR(target(), -7.0, 1e-9);  // correction = −error
+  MachineDetail d = backend_->Machine("vmc1");
+  EXPECT_EQ(d.model.revision, "ridge-cc012345");  // its kind, told apart by the file's hash
+  EXPECT_EQ(d.model.available.size(), 2u);
+  EXPECT_EQ(backend_->RollbackModel(kWho, "vmc1"), std::to_string(model_->revision));
+  EXPECT_GT(std::fabs(target() + 7.0), 0.1) << "the seed-000 model runs again";
+  backend_->LoadModelRevision(kWho, "vmc1", "ridge-cc012345");
+  EXPECT_NEAR(target(), -7.0, 1e-9);
 }
 
 TEST_F(RunBackendTest, HistoryExportAndAlarmsComeFromTheRun) {

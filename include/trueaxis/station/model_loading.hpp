@@ -5,7 +5,9 @@
 // thermal::ThermalAxisModel. Used at start and on every reload (docs/runtime.md).
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "trueaxis/model/axis_error_model.hpp"
 #include "trueaxis/model/composite_model.hpp"
 
 #include "trueaxis/runtime/compensator.hpp"
@@ -13,10 +15,17 @@
 
 namespace trueaxis::station {
 
+// A model as the compensator runs it: the seed-000 composite model, or per-axis models (a
+// data-driven thermal model deployed on the axes of [model] thermal_channels). Kept by the web
+// front end so an earlier one can be published again (PublishTo).
 struct PublishedModel {
   std::string revision;  // to record: "3"; "ridge" for a thermal model, which has no revision number of its own
   std::shared_ptr<const model::CompositeModel> composite;  // the seed-000 model; null for a thermal model
+  std::vector<std::shared_ptr<const model::AxisErrorModel>> axis_models;  // when composite is null
 };
+
+// Hands `model` to the compensator (it binds it and ramps to it); throws as PublishModel does.
+void PublishTo(runtime::Compensator& compensator, const PublishedModel& model, const std::string& label);
 
 // Throws InputError naming the file (or the config for an axis/channel mismatch); the running
 // model stays in force when it throws.

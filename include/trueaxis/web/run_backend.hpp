@@ -13,6 +13,7 @@
 #include "trueaxis/model/composite_model.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
+#include "trueaxis/station/model_loading.hpp"
 #include "trueaxis/store/history_writer.hpp"
 #include "trueaxis/web/alarm_book.hpp"
 #include "trueaxis/web/coolant_override_link.hpp"
@@ -38,8 +39,9 @@ class RunBackend : public MonitorBackend {
 
   // ---- the run's loop thread ----
   void OnRecord(const runtime::CycleRecord& record);
-  void OnModelPublished(std::shared_ptr<const model::CompositeModel> model, const std::string& sha256,
-                        const std::string& label, double unix_s);
+  // Any model the run publishes (seed-000 or a deployed thermal model, station::PublishModelFile).
+  void OnModelPublished(station::PublishedModel model, const std::string& sha256, const std::string& label,
+                        double unix_s);
 
   // ---- MonitorBackend ----
   std::string Describe() const override;
@@ -57,7 +59,7 @@ class RunBackend : public MonitorBackend {
 
  private:
   struct Loaded {
-    std::shared_ptr<const model::CompositeModel> model;
+    station::PublishedModel model;
     ModelRevision info;
     std::vector<ModelFigure> figures;
   };
