@@ -8,6 +8,7 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/model/model_json.hpp"
+#include "trueaxis/model/sha256.hpp"
 #include "trueaxis/store/history_writer.hpp"
 #include "trueaxis/web/history_files.hpp"
 #include "trueaxis/web/model_figures.hpp"
@@ -110,20 +111,24 @@ std::vector<MachineSummary> ShopBackend::ListMachines() const {
   return out;
 }
 
-std::vector<ModelFigure> ShopBackend::FiguresOf(const server::ModelInfo& model) const {
+ShopBackend::Figures ShopBackend::FiguresOf(const server::ModelInfo& model) const {
   {
     std::lock_guard lock(mutex_);
     if (const auto it = figures_.find(model.sha256); it != figures_.end()) return it->second;
   }
-  std::vector<ModelFigure> figures;
+  Figures f;
   try {
-    figures = FiguresFromFitSummary(model::ReadModelFile(model.file));
-  } catch (const std::exception&) {
-    // The file changed or went away since it was loaded: the model still runs, its figures are not shown.
+    // Only the file that was loaded: one rewritten since would show another model's figures.
+    if (model::Sha256OfFile(model.file) != model.sha256)
+      f.missing = model.file + " has changed since it was loaded";
+    else
+      f.figures = FiguresFromFitSummary(model::ReadModelFile(model.file));
+  } catch (const std::exception& e) {
+    f.missing = e.what();  // the model still runs; the page says why its figures are not shown
   }
   std::lock_guard lock(mutex_);
-  figures_[model.sha256] = figures;
-  return figures;
+  figures_[model.sha256] = f;
+  return f;
 }
 
 MachineDetail ShopBackend::Machine(const std::string& id) const {
@@ -133,7 +138,9 @@ MachineDetail ShopBackend::Machine(const std::string& id) const {
     d.model.revision = m.model.file;
     d.model.sha256 = m.model.sha256;
     d.model.label = fmt::format("revision {} of {}", m.model.revision, m.model.file);
-    d.model.figures = FiguresOf(m.model);
+    const Figures f = FiguresOf(m.model);
+    d.model.figures = f.figures;
+    if (!f.missing.empty()) d.model.label += " (before/after figures not shown: " + f.missing + ")";
   }
   d.model.available = FilesRun(m, shop_.ModelChanges(id));
   return d;

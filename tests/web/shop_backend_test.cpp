@@ -10,6 +10,7 @@
 #include "../server/shop_fixture.hpp"
 #include "trueaxis/server/shop.hpp"
 #include "trueaxis/store/history_writer.hpp"
+#include "trueaxis/web/model_figures.hpp"
 
 namespace trueaxis::web {
 namespace {
@@ -145,7 +146,8 @@ TEST_F(ShopBackendTest, ModelRevisionsAreTheFilesTheMachineRanWithWhoAndFromWher
   MachineDetail d = backend_->Machine(Name(0));
   ASSERT_EQ(d.model.available.size(), 1u);
   EXPECT_EQ(d.model.revision, model_);
-  EXPECT_FALSE(d.model.figures.size() > 0 && d.model.figures[0].axis.empty());
+  EXPECT_EQ(d.model.figures.size(), FiguresFromFitSummary(model::ReadModelFile(model_)).size());  // the file's fit summary
+  EXPECT_EQ(d.model.label.find("not shown"), std::string::npos) << d.model.label;
   // nothing to roll back to, and a file the machine never ran cannot be loaded from the page
   EXPECT_THROW(backend_->RollbackModel(anna_, Name(0)), BackendError);
   EXPECT_THROW(backend_->LoadModelRevision(anna_, Name(0), model_b_), BackendError);
@@ -166,6 +168,13 @@ TEST_F(ShopBackendTest, ModelRevisionsAreTheFilesTheMachineRanWithWhoAndFromWher
   EXPECT_EQ(changes[1].action, "rollback");
   EXPECT_EQ(changes[2].new_model.file, model_b_);
   EXPECT_TRUE(WaitFor([&] { return backend_->Machine(Name(0)).model.revision == model_b_; }));
+}
+
+TEST_F(ShopBackendTest, AModelFileRewrittenSinceItWasLoadedShowsNoFiguresAndSaysWhy) {
+  WriteModel(model_, 3.0);  // the file on disk is now another model; the machines run the loaded one
+  const MachineDetail d = backend_->Machine(Name(1));
+  EXPECT_TRUE(d.model.figures.empty());
+  EXPECT_NE(d.model.label.find("has changed since it was loaded"), std::string::npos) << d.model.label;
 }
 
 TEST_F(ShopBackendTest, HistoryAndExportShowOneMachineUnderItsOwnNames) {

@@ -63,7 +63,11 @@ class ShopBackend : public MonitorBackend {
   server::MachineStatus StatusOrThrow(const std::string& id) const;  // BackendError 404
   const server::MachineConfig& ConfigOrThrow(const std::string& id) const;
   std::string HistoryDbOrThrow() const;
-  std::vector<ModelFigure> FiguresOf(const server::ModelInfo& model) const;
+  struct Figures {
+    std::vector<ModelFigure> figures;  // the model file's fit summary
+    std::string missing;               // why there are none ("" = shown)
+  };
+  Figures FiguresOf(const server::ModelInfo& model) const;
 
   server::Shop& shop_;
   store::HistoryWriter* history_;
@@ -71,7 +75,7 @@ class ShopBackend : public MonitorBackend {
   std::map<std::string, std::size_t> index_;  // machine name → position in the shop file
   mutable std::mutex mutex_;
   std::vector<LiveRing> live_;  // per machine, under mutex_
-  mutable std::unordered_map<std::string, std::vector<ModelFigure>> figures_;  // by model sha256, under mutex_
+  mutable std::unordered_map<std::string, Figures> figures_;  // by model sha256, under mutex_
   AlarmBook alarms_;
   core::PeriodicWorker worker_;  // the sampler (last: stopped before the rest goes)
 };
