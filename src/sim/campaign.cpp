@@ -315,7 +315,8 @@ class Campaign {
     double ref = NutNow(axis);
     double waited = 0;
     std::deque<double> minute;
-    for (int taken = 0; taken < o_.cooldown_measurements && waited < o_.max_cooldown_hours * 3600;) {
+    int taken = 0;
+    for (; taken < o_.cooldown_measurements && waited < o_.max_cooldown_hours * 3600;) {
       vm_.Advance(10);
       waited += 10;
       minute.push_back(NutNow(axis));
@@ -331,6 +332,9 @@ class Campaign {
         minute.clear();
       }
     }
+    if (taken < o_.cooldown_measurements)  // said, not silent: the fit gets fewer states of this kind
+      Progress(fmt::format("{}: {} of {} measurements — the nut sensor fell less than {:.2f} °C in {:.1f} h", state, taken,
+                           o_.cooldown_measurements, o_.cooldown_step_c, o_.max_cooldown_hours));
   }
 
   void ColdAndWarm(std::size_t axis, int k) {
