@@ -19,6 +19,8 @@ ap.add_argument("--baseline", action="store_true",
                 help="fit without the coolant memory and fitted envelope (demo --no-coolant-memory): the model before them")
 ap.add_argument("--no-coolant-rest", action="store_true",
                 help="calibrate without the campaign's stop under coolant (demo --no-coolant-rest), for comparison")
+ap.add_argument("--ambient-hours", default="",
+                help="hours of the day the campaign's ambient days measure at, e.g. 10,19 (demo --ambient-hours; default: the demo's)")
 ap.add_argument("machines", nargs="*")
 a = ap.parse_args()
 machines = a.machines or sorted(glob.glob("examples/machines/*.toml"))
@@ -27,7 +29,7 @@ for m in machines:
     name = os.path.splitext(os.path.basename(m))[0]
     out = os.path.join(a.out, name)
     t0 = time.time()
-    r = subprocess.run([a.trueaxis, "demo", "--machine", m, "--seed", str(a.seed), "--out", out, "--quiet"] + (["--no-coolant-memory"] if a.baseline else []) + (["--no-coolant-rest"] if a.no_coolant_rest else []),
+    r = subprocess.run([a.trueaxis, "demo", "--machine", m, "--seed", str(a.seed), "--out", out, "--quiet"] + (["--no-coolant-memory"] if a.baseline else []) + (["--no-coolant-rest"] if a.no_coolant_rest else []) + (["--ambient-hours", a.ambient_hours] if a.ambient_hours else []),
                        capture_output=True, text=True)
     if r.returncode != 0:
         print(f"{name}: demo failed (exit {r.returncode}): {r.stderr.strip()}", file=sys.stderr)

@@ -66,6 +66,10 @@ void Setup(CLI::App& app) {
   cmd->add_flag_function("--no-coolant-rest", [opts](std::int64_t) { opts->demo.coolant_rest = false; },
                          "Calibrate without the campaign's stop under coolant (the measurements of the axis at rest "
                          "with the coolant running), for comparison");
+  cmd->add_option("--ambient-hours", opts->demo.ambient_hours,
+                  "Hours of the day at which the campaign's ambient days measure the idle machine, increasing, e.g. "
+                  "10,19 (default: 14; bench/results/zoo.md compares)")
+      ->delimiter(',');
   cmd->add_flag_function("--raw-temperatures", [opts](std::int64_t) { opts->demo.signal_processing = false; },
                          "Feed the compensator the raw sensor readings instead of the temperature pipeline "
                          "(filter + fault status, on by default as in `trueaxis run`), for comparison");

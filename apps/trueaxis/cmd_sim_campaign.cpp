@@ -24,6 +24,7 @@ struct Options {
   int max_warm = trueaxis::sim::CampaignOptions{}.max_warm_measurements;  // one default, in the library
   int cooldown = 2;
   std::vector<int> ambient_days = {60, 150};
+  std::vector<double> ambient_hours = trueaxis::sim::CampaignOptions{}.ambient_hours;
   bool no_coolant = false;
   bool material_compensation = false;
   bool quiet = false;
@@ -42,6 +43,7 @@ void Run(const Options& o) {
   c.max_warm_measurements = o.max_warm;
   c.cooldown_measurements = o.cooldown;
   c.ambient_day_offsets = o.ambient_days;
+  c.ambient_hours = o.ambient_hours;
   c.coolant_session = !o.no_coolant;
   if (!o.quiet) c.progress = [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
   std::string why;
@@ -74,6 +76,10 @@ void Setup(CLI::App& app) {
   cmd->add_option("--max-warm", opts->max_warm, "At most this many warm-up measurements per axis")->capture_default_str()->check(CLI::Range(1, 100));
   cmd->add_option("--cooldown", opts->cooldown, "Cool-down measurements after saturation (0: none)")->capture_default_str()->check(CLI::Range(0, 20));
   cmd->add_option("--ambient-days", opts->ambient_days, "Days after the cold day for the other-ambient measurements")
+      ->delimiter(',')->capture_default_str();
+  cmd->add_option("--ambient-hours", opts->ambient_hours,
+                  "Hours of the day at which each ambient day measures the idle machine, increasing, e.g. 10,19 "
+                  "(the room rising and falling; bench/results/zoo.md)")
       ->delimiter(',')->capture_default_str();
   cmd->add_flag("--no-coolant", opts->no_coolant, "Skip the coolant session");
   cmd->add_flag("--material-compensation", opts->material_compensation, "Laser material compensation on (CTE 11.5)");

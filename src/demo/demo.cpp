@@ -48,6 +48,12 @@ bool DemoOptions::IsValid(std::string* why) const {
     return fail("geometric must be auto, polynomial or table, got '" + geometric + "'");
   if (day_offset < 1 || other_day_offset <= day_offset)
     return fail("day_offset must be >= 1 and other_day_offset > day_offset");
+  if (!ambient_hours.empty()) {  // the campaign's own check, before the campaign runs
+    sim::CampaignOptions c;
+    c.out_dir = out_dir;
+    c.ambient_hours = ambient_hours;
+    if (!c.IsValid(why)) return false;
+  }
   return compensator.IsValid(why);
 }
 
@@ -457,6 +463,7 @@ DemoResult RunDemo(const DemoOptions& o) {
   c.seed = o.seed;
   c.axes = axes;
   c.coolant_rest = o.coolant_rest;
+  if (!o.ambient_hours.empty()) c.ambient_hours = o.ambient_hours;
   if (o.fast) {
     c.laser.runs = 3;
     c.warm_runs = 2;

@@ -39,7 +39,13 @@ bool CampaignOptions::IsValid(std::string* why) const {
   if (!(saturation_window_min > 0) || !(saturation_rise_c > 0)) return fail("saturation window and rise must be positive");
   for (int d : ambient_day_offsets)
     if (d < 1 || d > 3650) return fail("ambient_day_offsets must be 1–3650 days");
-  if (!(ambient_hour >= 0 && ambient_hour < 24)) return fail("ambient_hour must be in [0, 24)");
+  if (!ambient_day_offsets.empty() && ambient_hours.empty()) return fail("ambient_hours must name at least one hour");
+  for (std::size_t i = 0; i < ambient_hours.size(); ++i) {
+    if (!(ambient_hours[i] >= 0 && ambient_hours[i] < 24))
+      return fail(fmt::format("ambient_hours: {} is not an hour of the day in [0, 24)", ambient_hours[i]));
+    if (i > 0 && !(ambient_hours[i] > ambient_hours[i - 1]))
+      return fail("ambient_hours must be in increasing order (the measurements of one day follow each other)");
+  }
   if (!(log_interval_s > 0)) return fail("log_interval_s must be positive");
   return true;
 }
@@ -119,12 +125,18 @@ class Campaign {
     for (std::size_t k = 0; k < axes_.size(); ++k) ColdAndWarm(axes_[k], static_cast<int>(k));
     int last_day = static_cast<int>(axes_.size()) - 1;
     for (int offset : o_.ambient_day_offsets) {
-      GoTo(offset, o_.ambient_hour);
-      for (std::size_t a : axes_) {
-        StartSession();
-        Setup(a);
-        MeasureAndWrite(a, "ambient");
-        EndSession();
+      for (double hour : o_.ambient_hours) {
+        // An hour the day's earlier measurements ran past falls on the next day (GoTo): said, the
+        // fit still gets the state, but not on the day asked for.
+        if (!GoTo(offset, hour))
+          Progress(fmt::format("ambient at {:.1f} h of day {}: the earlier measurements ran past it, measuring a day later",
+                               hour, offset));
+        for (std::size_t a : axes_) {
+          StartSession();
+          Setup(a);
+          MeasureAndWrite(a, "ambient");
+          EndSession();
+        }
       }
       last_day = std::max(last_day, offset);
     }
@@ -155,12 +167,14 @@ class Campaign {
     if (o_.progress) o_.progress(fmt::format("[{} t={:.2f} h] {}", vm_.IsoTime(), vm_.TimeS() / 3600.0, line));
   }
 
-  // Day `day` after the start date at `hour`; if that is past, the next day.
-  void GoTo(int day, double hour) {
+  // Day `day` after the start date at `hour`; if that is past, the next day. False when it was.
+  bool GoTo(int day, double hour) {
     double t = midnight_unix_ + day * 86400.0 + hour * 3600.0 - vm_.UnixTimeS() + vm_.TimeS();
-    while (t < vm_.TimeS() - 1e-6) t += 86400.0;
+    bool as_asked = true;
+    while (t < vm_.TimeS() - 1e-6) t += 86400.0, as_asked = false;
     EndSession();
     vm_.IdleUntil(t);
+    return as_asked;
   }
 
   void StartSession() {

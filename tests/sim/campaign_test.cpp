@@ -123,6 +123,84 @@ TEST(Campaign, WritesFilesTemperatureLogAndManifest) {
   fs::remove_all(dir);
 }
 
+// The hour of the day of a measurement's "date" metadata (YYYY-MM-DDTHH:MM:SS).
+double HourOfDay(const measure::Measurement& m) {
+  const std::string d = m.Meta("date").value_or("");
+  if (d.size() < 19) return -1;
+  return std::stod(d.substr(11, 2)) + std::stod(d.substr(14, 2)) / 60 + std::stod(d.substr(17, 2)) / 3600;
+}
+
+TEST(Campaign, AmbientDaysMeasureAtEachHourAskedFor) {
+  const auto dir = TempDir("ambient_hours");
+  auto o = ShortCampaign(dir, 5);
+  o.max_warm_measurements = 1;
+  o.cooldown_measurements = 0;
+  o.coolant_session = false;
+  o.ambient_day_offsets = {30, 40};
+  o.ambient_hours = {10, 19};
+  std::vector<std::string> progress;
+  o.progress = [&](const std::string& line) { progress.push_back(line); };
+  const auto summary = RunCampaign(testing::TestMachine(), o);
+  std::vector<std::pair<std::string, double>> ambient;  // (date, hour of day), in campaign order
+  for (const auto& f : summary.files) {
+    if (f.state != "ambient") continue;
+    const auto m = measure::ReadMeasurementCsv((dir / f.file).string());
+    ambient.emplace_back(m.Meta("date").value_or("").substr(0, 10), HourOfDay(m));
+  }
+  ASSERT_EQ(ambient.size(), 4u);  // 2 days × 2 hours × 1 axis
+  for (std::size_t i = 0; i < ambient.size(); ++i) {
+    const double asked = i % 2 == 0 ? 10 : 19;
+    EXPECT_GE(ambient[i].second, asked) << i;  // the set-up before the first point takes minutes
+    EXPECT_LT(ambient[i].second, asked + 0.5) << i;
+  }
+  EXPECT_EQ(ambient[0].first, ambient[1].first);  // both hours on the same day
+  EXPECT_NE(ambient[1].first, ambient[2].first);
+  for (const auto& l : progress) EXPECT_EQ(l.find("a day later"), std::string::npos) << l;
+  fs::remove_all(dir);
+
+  // An hour the earlier measurements of its day ran past is measured a day later, and said.
+  const auto dir2 = TempDir("ambient_overrun");
+  o.out_dir = dir2.string();
+  o.ambient_day_offsets = {30};
+  o.ambient_hours = {10, 10.01};
+  progress.clear();
+  const auto late = RunCampaign(testing::TestMachine(), o);
+  std::vector<std::string> dates;
+  for (const auto& f : late.files)
+    if (f.state == "ambient")
+      dates.push_back(measure::ReadMeasurementCsv((dir2 / f.file).string()).Meta("date").value_or("").substr(0, 10));
+  ASSERT_EQ(dates.size(), 2u);
+  EXPECT_NE(dates[0], dates[1]);
+  bool said = false;
+  for (const auto& l : progress) said = said || l.find("ran past it, measuring a day later") != std::string::npos;
+  EXPECT_TRUE(said);
+  fs::remove_all(dir2);
+}
+
+TEST(Campaign, RefusesAmbientHoursOutsideTheDayOrOutOfOrder) {
+  CampaignOptions o;
+  o.out_dir = "x";
+  std::string why;
+  o.ambient_hours = {24};
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("24 is not an hour of the day"), std::string::npos) << why;
+  o.ambient_hours = {-1};
+  EXPECT_FALSE(o.IsValid(&why));
+  o.ambient_hours = {19, 10};
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("increasing order"), std::string::npos) << why;
+  o.ambient_hours = {10, 10};
+  EXPECT_FALSE(o.IsValid(&why));
+  o.ambient_hours = {};
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("at least one hour"), std::string::npos) << why;
+  o.ambient_day_offsets = {};  // no ambient day: no hour needed
+  EXPECT_TRUE(o.IsValid(&why)) << why;
+  o.ambient_day_offsets = {60};
+  o.ambient_hours = {0, 10, 23.5};
+  EXPECT_TRUE(o.IsValid(&why)) << why;
+}
+
 std::map<std::string, std::string> ReadAll(const fs::path& dir) {
   std::map<std::string, std::string> out;
   for (const auto& e : fs::directory_iterator(dir)) out[e.path().filename().string()] = ReadTextFile(e.path().string());
@@ -184,6 +262,9 @@ TEST(Campaign, CliRunsAndRejectsBadMachineFile) {
 
   EXPECT_EQ(RunCli("sim campaign --machine " + machine.string() + " --out " + (dir / "out3").string() + " --axes Q", &err), 2);
   EXPECT_NE(err.find("'Q'"), std::string::npos) << err;
+  EXPECT_EQ(RunCli("sim campaign --machine " + machine.string() + " --out " + (dir / "out5").string() + " --ambient-hours 10,24", &err), 2);
+  EXPECT_NE(err.find("ambient_hours: 24 is not an hour of the day"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(dir / "out5" / "manifest.json"));
   fs::remove_all(dir);
 }
 

@@ -48,6 +48,9 @@ struct DemoOptions {
   bool coolant_memory = true;
   // The campaign's stop under coolant after its coolant warm-up (sim::CampaignOptions::coolant_rest).
   bool coolant_rest = true;
+  // The hours of the day the campaign's ambient days measure the idle machine at
+  // (sim::CampaignOptions::ambient_hours); empty: the campaign's default.
+  std::vector<double> ambient_hours;
   // The working day over MODBUS TCP on 127.0.0.1: the virtual machine behind
   // a ModbusMachineServer (PMC window + ADAM-6015 modules, docs/protocols.md),
   // the compensator on ModbusCncLink / ModbusTemperatureSource. Each cycle is a
