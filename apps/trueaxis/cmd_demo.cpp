@@ -70,6 +70,10 @@ void Setup(CLI::App& app) {
                   "Hours of the day at which the campaign's ambient days measure the idle machine, increasing, e.g. "
                   "10,19 (default: 14; bench/results/zoo.md compares)")
       ->delimiter(',');
+  cmd->add_option("--secondary-key-ridge", opts->demo.secondary_key_ridge,
+                  "Ridge λ on the bearing key's gain, shrinking it toward the nut-only fit (0: the seed's plain least "
+                  "squares, for comparison; bench/results/zoo.md)")
+      ->capture_default_str();
   cmd->add_flag_function("--raw-temperatures", [opts](std::int64_t) { opts->demo.signal_processing = false; },
                          "Feed the compensator the raw sensor readings instead of the temperature pipeline "
                          "(filter + fault status, on by default as in `trueaxis run`), for comparison");

@@ -51,6 +51,7 @@ struct FitCliOptions {
   std::string axis;
   int max_keys = 3;
   double max_key_correlation = 0.98;
+  double secondary_key_ridge = model::FitOptions{}.secondary_key_ridge;
   bool reuse_sources = false;
   bool full = false;
   std::vector<double> lag_grid_s = model::FitOptions{}.key_lag_grid_s;
@@ -106,6 +107,7 @@ void RunFit(const FitCliOptions& o) {
   fo.key_sensors = o.keys;
   fo.max_key_sensors = o.max_keys;
   fo.max_key_correlation = o.max_key_correlation;
+  fo.secondary_key_ridge = o.secondary_key_ridge;
   fo.reference_position_mm = o.reference_mm;
   fo.rho_um_per_mm_per_c = o.rho;
   fo.ambient_sensor = o.ambient_sensor;
@@ -189,6 +191,9 @@ void Setup(CLI::App& app) {
   cmd->add_option("--max-keys", opts->max_keys, "Most key sensors the selection may choose")->capture_default_str();
   cmd->add_option("--max-key-correlation", opts->max_key_correlation,
                   "Candidates whose rises correlate more than this with a chosen key are skipped")
+      ->capture_default_str();
+  cmd->add_option("--secondary-key-ridge", opts->secondary_key_ridge,
+                  "Ridge λ on the gains of every key after the first (unit-norm columns; 0: plain least squares)")
       ->capture_default_str();
   cmd->add_option("--reference-mm", opts->reference_mm, "Reference point Px in mm (default: metadata or fitted)");
   cmd->add_option("--rho", opts->rho, "ρ in µm/mm/°C (default: fitted, or −cte/1000 from metadata)");

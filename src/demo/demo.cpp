@@ -48,6 +48,11 @@ bool DemoOptions::IsValid(std::string* why) const {
     return fail("geometric must be auto, polynomial or table, got '" + geometric + "'");
   if (day_offset < 1 || other_day_offset <= day_offset)
     return fail("day_offset must be >= 1 and other_day_offset > day_offset");
+  {  // the fit's own check of the ridge, before anything runs
+    model::FitOptions f;
+    f.secondary_key_ridge = secondary_key_ridge;
+    if (!f.IsValid(why)) return false;
+  }
   if (!ambient_hours.empty()) {  // the campaign's own check, before the campaign runs
     sim::CampaignOptions c;
     c.out_dir = out_dir;
@@ -496,6 +501,7 @@ DemoResult RunDemo(const DemoOptions& o) {
       fo.key_sensors = {nut, bearing};
     if (o.geometric == "table") fo.geometric = model::FitOptions::Geometric::kTable;
     if (!o.thermal_lag) fo.key_lag_grid_s = {0};
+    fo.secondary_key_ridge = o.secondary_key_ridge;
     if (!o.coolant_memory) {
       fo.coolant_loss_grid_s.clear();
       fo.tan_beta_margin = -1;

@@ -22,6 +22,8 @@ bool FitOptions::IsValid(std::string* why) const {
   if (!(min_cv_improvement >= 0 && min_cv_improvement < 1))
     return fail("min_cv_improvement must be within [0, 1)");
   if (!(max_key_correlation > 0 && max_key_correlation <= 1)) return fail("max_key_correlation must be within (0, 1]");
+  if (!(secondary_key_ridge >= 0) || !std::isfinite(secondary_key_ridge))
+    return fail("secondary_key_ridge must be a finite number >= 0 (0: plain least squares)");
   if (min_thermal_states < 1) return fail("min_thermal_states must be >= 1");
   if (std::isinf(rho_um_per_mm_per_c)) return fail("rho_um_per_mm_per_c must be finite (or NaN for automatic)");
   if (!(min_ambient_range_c > 0)) return fail("min_ambient_range_c must be > 0");

@@ -96,10 +96,11 @@ struct GainFit {
   double rho = 0;
 };
 
-// Least squares r = Σ k_j·rise_j·L (+ ρ·amb·L) over the selected points of one direction.
+// Least squares r = Σ k_j·rise_j·L (+ ρ·amb·L) over the selected points of one direction, the gains
+// of keys after the first shrunk by `secondary_ridge` (FitOptions::secondary_key_ridge).
 template <typename Pred>
 GainFit SolveGains(const std::vector<ThermalPoint>& pts, Pred use, const std::vector<std::size_t>& keys, bool fit_rho,
-                   double fixed_rho) {
+                   double fixed_rho, double secondary_ridge) {
   std::vector<const ThermalPoint*> rows;
   for (const auto& p : pts) {
     if (!use(p)) continue;
@@ -131,6 +132,15 @@ GainFit SolveGains(const std::vector<ThermalPoint>& pts, Pred use, const std::ve
   for (Eigen::Index j = 0; j < cols; ++j)
     if (scale(j) > 0) a.col(j) /= scale(j);
     else scale(j) = 1;
+  // The ridge as extra rows √λ·c_j = 0 (j ≥ 1) of the unit-norm system: λ is relative to a column's norm².
+  const Eigen::Index shrunk = secondary_ridge > 0 ? static_cast<Eigen::Index>(keys.size()) - 1 : 0;
+  if (shrunk > 0) {
+    a.conservativeResize(a.rows() + shrunk, Eigen::NoChange);
+    b.conservativeResize(b.rows() + shrunk);
+    a.bottomRows(shrunk).setZero();
+    b.tail(shrunk).setZero();
+    for (Eigen::Index j = 0; j < shrunk; ++j) a(a.rows() - shrunk + j, 1 + j) = std::sqrt(secondary_ridge);
+  }
   Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
   c = c.cwiseQuotient(scale);
   g.k.assign(c.data(), c.data() + keys.size());
@@ -157,7 +167,7 @@ bool RowUsable(const ThermalPoint& p, const std::vector<std::size_t>& keys, bool
 // `scored` (optional): only those states are held out and scored, the fits still use every other
 // state of `states`.
 double CrossValidate(const std::vector<ThermalPoint>& pts, const std::set<std::size_t>& states,
-                     const std::vector<std::size_t>& keys, bool fit_rho, double fixed_rho,
+                     const std::vector<std::size_t>& keys, bool fit_rho, double fixed_rho, double secondary_ridge,
                      const std::set<std::size_t>* scored = nullptr) {
   double ss = 0;
   std::size_t n = 0;
@@ -166,7 +176,7 @@ double CrossValidate(const std::vector<ThermalPoint>& pts, const std::set<std::s
       if (scored && !scored->count(s)) continue;
       auto g = SolveGains(
           pts, [&](const ThermalPoint& p) { return p.dir == dir && p.state != s && states.count(p.state); }, keys,
-          fit_rho, fixed_rho);
+          fit_rho, fixed_rho, secondary_ridge);
       if (!g.ok) return std::numeric_limits<double>::infinity();
       for (const auto& p : pts) {
         if (p.dir != dir || p.state != s || !RowUsable(p, keys, fit_rho)) continue;
@@ -181,12 +191,12 @@ double CrossValidate(const std::vector<ThermalPoint>& pts, const std::set<std::s
 // ρ fitted jointly with the gains of `keys` on the off-coolant states: one ρ per axis (one screw),
 // the mean of the two directions' estimates.
 double JointRho(const std::vector<ThermalPoint>& pts, const std::set<std::size_t>& off_states,
-                const std::vector<std::size_t>& keys) {
+                const std::vector<std::size_t>& keys, double secondary_ridge) {
   double rs = 0;
   int rn = 0;
   for (int dir = 0; dir < 2; ++dir) {
     auto g = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); }, keys,
-                        true, 0);
+                        true, 0, secondary_ridge);
     if (g.ok) rs += g.rho, ++rn;
   }
   return rn ? rs / rn : 0.0;
@@ -662,18 +672,18 @@ class AxisFitter {
     // such a state out would leave ρ undetermined: for the selection ρ is held
     // at a preliminary estimate (all candidates + ρ fitted jointly), then
     // refitted jointly with the chosen keys.
-    auto joint_rho = [&](const std::vector<std::size_t>& with_keys) { return JointRho(pts, off_states, with_keys); };
+    auto joint_rho = [&](const std::vector<std::size_t>& with_keys) { return JointRho(pts, off_states, with_keys, o_.secondary_key_ridge); };
     if (thermal && fit_rho) {
       std::vector<std::size_t> all_keys;
       for (std::size_t j = 0; j < candidates.size(); ++j) all_keys.push_back(j);
       rho = joint_rho(all_keys);
     }
     if (thermal) {
-      sum.no_thermal_cv_rms_um = CrossValidate(pts, off_states, {}, false, rho);
+      sum.no_thermal_cv_rms_um = CrossValidate(pts, off_states, {}, false, rho, o_.secondary_key_ridge);
       sum.selection_steps.push_back({{}, sum.no_thermal_cv_rms_um, fit_rho ? "no key sensor (ρ term only)" : "no thermal term"});
       if (!o_.key_sensors.empty()) {
         for (std::size_t j = 0; j < candidates.size(); ++j) keys.push_back(j);
-        const double cv = CrossValidate(pts, off_states, keys, false, rho);
+        const double cv = CrossValidate(pts, off_states, keys, false, rho, o_.secondary_key_ridge);
         sum.selection_steps.push_back({candidates, cv, "given in the options"});
         sum.key_selection_reason = "key sensors given in the options, not selected from the data";
       } else {
@@ -695,11 +705,14 @@ class AxisFitter {
       auto cv_of = [&](const std::vector<double>& taus, std::vector<ThermalPoint>* out) {
         auto trial = build_points(taus);
         for (auto& p : trial) p.lever_mm = px - p.x;
-        const double cv = CrossValidate(trial, off_states, keys, false, fit_rho ? JointRho(trial, off_states, keys) : rho);
+        const double cv = CrossValidate(trial, off_states, keys, false,
+                                          fit_rho ? JointRho(trial, off_states, keys, o_.secondary_key_ridge) : rho,
+                                          o_.secondary_key_ridge);
         if (out) *out = std::move(trial);
         return cv;
       };
-      const double cv0 = CrossValidate(pts, off_states, keys, false, fit_rho ? joint_rho(keys) : rho);
+      const double cv0 =
+          CrossValidate(pts, off_states, keys, false, fit_rho ? joint_rho(keys) : rho, o_.secondary_key_ridge);
       sum.lag_candidates.push_back({0, cv0});
       double best_cv = cv0, best_tau = 0;
       for (double tau : o_.key_lag_grid_s) {
@@ -772,8 +785,8 @@ class AxisFitter {
         GainFit off_fits[2];
         for (int dir = 0; dir < 2; ++dir)
           off_fits[dir] = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
-                                     keys, false, rho);
-        const double cv_off = CrossValidate(pts, off_states, keys, false, rho);
+                                     keys, false, rho, o_.secondary_key_ridge);
+        const double cv_off = CrossValidate(pts, off_states, keys, false, rho, o_.secondary_key_ridge);
         double ss = cv_off * cv_off * count(pts, off_states), n = count(pts, off_states);
         for (const auto& [c, st] : by_coolant) {
           const double cvc = CoolantCv(pts, keys, rho, off_fits, st, st.size() >= keys.size() + 1);
@@ -789,9 +802,10 @@ class AxisFitter {
             loss[static_cast<std::size_t>(c)] = tau;
             auto trial = build_points(key_lag_s, loss);
             for (auto& p : trial) p.lever_mm = px - p.x;
-            const double cv = CrossValidate(trial, all_states, keys, false, rho);
+            const double cv = CrossValidate(trial, all_states, keys, false, rho, o_.secondary_key_ridge);
             if (cv < best_cv)
-              best_cv = cv, best_loss = loss, best_off_cv = CrossValidate(trial, all_states, keys, false, rho, &off_states);
+              best_cv = cv, best_loss = loss, best_off_cv = CrossValidate(trial, all_states, keys, false, rho,
+                                                                         o_.secondary_key_ridge, &off_states);
           }
         }
         std::string losses;
@@ -826,13 +840,25 @@ class AxisFitter {
       if (fit_rho) rho = joint_rho(keys);
       for (int dir = 0; dir < 2; ++dir) {
         fits[dir] = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
-                               keys, false, rho);
+                               keys, false, rho, o_.secondary_key_ridge);
         if (!fits[dir].ok)
           throw InputError(thermal_.front()->path, 0, "t_<sensor>_c",
                            "the thermal gains cannot be determined from these states (too few usable points)");
       }
-      sum.thermal_cv_rms_um = CrossValidate(pts, off_states, keys, false, rho);
+      sum.thermal_cv_rms_um = CrossValidate(pts, off_states, keys, false, rho, o_.secondary_key_ridge);
       sum.thermal_fitted = true;
+      if (keys.size() > 1 && o_.secondary_key_ridge > 0) {
+        // Traceable: the shrunk gains next to what plain least squares would have given.
+        const auto plain = SolveGains(
+            pts, [&](const ThermalPoint& p) { return p.dir == 0 && off_states.count(p.state); }, keys, false, rho, 0.0);
+        std::vector<std::string> shrunk_names;
+        for (std::size_t j = 1; j < keys.size(); ++j) shrunk_names.push_back(candidates[keys[j]]);
+        sum.key_selection_reason += fmt::format(
+            "; the gains of {} shrunk toward the {}-only fit (ridge λ {}, FitOptions::secondary_key_ridge): forward "
+            "{:.5f} µm/mm/°C, plain least squares {}",
+            JoinNames(shrunk_names), candidates[keys[0]], FormatShortest(o_.secondary_key_ridge),
+            fmt::join(fits[0].k, " / "), plain.ok ? fmt::format("{:.5f}", fmt::join(plain.k, " / ")) : std::string("–"));
+      }
       for (auto k : keys) {
         model_.key_sensors.push_back(candidates[k]);
         model_.baseline_temp_c.push_back(base[k]);
@@ -908,7 +934,7 @@ class AxisFitter {
         if (collinear) continue;
         auto trial = keys;
         trial.push_back(c);
-        const double cv = CrossValidate(pts, off_states, trial, fit_rho, rho);
+        const double cv = CrossValidate(pts, off_states, trial, fit_rho, rho, o_.secondary_key_ridge);
         if (cv < best_cv) best_cv = cv, best = c;
       }
       if (best == candidates.size()) break;
@@ -965,7 +991,7 @@ class AxisFitter {
         auto train = [&](const ThermalPoint& p) { return p.dir == dir && p.state != s && states.count(p.state); };
         GainFit g;
         if (own) {
-          g = SolveGains(pts, train, keys, false, rho);
+          g = SolveGains(pts, train, keys, false, rho, o_.secondary_key_ridge);
           if (!g.ok) return std::numeric_limits<double>::infinity();
         } else {
           g = off_fits[dir];
@@ -1006,7 +1032,7 @@ class AxisFitter {
         tg.coolant = coolant;
         if (own) {
           auto g = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && states.count(p.state); }, keys,
-                              false, rho);
+                              false, rho, o_.secondary_key_ridge);
           tg.k_um_per_mm_per_c = g.ok ? g.k : off_fits[dir].k;
         } else {
           // The off-coolant gains scaled by one factor fitted on this coolant's states.

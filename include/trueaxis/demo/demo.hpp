@@ -18,6 +18,7 @@
 
 #include "trueaxis/analysis/evaluation.hpp"
 #include "trueaxis/measure/measurement.hpp"
+#include "trueaxis/model/fit_options.hpp"
 #include "trueaxis/runtime/compensator_options.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
 
@@ -48,6 +49,9 @@ struct DemoOptions {
   bool coolant_memory = true;
   // The campaign's stop under coolant after its coolant warm-up (sim::CampaignOptions::coolant_rest).
   bool coolant_rest = true;
+  // Ridge on the gains of the keys after the nut (model::FitOptions::secondary_key_ridge); 0: the
+  // seed's plain least squares, for comparison (bench/results/zoo.md).
+  double secondary_key_ridge = model::FitOptions{}.secondary_key_ridge;
   // The hours of the day the campaign's ambient days measure the idle machine at
   // (sim::CampaignOptions::ambient_hours); empty: the campaign's default.
   std::vector<double> ambient_hours;

@@ -36,6 +36,15 @@ struct FitOptions {
   // Two candidates whose per-point rises correlate more than this are collinear:
   // only the better one can be chosen.
   double max_key_correlation = 0.98;
+  // Ridge on the gains of every key after the first (the first is the best single key, or the
+  // first one given): the least squares minimises |A·c − b|² + λ·Σ_{j≥2} c_j², with A's columns
+  // scaled to unit norm, so λ is dimensionless and damps the directions of key space along which
+  // the calibration states varied by less than about λ of a column's norm². Two keys that rise
+  // together (nut and bearing over a warm-up) otherwise get large gains of opposite sign: their
+  // difference fits the campaign's transients and swings on the working day's other mixes.
+  // 0: plain least squares (seed 000). Default chosen on the machine zoo and checked on
+  // descriptions not in it (bench/results/zoo.md, "Secondary keys shrunk").
+  double secondary_key_ridge = 0.003;
   // Sensors named for another axis ("y_nut" while fitting X) are not candidates
   // when the files name sensors per axis at all (some sensor starts with "x_"):
   // a warm-up that heats every axis at once makes them correlate with this
