@@ -672,7 +672,9 @@ class AxisFitter {
     // such a state out would leave ρ undetermined: for the selection ρ is held
     // at a preliminary estimate (all candidates + ρ fitted jointly), then
     // refitted jointly with the chosen keys.
-    auto joint_rho = [&](const std::vector<std::size_t>& with_keys) { return JointRho(pts, off_states, with_keys, o_.secondary_key_ridge); };
+    auto joint_rho = [&](const std::vector<std::size_t>& with_keys) {
+      return JointRho(pts, off_states, with_keys, o_.secondary_key_ridge);
+    };
     if (thermal && fit_rho) {
       std::vector<std::size_t> all_keys;
       for (std::size_t j = 0; j < candidates.size(); ++j) all_keys.push_back(j);
