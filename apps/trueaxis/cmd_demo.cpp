@@ -74,6 +74,11 @@ void Setup(CLI::App& app) {
                   "Ridge λ on the bearing key's gain, shrinking it toward the nut-only fit (0: the seed's plain least "
                   "squares, for comparison; bench/results/zoo.md)")
       ->capture_default_str();
+  cmd->add_option("--key-offsets", opts->demo.key_offsets,
+                  "Each key's own pivot: auto (by the fit's cross-validation), on, off (one pivot Px, the seed's form; "
+                  "bench/results/zoo.md compares)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   cmd->add_flag_function("--raw-temperatures", [opts](std::int64_t) { opts->demo.signal_processing = false; },
                          "Feed the compensator the raw sensor readings instead of the temperature pipeline "
                          "(filter + fault status, on by default as in `trueaxis run`), for comparison");

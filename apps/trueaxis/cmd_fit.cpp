@@ -52,6 +52,7 @@ struct FitCliOptions {
   int max_keys = 3;
   double max_key_correlation = 0.98;
   double secondary_key_ridge = model::FitOptions{}.secondary_key_ridge;
+  std::string key_offsets = "auto";
   bool reuse_sources = false;
   bool full = false;
   std::vector<double> lag_grid_s = model::FitOptions{}.key_lag_grid_s;
@@ -108,6 +109,10 @@ void RunFit(const FitCliOptions& o) {
   fo.max_key_sensors = o.max_keys;
   fo.max_key_correlation = o.max_key_correlation;
   fo.secondary_key_ridge = o.secondary_key_ridge;
+  if (o.key_offsets == "auto") fo.key_offsets = model::FitOptions::KeyOffsets::kAuto;
+  else if (o.key_offsets == "on") fo.key_offsets = model::FitOptions::KeyOffsets::kOn;
+  else if (o.key_offsets == "off") fo.key_offsets = model::FitOptions::KeyOffsets::kOff;
+  else throw InputError("command line", 0, "--key-offsets", fmt::format("'{}' is not 'auto', 'on' or 'off'", o.key_offsets));
   fo.reference_position_mm = o.reference_mm;
   fo.rho_um_per_mm_per_c = o.rho;
   fo.ambient_sensor = o.ambient_sensor;
@@ -194,6 +199,10 @@ void Setup(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--secondary-key-ridge", opts->secondary_key_ridge,
                   "Ridge λ on the gains of every key after the first (unit-norm columns; 0: plain least squares)")
+      ->capture_default_str();
+  cmd->add_option("--key-offsets", opts->key_offsets,
+                  "Each key's own pivot (its rise also shifts the error over the travel): auto (by cross-validation), "
+                  "on, off (one pivot Px, seed 000)")
       ->capture_default_str();
   cmd->add_option("--reference-mm", opts->reference_mm, "Reference point Px in mm (default: metadata or fitted)");
   cmd->add_option("--rho", opts->rho, "ρ in µm/mm/°C (default: fitted, or −cte/1000 from metadata)");

@@ -48,6 +48,8 @@ bool DemoOptions::IsValid(std::string* why) const {
     return fail("geometric must be auto, polynomial or table, got '" + geometric + "'");
   if (day_offset < 1 || other_day_offset <= day_offset)
     return fail("day_offset must be >= 1 and other_day_offset > day_offset");
+  if (key_offsets != "auto" && key_offsets != "on" && key_offsets != "off")
+    return fail("key_offsets must be auto, on or off, got '" + key_offsets + "'");
   {  // the fit's own check of the ridge, before anything runs
     model::FitOptions f;
     f.secondary_key_ridge = secondary_key_ridge;
@@ -502,6 +504,9 @@ DemoResult RunDemo(const DemoOptions& o) {
     if (o.geometric == "table") fo.geometric = model::FitOptions::Geometric::kTable;
     if (!o.thermal_lag) fo.key_lag_grid_s = {0};
     fo.secondary_key_ridge = o.secondary_key_ridge;
+    fo.key_offsets = o.key_offsets == "on"    ? model::FitOptions::KeyOffsets::kOn
+                     : o.key_offsets == "off" ? model::FitOptions::KeyOffsets::kOff
+                                              : model::FitOptions::KeyOffsets::kAuto;
     if (!o.coolant_memory) {
       fo.coolant_loss_grid_s.clear();
       fo.tan_beta_margin = -1;

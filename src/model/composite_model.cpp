@@ -47,6 +47,7 @@ Prediction Predict(const AxisModel& axis, double position_mm, Direction directio
       double ambient_shift_c = 0;
       if (axis.key_rise_above_ambient && !std::isnan(state.ambient_c) && !std::isnan(axis.ambient_baseline_c))
         ambient_shift_c = state.ambient_c - axis.ambient_baseline_c;
+      double shift_um = 0;  // Σ offset_i·ΔT_i: each key's own pivot
       for (std::size_t i = 0; ok && i < g->k_um_per_mm_per_c.size(); ++i) {
         const double t = state.key_temp_c[i];
         if (std::isnan(t)) {
@@ -60,6 +61,7 @@ Prediction Predict(const AxisModel& axis, double position_mm, Direction directio
           p.tan_beta_limited = true;
         }
         tan_beta += g->k_um_per_mm_per_c[i] * rise;
+        if (i < g->offset_um_per_c.size()) shift_um += g->offset_um_per_c[i] * rise;
       }
       if (!ok) p.tan_beta_limited = false;
       if (ok) {
@@ -68,7 +70,9 @@ Prediction Predict(const AxisModel& axis, double position_mm, Direction directio
           p.tan_beta_limited = true;
         }
         p.tan_beta_um_per_mm = tan_beta;
-        p.thermal_um = tan_beta * lever_mm;
+        p.thermal_um = tan_beta * lever_mm + shift_um;
+        if (g->ambient_offset_um_per_c != 0 && !std::isnan(state.ambient_c) && !std::isnan(axis.ambient_baseline_c))
+          p.thermal_um += g->ambient_offset_um_per_c * (state.ambient_c - axis.ambient_baseline_c);
       }
     }
     if (!axis.ambient_sensor.empty() && !std::isnan(state.ambient_c) && !std::isnan(axis.ambient_baseline_c)) {

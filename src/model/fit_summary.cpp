@@ -37,6 +37,7 @@ std::string FitSummary::BriefReport() const {
                          Num(a.thermal_cv_rms_um), Num(a.no_thermal_cv_rms_um), Num(a.reference_position_mm, 1),
                          Num(a.rho_um_per_mm_per_c, 5));
     if (a.thermal_fitted && !a.lag_reason.empty()) out += fmt::format("; key lag τ {} s", Num(a.key_lag_s, 0));
+    if (a.thermal_fitted && a.key_offsets) out += "; each key's own pivot";
     if (!a.thermal_fitted) out += "; geometric only";
     const StateFitStats* worst = nullptr;
     for (const auto& s : a.states)
@@ -84,6 +85,7 @@ std::string FitSummary::FullReport() const {
       for (const auto& c : a.lag_candidates)
         out += fmt::format("  τ {:>6} s: LOSO CV RMS {} µm\n", Num(c[0], 0), Num(c[1]));
     }
+    if (!a.key_offsets_reason.empty()) out += fmt::format("pivots: {}\n", a.key_offsets_reason);
     for (const auto& n : a.coolant_notes) out += "  " + n + "\n";
     out += "states (µm; residual = measured − model, all points):\n";
     out += fmt::format("  {:<16} {:<8} {:<7} {:>6} {:>10} {:>10} {:>10} {:>9} {:>9} {:>11} {:>11}  mean key rises °C\n",
@@ -162,6 +164,8 @@ nlohmann::json FitSummary::ToJson() const {
                       {"thermal_cv_rms_um", JsonNum(a.thermal_cv_rms_um)},
                       {"key_lag_s", JsonNum(a.key_lag_s)},
                       {"lag_reason", a.lag_reason},
+                      {"key_offsets", a.key_offsets},
+                      {"key_offsets_reason", a.key_offsets_reason},
                       {"lag_candidates", [&] {
                          nlohmann::json arr = nlohmann::json::array();
                          for (const auto& c : a.lag_candidates) arr.push_back({{"tau_s", JsonNum(c[0])}, {"cv_rms_um", JsonNum(c[1])}});

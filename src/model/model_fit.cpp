@@ -94,13 +94,26 @@ struct GainFit {
   bool ok = false;
   std::vector<double> k;
   double rho = 0;
+  std::vector<double> ko;  // each key's own pivot (GainForm::key_offsets): µm per °C of its rise
+  double ambient_offset = 0;  // the same for the room's change, µm per °C
 };
 
-// Least squares r = Σ k_j·rise_j·L (+ ρ·amb·L) over the selected points of one direction, the gains
-// of keys after the first shrunk by `secondary_ridge` (FitOptions::secondary_key_ridge).
+// How the gains are solved: the ridge on the keys after the first (FitOptions::secondary_key_ridge)
+// and whether each key (and the room) also shifts the error over the whole travel (key_offsets).
+struct GainForm {
+  double secondary_ridge = 0;
+  bool key_offsets = false;
+  // The room's shift is fitted only when the rows' room temperature varied by this much (°C): a
+  // fold without the other-ambient states cannot determine it (FitOptions::min_ambient_range_c).
+  double min_room_range_c = 1.0;
+};
+
+// Least squares r = Σ k_j·rise_j·L (+ ρ·amb·L) (+ Σ o_j·rise_j + o_a·amb with form.key_offsets) over
+// the selected points of one direction, the terms of keys after the first shrunk by
+// form.secondary_ridge (FitOptions::secondary_key_ridge).
 template <typename Pred>
 GainFit SolveGains(const std::vector<ThermalPoint>& pts, Pred use, const std::vector<std::size_t>& keys, bool fit_rho,
-                   double fixed_rho, double secondary_ridge) {
+                   double fixed_rho, const GainForm& form) {
   std::vector<const ThermalPoint*> rows;
   for (const auto& p : pts) {
     if (!use(p)) continue;
@@ -109,7 +122,18 @@ GainFit SolveGains(const std::vector<ThermalPoint>& pts, Pred use, const std::ve
     if (fit_rho) finite = finite && std::isfinite(p.amb_rise);
     if (finite) rows.push_back(&p);
   }
-  const Eigen::Index cols = static_cast<Eigen::Index>(keys.size()) + (fit_rho ? 1 : 0);
+  bool room_everywhere = true;
+  double room_lo = std::numeric_limits<double>::infinity(), room_hi = -room_lo;
+  for (const auto* r : rows) {
+    room_everywhere = room_everywhere && std::isfinite(r->amb_rise);
+    room_lo = std::min(room_lo, r->amb_rise), room_hi = std::max(room_hi, r->amb_rise);
+  }
+  room_everywhere = room_everywhere && !rows.empty() && room_hi - room_lo >= form.min_room_range_c;
+  // Columns: the keys' slopes, ρ (when fitted), then with key offsets each key's and the room's shift.
+  const Eigen::Index slope_cols = static_cast<Eigen::Index>(keys.size()) + (fit_rho ? 1 : 0);
+  const Eigen::Index offset_cols =
+      form.key_offsets && !keys.empty() ? static_cast<Eigen::Index>(keys.size()) + (room_everywhere ? 1 : 0) : 0;
+  const Eigen::Index cols = slope_cols + offset_cols;
   GainFit g;
   g.rho = fixed_rho;
   if (cols == 0) {
@@ -123,8 +147,12 @@ GainFit SolveGains(const std::vector<ThermalPoint>& pts, Pred use, const std::ve
     const ThermalPoint& p = *rows[static_cast<std::size_t>(i)];
     for (std::size_t j = 0; j < keys.size(); ++j) a(i, static_cast<Eigen::Index>(j)) = p.rise[keys[j]] * p.lever_mm;
     double y = p.r;
-    if (fit_rho) a(i, cols - 1) = p.amb_rise * p.lever_mm;
+    if (fit_rho) a(i, slope_cols - 1) = p.amb_rise * p.lever_mm;
     else if (std::isfinite(p.amb_rise)) y -= fixed_rho * p.amb_rise * p.lever_mm;
+    if (offset_cols > 0) {
+      for (std::size_t j = 0; j < keys.size(); ++j) a(i, slope_cols + static_cast<Eigen::Index>(j)) = p.rise[keys[j]];
+      if (room_everywhere) a(i, cols - 1) = p.amb_rise;
+    }
     b(i) = y;
   }
   // Scale columns to unit norm so the pivoting QR's rank decision is not fooled by units.
@@ -132,19 +160,30 @@ GainFit SolveGains(const std::vector<ThermalPoint>& pts, Pred use, const std::ve
   for (Eigen::Index j = 0; j < cols; ++j)
     if (scale(j) > 0) a.col(j) /= scale(j);
     else scale(j) = 1;
-  // The ridge as extra rows √λ·c_j = 0 (j ≥ 1) of the unit-norm system: λ is relative to a column's norm².
-  const Eigen::Index shrunk = secondary_ridge > 0 ? static_cast<Eigen::Index>(keys.size()) - 1 : 0;
+  // The ridge as extra rows √λ·c_j = 0 for the slope (and offset) of every key after the first, in
+  // the unit-norm system: λ is relative to a column's norm².
+  const Eigen::Index shrunk = form.secondary_ridge > 0 ? static_cast<Eigen::Index>(keys.size()) - 1 : 0;
   if (shrunk > 0) {
-    a.conservativeResize(a.rows() + shrunk, Eigen::NoChange);
-    b.conservativeResize(b.rows() + shrunk);
-    a.bottomRows(shrunk).setZero();
-    b.tail(shrunk).setZero();
-    for (Eigen::Index j = 0; j < shrunk; ++j) a(a.rows() - shrunk + j, 1 + j) = std::sqrt(secondary_ridge);
+    const Eigen::Index extra = offset_cols > 0 ? 2 * shrunk : shrunk;
+    const Eigen::Index first_extra = a.rows();
+    a.conservativeResize(a.rows() + extra, Eigen::NoChange);
+    b.conservativeResize(b.rows() + extra);
+    a.bottomRows(extra).setZero();
+    b.tail(extra).setZero();
+    const double w = std::sqrt(form.secondary_ridge);
+    for (Eigen::Index j = 0; j < shrunk; ++j) {
+      a(first_extra + j, 1 + j) = w;
+      if (offset_cols > 0) a(first_extra + shrunk + j, slope_cols + 1 + j) = w;
+    }
   }
   Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
   c = c.cwiseQuotient(scale);
   g.k.assign(c.data(), c.data() + keys.size());
-  if (fit_rho) g.rho = c(cols - 1);
+  if (fit_rho) g.rho = c(slope_cols - 1);
+  if (offset_cols > 0) {
+    g.ko.assign(c.data() + slope_cols, c.data() + slope_cols + keys.size());
+    if (room_everywhere) g.ambient_offset = c(cols - 1);
+  }
   g.ok = c.allFinite();
   return g;
 }
@@ -153,7 +192,8 @@ double PredictThermal(const ThermalPoint& p, const std::vector<std::size_t>& key
   double tan_beta = 0;
   for (std::size_t j = 0; j < keys.size(); ++j) tan_beta += g.k[j] * p.rise[keys[j]];
   double out = tan_beta * p.lever_mm;
-  if (std::isfinite(p.amb_rise)) out += g.rho * p.amb_rise * p.lever_mm;
+  if (std::isfinite(p.amb_rise)) out += (g.rho * p.lever_mm + g.ambient_offset) * p.amb_rise;
+  for (std::size_t j = 0; j < g.ko.size(); ++j) out += g.ko[j] * p.rise[keys[j]];
   return out;
 }
 
@@ -167,7 +207,7 @@ bool RowUsable(const ThermalPoint& p, const std::vector<std::size_t>& keys, bool
 // `scored` (optional): only those states are held out and scored, the fits still use every other
 // state of `states`.
 double CrossValidate(const std::vector<ThermalPoint>& pts, const std::set<std::size_t>& states,
-                     const std::vector<std::size_t>& keys, bool fit_rho, double fixed_rho, double secondary_ridge,
+                     const std::vector<std::size_t>& keys, bool fit_rho, double fixed_rho, const GainForm& form,
                      const std::set<std::size_t>* scored = nullptr) {
   double ss = 0;
   std::size_t n = 0;
@@ -176,7 +216,7 @@ double CrossValidate(const std::vector<ThermalPoint>& pts, const std::set<std::s
       if (scored && !scored->count(s)) continue;
       auto g = SolveGains(
           pts, [&](const ThermalPoint& p) { return p.dir == dir && p.state != s && states.count(p.state); }, keys,
-          fit_rho, fixed_rho, secondary_ridge);
+          fit_rho, fixed_rho, form);
       if (!g.ok) return std::numeric_limits<double>::infinity();
       for (const auto& p : pts) {
         if (p.dir != dir || p.state != s || !RowUsable(p, keys, fit_rho)) continue;
@@ -191,12 +231,12 @@ double CrossValidate(const std::vector<ThermalPoint>& pts, const std::set<std::s
 // ρ fitted jointly with the gains of `keys` on the off-coolant states: one ρ per axis (one screw),
 // the mean of the two directions' estimates.
 double JointRho(const std::vector<ThermalPoint>& pts, const std::set<std::size_t>& off_states,
-                const std::vector<std::size_t>& keys, double secondary_ridge) {
+                const std::vector<std::size_t>& keys, const GainForm& form) {
   double rs = 0;
   int rn = 0;
   for (int dir = 0; dir < 2; ++dir) {
     auto g = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); }, keys,
-                        true, 0, secondary_ridge);
+                        true, 0, form);
     if (g.ok) rs += g.rho, ++rn;
   }
   return rn ? rs / rn : 0.0;
@@ -223,7 +263,11 @@ std::string JoinNames(const std::vector<std::string>& v) { return v.empty() ? "n
 class AxisFitter {
  public:
   AxisFitter(std::string axis, std::vector<const FitState*> states, const FitOptions& o, std::vector<std::string>& warnings)
-      : axis_name_(std::move(axis)), all_(std::move(states)), o_(o), warnings_(warnings) {}
+      : axis_name_(std::move(axis)), all_(std::move(states)), o_(o), warnings_(warnings) {
+    form_.secondary_ridge = o.secondary_key_ridge;
+    form_.min_room_range_c = o.min_ambient_range_c;
+    form_.key_offsets = o.key_offsets == FitOptions::KeyOffsets::kOn;
+  }
 
   AxisModel Fit(AxisFitSummary& sum) {
     sum.axis = axis_name_;
@@ -673,7 +717,7 @@ class AxisFitter {
     // at a preliminary estimate (all candidates + ρ fitted jointly), then
     // refitted jointly with the chosen keys.
     auto joint_rho = [&](const std::vector<std::size_t>& with_keys) {
-      return JointRho(pts, off_states, with_keys, o_.secondary_key_ridge);
+      return JointRho(pts, off_states, with_keys, form_);
     };
     if (thermal && fit_rho) {
       std::vector<std::size_t> all_keys;
@@ -681,11 +725,11 @@ class AxisFitter {
       rho = joint_rho(all_keys);
     }
     if (thermal) {
-      sum.no_thermal_cv_rms_um = CrossValidate(pts, off_states, {}, false, rho, o_.secondary_key_ridge);
+      sum.no_thermal_cv_rms_um = CrossValidate(pts, off_states, {}, false, rho, form_);
       sum.selection_steps.push_back({{}, sum.no_thermal_cv_rms_um, fit_rho ? "no key sensor (ρ term only)" : "no thermal term"});
       if (!o_.key_sensors.empty()) {
         for (std::size_t j = 0; j < candidates.size(); ++j) keys.push_back(j);
-        const double cv = CrossValidate(pts, off_states, keys, false, rho, o_.secondary_key_ridge);
+        const double cv = CrossValidate(pts, off_states, keys, false, rho, form_);
         sum.selection_steps.push_back({candidates, cv, "given in the options"});
         sum.key_selection_reason = "key sensors given in the options, not selected from the data";
       } else {
@@ -708,13 +752,13 @@ class AxisFitter {
         auto trial = build_points(taus);
         for (auto& p : trial) p.lever_mm = px - p.x;
         const double cv = CrossValidate(trial, off_states, keys, false,
-                                          fit_rho ? JointRho(trial, off_states, keys, o_.secondary_key_ridge) : rho,
-                                          o_.secondary_key_ridge);
+                                          fit_rho ? JointRho(trial, off_states, keys, form_) : rho,
+                                          form_);
         if (out) *out = std::move(trial);
         return cv;
       };
       const double cv0 =
-          CrossValidate(pts, off_states, keys, false, fit_rho ? joint_rho(keys) : rho, o_.secondary_key_ridge);
+          CrossValidate(pts, off_states, keys, false, fit_rho ? joint_rho(keys) : rho, form_);
       sum.lag_candidates.push_back({0, cv0});
       double best_cv = cv0, best_tau = 0;
       for (double tau : o_.key_lag_grid_s) {
@@ -764,6 +808,28 @@ class AxisFitter {
       for (auto k : keys) largest = std::max(largest, key_lag_s[k]);
       sum.key_lag_s = largest;
     }
+    // Each key's own pivot (FitOptions::key_offsets): with the keys and lag chosen, kept when the
+    // same LOSO CV says it predicts held-out states better by min_cv_improvement.
+    if (thermal && !keys.empty()) {
+      GainForm with = form_, without = form_;
+      with.key_offsets = true;
+      without.key_offsets = false;
+      if (o_.key_offsets == FitOptions::KeyOffsets::kAuto) {
+        const double cv_without =
+            CrossValidate(pts, off_states, keys, false, fit_rho ? JointRho(pts, off_states, keys, without) : rho, without);
+        const double cv_with =
+            CrossValidate(pts, off_states, keys, false, fit_rho ? JointRho(pts, off_states, keys, with) : rho, with);
+        form_.key_offsets = cv_with < (1 - o_.min_cv_improvement) * cv_without;
+        sum.key_offsets_reason = fmt::format(
+            "{}: LOSO CV {:.3f} µm with them against {:.3f} µm with the common pivot Px alone (kept at ≥ {:.0f} % better)",
+            form_.key_offsets ? "each key's own pivot" : "one pivot Px for every key", cv_with, cv_without,
+            100 * o_.min_cv_improvement);
+      } else {
+        sum.key_offsets_reason = form_.key_offsets ? "each key's own pivot: given in the options"
+                                                   : "one pivot Px for every key: given in the options";
+      }
+      sum.key_offsets = form_.key_offsets;
+    }
     // The coolant's memory (thermal_state.hpp): the key states drawn to the room with a loss τ while
     // a coolant runs, and ONE set of gains for every state, against today's table (own gains per
     // coolant state). Judged by the same LOSO CV, now over the off AND the coolant states.
@@ -787,8 +853,8 @@ class AxisFitter {
         GainFit off_fits[2];
         for (int dir = 0; dir < 2; ++dir)
           off_fits[dir] = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
-                                     keys, false, rho, o_.secondary_key_ridge);
-        const double cv_off = CrossValidate(pts, off_states, keys, false, rho, o_.secondary_key_ridge);
+                                     keys, false, rho, form_);
+        const double cv_off = CrossValidate(pts, off_states, keys, false, rho, form_);
         double ss = cv_off * cv_off * count(pts, off_states), n = count(pts, off_states);
         for (const auto& [c, st] : by_coolant) {
           const double cvc = CoolantCv(pts, keys, rho, off_fits, st, st.size() >= keys.size() + 1);
@@ -804,10 +870,10 @@ class AxisFitter {
             loss[static_cast<std::size_t>(c)] = tau;
             auto trial = build_points(key_lag_s, loss);
             for (auto& p : trial) p.lever_mm = px - p.x;
-            const double cv = CrossValidate(trial, all_states, keys, false, rho, o_.secondary_key_ridge);
+            const double cv = CrossValidate(trial, all_states, keys, false, rho, form_);
             if (cv < best_cv)
               best_cv = cv, best_loss = loss, best_off_cv = CrossValidate(trial, all_states, keys, false, rho,
-                                                                         o_.secondary_key_ridge, &off_states);
+                                                                         form_, &off_states);
           }
         }
         std::string losses;
@@ -842,23 +908,24 @@ class AxisFitter {
       if (fit_rho) rho = joint_rho(keys);
       for (int dir = 0; dir < 2; ++dir) {
         fits[dir] = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
-                               keys, false, rho, o_.secondary_key_ridge);
+                               keys, false, rho, form_);
         if (!fits[dir].ok)
           throw InputError(thermal_.front()->path, 0, "t_<sensor>_c",
                            "the thermal gains cannot be determined from these states (too few usable points)");
       }
-      sum.thermal_cv_rms_um = CrossValidate(pts, off_states, keys, false, rho, o_.secondary_key_ridge);
+      sum.thermal_cv_rms_um = CrossValidate(pts, off_states, keys, false, rho, form_);
       sum.thermal_fitted = true;
       if (keys.size() > 1 && o_.secondary_key_ridge > 0) {
         // Traceable: the shrunk gains next to what plain least squares would have given.
         const auto plain = SolveGains(
-            pts, [&](const ThermalPoint& p) { return p.dir == 0 && off_states.count(p.state); }, keys, false, rho, 0.0);
+            pts, [&](const ThermalPoint& p) { return p.dir == 0 && off_states.count(p.state); }, keys, false, rho,
+            GainForm{0.0, form_.key_offsets});
         std::vector<std::string> shrunk_names;
         for (std::size_t j = 1; j < keys.size(); ++j) shrunk_names.push_back(candidates[keys[j]]);
         sum.key_selection_reason += fmt::format(
             "; the gains of {} shrunk toward the {}-only fit (ridge λ {}, FitOptions::secondary_key_ridge): forward "
             "{:.5f} µm/mm/°C, plain least squares {}",
-            JoinNames(shrunk_names), candidates[keys[0]], FormatShortest(o_.secondary_key_ridge),
+            JoinNames(shrunk_names), candidates[keys[0]], FormatShortest(form_.secondary_ridge),
             fmt::join(fits[0].k, " / "), plain.ok ? fmt::format("{:.5f}", fmt::join(plain.k, " / ")) : std::string("–"));
       }
       for (auto k : keys) {
@@ -883,7 +950,12 @@ class AxisFitter {
       }
       sum.key_sensors = model_.key_sensors;
       for (int dir = 0; dir < 2; ++dir)
-        model_.directions[dir].thermal.push_back({CoolantState::kOff, fits[dir].k, 0});
+        {
+          ThermalGains tg{CoolantState::kOff, fits[dir].k, 0};
+          tg.offset_um_per_c = fits[dir].ko;
+          tg.ambient_offset_um_per_c = fits[dir].ambient_offset;
+          model_.directions[dir].thermal.push_back(std::move(tg));
+        }
       if (shared_gains_) {
         // Every coolant of the data is recorded, with 0 when the shared gains cover it without a
         // loss: the file says which coolant states the one set of gains was fitted on.
@@ -936,7 +1008,7 @@ class AxisFitter {
         if (collinear) continue;
         auto trial = keys;
         trial.push_back(c);
-        const double cv = CrossValidate(pts, off_states, trial, fit_rho, rho, o_.secondary_key_ridge);
+        const double cv = CrossValidate(pts, off_states, trial, fit_rho, rho, form_);
         if (cv < best_cv) best_cv = cv, best = c;
       }
       if (best == candidates.size()) break;
@@ -973,10 +1045,12 @@ class AxisFitter {
     double num = 0, den = 0;
     GainFit no_rho = off_fit;
     no_rho.rho = 0;
+    no_rho.ambient_offset = 0;  // the room's terms are not the coolant's: not scaled
     for (const auto& p : pts) {
       if (p.dir != dir || !use(p) || !RowUsable(p, keys, false)) continue;
       const double pred = PredictThermal(p, keys, no_rho);
-      const double y = p.r - (std::isfinite(p.amb_rise) ? rho * p.amb_rise * p.lever_mm : 0);
+      const double y =
+          p.r - (std::isfinite(p.amb_rise) ? (rho * p.lever_mm + off_fit.ambient_offset) * p.amb_rise : 0);
       num += y * pred, den += pred * pred;
     }
     return den > 0 ? num / den : 1;
@@ -993,12 +1067,13 @@ class AxisFitter {
         auto train = [&](const ThermalPoint& p) { return p.dir == dir && p.state != s && states.count(p.state); };
         GainFit g;
         if (own) {
-          g = SolveGains(pts, train, keys, false, rho, o_.secondary_key_ridge);
+          g = SolveGains(pts, train, keys, false, rho, form_);
           if (!g.ok) return std::numeric_limits<double>::infinity();
         } else {
           g = off_fits[dir];
           const double f = CoolantFactor(pts, keys, rho, off_fits[dir], dir, train);
           for (double& k : g.k) k *= f;
+          for (double& k : g.ko) k *= f;
         }
         g.rho = rho;
         for (const auto& p : pts) {
@@ -1034,13 +1109,18 @@ class AxisFitter {
         tg.coolant = coolant;
         if (own) {
           auto g = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && states.count(p.state); }, keys,
-                              false, rho, o_.secondary_key_ridge);
-          tg.k_um_per_mm_per_c = g.ok ? g.k : off_fits[dir].k;
+                              false, rho, form_);
+          const GainFit& used = g.ok ? g : off_fits[dir];
+          tg.k_um_per_mm_per_c = used.k;
+          tg.offset_um_per_c = used.ko;
+          tg.ambient_offset_um_per_c = used.ambient_offset;
         } else {
           // The off-coolant gains scaled by one factor fitted on this coolant's states.
           const double f = CoolantFactor(pts, keys, rho, off_fits[dir], dir,
                                          [&](const ThermalPoint& p) { return states.count(p.state) > 0; });
           for (double k : off_fits[dir].k) tg.k_um_per_mm_per_c.push_back(f * k);
+          for (double k : off_fits[dir].ko) tg.offset_um_per_c.push_back(f * k);
+          tg.ambient_offset_um_per_c = off_fits[dir].ambient_offset;
           if (dir == 0)
             sum.coolant_notes.push_back(fmt::format("coolant {}: {} state(s){}: off-coolant gains × one fitted factor "
                                                     "({:.3f} forward",
@@ -1158,6 +1238,7 @@ class AxisFitter {
   std::vector<std::array<double, 2>> stage1_;
   std::vector<std::string> candidates_;  // the key-sensor candidates of PrepareThermal (for notes)
   bool shared_gains_ = false;            // one gains entry for every coolant state (coolant memory)
+  GainForm form_;                        // ridge and key offsets of every gains solve
   measure::Measurement cold_;
   AxisModel model_;
 };

@@ -33,6 +33,11 @@ json DirectionToJson(const DirectionModel& d) {
     json e = {{"coolant", std::string(CoolantStateName(g.coolant))},
               {"k_um_per_mm_per_c", g.k_um_per_mm_per_c},
               {"offset_um_per_mm", g.offset_um_per_mm}};
+    // Absent = no key pivots (the seed's form; older files read as before).
+    if (!g.offset_um_per_c.empty()) {
+      e["offset_um_per_c"] = g.offset_um_per_c;
+      e["ambient_offset_um_per_c"] = g.ambient_offset_um_per_c;
+    }
     // Absent = no envelope (older files read as before); an open end is written as null.
     auto end = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
     if (g.HasTanBetaRange()) e["tan_beta_range_um_per_mm"] = {end(g.min_tan_beta_um_per_mm), end(g.max_tan_beta_um_per_mm)};
@@ -140,6 +145,13 @@ DirectionModel DirectionFromJson(const Reader& r, const json& j, const std::stri
         r.Fail(Reader::Join(ep, "k_um_per_mm_per_c"),
                fmt::format("has {} gains but the axis has {} key sensors", g.k_um_per_mm_per_c.size(), n_keys));
       g.offset_um_per_mm = r.NumberOr(t[i], ep, "offset_um_per_mm", 0);
+      if (t[i].contains("offset_um_per_c")) {
+        g.offset_um_per_c = r.Numbers(t[i], ep, "offset_um_per_c");
+        if (g.offset_um_per_c.size() != n_keys)
+          r.Fail(Reader::Join(ep, "offset_um_per_c"),
+                 fmt::format("has {} offsets but the axis has {} key sensors", g.offset_um_per_c.size(), n_keys));
+      }
+      g.ambient_offset_um_per_c = r.NumberOr(t[i], ep, "ambient_offset_um_per_c", 0);
       if (t[i].contains("tan_beta_range_um_per_mm")) {
         const std::string rp = Reader::Join(ep, "tan_beta_range_um_per_mm");
         const json& range = t[i]["tan_beta_range_um_per_mm"];

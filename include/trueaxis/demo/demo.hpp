@@ -52,6 +52,8 @@ struct DemoOptions {
   // Ridge on the gains of the keys after the nut (model::FitOptions::secondary_key_ridge); 0: the
   // seed's plain least squares, for comparison (bench/results/zoo.md).
   double secondary_key_ridge = model::FitOptions{}.secondary_key_ridge;
+  // Each key's own pivot (model::FitOptions::key_offsets): "auto", "on" or "off" (the seed's one Px).
+  std::string key_offsets = "auto";
   // The hours of the day the campaign's ambient days measure the idle machine at
   // (sim::CampaignOptions::ambient_hours); empty: the campaign's default.
   std::vector<double> ambient_hours;

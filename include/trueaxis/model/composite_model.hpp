@@ -51,6 +51,13 @@ struct ThermalGains {
   CoolantState coolant = CoolantState::kOff;
   std::vector<double> k_um_per_mm_per_c;  // parallel to AxisModel::key_sensors
   double offset_um_per_mm = 0;            // constant term of tanβ (0 in the seed's form)
+  // Each key's own pivot (issue 10, FitOptions::key_offsets): a rise also shifts the error by
+  // offset_um_per_c[i]·ΔT_i over the whole travel, so key i pivots at Px + offset_i/k_i instead of
+  // the common Px (a heated screw end outside the travel, a growing bearing housing). Empty = none
+  // (the seed's form); else parallel to k_um_per_mm_per_c. ambient_offset_um_per_c: the same for
+  // the room's change ΔT_env.
+  std::vector<double> offset_um_per_c;
+  double ambient_offset_um_per_c = 0;
   // The envelope these gains were fitted in (issue 10), both optional:
   //  - key_rise_range_c (JSON "key_rise_range_c", [low, high] °C per key sensor): the rises ΔT_i
   //    over the fit's states of this coolant (and 0, the cold state), widened by a margin;

@@ -45,6 +45,12 @@ struct FitOptions {
   // 0: plain least squares (seed 000). Default chosen on the machine zoo and checked on
   // descriptions not in it (bench/results/zoo.md, "Secondary keys shrunk").
   double secondary_key_ridge = 0.003;
+  // Each key's own pivot (ThermalGains::offset_um_per_c): besides its slope about the common Px,
+  // each key's rise (and the room's change) also shifts the error over the whole travel. kAuto:
+  // kept when, with the keys and lag chosen, it lowers the leave-one-state-out CV by
+  // min_cv_improvement; kOn / kOff: always / never (kOff = the seed's form).
+  enum class KeyOffsets { kAuto, kOn, kOff };
+  KeyOffsets key_offsets = KeyOffsets::kAuto;
   // Sensors named for another axis ("y_nut" while fitting X) are not candidates
   // when the files name sensors per axis at all (some sensor starts with "x_"):
   // a warm-up that heats every axis at once makes them correlate with this

@@ -69,6 +69,8 @@ struct AxisFitSummary {
   std::vector<std::array<double, 2>> lag_candidates;  // {tau_s, cv_rms_um}
   double key_lag_s = 0;
   std::string lag_reason;
+  bool key_offsets = false;         // each key's own pivot (FitOptions::key_offsets)
+  std::string key_offsets_reason;
   double no_thermal_cv_rms_um = kNaN;    // residual RMS with no thermal term (step 0)
   double reference_position_mm = 0;
   std::string reference_source;          // "option", "metadata", "fitted ...", "default ..."
