@@ -33,6 +33,19 @@ const AxisModel* CompositeModel::FindAxis(const std::string& name) const {
   return nullptr;
 }
 
+namespace {
+
+// Key i's rise held at the gains' fitted envelope (the prediction flagged when it is).
+inline double HeldRise(const ThermalGains& g, std::size_t i, double rise, Prediction& p) {
+  if (i < g.key_rise_range_c.size() && (rise < g.key_rise_range_c[i][0] || rise > g.key_rise_range_c[i][1])) {
+    p.tan_beta_limited = true;
+    return std::clamp(rise, g.key_rise_range_c[i][0], g.key_rise_range_c[i][1]);
+  }
+  return rise;
+}
+
+}  // namespace
+
 Prediction Predict(const AxisModel& axis, double position_mm, Direction direction, const ThermalState& state) {
   const DirectionModel& dm = axis.For(direction);
   Prediction p;
@@ -47,22 +60,23 @@ Prediction Predict(const AxisModel& axis, double position_mm, Direction directio
       double ambient_shift_c = 0;
       if (axis.key_rise_above_ambient && !std::isnan(state.ambient_c) && !std::isnan(axis.ambient_baseline_c))
         ambient_shift_c = state.ambient_c - axis.ambient_baseline_c;
-      double shift_um = 0;  // Σ offset_i·ΔT_i: each key's own pivot
       for (std::size_t i = 0; ok && i < g->k_um_per_mm_per_c.size(); ++i) {
         const double t = state.key_temp_c[i];
         if (std::isnan(t)) {
           ok = false;
           continue;
         }
-        double rise = t - axis.baseline_temp_c[i] - ambient_shift_c;
-        if (i < g->key_rise_range_c.size() &&
-            (rise < g->key_rise_range_c[i][0] || rise > g->key_rise_range_c[i][1])) {
-          rise = std::clamp(rise, g->key_rise_range_c[i][0], g->key_rise_range_c[i][1]);
-          p.tan_beta_limited = true;
-        }
-        tan_beta += g->k_um_per_mm_per_c[i] * rise;
-        if (i < g->offset_um_per_c.size()) shift_um += g->offset_um_per_c[i] * rise;
+        tan_beta += g->k_um_per_mm_per_c[i] * HeldRise(*g, i, t - axis.baseline_temp_c[i] - ambient_shift_c, p);
       }
+      double shift_um = 0;  // Σ offset_i·ΔT_i (+ the room's): each key's own pivot (none in the seed's form)
+      if (ok)
+        if (const KeyShifts* ks = axis.ShiftsFor(direction, g)) {
+          for (std::size_t i = 0; i < ks->offset_um_per_c.size() && i < g->k_um_per_mm_per_c.size(); ++i)
+            shift_um += ks->offset_um_per_c[i] *
+                        HeldRise(*g, i, state.key_temp_c[i] - axis.baseline_temp_c[i] - ambient_shift_c, p);
+          if (!std::isnan(state.ambient_c) && !std::isnan(axis.ambient_baseline_c))
+            shift_um += ks->ambient_offset_um_per_c * (state.ambient_c - axis.ambient_baseline_c);
+        }
       if (!ok) p.tan_beta_limited = false;
       if (ok) {
         if (tan_beta < g->min_tan_beta_um_per_mm || tan_beta > g->max_tan_beta_um_per_mm) {
@@ -71,8 +85,6 @@ Prediction Predict(const AxisModel& axis, double position_mm, Direction directio
         }
         p.tan_beta_um_per_mm = tan_beta;
         p.thermal_um = tan_beta * lever_mm + shift_um;
-        if (g->ambient_offset_um_per_c != 0 && !std::isnan(state.ambient_c) && !std::isnan(axis.ambient_baseline_c))
-          p.thermal_um += g->ambient_offset_um_per_c * (state.ambient_c - axis.ambient_baseline_c);
       }
     }
     if (!axis.ambient_sensor.empty() && !std::isnan(state.ambient_c) && !std::isnan(axis.ambient_baseline_c)) {

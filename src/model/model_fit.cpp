@@ -951,10 +951,8 @@ class AxisFitter {
       sum.key_sensors = model_.key_sensors;
       for (int dir = 0; dir < 2; ++dir)
         {
-          ThermalGains tg{CoolantState::kOff, fits[dir].k, 0};
-          tg.offset_um_per_c = fits[dir].ko;
-          tg.ambient_offset_um_per_c = fits[dir].ambient_offset;
-          model_.directions[dir].thermal.push_back(std::move(tg));
+          model_.directions[dir].thermal.push_back({CoolantState::kOff, fits[dir].k, 0});
+          if (form_.key_offsets) model_.key_shifts[dir].push_back({fits[dir].ko, fits[dir].ambient_offset});
         }
       if (shared_gains_) {
         // Every coolant of the data is recorded, with 0 when the shared gains cover it without a
@@ -1106,21 +1104,22 @@ class AxisFitter {
       }
       for (int dir = 0; dir < 2; ++dir) {
         ThermalGains tg;
+        KeyShifts shifts;  // each key's own pivot (kept only with key offsets)
         tg.coolant = coolant;
         if (own) {
           auto g = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && states.count(p.state); }, keys,
                               false, rho, form_);
           const GainFit& used = g.ok ? g : off_fits[dir];
           tg.k_um_per_mm_per_c = used.k;
-          tg.offset_um_per_c = used.ko;
-          tg.ambient_offset_um_per_c = used.ambient_offset;
+          shifts.offset_um_per_c = used.ko;
+          shifts.ambient_offset_um_per_c = used.ambient_offset;
         } else {
           // The off-coolant gains scaled by one factor fitted on this coolant's states.
           const double f = CoolantFactor(pts, keys, rho, off_fits[dir], dir,
                                          [&](const ThermalPoint& p) { return states.count(p.state) > 0; });
           for (double k : off_fits[dir].k) tg.k_um_per_mm_per_c.push_back(f * k);
-          for (double k : off_fits[dir].ko) tg.offset_um_per_c.push_back(f * k);
-          tg.ambient_offset_um_per_c = off_fits[dir].ambient_offset;
+          for (double k : off_fits[dir].ko) shifts.offset_um_per_c.push_back(f * k);
+          shifts.ambient_offset_um_per_c = off_fits[dir].ambient_offset;
           if (dir == 0)
             sum.coolant_notes.push_back(fmt::format("coolant {}: {} state(s){}: off-coolant gains × one fitted factor "
                                                     "({:.3f} forward",
@@ -1131,6 +1130,7 @@ class AxisFitter {
             sum.coolant_notes.back() += fmt::format(", {:.3f} reverse)", f);
         }
         model_.directions[dir].thermal.push_back(std::move(tg));
+        if (form_.key_offsets) model_.key_shifts[dir].push_back(std::move(shifts));
       }
       if (own)
         sum.coolant_notes.push_back(fmt::format("coolant {}: gains fitted on its own {} state(s){}",

@@ -27,16 +27,17 @@ json GeometricToJson(const GeometricError& g) {
   return j;
 }
 
-json DirectionToJson(const DirectionModel& d) {
+json DirectionToJson(const DirectionModel& d, const std::vector<KeyShifts>& shifts) {
   json thermal = json::array();
-  for (const auto& g : d.thermal) {
+  for (std::size_t gi = 0; gi < d.thermal.size(); ++gi) {
+    const auto& g = d.thermal[gi];
     json e = {{"coolant", std::string(CoolantStateName(g.coolant))},
               {"k_um_per_mm_per_c", g.k_um_per_mm_per_c},
               {"offset_um_per_mm", g.offset_um_per_mm}};
     // Absent = no key pivots (the seed's form; older files read as before).
-    if (!g.offset_um_per_c.empty()) {
-      e["offset_um_per_c"] = g.offset_um_per_c;
-      e["ambient_offset_um_per_c"] = g.ambient_offset_um_per_c;
+    if (gi < shifts.size() && !shifts[gi].offset_um_per_c.empty()) {
+      e["offset_um_per_c"] = shifts[gi].offset_um_per_c;
+      e["ambient_offset_um_per_c"] = shifts[gi].ambient_offset_um_per_c;
     }
     // Absent = no envelope (older files read as before); an open end is written as null.
     auto end = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
@@ -126,7 +127,8 @@ GeometricError GeometricFromJson(const Reader& r, const json& j, const std::stri
   return g;
 }
 
-DirectionModel DirectionFromJson(const Reader& r, const json& j, const std::string& path, std::size_t n_keys) {
+DirectionModel DirectionFromJson(const Reader& r, const json& j, const std::string& path, std::size_t n_keys,
+                                 std::vector<KeyShifts>& shifts) {
   DirectionModel d;
   d.geometric = GeometricFromJson(r, r.Get(j, path, "geometric"), Reader::Join(path, "geometric"));
   if (j.contains("thermal")) {
@@ -146,12 +148,15 @@ DirectionModel DirectionFromJson(const Reader& r, const json& j, const std::stri
                fmt::format("has {} gains but the axis has {} key sensors", g.k_um_per_mm_per_c.size(), n_keys));
       g.offset_um_per_mm = r.NumberOr(t[i], ep, "offset_um_per_mm", 0);
       if (t[i].contains("offset_um_per_c")) {
-        g.offset_um_per_c = r.Numbers(t[i], ep, "offset_um_per_c");
-        if (g.offset_um_per_c.size() != n_keys)
+        KeyShifts ks;
+        ks.offset_um_per_c = r.Numbers(t[i], ep, "offset_um_per_c");
+        if (ks.offset_um_per_c.size() != n_keys)
           r.Fail(Reader::Join(ep, "offset_um_per_c"),
-                 fmt::format("has {} offsets but the axis has {} key sensors", g.offset_um_per_c.size(), n_keys));
+                 fmt::format("has {} offsets but the axis has {} key sensors", ks.offset_um_per_c.size(), n_keys));
+        ks.ambient_offset_um_per_c = r.NumberOr(t[i], ep, "ambient_offset_um_per_c", 0);
+        shifts.resize(i + 1);
+        shifts[i] = std::move(ks);
       }
-      g.ambient_offset_um_per_c = r.NumberOr(t[i], ep, "ambient_offset_um_per_c", 0);
       if (t[i].contains("tan_beta_range_um_per_mm")) {
         const std::string rp = Reader::Join(ep, "tan_beta_range_um_per_mm");
         const json& range = t[i]["tan_beta_range_um_per_mm"];
@@ -195,8 +200,8 @@ nlohmann::json ModelToJson(const CompositeModel& model) {
             {"key_sensors", a.key_sensors},
             {"baseline_temp_c", a.baseline_temp_c},
             {"rho_um_per_mm_per_c", a.rho_um_per_mm_per_c},
-            {"forward", DirectionToJson(a.directions[0])},
-            {"reverse", DirectionToJson(a.directions[1])}};
+            {"forward", DirectionToJson(a.directions[0], a.key_shifts[0])},
+            {"reverse", DirectionToJson(a.directions[1], a.key_shifts[1])}};
     if (!a.ambient_sensor.empty()) {
       ja["ambient_sensor"] = a.ambient_sensor;
       ja["ambient_baseline_c"] = a.ambient_baseline_c;
@@ -340,8 +345,10 @@ CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& sourc
       r.Fail(Reader::Join(p, "key_temperature_rise"),
              fmt::format("'{}' is not \"from_baseline\" or \"above_ambient\"", rise));
     }
-    a.directions[0] = DirectionFromJson(r, r.Get(ja, p, "forward"), Reader::Join(p, "forward"), a.key_sensors.size());
-    a.directions[1] = DirectionFromJson(r, r.Get(ja, p, "reverse"), Reader::Join(p, "reverse"), a.key_sensors.size());
+    a.directions[0] = DirectionFromJson(r, r.Get(ja, p, "forward"), Reader::Join(p, "forward"), a.key_sensors.size(),
+                                        a.key_shifts[0]);
+    a.directions[1] = DirectionFromJson(r, r.Get(ja, p, "reverse"), Reader::Join(p, "reverse"), a.key_sensors.size(),
+                                        a.key_shifts[1]);
     m.axes.push_back(std::move(a));
   }
   if (doc.contains("fit_summary")) m.fit_summary = doc["fit_summary"];

@@ -1,4 +1,4 @@
-// Each key's own pivot (FitOptions::key_offsets, ThermalGains::offset_um_per_c; issue 10): a key's
+// Each key's own pivot (FitOptions::key_offsets, AxisModel::key_shifts; issue 10): a key's
 // rise shifts the error over the whole travel as well as tilting it about Px.
 #include <cmath>
 #include <random>
@@ -27,13 +27,12 @@ AxisModel OneKeyAxis() {
   a.ambient_sensor = "ambient";
   a.ambient_baseline_c = 20;
   a.rho_um_per_mm_per_c = 0;
-  for (auto& d : a.directions) {
-    d.geometric.coefficients_um = {0};
+  for (int d = 0; d < 2; ++d) {
+    a.directions[d].geometric.coefficients_um = {0};
     ThermalGains g;
     g.k_um_per_mm_per_c = {-0.01};
-    g.offset_um_per_c = {1.5};
-    g.ambient_offset_um_per_c = -0.5;
-    d.thermal.push_back(g);
+    a.directions[d].thermal.push_back(g);
+    a.key_shifts[d].push_back({{1.5}, -0.5});
   }
   return a;
 }
@@ -80,10 +79,13 @@ TEST(KeyOffsets, FitRecoversTheShiftsAndKeepsThemByCrossValidation) {
   EXPECT_TRUE(s.key_offsets) << s.key_offsets_reason;
   EXPECT_THAT(s.key_offsets_reason, HasSubstr("each key's own pivot"));
   for (int d = 0; d < 2; ++d) {
-    const auto* g = res.model.axes[0].directions[d].GainsFor(CoolantState::kOff);
-    ASSERT_EQ(g->offset_um_per_c.size(), 2u);
-    EXPECT_NEAR(g->offset_um_per_c[0], 1.2, 0.1) << d;
-    EXPECT_NEAR(g->offset_um_per_c[1], -0.8, 0.1) << d;
+    const auto& ax = res.model.axes[0];
+    const auto* g = ax.directions[d].GainsFor(CoolantState::kOff);
+    const auto* ks = ax.ShiftsFor(d == 0 ? Direction::kForward : Direction::kReverse, g);
+    ASSERT_NE(ks, nullptr);
+    ASSERT_EQ(ks->offset_um_per_c.size(), 2u);
+    EXPECT_NEAR(ks->offset_um_per_c[0], 1.2, 0.1) << d;
+    EXPECT_NEAR(ks->offset_um_per_c[1], -0.8, 0.1) << d;
     EXPECT_NEAR(g->k_um_per_mm_per_c[0], sm.k_nut, 0.0006) << d;
     EXPECT_NEAR(g->k_um_per_mm_per_c[1], sm.k_bearing, 0.0006) << d;
   }
@@ -92,7 +94,7 @@ TEST(KeyOffsets, FitRecoversTheShiftsAndKeepsThemByCrossValidation) {
   o.key_offsets = FitOptions::KeyOffsets::kOff;
   const auto one = FitCompositeModel(ShiftedStates(sm, 1.2, -0.8), o);
   EXPECT_FALSE(one.summary.axes[0].key_offsets);
-  EXPECT_TRUE(one.model.axes[0].directions[0].GainsFor(CoolantState::kOff)->offset_um_per_c.empty());
+  EXPECT_TRUE(one.model.axes[0].key_shifts[0].empty());
   EXPECT_GT(one.summary.axes[0].thermal_cv_rms_um, 3 * s.thermal_cv_rms_um);
 }
 
@@ -104,7 +106,7 @@ TEST(KeyOffsets, AFanAboutOnePivotKeepsTheSeedsForm) {
   const auto& s = res.summary.axes[0];
   EXPECT_FALSE(s.key_offsets) << s.key_offsets_reason;
   EXPECT_THAT(s.key_offsets_reason, HasSubstr("one pivot Px"));
-  EXPECT_TRUE(res.model.axes[0].directions[0].GainsFor(CoolantState::kOff)->offset_um_per_c.empty());
+  EXPECT_TRUE(res.model.axes[0].key_shifts[0].empty());
 }
 
 TEST(KeyOffsets, ModelFileKeepsTheShiftsAndOlderFilesReadWithout) {
@@ -112,16 +114,17 @@ TEST(KeyOffsets, ModelFileKeepsTheShiftsAndOlderFilesReadWithout) {
   m.axes.push_back(OneKeyAxis());
   const std::string text = ModelToJson(m).dump();
   const auto back = ModelFromJson(nlohmann::json::parse(text), "mem.json");
-  const auto* g = back.axes[0].directions[0].GainsFor(CoolantState::kOff);
-  ASSERT_EQ(g->offset_um_per_c.size(), 1u);
-  EXPECT_DOUBLE_EQ(g->offset_um_per_c[0], 1.5);
-  EXPECT_DOUBLE_EQ(g->ambient_offset_um_per_c, -0.5);
+  const auto* ks = back.axes[0].ShiftsFor(Direction::kReverse, back.axes[0].directions[1].GainsFor(CoolantState::kOff));
+  ASSERT_NE(ks, nullptr);
+  ASSERT_EQ(ks->offset_um_per_c.size(), 1u);
+  EXPECT_DOUBLE_EQ(ks->offset_um_per_c[0], 1.5);
+  EXPECT_DOUBLE_EQ(ks->ambient_offset_um_per_c, -0.5);
   // Without the fields (a file written before them): no shift.
   auto plain = m;
-  for (auto& d : plain.axes[0].directions) d.thermal[0].offset_um_per_c.clear(), d.thermal[0].ambient_offset_um_per_c = 0;
+  for (auto& v : plain.axes[0].key_shifts) v.clear();
   const std::string old_text = ModelToJson(plain).dump();
   EXPECT_THAT(old_text, ::testing::Not(HasSubstr("offset_um_per_c")));
-  EXPECT_TRUE(ModelFromJson(nlohmann::json::parse(old_text), "old.json").axes[0].directions[0].thermal[0].offset_um_per_c.empty());
+  EXPECT_TRUE(ModelFromJson(nlohmann::json::parse(old_text), "old.json").axes[0].key_shifts[0].empty());
   // A count that does not match the keys names the field.
   std::string bad = text;
   const auto at = bad.find("\"offset_um_per_c\"");

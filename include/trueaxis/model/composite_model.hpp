@@ -51,13 +51,6 @@ struct ThermalGains {
   CoolantState coolant = CoolantState::kOff;
   std::vector<double> k_um_per_mm_per_c;  // parallel to AxisModel::key_sensors
   double offset_um_per_mm = 0;            // constant term of tanβ (0 in the seed's form)
-  // Each key's own pivot (issue 10, FitOptions::key_offsets): a rise also shifts the error by
-  // offset_um_per_c[i]·ΔT_i over the whole travel, so key i pivots at Px + offset_i/k_i instead of
-  // the common Px (a heated screw end outside the travel, a growing bearing housing). Empty = none
-  // (the seed's form); else parallel to k_um_per_mm_per_c. ambient_offset_um_per_c: the same for
-  // the room's change ΔT_env.
-  std::vector<double> offset_um_per_c;
-  double ambient_offset_um_per_c = 0;
   // The envelope these gains were fitted in (issue 10), both optional:
   //  - key_rise_range_c (JSON "key_rise_range_c", [low, high] °C per key sensor): the rises ΔT_i
   //    over the fit's states of this coolant (and 0, the cold state), widened by a margin;
@@ -70,6 +63,15 @@ struct ThermalGains {
   double min_tan_beta_um_per_mm = -std::numeric_limits<double>::infinity();
   double max_tan_beta_um_per_mm = std::numeric_limits<double>::infinity();
   bool HasTanBetaRange() const { return std::isfinite(min_tan_beta_um_per_mm) || std::isfinite(max_tan_beta_um_per_mm); }
+};
+
+// Each key's own pivot for one gains entry (issue 10, FitOptions::key_offsets): a key's rise also
+// shifts the error by offset_um_per_c[i]·ΔT_i over the whole travel, so key i pivots at
+// Px + offset_i/k_i instead of the common Px (a heated screw end beyond the travel, a growing
+// bearing housing); ambient_offset_um_per_c the same for the room's change ΔT_env.
+struct KeyShifts {
+  std::vector<double> offset_um_per_c;  // parallel to AxisModel::key_sensors; empty = none
+  double ambient_offset_um_per_c = 0;
 };
 
 struct DirectionModel {
@@ -120,6 +122,18 @@ struct AxisModel {
   }  // indexed by DirectionIndex()
 
   const DirectionModel& For(Direction d) const { return directions[DirectionIndex(d)]; }
+  // Each key's own pivot per direction, parallel to directions[d].thermal (empty = none, the seed's
+  // form). Kept here, not in ThermalGains: the compensator's cycle slowed by ~4 ns per axis when
+  // ThermalGains grew (bench/results/runtime.md).
+  std::array<std::vector<KeyShifts>, 2> key_shifts;
+  // The shifts of gains entry `g` of direction `d`; nullptr when it has none.
+  const KeyShifts* ShiftsFor(Direction d, const ThermalGains* g) const {
+    const auto& v = key_shifts[DirectionIndex(d)];
+    const auto& t = directions[DirectionIndex(d)].thermal;
+    if (v.empty() || !g || g < t.data()) return nullptr;
+    const auto i = static_cast<std::size_t>(g - t.data());
+    return i < v.size() && !v[i].offset_um_per_c.empty() ? &v[i] : nullptr;
+  }
 };
 
 // One earlier revision of a model this one was re-fitted from (oldest first).
