@@ -260,6 +260,12 @@ TEST_F(CliFit, BadInputsExitWithFileLineField) {
   r = Cli("fit --out " + P("x.json") + " --max-degree 0 " + files_[0]);
   EXPECT_EQ(r.code, 2);
   EXPECT_THAT(r.out, HasSubstr("max_degree"));
+  r = Cli("fit --out " + P("x.json") + " --key-offsets sometimes " + files_[0]);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("--key-offsets"));
+  r = Cli("fit --out " + P("x.json") + " --secondary-key-ridge -1 " + files_[0]);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("secondary_key_ridge"));
   r = Cli("fit --out " + P("x.json"));
   EXPECT_EQ(r.code, 2);
 
