@@ -68,7 +68,7 @@ void Setup(CLI::App& app) {
                          "with the coolant running), for comparison");
   cmd->add_option("--ambient-hours", opts->demo.ambient_hours,
                   "Hours of the day at which the campaign's ambient days measure the idle machine, increasing, e.g. "
-                  "14 (default: 10,19; bench/results/zoo.md compares)")
+                  "14 (default: 3,10,19; bench/results/zoo.md compares)")
       ->delimiter(',');
   cmd->add_option("--secondary-key-ridge", opts->demo.secondary_key_ridge,
                   "Ridge λ on the bearing key's gain, shrinking it toward the nut-only fit (0: the seed's plain least "

@@ -78,8 +78,9 @@ void Setup(CLI::App& app) {
   cmd->add_option("--ambient-days", opts->ambient_days, "Days after the cold day for the other-ambient measurements")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--ambient-hours", opts->ambient_hours,
-                  "Hours of the day at which each ambient day measures the idle machine, increasing (default 10,19: "
-                  "the room rising and falling; 14: one soaked afternoon, one set of tests shorter; bench/results/zoo.md)")
+                  "Hours of the day at which each ambient day measures the idle machine, increasing (default 3,10,19: "
+                  "the room below the warm structure at night, rising, falling; 14: one soaked afternoon, two sets "
+                  "of tests shorter; bench/results/zoo.md)")
       ->delimiter(',')->capture_default_str();
   cmd->add_flag("--no-coolant", opts->no_coolant, "Skip the coolant session");
   cmd->add_flag("--material-compensation", opts->material_compensation, "Laser material compensation on (CTE 11.5)");
