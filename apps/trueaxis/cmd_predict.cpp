@@ -86,6 +86,16 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
   std::cout << fmt::format("  measured − predicted  ISO 230-2 A {:>8.2f} µm   RMS {:>7.2f} µm   (what would remain after "
                            "compensation)\n",
                            after.axis.A_um, std::sqrt(ss_r / n));
+  // The room outside what the fit saw: the ρ term was extrapolated for those points (never silent).
+  if (const auto amb = axis->ambient_sensor.empty() ? std::nullopt : m.SensorIndex(axis->ambient_sensor)) {
+    std::size_t outside = 0;
+    for (const auto& pt : m.points) outside += axis->AmbientOutsideFittedRange(pt.temperatures_c[*amb]) ? 1 : 0;
+    if (outside)
+      std::cout << fmt::format("  warning: {} of {} points have {} outside the fitted {:.2f} … {:.2f} °C (room term "
+                               "extrapolated)\n",
+                               outside, m.points.size(), axis->ambient_sensor, axis->ambient_fitted_range_c[0],
+                               axis->ambient_fitted_range_c[1]);
+  }
   if (!o.residual_out.empty()) {
     measure::WriteMeasurementCsv(residual, o.residual_out);
     std::cout << fmt::format("wrote {} (deviation_um = measured − predicted)\n", o.residual_out);
@@ -171,6 +181,10 @@ void RunPredict(const PredictOptions& o) {
       temp_outside.push_back(fmt::format("{} {} °C is outside the fitted {:.2f} … {:.2f} °C", axis->key_sensors[k],
                                          FormatShortest(t), r[0], r[1]));
   }
+  if (p.ambient_extrapolated)
+    temp_outside.push_back(fmt::format("{} {} °C is outside the fitted {:.2f} … {:.2f} °C", axis->ambient_sensor,
+                                       FormatShortest(ambient), axis->ambient_fitted_range_c[0],
+                                       axis->ambient_fitted_range_c[1]));
   const auto* gains = axis->For(*dir).GainsFor(*coolant);
 
   if (o.json) {

@@ -76,9 +76,11 @@ std::string DemoResult::BriefReport() const {
   for (std::size_t i = 0; i < machine_axes.size() && i < bound_um.size(); ++i) {
     const std::uint64_t n = i < clamped_cycles.size() ? clamped_cycles[i] : 0;
     const std::uint64_t e = i < extrapolated_cycles.size() ? extrapolated_cycles[i] : 0;
-    bounds += fmt::format("{}{} ±{:g} µm{}{}", bounds.empty() ? "" : ", ", machine_axes[i], bound_um[i],
+    const std::uint64_t room = i < room_extrapolated_cycles.size() ? room_extrapolated_cycles[i] : 0;
+    bounds += fmt::format("{}{} ±{:g} µm{}{}{}", bounds.empty() ? "" : ", ", machine_axes[i], bound_um[i],
                           n ? fmt::format(" (SATURATED in {} cycles)", n) : "",
-                          e ? fmt::format(" (held at the model's fitted envelope in {} cycles)", e) : "");
+                          e ? fmt::format(" (held at the model's fitted envelope in {} cycles)", e) : "",
+                          room ? fmt::format(" (room outside the fitted range in {} cycles)", room) : "");
   }
   if (!bounds.empty()) s += "bounds: " + bounds + "\n";
   return s;
@@ -114,9 +116,11 @@ class DayObserver : public runtime::CycleObserver {
     ++result_.day_cycles;
     if (result_.clamped_cycles.size() < s.axes.size()) result_.clamped_cycles.resize(s.axes.size(), 0);
     if (result_.extrapolated_cycles.size() < s.axes.size()) result_.extrapolated_cycles.resize(s.axes.size(), 0);
+    if (result_.room_extrapolated_cycles.size() < s.axes.size()) result_.room_extrapolated_cycles.resize(s.axes.size(), 0);
     for (std::size_t i = 0; i < s.axes.size(); ++i) {
       if (s.axes[i].clamped) ++result_.clamped_cycles[i];
       if (s.axes[i].prediction.tan_beta_limited) ++result_.extrapolated_cycles[i];
+      if (s.axes[i].prediction.ambient_extrapolated) ++result_.room_extrapolated_cycles[i];
     }
     if (s.alarms != last_alarms_ && result_.alarm_log.size() < 200)
       result_.alarm_log.push_back(fmt::format("{} {}", vm_.IsoTime(), s.alarms ? runtime::AlarmNames(s.alarms) : "cleared"));

@@ -92,14 +92,15 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
   // Saturation is never silent: each axis's bound, and how often the model asked for more.
   page.AddHeading("Compensation bounds and saturation");
   report::HtmlTable bt({"axis", "bound (µm)", "how it was set", "cycles saturated", "share of the day",
-                        "cycles beyond the fitted envelope"});
+                        "cycles beyond the fitted envelope", "cycles with the room outside the fitted range"});
   for (std::size_t i = 0; i < r.machine_axes.size() && i < r.bound_um.size(); ++i) {
     const std::uint64_t n = i < r.clamped_cycles.size() ? r.clamped_cycles[i] : 0;
     bt.AddRow({r.machine_axes[i], fmt::format("±{:g}", r.bound_um[i]),
                i < r.bound_source.size() ? r.bound_source[i] : "", std::to_string(n),
                r.day_cycles ? fmt::format("{:.3f} %", 100.0 * static_cast<double>(n) / static_cast<double>(r.day_cycles))
                             : "-",
-               std::to_string(i < r.extrapolated_cycles.size() ? r.extrapolated_cycles[i] : 0)});
+               std::to_string(i < r.extrapolated_cycles.size() ? r.extrapolated_cycles[i] : 0),
+               std::to_string(i < r.room_extrapolated_cycles.size() ? r.room_extrapolated_cycles[i] : 0)});
   }
   page.AddTable(bt);
   std::uint64_t saturated = 0;
@@ -113,6 +114,13 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
     page.AddNote(fmt::format("WARNING: in {} axis-cycles the temperatures lay beyond the model's fitted envelope "
                              "(alarm model_extrapolated): its thermal slope was held at the envelope's edge "
                              "instead of extrapolated (docs/model-file.md).", extrapolated));
+  std::uint64_t room = 0;
+  for (auto n : r.room_extrapolated_cycles) room += n;
+  if (room)
+    page.AddNote(fmt::format("WARNING: in {} axis-cycles the room temperature lay outside the range the model was "
+                             "fitted on (alarm model_extrapolated): its room term was extrapolated. Calibrate "
+                             "with the room that cold or warm too (docs/campaign.md, --ambient-hours and "
+                             "--ambient-days).", room));
 
   page.AddHeading("Setup");
   const auto& so = o.compensator.shaper;

@@ -89,6 +89,7 @@ Prediction Predict(const AxisModel& axis, double position_mm, Direction directio
     }
     if (!axis.ambient_sensor.empty() && !std::isnan(state.ambient_c) && !std::isnan(axis.ambient_baseline_c)) {
       p.ambient_um = axis.rho_um_per_mm_per_c * (state.ambient_c - axis.ambient_baseline_c) * lever_mm;
+      p.ambient_extrapolated = axis.AmbientOutsideFittedRange(state.ambient_c);
     }
   }
   p.total_um = p.geometric_um + p.thermal_um + p.ambient_um;

@@ -696,6 +696,7 @@ class AxisFitter {
       model_.ambient_sensor = amb;
       model_.ambient_baseline_c = amb_base;
       model_.key_rise_above_ambient = true;
+      if (const auto range = SensorRange(amb); range[0] <= range[1]) model_.ambient_fitted_range_c = range;
     }
 
     // Gains.
@@ -936,18 +937,7 @@ class AxisFitter {
       for (auto k : keys) any_lag = any_lag || key_lag_s[k] > 0;
       if (any_lag)
         for (auto k : keys) model_.key_lag_s.push_back(key_lag_s[k]);
-      for (const auto& name : model_.key_sensors) {
-        std::array<double, 2> range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-        for (const auto* st : all_) {
-          const auto idx = st->measurement.SensorIndex(name);
-          if (!idx) continue;
-          for (const auto& p : st->measurement.points) {
-            const double t = p.temperatures_c[*idx];
-            if (std::isfinite(t)) range[0] = std::min(range[0], t), range[1] = std::max(range[1], t);
-          }
-        }
-        model_.key_fitted_range_c.push_back(range);
-      }
+      for (const auto& name : model_.key_sensors) model_.key_fitted_range_c.push_back(SensorRange(name));
       sum.key_sensors = model_.key_sensors;
       for (int dir = 0; dir < 2; ++dir)
         {
@@ -1227,6 +1217,21 @@ class AxisFitter {
     }
     for (std::size_t si = 0; si < thermal_.size(); ++si)
       sum.states.push_back(stats_for(*thermal_[si], sum.thermal_fitted, stage1_.empty() ? std::array<double, 2>{kNaN, kNaN} : stage1_[si]));
+  }
+
+  // The lowest and highest reading of sensor `name` over every measurement of the fit (±inf
+  // reversed when it has none): the range the model was fitted on.
+  std::array<double, 2> SensorRange(const std::string& name) const {
+    std::array<double, 2> range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    for (const auto* st : all_) {
+      const auto idx = st->measurement.SensorIndex(name);
+      if (!idx) continue;
+      for (const auto& p : st->measurement.points) {
+        const double t = p.temperatures_c[*idx];
+        if (std::isfinite(t)) range[0] = std::min(range[0], t), range[1] = std::max(range[1], t);
+      }
+    }
+    return range;
   }
 
   std::string axis_name_;

@@ -213,6 +213,8 @@ nlohmann::json ModelToJson(const CompositeModel& model) {
       if (!a.key_loss_s[c].empty()) loss[std::string(CoolantStateName(static_cast<CoolantState>(c)))] = a.key_loss_s[c];
     if (!loss.empty()) ja["key_loss_s"] = std::move(loss);
     if (!a.key_fitted_range_c.empty()) ja["key_fitted_range_c"] = a.key_fitted_range_c;
+    if (!a.ambient_sensor.empty() && std::isfinite(a.ambient_fitted_range_c[0]) && std::isfinite(a.ambient_fitted_range_c[1]))
+      ja["ambient_fitted_range_c"] = a.ambient_fitted_range_c;
     axes.push_back(std::move(ja));
   }
   json sources = json::array();
@@ -336,6 +338,14 @@ CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& sourc
     a.rho_um_per_mm_per_c = r.NumberOr(ja, p, "rho_um_per_mm_per_c", 0);
     a.ambient_sensor = r.StringOr(ja, p, "ambient_sensor", "");
     if (!a.ambient_sensor.empty()) a.ambient_baseline_c = r.Number(ja, p, "ambient_baseline_c");
+    if (ja.contains("ambient_fitted_range_c")) {
+      const std::string where = Reader::Join(p, "ambient_fitted_range_c");
+      if (a.ambient_sensor.empty()) r.Fail(where, "needs ambient_sensor");
+      const auto range = r.Numbers(ja, p, "ambient_fitted_range_c");
+      if (range.size() != 2 || !std::isfinite(range[0]) || !std::isfinite(range[1]) || range[0] > range[1])
+        r.Fail(where, "expected [low °C, high °C] with low <= high");
+      a.ambient_fitted_range_c = {range[0], range[1]};
+    }
     const std::string rise = r.StringOr(ja, p, "key_temperature_rise", "from_baseline");
     if (rise == "above_ambient") {
       if (a.ambient_sensor.empty())

@@ -186,7 +186,8 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
   // go through a temporary whose wide copy then stalls on store forwarding: ~5 ns per axis.
   ::new (&st.prediction) model::Prediction(model::Predict(ba->model, st.model_position_mm, st.direction, ts));
   st.thermal_used = keys_ok;
-  if (st.prediction.tan_beta_limited) alarms |= kAlarmModelExtrapolated;  // held at the fitted envelope
+  // Held at the fitted envelope, or the room outside the fitted range (extrapolated): both alarmed.
+  if (st.prediction.tan_beta_limited || st.prediction.ambient_extrapolated) alarms |= kAlarmModelExtrapolated;
   const double desired = model::CorrectionUm(st.prediction);
   return std::isfinite(desired) ? desired : 0.0;  // a broken model never drives the axis
 }

@@ -283,3 +283,38 @@ TEST(Compensator, ThermalStateFollowsTheCoolantAndTheEnvelopeRaisesAnAlarm) {
 
 }  // namespace
 }  // namespace trueaxis::runtime
+
+namespace trueaxis::runtime {
+namespace {
+
+// Issue 10: a room colder or warmer than any state of the fit raises model_extrapolated too; the
+// ρ term is extrapolated (not held), and the alarm clears when the room is back in the range.
+TEST(Compensator, ARoomOutsideTheFittedRangeRaisesModelExtrapolated) {
+  auto m = std::make_shared<model::CompositeModel>(*testing::TestModel());
+  ASSERT_FALSE(m->axes[0].ambient_sensor.empty());
+  const double base = m->axes[0].ambient_baseline_c;
+  m->axes[0].ambient_fitted_range_c = {base - 1, base + 3};
+  // (A rig per room: the temperature pipeline would hold a 3.5 °C jump as a spike.)
+  auto run = [&](double room_c) {
+    Rig r;
+    r.comp->PublishModel(m, "room range");
+    r.cnc.axes[0] = {400, +1, true};
+    r.temps.Set("ambient", room_c);
+    r.temps.Set("nut", room_c + 2);
+    r.temps.Set("bearing", room_c);
+    return r.Cycle(2);
+  };
+  const auto inside = run(base + 1);
+  EXPECT_FALSE(inside.alarms & kAlarmModelExtrapolated) << AlarmNames(inside.alarms);
+  EXPECT_FALSE(inside.axes[0].prediction.ambient_extrapolated);
+  const auto cold = run(base - 2.5);
+  EXPECT_TRUE(cold.alarms & kAlarmModelExtrapolated) << AlarmNames(cold.alarms);
+  EXPECT_TRUE(cold.axes[0].prediction.ambient_extrapolated);
+  EXPECT_FALSE(cold.axes[0].prediction.tan_beta_limited);
+  // Extrapolated, not held: the model's own ρ term at −2.5 °C.
+  EXPECT_NEAR(cold.axes[0].prediction.ambient_um,
+              m->axes[0].rho_um_per_mm_per_c * -2.5 * (m->axes[0].reference_position_mm - 400), 1e-9);
+}
+
+}  // namespace
+}  // namespace trueaxis::runtime

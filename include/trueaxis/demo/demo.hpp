@@ -115,6 +115,9 @@ struct DemoResult {
   // Per machine axis: cycles in which the model's thermal slope was held at its fitted envelope
   // (model::Prediction::tan_beta_limited, alarm model_extrapolated).
   std::vector<std::uint64_t> extrapolated_cycles;
+  // Per machine axis: cycles in which the room temperature lay outside the fit's range (the ρ
+  // term extrapolated, not held: model::Prediction::ambient_extrapolated, alarm model_extrapolated).
+  std::vector<std::uint64_t> room_extrapolated_cycles;
   std::uint64_t day_cycles = 0;
   std::string interface_used;      // "in-process CncLink" or "MODBUS TCP 127.0.0.1:<port>"
   std::vector<std::string> alarm_log;  // "<date> <alarms>" at each change

@@ -126,6 +126,15 @@ struct AxisModel {
   // form). Kept here, not in ThermalGains: the compensator's cycle slowed by ~4 ns per axis when
   // ThermalGains grew (bench/results/runtime.md).
   std::array<std::vector<KeyShifts>, 2> key_shifts;
+  // The lowest and highest ambient reading in the fit's measurements (°C; JSON
+  // "ambient_fitted_range_c"). A room outside it is an extrapolation of the ρ term (and of the
+  // rises above ambient): Predict flags it (Prediction::ambient_extrapolated) but does not hold
+  // it — a machine soaked in a colder room really is shorter. NaN: not recorded (older files).
+  std::array<double, 2> ambient_fitted_range_c{std::numeric_limits<double>::quiet_NaN(),
+                                               std::numeric_limits<double>::quiet_NaN()};
+  bool AmbientOutsideFittedRange(double ambient_c) const {
+    return ambient_c < ambient_fitted_range_c[0] - 1e-9 || ambient_c > ambient_fitted_range_c[1] + 1e-9;
+  }  // false for NaN (either side)
   // The shifts of gains entry `g` of direction `d`; nullptr when it has none.
   const KeyShifts* ShiftsFor(Direction d, const ThermalGains* g) const {
     const auto& v = key_shifts[DirectionIndex(d)];
@@ -191,6 +200,9 @@ struct Prediction {
   // min/max_tan_beta_um_per_mm) and was held at the nearer end: the model was asked to
   // extrapolate (an alarm for the user).
   bool tan_beta_limited = false;
+  // The room temperature lay outside the fit's (AxisModel::ambient_fitted_range_c): the ρ term was
+  // extrapolated, not held (an alarm for the user, as tan_beta_limited).
+  bool ambient_extrapolated = false;
 };
 
 // Predicted error at `position_mm` approached in `direction`. Pure; no allocation.
