@@ -8,6 +8,7 @@
 #include <random>
 
 #include <gmock/gmock.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -126,6 +127,15 @@ TEST_F(CliFit, FitWritesModelReportAndPredictUsesIt) {
                       " --axis X --position-mm 400 --direction + --temp nut=80,bearing=23 --ambient-c 20 --json");
   ASSERT_EQ(hot_json.code, 0) << hot_json.out;
   EXPECT_EQ(nlohmann::json::parse(hot_json.out)["temperatures_outside_fitted_range"].size(), 1u);
+  // A room colder than any state of the fit: the room term extrapolated, said so.
+  ASSERT_TRUE(std::isfinite(m.axes[0].ambient_fitted_range_c[0])) << "the fit records the room's range";
+  const std::string cold_room = fmt::format("{:.1f}", m.axes[0].ambient_fitted_range_c[0] - 2);
+  auto cold = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction + --temp nut=26,bearing=23 --ambient-c " +
+                  cold_room + " --json");
+  ASSERT_EQ(cold.code, 0) << cold.out;
+  const auto outside = nlohmann::json::parse(cold.out)["temperatures_outside_fitted_range"];
+  ASSERT_EQ(outside.size(), 1u) << cold.out;
+  EXPECT_THAT(outside[0].get<std::string>(), HasSubstr("ambient " + cold_room + " °C is outside the fitted"));
   auto lost_point = Cli("predict --model " + P("m.json") +
                         " --axis X --position-mm 400 --direction + --temp nut=2820,bearing=23 --ambient-c 20");
   EXPECT_EQ(lost_point.code, 2) << lost_point.out;
