@@ -25,6 +25,8 @@ ap.add_argument("--secondary-key-ridge", default="",
                 help="ridge on the bearing key's gain (demo --secondary-key-ridge; 0: the seed's plain least squares)")
 ap.add_argument("--key-offsets", default="",
                 help="each key's own pivot: auto, on, off (demo --key-offsets; off: one pivot Px, the seed's form)")
+ap.add_argument("--no-lag-fall", action="store_true",
+                help="fit one lag tau both ways (demo --no-lag-fall): the lag before the longer fall")
 ap.add_argument("machines", nargs="*")
 a = ap.parse_args()
 machines = a.machines or sorted(glob.glob("examples/machines/*.toml"))
@@ -33,7 +35,7 @@ for m in machines:
     name = os.path.splitext(os.path.basename(m))[0]
     out = os.path.join(a.out, name)
     t0 = time.time()
-    r = subprocess.run([a.trueaxis, "demo", "--machine", m, "--seed", str(a.seed), "--out", out, "--quiet"] + (["--no-coolant-memory"] if a.baseline else []) + (["--no-coolant-rest"] if a.no_coolant_rest else []) + (["--ambient-hours", a.ambient_hours] if a.ambient_hours else []) + (["--secondary-key-ridge", a.secondary_key_ridge] if a.secondary_key_ridge else []) + (["--key-offsets", a.key_offsets] if a.key_offsets else []),
+    r = subprocess.run([a.trueaxis, "demo", "--machine", m, "--seed", str(a.seed), "--out", out, "--quiet"] + (["--no-coolant-memory"] if a.baseline else []) + (["--no-coolant-rest"] if a.no_coolant_rest else []) + (["--ambient-hours", a.ambient_hours] if a.ambient_hours else []) + (["--secondary-key-ridge", a.secondary_key_ridge] if a.secondary_key_ridge else []) + (["--key-offsets", a.key_offsets] if a.key_offsets else []) + (["--no-lag-fall"] if a.no_lag_fall else []),
                        capture_output=True, text=True)
     if r.returncode != 0:
         print(f"{name}: demo failed (exit {r.returncode}): {r.stderr.strip()}", file=sys.stderr)

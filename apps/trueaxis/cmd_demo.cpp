@@ -79,6 +79,8 @@ void Setup(CLI::App& app) {
                   "bench/results/zoo.md compares)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
+  cmd->add_flag_function("--no-lag-fall", [opts](std::int64_t) { opts->demo.lag_fall = false; },
+                         "Fit one lag τ both ways (no longer lag while a key cools), for comparison");
   cmd->add_flag_function("--raw-temperatures", [opts](std::int64_t) { opts->demo.signal_processing = false; },
                          "Feed the compensator the raw sensor readings instead of the temperature pipeline "
                          "(filter + fault status, on by default as in `trueaxis run`), for comparison");

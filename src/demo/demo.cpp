@@ -508,6 +508,7 @@ DemoResult RunDemo(const DemoOptions& o) {
     if (o.geometric == "table") fo.geometric = model::FitOptions::Geometric::kTable;
     if (!o.thermal_lag) fo.key_lag_grid_s = {0};
     fo.secondary_key_ridge = o.secondary_key_ridge;
+    if (!o.lag_fall) fo.key_lag_fall_grid = {1};
     fo.key_offsets = o.key_offsets == "on"    ? model::FitOptions::KeyOffsets::kOn
                      : o.key_offsets == "off" ? model::FitOptions::KeyOffsets::kOff
                                               : model::FitOptions::KeyOffsets::kAuto;

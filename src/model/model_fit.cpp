@@ -568,7 +568,9 @@ class AxisFitter {
     if (!amb.empty() && !std::isfinite(amb_base))
       throw InputError(cold_.source, 0, fmt::format("t_{}_c", amb), "the ambient sensor has no reading in the cold state");
 
-    // Thermal points; each candidate's rise lagged by its own τ (0: each point's own reading).
+    // Thermal points; each candidate's rise lagged by its own τ (0: each point's own reading),
+    // `fall_factor` times longer while it falls (dry; chosen after τ below).
+    double fall_factor = 1;
     auto build_points = [&](const std::vector<double>& tau_s, const std::array<double, kCoolantStateCount>& loss_s = {}) {
     std::vector<ThermalPoint> pts;
     for (std::size_t si = 0; si < thermal_.size(); ++si) {
@@ -581,6 +583,7 @@ class AxisFitter {
         if (idx[j] && j < tau_s.size() && tau_s[j] > 0) {
           KeySeriesDynamics d;
           d.tau_lag_s = tau_s[j];
+          d.fall_factor = fall_factor;
           d.tau_loss_s = loss_s;
           d.baseline_c = base[j];
           if (amb_idx) d.ambient_index = amb_idx, d.ambient_baseline_c = amb_base;
@@ -762,6 +765,9 @@ class AxisFitter {
           CrossValidate(pts, off_states, keys, false, fit_rho ? joint_rho(keys) : rho, form_);
       sum.lag_candidates.push_back({0, cv0});
       double best_cv = cv0, best_tau = 0;
+      // With each τ, each factor of a falling key's longer lag (jointly: a longer fall pairs with a
+      // shorter rise); the factor is judged after the plain τ, below.
+      double best_fall_cv = std::numeric_limits<double>::infinity(), best_fall_tau = 0, best_fall = 1;
       for (double tau : o_.key_lag_grid_s) {
         if (!(tau > 0)) continue;
         std::vector<double> taus(candidates.size(), 0.0);
@@ -769,6 +775,13 @@ class AxisFitter {
         const double cv = cv_of(taus, nullptr);
         sum.lag_candidates.push_back({tau, cv});
         if (cv < best_cv) best_cv = cv, best_tau = tau;
+        for (double f : o_.key_lag_fall_grid) {
+          if (f == 1) continue;
+          fall_factor = f;
+          const double cv_f = cv_of(taus, nullptr);
+          if (cv_f < best_fall_cv) best_fall_cv = cv_f, best_fall_tau = tau, best_fall = f;
+        }
+        fall_factor = 1;
       }
       const double gain = 1 - o_.min_lag_cv_improvement;
       double cur_cv = cv0;
@@ -792,13 +805,37 @@ class AxisFitter {
                 cur_cv = cv;
               }
             }
+      // A falling key lags longer (AxisModel::key_lag_fall_factor), kept by the same rule.
+      std::string fall;
+      if (per_key.empty() && best_fall != 1 && best_fall_cv <= gain * cur_cv) {
+        fall = fmt::format("; with a falling key lagging {}× longer (τ = {} s rising): {:.3f} → {:.3f} µm",
+                           FormatShortest(best_fall), FormatShortest(best_fall_tau), cur_cv, best_fall_cv);
+        for (auto k : keys) key_lag_s[k] = best_fall_tau;
+        fall_factor = best_fall;
+        cur_cv = best_fall_cv;
+      } else if (!per_key.empty()) {  // each key's own τ: the factor alone, on top of them
+        double best_f = 1, best_f_cv = cur_cv;
+        for (double f : o_.key_lag_fall_grid) {
+          if (f == 1) continue;
+          fall_factor = f;
+          const double cv = cv_of(key_lag_s, nullptr);
+          if (cv < best_f_cv) best_f_cv = cv, best_f = f;
+        }
+        fall_factor = 1;
+        if (best_f != 1 && best_f_cv <= gain * cur_cv) {
+          fall = fmt::format("; with a falling key lagging {}× longer: {:.3f} → {:.3f} µm", FormatShortest(best_f),
+                             cur_cv, best_f_cv);
+          fall_factor = best_f;
+          cur_cv = best_f_cv;
+        }
+      }
       if (cur_cv < cv0) {
         cv_of(key_lag_s, &pts);
-        sum.lag_reason = fmt::format("{}{}", best_tau > 0 && best_cv <= gain * cv0
-                                                 ? fmt::format("τ = {} s lowers the LOSO CV from {:.3f} to {:.3f} µm",
-                                                               FormatShortest(best_tau), cv0, best_cv)
-                                                 : std::string("one τ for all keys: none helps"),
-                                     per_key);
+        sum.lag_reason = fmt::format("{}{}{}", best_tau > 0 && best_cv <= gain * cv0
+                                                   ? fmt::format("τ = {} s lowers the LOSO CV from {:.3f} to {:.3f} µm",
+                                                                 FormatShortest(best_tau), cv0, best_cv)
+                                                   : std::string("one τ for all keys: none helps"),
+                                     per_key, fall);
       } else {
         sum.lag_reason = best_tau > 0 ? fmt::format("no lag: the best τ = {} s lowers the LOSO CV by less than {:.0f} % "
                                                     "({:.3f} → {:.3f} µm)",
@@ -935,8 +972,10 @@ class AxisFitter {
       }
       bool any_lag = false;
       for (auto k : keys) any_lag = any_lag || key_lag_s[k] > 0;
-      if (any_lag)
+      if (any_lag) {
         for (auto k : keys) model_.key_lag_s.push_back(key_lag_s[k]);
+        model_.key_lag_fall_factor = fall_factor;
+      }
       for (const auto& name : model_.key_sensors) model_.key_fitted_range_c.push_back(SensorRange(name));
       sum.key_sensors = model_.key_sensors;
       for (int dir = 0; dir < 2; ++dir)
@@ -1280,6 +1319,10 @@ std::vector<double> ObservedSensorSeries(const measure::Measurement& m, std::siz
     return std::isfinite(amb) ? d.baseline_c + (amb - d.ambient_baseline_c) : d.baseline_c;
   };
   auto loss = [&](CoolantState c) { return d.tau_loss_s[static_cast<std::size_t>(c) % d.tau_loss_s.size()]; };
+  // The lag's τ for one step (AxisModel::KeyLagS(k, state, raw)): longer while the reading falls, dry.
+  auto tau_for = [&](double state_c, double raw_c, CoolantState c) {
+    return raw_c < state_c && !(loss(c) > 0) ? d.fall_factor * d.tau_lag_s : d.tau_lag_s;
+  };
   double state = kNaN, last_t = kNaN;
   if (history && d.tau_lag_s > 0 && all_timed)
     for (std::size_t r = 0; r < history->time_s.size(); ++r) {
@@ -1288,7 +1331,7 @@ std::vector<double> ObservedSensorSeries(const measure::Measurement& m, std::siz
       if (std::isnan(raw)) continue;  // a flagged reading: the filter carries on over the gap
       const CoolantState c = r < history->coolant.size() ? history->coolant[r] : CoolantState::kOff;
       state = std::isnan(last_t) ? raw
-                                 : ObserverStep(state, raw, sink(row), history->time_s[r] - last_t, d.tau_lag_s, loss(c));
+                                 : ObserverStep(state, raw, sink(row), history->time_s[r] - last_t, tau_for(state, raw, c), loss(c));
       last_t = history->time_s[r];
     }
   for (std::size_t i : order) {
@@ -1298,7 +1341,7 @@ std::vector<double> ObservedSensorSeries(const measure::Measurement& m, std::siz
     // No time stamp: no lag can be applied, the filter restarts at the reading.
     state = std::isnan(now) || std::isnan(last_t)
                 ? raw
-                : ObserverStep(state, raw, sink(p.temperatures_c), now - last_t, d.tau_lag_s, loss(d.coolant));
+                : ObserverStep(state, raw, sink(p.temperatures_c), now - last_t, tau_for(state, raw, d.coolant), loss(d.coolant));
     if (std::isnan(state)) state = raw;
     last_t = now;
     out[i] = state;
@@ -1324,6 +1367,7 @@ std::vector<PointTemperatures> LaggedKeyTemperatures(const AxisModel& axis, cons
     if (!idx) continue;
     KeySeriesDynamics d;
     d.tau_lag_s = axis.KeyLagS(k);
+    d.fall_factor = axis.key_lag_fall_factor;
     for (std::size_t c = 0; c < d.tau_loss_s.size(); ++c) d.tau_loss_s[c] = axis.KeyLossS(k, static_cast<CoolantState>(c));
     d.baseline_c = k < axis.baseline_temp_c.size() ? axis.baseline_temp_c[k] : kNaN;
     if (axis.key_rise_above_ambient) {

@@ -208,6 +208,7 @@ nlohmann::json ModelToJson(const CompositeModel& model) {
     }
     ja["key_temperature_rise"] = a.key_rise_above_ambient ? "above_ambient" : "from_baseline";
     if (a.HasKeyLag()) ja["key_lag_s"] = a.key_lag_s;  // absent = no lag (older readers see today's model)
+    if (a.HasKeyLag() && a.key_lag_fall_factor != 1) ja["key_lag_fall_factor"] = a.key_lag_fall_factor;
     json loss = json::object();  // absent = no coolant loss
     for (std::size_t c = 0; c < a.key_loss_s.size(); ++c)
       if (!a.key_loss_s[c].empty()) loss[std::string(CoolantStateName(static_cast<CoolantState>(c)))] = a.key_loss_s[c];
@@ -335,6 +336,9 @@ CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& sourc
         if (!(a.key_lag_s[k] >= 0) || !std::isfinite(a.key_lag_s[k]))
           r.Fail(fmt::format("{}.key_lag_s[{}]", p, k), "must be a finite number of seconds >= 0");
     }
+    a.key_lag_fall_factor = r.NumberOr(ja, p, "key_lag_fall_factor", 1);
+    if (!(a.key_lag_fall_factor >= 1) || !std::isfinite(a.key_lag_fall_factor))
+      r.Fail(Reader::Join(p, "key_lag_fall_factor"), "must be a finite factor >= 1 (1: one τ both ways)");
     a.rho_um_per_mm_per_c = r.NumberOr(ja, p, "rho_um_per_mm_per_c", 0);
     a.ambient_sensor = r.StringOr(ja, p, "ambient_sensor", "");
     if (!a.ambient_sensor.empty()) a.ambient_baseline_c = r.Number(ja, p, "ambient_baseline_c");

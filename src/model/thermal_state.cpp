@@ -40,7 +40,7 @@ void AdvanceThermalState(const AxisModel& axis, AxisThermalState& state, const T
     const double raw = in.key_c[k];
     const double tau_loss = k < loss.size() ? loss[k] : 0.0;
     if (!state.valid) state.key_c[k] = raw;
-    else if (!(tau_loss > 0)) state.key_c[k] = LagStep(state.key_c[k], raw, dt_s, axis.KeyLagS(k));
+    else if (!(tau_loss > 0)) state.key_c[k] = LagStep(state.key_c[k], raw, dt_s, axis.KeyLagS(k, state.key_c[k], raw));
     else state.key_c[k] = ObserverStep(state.key_c[k], raw, KeySinkC(axis, k, in.ambient_c), dt_s, axis.KeyLagS(k), tau_loss);
   }
   state.valid = all_read;

@@ -54,6 +54,9 @@ struct DemoOptions {
   double secondary_key_ridge = model::FitOptions{}.secondary_key_ridge;
   // Each key's own pivot (model::FitOptions::key_offsets): "auto", "on" or "off" (the seed's one Px).
   std::string key_offsets = "auto";
+  // A falling key's longer lag (model::FitOptions::key_lag_fall_grid): true = by the fit's CV;
+  // false = one τ both ways, for comparison (bench/results/zoo.md).
+  bool lag_fall = true;
   // The hours of the day the campaign's ambient days measure the idle machine at
   // (sim::CampaignOptions::ambient_hours); empty: the campaign's default.
   std::vector<double> ambient_hours;

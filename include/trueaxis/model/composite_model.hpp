@@ -100,6 +100,11 @@ struct AxisModel {
   // Empty or 0: no lag. The caller (runtime, predict --measurement) lags the readings
   // with LagStep() before they enter Predict(); Predict itself takes the lagged values.
   std::vector<double> key_lag_s;
+  // While a key's reading falls below its lagged value (and no coolant loss draws it), the lag's τ
+  // is this many times longer (JSON "key_lag_fall_factor"; 1 or absent: one τ both ways). The
+  // screw keeps its heat after the nut's friction stops: the nut sensor cools faster than the
+  // screw it stands for (issue 10; chosen by the fit's CV, FitOptions::key_lag_fall_grid).
+  double key_lag_fall_factor = 1;
   // Per coolant state (indexed by CoolantState), per key sensor: the time constant (s) with which
   // that coolant draws the key's effective temperature towards the room (thermal_state.hpp,
   // JSON "key_loss_s": {"flood": [...]}). Empty or 0: no loss (the plain lag).
@@ -111,6 +116,10 @@ struct AxisModel {
 
   // τ of key sensor i (0 when not given).
   double KeyLagS(std::size_t i) const { return i < key_lag_s.size() ? key_lag_s[i] : 0.0; }
+  // τ of key sensor i for one step from `state_c` towards the reading `raw_c` (no coolant loss).
+  double KeyLagS(std::size_t i, double state_c, double raw_c) const {
+    return raw_c < state_c ? key_lag_fall_factor * KeyLagS(i) : KeyLagS(i);
+  }
   double KeyLossS(std::size_t i, CoolantState c) const {
     const auto& v = key_loss_s[static_cast<std::size_t>(c) % key_loss_s.size()];
     return i < v.size() ? v[i] : 0.0;

@@ -65,6 +65,7 @@ std::vector<double> LaggedSensorSeries(const measure::Measurement& m, std::size_
 // baseline; `coolant` the measurement's own coolant state (the history's rows carry theirs).
 struct KeySeriesDynamics {
   double tau_lag_s = 0;
+  double fall_factor = 1;  // τ × this while the reading is below the state and no loss runs
   std::array<double, kCoolantStateCount> tau_loss_s{};
   double baseline_c = kNaN;
   double ambient_baseline_c = kNaN;
