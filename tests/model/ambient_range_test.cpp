@@ -19,21 +19,9 @@ using testing::SyntheticMachine;
 using ::testing::HasSubstr;
 
 AxisModel RoomAxis() {
-  AxisModel a;
-  a.axis = "X";
-  a.reference_position_mm = 0;
-  a.key_sensors = {"nut"};
-  a.baseline_temp_c = {20};
-  a.ambient_sensor = "ambient";
-  a.ambient_baseline_c = 20;
+  AxisModel a = testing::OneKeyAxis(-0.006);
   a.rho_um_per_mm_per_c = -0.0115;
   a.ambient_fitted_range_c = {18.5, 24.0};
-  for (auto& d : a.directions) {
-    d.geometric.coefficients_um = {0};
-    ThermalGains g;
-    g.k_um_per_mm_per_c = {-0.006};
-    d.thermal.push_back(g);
-  }
   return a;
 }
 

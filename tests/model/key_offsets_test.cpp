@@ -19,21 +19,9 @@ using testing::SyntheticMachine;
 using ::testing::HasSubstr;
 
 AxisModel OneKeyAxis() {
-  AxisModel a;
-  a.axis = "X";
+  AxisModel a = testing::OneKeyAxis(-0.01);
   a.reference_position_mm = 10;
-  a.key_sensors = {"nut"};
-  a.baseline_temp_c = {20};
-  a.ambient_sensor = "ambient";
-  a.ambient_baseline_c = 20;
-  a.rho_um_per_mm_per_c = 0;
-  for (int d = 0; d < 2; ++d) {
-    a.directions[d].geometric.coefficients_um = {0};
-    ThermalGains g;
-    g.k_um_per_mm_per_c = {-0.01};
-    a.directions[d].thermal.push_back(g);
-    a.key_shifts[d].push_back({{1.5}, -0.5});
-  }
+  for (auto& shifts : a.key_shifts) shifts.push_back({{1.5}, -0.5});
   return a;
 }
 

@@ -21,19 +21,10 @@ using ::testing::HasSubstr;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 AxisModel LaggedAxis(double fall_factor) {
-  AxisModel a;
-  a.axis = "X";
-  a.key_sensors = {"nut"};
-  a.baseline_temp_c = {20};
+  AxisModel a = testing::OneKeyAxis(-0.01);
   a.key_lag_s = {300};
   a.key_lag_fall_factor = fall_factor;
   a.key_loss_s[static_cast<std::size_t>(CoolantState::kFlood)] = {600};
-  for (auto& d : a.directions) {
-    d.geometric.coefficients_um = {0};
-    ThermalGains g;
-    g.k_um_per_mm_per_c = {-0.01};
-    d.thermal.push_back(g);
-  }
   return a;
 }
 
@@ -82,12 +73,7 @@ std::vector<FitState> AsymmetricStates(unsigned seed, double fall_tau_s) {
   });
 }
 
-double ResidualRms(const AxisModel& a, const FitState& s) {
-  const auto res = PredictionResidual(a, s.measurement, s.coolant);
-  double ss = 0;
-  for (const auto& p : res.points) ss += p.deviation_um * p.deviation_um;
-  return std::sqrt(ss / static_cast<double>(res.points.size()));
-}
+using testing::ResidualRms;
 
 TEST(LagFall, TheFitRecoversAKnownFallFactorAndKeepsNoneWhenThereIsNone) {
   const auto o = testing::TimedFitOptions();

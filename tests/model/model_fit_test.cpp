@@ -440,19 +440,9 @@ namespace trueaxis::model {
 namespace {
 
 TEST(CompositeModelAboveAmbient, KeyRiseIsMeasuredAboveTheRoomAndFallsBackWithoutIt) {
-  AxisModel a;
-  a.axis = "X";
-  a.reference_position_mm = 0;
-  a.key_sensors = {"nut"};
-  a.baseline_temp_c = {20};
-  a.ambient_sensor = "ambient";
-  a.ambient_baseline_c = 20;
+  AxisModel a = testing::OneKeyAxis(-0.005);
   a.rho_um_per_mm_per_c = -0.01;
   a.key_rise_above_ambient = true;
-  for (auto& d : a.directions) {
-    d.geometric.coefficients_um = {0};
-    d.thermal = {{CoolantState::kOff, {-0.005}, 0}};
-  }
   const double soak[] = {23};  // the whole machine at a 3 °C warmer room: no rise above ambient
   auto p = Predict(a, 100, Direction::kForward, {soak, 23.0, CoolantState::kOff, true});
   EXPECT_DOUBLE_EQ(p.thermal_um, 0);

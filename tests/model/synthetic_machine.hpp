@@ -9,6 +9,7 @@
 #include "trueaxis/measure/measurement.hpp"
 #include "trueaxis/model/fit_input.hpp"
 #include "trueaxis/model/fit_options.hpp"
+#include "trueaxis/model/model_fit.hpp"
 
 namespace trueaxis::model::testing {
 
@@ -156,6 +157,33 @@ inline FitOptions TimedFitOptions() {
   o.ambient_sensor = "none";
   o.key_lag_grid_s = {0, 150, 300, 600, 1200, 2400};
   return o;
+}
+
+// A hand-made one-key axis "X": key "nut" and room "ambient", both with baseline 20 °C, Px 0,
+// Er(x) = 0 and one coolant-off gains entry k (µm per mm per °C); tests set what they need on top.
+inline AxisModel OneKeyAxis(double k_um_per_mm_per_c) {
+  AxisModel a;
+  a.axis = "X";
+  a.reference_position_mm = 0;
+  a.key_sensors = {"nut"};
+  a.baseline_temp_c = {20};
+  a.ambient_sensor = "ambient";
+  a.ambient_baseline_c = 20;
+  for (auto& d : a.directions) {
+    d.geometric.coefficients_um = {0};
+    ThermalGains g;
+    g.k_um_per_mm_per_c = {k_um_per_mm_per_c};
+    d.thermal.push_back(g);
+  }
+  return a;
+}
+
+// RMS of measured − predicted over every point of a state (the model's own thermal state along it).
+inline double ResidualRms(const AxisModel& a, const FitState& s) {
+  const auto res = PredictionResidual(a, s.measurement, s.coolant);
+  double ss = 0;
+  for (const auto& p : res.points) ss += p.deviation_um * p.deviation_um;
+  return std::sqrt(ss / static_cast<double>(res.points.size()));
 }
 
 }  // namespace trueaxis::model::testing

@@ -107,12 +107,7 @@ FitOptions MemoryFitOptions() {
   return o;
 }
 
-double ResidualRms(const AxisModel& a, const FitState& s) {
-  const auto res = PredictionResidual(a, s.measurement, s.coolant);
-  double ss = 0;
-  for (const auto& p : res.points) ss += p.deviation_um * p.deviation_um;
-  return std::sqrt(ss / static_cast<double>(res.points.size()));
-}
+using testing::ResidualRms;
 
 TEST(CoolantMemoryFit, RecoversTheKnownLagLossAndGain) {
   CoolantMemoryAxis axis;
