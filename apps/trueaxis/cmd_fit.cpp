@@ -56,6 +56,7 @@ struct FitCliOptions {
   bool reuse_sources = false;
   bool full = false;
   std::vector<double> lag_grid_s = model::FitOptions{}.key_lag_grid_s;
+  std::vector<double> lag_fall_grid = model::FitOptions{}.key_lag_fall_grid;
   std::vector<double> coolant_loss_grid_s = model::FitOptions{}.coolant_loss_grid_s;
   double envelope_margin = model::FitOptions{}.tan_beta_margin;
 };
@@ -118,6 +119,7 @@ void RunFit(const FitCliOptions& o) {
   fo.ambient_sensor = o.ambient_sensor;
   fo.default_axis = o.axis;
   fo.key_lag_grid_s = o.lag_grid_s;
+  fo.key_lag_fall_grid = o.lag_fall_grid;
   fo.coolant_loss_grid_s = o.coolant_loss_grid_s;
   if (o.coolant_loss_grid_s.size() == 1 && o.coolant_loss_grid_s[0] < 0) fo.coolant_loss_grid_s.clear();
   fo.tan_beta_margin = o.envelope_margin;
@@ -190,6 +192,12 @@ void Setup(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--lag-grid-s", opts->lag_grid_s,
                   "Key-sensor lag time constants τ (s) tried by cross-validation (comma separated); 0 alone: no lag")
+      ->delimiter(',')
+      ->allow_extra_args(false)  // one token: the measurement files after it stay positional
+      ->capture_default_str();
+  cmd->add_option("--lag-fall-grid", opts->lag_fall_grid,
+                  "Factors tried for a cooling key's longer lag τ, jointly with --lag-grid-s (1: one τ both ways; "
+                  "docs/model-file.md step 7)")
       ->delimiter(',')
       ->allow_extra_args(false)  // one token: the measurement files after it stay positional
       ->capture_default_str();

@@ -276,6 +276,9 @@ TEST_F(CliFit, BadInputsExitWithFileLineField) {
   r = Cli("fit --out " + P("x.json") + " --secondary-key-ridge -1 " + files_[0]);
   EXPECT_EQ(r.code, 2);
   EXPECT_THAT(r.out, HasSubstr("secondary_key_ridge"));
+  r = Cli("fit --out " + P("x.json") + " --lag-fall-grid 1,0.5 " + files_[0]);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("key_lag_fall_grid"));
   r = Cli("fit --out " + P("x.json"));
   EXPECT_EQ(r.code, 2);
 
