@@ -15,18 +15,26 @@ ap = argparse.ArgumentParser()
 ap.add_argument("--seed", type=int, default=3)
 ap.add_argument("--out", default="out/zoo")
 ap.add_argument("--trueaxis", default="build/apps/trueaxis/trueaxis")
-ap.add_argument("--baseline", action="store_true",
-                help="fit without the coolant memory and fitted envelope (demo --no-coolant-memory): the model before them")
-ap.add_argument("--no-coolant-rest", action="store_true",
-                help="calibrate without the campaign's stop under coolant (demo --no-coolant-rest), for comparison")
-ap.add_argument("--ambient-hours", default="",
-                help="hours of the day the campaign's ambient days measure at, e.g. 10,19 or 14 (demo --ambient-hours; default: the demo's)")
-ap.add_argument("--secondary-key-ridge", default="",
-                help="ridge on the bearing key's gain (demo --secondary-key-ridge; 0: the seed's plain least squares)")
-ap.add_argument("--key-offsets", default="",
-                help="each key's own pivot: auto, on, off (demo --key-offsets; off: one pivot Px, the seed's form)")
-ap.add_argument("--no-lag-fall", action="store_true",
-                help="fit one lag tau both ways (demo --no-lag-fall): the lag before the longer fall")
+# Options passed on to `trueaxis demo`: (zoo_table option, demo option, flag?, help).
+DEMO_OPTIONS = [
+    ("--baseline", "--no-coolant-memory", True,
+     "fit without the coolant memory and fitted envelope (demo --no-coolant-memory): the model before them"),
+    ("--no-coolant-rest", "--no-coolant-rest", True,
+     "calibrate without the campaign's stop under coolant (demo --no-coolant-rest), for comparison"),
+    ("--ambient-hours", "--ambient-hours", False,
+     "hours of the day the campaign's ambient days measure at, e.g. 10,19 or 14 (demo --ambient-hours; default: the demo's)"),
+    ("--secondary-key-ridge", "--secondary-key-ridge", False,
+     "ridge on the bearing key's gain (demo --secondary-key-ridge; 0: the seed's plain least squares)"),
+    ("--key-offsets", "--key-offsets", False,
+     "each key's own pivot: auto, on, off (demo --key-offsets; off: one pivot Px, the seed's form)"),
+    ("--no-lag-fall", "--no-lag-fall", True,
+     "fit one lag tau both ways (demo --no-lag-fall): the lag before the longer fall"),
+]
+for opt, _, flag, help_text in DEMO_OPTIONS:
+    if flag:
+        ap.add_argument(opt, action="store_true", help=help_text)
+    else:
+        ap.add_argument(opt, default="", help=help_text)
 ap.add_argument("machines", nargs="*")
 a = ap.parse_args()
 machines = a.machines or sorted(glob.glob("examples/machines/*.toml"))
@@ -35,7 +43,12 @@ for m in machines:
     name = os.path.splitext(os.path.basename(m))[0]
     out = os.path.join(a.out, name)
     t0 = time.time()
-    r = subprocess.run([a.trueaxis, "demo", "--machine", m, "--seed", str(a.seed), "--out", out, "--quiet"] + (["--no-coolant-memory"] if a.baseline else []) + (["--no-coolant-rest"] if a.no_coolant_rest else []) + (["--ambient-hours", a.ambient_hours] if a.ambient_hours else []) + (["--secondary-key-ridge", a.secondary_key_ridge] if a.secondary_key_ridge else []) + (["--key-offsets", a.key_offsets] if a.key_offsets else []) + (["--no-lag-fall"] if a.no_lag_fall else []),
+    demo_args = []
+    for opt, demo_opt, flag, _ in DEMO_OPTIONS:
+        value = getattr(a, opt[2:].replace("-", "_"))
+        if value:
+            demo_args += [demo_opt] if flag else [demo_opt, value]
+    r = subprocess.run([a.trueaxis, "demo", "--machine", m, "--seed", str(a.seed), "--out", out, "--quiet"] + demo_args,
                        capture_output=True, text=True)
     if r.returncode != 0:
         print(f"{name}: demo failed (exit {r.returncode}): {r.stderr.strip()}", file=sys.stderr)

@@ -78,6 +78,7 @@ TEST_F(DemoE2E, CompensatorRanEveryCycleWithoutAlarms) {
   EXPECT_EQ(r.alarms_seen & ~runtime::kAlarmModelExtrapolated, 0u) << runtime::AlarmNames(r.alarms_seen);
   std::uint64_t held = 0;
   for (auto n : r.extrapolated_cycles) held += n;
+  for (auto n : r.room_extrapolated_cycles) held += n;  // the room outside the fitted range: same alarm
   EXPECT_EQ(held > 0, (r.alarms_seen & runtime::kAlarmModelExtrapolated) != 0);
   ASSERT_FALSE(r.day.empty());
   // The correction follows the machine's heat: it moves by tens of µm over the day.
@@ -152,6 +153,28 @@ TEST(DemoCli, BadMachineFileIsAnInputError) {
   const int rc = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(rc));
   EXPECT_EQ(WEXITSTATUS(rc), 2);
+}
+
+}  // namespace
+}  // namespace trueaxis::demo
+
+namespace trueaxis::demo {
+namespace {
+
+// The demo's summary line names every axis-cycle the model extrapolated: the slope held at its
+// envelope, or the room outside the fitted range (issue 10: never silent).
+TEST(DemoBriefReport, NamesCyclesHeldAtTheEnvelopeAndWithTheRoomOutsideTheFittedRange) {
+  DemoResult r;
+  r.machine_axes = {"X", "Y"};
+  r.bound_um = {100, 80};
+  r.clamped_cycles = {0, 0};
+  r.extrapolated_cycles = {5, 0};
+  r.room_extrapolated_cycles = {0, 1234};
+  const std::string b = r.BriefReport();
+  EXPECT_NE(b.find("X ±100 µm (held at the model's fitted envelope in 5 cycles)"), std::string::npos) << b;
+  EXPECT_NE(b.find("Y ±80 µm (room outside the fitted range in 1234 cycles)"), std::string::npos) << b;
+  r.room_extrapolated_cycles = {0, 0};
+  EXPECT_EQ(r.BriefReport().find("room outside"), std::string::npos);
 }
 
 }  // namespace

@@ -263,22 +263,18 @@ TEST_F(CliFit, BadInputsExitWithFileLineField) {
   EXPECT_THAT(r.out, HasSubstr("heated-2.csv"));
   EXPECT_THAT(r.out, HasSubstr("no temperature columns"));
 
-  // Options.
-  r = Cli("fit --out " + P("x.json") + " --geometric spline " + files_[0]);
-  EXPECT_EQ(r.code, 2);
-  EXPECT_THAT(r.out, HasSubstr("--geometric"));
-  r = Cli("fit --out " + P("x.json") + " --max-degree 0 " + files_[0]);
-  EXPECT_EQ(r.code, 2);
-  EXPECT_THAT(r.out, HasSubstr("max_degree"));
-  r = Cli("fit --out " + P("x.json") + " --key-offsets sometimes " + files_[0]);
-  EXPECT_EQ(r.code, 2);
-  EXPECT_THAT(r.out, HasSubstr("--key-offsets"));
-  r = Cli("fit --out " + P("x.json") + " --secondary-key-ridge -1 " + files_[0]);
-  EXPECT_EQ(r.code, 2);
-  EXPECT_THAT(r.out, HasSubstr("secondary_key_ridge"));
-  r = Cli("fit --out " + P("x.json") + " --lag-fall-grid 1,0.5 " + files_[0]);
-  EXPECT_EQ(r.code, 2);
-  EXPECT_THAT(r.out, HasSubstr("key_lag_fall_grid"));
+  // Options: each bad value refused (exit 2), naming the option or the field it sets.
+  const std::pair<std::string, std::string> bad_options[] = {
+      {"--geometric spline", "--geometric"},
+      {"--max-degree 0", "max_degree"},
+      {"--key-offsets sometimes", "--key-offsets"},
+      {"--secondary-key-ridge -1", "secondary_key_ridge"},
+      {"--lag-fall-grid 1,0.5", "key_lag_fall_grid"}};
+  for (const auto& [option, named] : bad_options) {
+    r = Cli("fit --out " + P("x.json") + " " + option + " " + files_[0]);
+    EXPECT_EQ(r.code, 2) << option;
+    EXPECT_THAT(r.out, HasSubstr(named)) << option;
+  }
   r = Cli("fit --out " + P("x.json"));
   EXPECT_EQ(r.code, 2);
 
