@@ -806,6 +806,7 @@ class AxisFitter {
               }
             }
       // A falling key lags longer (AxisModel::key_lag_fall_factor), kept by the same rule.
+      // (With each key's own τ, per_key_lag, one τ both ways: the factor is searched with one τ.)
       std::string fall;
       if (per_key.empty() && best_fall != 1 && best_fall_cv <= gain * cur_cv) {
         fall = fmt::format("; with a falling key lagging {}× longer (τ = {} s rising): {:.3f} → {:.3f} µm",
@@ -813,21 +814,6 @@ class AxisFitter {
         for (auto k : keys) key_lag_s[k] = best_fall_tau;
         fall_factor = best_fall;
         cur_cv = best_fall_cv;
-      } else if (!per_key.empty()) {  // each key's own τ: the factor alone, on top of them
-        double best_f = 1, best_f_cv = cur_cv;
-        for (double f : o_.key_lag_fall_grid) {
-          if (f == 1) continue;
-          fall_factor = f;
-          const double cv = cv_of(key_lag_s, nullptr);
-          if (cv < best_f_cv) best_f_cv = cv, best_f = f;
-        }
-        fall_factor = 1;
-        if (best_f != 1 && best_f_cv <= gain * cur_cv) {
-          fall = fmt::format("; with a falling key lagging {}× longer: {:.3f} → {:.3f} µm", FormatShortest(best_f),
-                             cur_cv, best_f_cv);
-          fall_factor = best_f;
-          cur_cv = best_f_cv;
-        }
       }
       if (cur_cv < cv0) {
         cv_of(key_lag_s, &pts);

@@ -66,7 +66,7 @@ struct FitOptions {
   // gain per direction and coolant state (set after the VMC-850 study, bench/results/modelfit.md).
   double min_lag_cv_improvement = 0.01;
   // With a lag kept: the factors tried for a falling key's longer τ (AxisModel::key_lag_fall_factor),
-  // kept by the same CV rule. {1}: one τ both ways (the lag as before).
+  // kept by the same CV rule. {1}: one τ both ways (the lag as before). Not with per_key_lag.
   std::vector<double> key_lag_fall_grid = {1, 2, 4, 8};
   // After the common τ, try each key's own τ (coordinate descent over the grid, two passes). Off by
   // default: on the machine zoo the per-key τ chosen by the campaign's LOSO CV did not carry over
