@@ -17,8 +17,11 @@ ap.add_argument("--out", default="out/zoo")
 ap.add_argument("--trueaxis", default="build/apps/trueaxis/trueaxis")
 # Options passed on to `trueaxis demo`: (zoo_table option, demo option, flag?, help).
 DEMO_OPTIONS = [
-    ("--baseline", "--no-coolant-memory", True,
-     "fit without the coolant memory and fitted envelope (demo --no-coolant-memory): the model before them"),
+    ("--baseline", "--no-envelope", True,
+     "fit without the fitted envelope (demo --no-envelope; the coolant memory is off by default): the model "
+     "before issue 10's coolant work"),
+    ("--coolant-memory", "--coolant-memory", True,
+     "let the fit try the coolant memory (demo --coolant-memory): stop 27's default"),
     ("--no-coolant-rest", "--no-coolant-rest", True,
      "calibrate without the campaign's stop under coolant (demo --no-coolant-rest), for comparison"),
     ("--ambient-hours", "--ambient-hours", False,

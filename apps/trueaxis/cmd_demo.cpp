@@ -60,9 +60,14 @@ void Setup(CLI::App& app) {
   cmd->add_option("--modbus-port", opts->demo.modbus_port, "Port of that terminal (default: first free from 15020)");
   cmd->add_flag_function("--no-lag", [opts](std::int64_t) { opts->demo.thermal_lag = false; },
                 "Fit the static thermal model (no key-sensor lag), for comparison with the default");
-  cmd->add_flag_function("--no-coolant-memory", [opts](std::int64_t) { opts->demo.coolant_memory = false; },
-                         "Fit without issue 10's coolant memory and fitted envelope (gains per coolant state), the "
-                         "baseline of bench/results/zoo.md");
+  cmd->add_flag("--coolant-memory", opts->demo.coolant_memory,
+                "Let the fit try issue 10's coolant memory (one set of gains, the keys drawn to the room under "
+                "coolant; fit --coolant-loss-grid-s), off by default since it did worse on the machine zoo "
+                "(bench/results/zoo.md)");
+  cmd->add_flag_function("--no-envelope", [opts](std::int64_t) { opts->demo.fitted_envelope = false; },
+                         "Fit without the gains' fitted envelope (fit --envelope-margin -1): gains per coolant state "
+                         "and no envelope is the model before issue 10's coolant work, the baseline of "
+                         "bench/results/zoo.md");
   cmd->add_flag_function("--no-coolant-rest", [opts](std::int64_t) { opts->demo.coolant_rest = false; },
                          "Calibrate without the campaign's stop under coolant (the measurements of the axis at rest "
                          "with the coolant running), for comparison");

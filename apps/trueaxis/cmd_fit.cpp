@@ -183,7 +183,7 @@ void Setup(CLI::App& app) {
       ->allow_extra_args(false);  // --keys a,b file.csv: the file stays an input
   cmd->add_option("--coolant-loss-grid-s", opts->coolant_loss_grid_s,
                   "Coolant memory: loss time constants (s) tried with one set of gains for every state (comma "
-                  "separated; -1: none, gains per coolant state as before)")
+                  "separated, e.g. 0,600,1200,2400,4800,9600; default none, -1 also: gains per coolant state)")
       ->delimiter(',')
       ->allow_extra_args(false)
       ->capture_default_str();

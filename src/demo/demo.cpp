@@ -512,10 +512,8 @@ DemoResult RunDemo(const DemoOptions& o) {
     fo.key_offsets = o.key_offsets == "on"    ? model::FitOptions::KeyOffsets::kOn
                      : o.key_offsets == "off" ? model::FitOptions::KeyOffsets::kOff
                                               : model::FitOptions::KeyOffsets::kAuto;
-    if (!o.coolant_memory) {
-      fo.coolant_loss_grid_s.clear();
-      fo.tan_beta_margin = -1;
-    }
+    if (o.coolant_memory) fo.coolant_loss_grid_s = model::FitOptions::CoolantMemoryGridS();
+    if (!o.fitted_envelope) fo.tan_beta_margin = -1;
     model::FitResult one = model::FitCompositeModel(axis_states, fo);
     // Er(x): the seed-000 polynomial, unless the seed-002 table (linear
     // interpolation between the measured targets) cross-validates better over

@@ -925,6 +925,10 @@ class AxisFitter {
               "{:.3f} µm)",
               losses, best_cv, cv_table, best_off_cv, cv_off, off_limit));
         }
+      } else if (thermal && any_lag && !grid && !by_coolant.empty()) {
+        sum.coolant_notes.push_back(
+            "gains per coolant state; the coolant memory was not tried (the default; fit --coolant-loss-grid-s "
+            "0,600,1200,2400,4800,9600 tries it)");
       }
     }
     if (thermal) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "synthetic_machine.hpp"
@@ -124,10 +125,11 @@ TEST(CoolantMemoryFit, RecoversTheKnownLagLossAndGain) {
   // A held-out day (another seed), coolant states included: only the noise remains.
   const auto held = axis.MakeStates(22);
   for (const auto& s : held) EXPECT_LT(ResidualRms(a, s), 2.5 * axis.noise_um) << s.label;
-  // Without the memory (gains per coolant state) the flood states are not followed.
-  auto o = MemoryFitOptions();
-  o.coolant_loss_grid_s.clear();
-  const auto table = FitCompositeModel(axis.MakeStates(21), o).model.axes.at(0);
+  // Without the memory (gains per coolant state: the fit's default, which says it did not try the
+  // memory) the flood states are not followed.
+  const auto table_fit = FitCompositeModel(axis.MakeStates(21), testing::TimedFitOptions());
+  EXPECT_THAT(table_fit.summary.axes.at(0).coolant_notes, ::testing::Contains(::testing::HasSubstr("memory was not tried")));
+  const auto& table = table_fit.model.axes.at(0);
   EXPECT_EQ(table.directions[0].thermal.size(), 2u);
   double worst = 0;
   for (const auto& s : held)

@@ -43,10 +43,12 @@ struct DemoOptions {
   // Thermal lag of the key sensors (model/thermal_lag.hpp): τ chosen by the fit's LOSO CV
   // (FitOptions::key_lag_grid_s). false: the static model (no lag), for comparison.
   bool thermal_lag = true;
-  // Issue 10's coolant memory and fitted envelope (model/thermal_state.hpp, FitOptions::
-  // coolant_loss_grid_s, tan_beta_margin). false: gains per coolant state and no envelope, the
-  // model as before them (the baseline of bench/results/zoo.md).
-  bool coolant_memory = true;
+  // Issue 10's coolant memory (model/thermal_state.hpp, FitOptions::coolant_loss_grid_s): tried by
+  // the fit when true (FitOptions::CoolantMemoryGridS()); off by default, as in the fit.
+  bool coolant_memory = false;
+  // The gains' fitted envelope (FitOptions::tan_beta_margin). false (with the coolant memory off):
+  // the model before issue 10's coolant work, the baseline of bench/results/zoo.md.
+  bool fitted_envelope = true;
   // The campaign's stop under coolant after its coolant warm-up (sim::CampaignOptions::coolant_rest).
   bool coolant_rest = true;
   // Ridge on the gains of the keys after the nut (model::FitOptions::secondary_key_ridge); 0: the
