@@ -927,7 +927,7 @@ class AxisFitter {
         }
       } else if (thermal && any_lag && !grid && !by_coolant.empty()) {
         sum.coolant_notes.push_back(
-            "gains per coolant state; the coolant memory was not tried (the default; fit --coolant-loss-grid-s "
+            "gains per coolant state; the coolant memory was not tried (no loss τ grid, the default; fit --coolant-loss-grid-s "
             "0,600,1200,2400,4800,9600 tries it)");
       }
     }
