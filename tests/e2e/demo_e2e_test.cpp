@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "trueaxis/demo/demo.hpp"
+#include "trueaxis/model/model_json.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/store/history_db.hpp"
 
@@ -131,6 +132,28 @@ TEST_F(DemoE2E, WritesReportModelMeasurementsAndHistory) {
   store::HistoryDb db(r.history_path, store::HistoryDb::Mode::kReadOnly);
   EXPECT_FALSE(db.QueryCompensation({}, {"X"}).empty());
   EXPECT_EQ(db.QueryModelChanges({}).size(), 1u);
+}
+
+// The coolant memory is opt-in (issue 10, bench/results/zoo.md): by default the flood coolant gets
+// its own gains; with DemoOptions::coolant_memory the fit may share one set of gains and record the
+// coolant's loss τ — on this campaign it does (no extra loss), so the two models differ.
+TEST_F(DemoE2E, FloodCoolantHasItsOwnGainsUnlessTheMemoryIsAskedFor) {
+  const auto axis = model::ReadModelFile(result_->model_path).axes.at(0);
+  EXPECT_NE(axis.directions[0].GainsFor(CoolantState::kFlood), axis.directions[0].GainsFor(CoolantState::kOff));
+  EXPECT_TRUE(axis.key_loss_s[static_cast<std::size_t>(CoolantState::kFlood)].empty());
+
+  DemoOptions o;
+  o.machine_file = std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850.toml";
+  o.out_dir = (fs::temp_directory_path() / ("trueaxis_demo_memory_" + std::to_string(getpid()))).string();
+  o.fast = true;
+  o.seed = 3;
+  o.coolant_memory = true;
+  const DemoResult with_memory = RunDemo(o);
+  const auto shared = model::ReadModelFile(with_memory.model_path).axes.at(0);
+  std::error_code ec;
+  fs::remove_all(o.out_dir, ec);
+  EXPECT_EQ(shared.directions[0].GainsFor(CoolantState::kFlood), shared.directions[0].GainsFor(CoolantState::kOff));
+  EXPECT_FALSE(shared.key_loss_s[static_cast<std::size_t>(CoolantState::kFlood)].empty());
 }
 
 TEST(DemoCli, FastDemoExitsZeroAndNamesTheReport) {
