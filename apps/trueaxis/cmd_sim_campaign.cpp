@@ -22,6 +22,7 @@ struct Options {
   int warm_runs = 3;
   double spacing_mm = 25;
   int max_warm = trueaxis::sim::CampaignOptions{}.max_warm_measurements;  // one default, in the library
+  int max_coolant = trueaxis::sim::CampaignOptions{}.max_coolant_measurements;
   int cooldown = 2;
   std::vector<int> ambient_days = {60, 150};
   std::vector<double> ambient_hours = trueaxis::sim::CampaignOptions{}.ambient_hours;
@@ -41,6 +42,7 @@ void Run(const Options& o) {
   c.laser.spacing_mm = o.spacing_mm;
   c.laser.material_compensation = o.material_compensation;
   c.max_warm_measurements = o.max_warm;
+  c.max_coolant_measurements = o.max_coolant;
   c.cooldown_measurements = o.cooldown;
   c.ambient_day_offsets = o.ambient_days;
   c.ambient_hours = o.ambient_hours;
@@ -74,6 +76,10 @@ void Setup(CLI::App& app) {
   cmd->add_option("--warm-runs", opts->warm_runs, "Runs of the warm-up and coolant measurements")->capture_default_str()->check(CLI::Range(2, 20));
   cmd->add_option("--spacing-mm", opts->spacing_mm, "Nominal target spacing")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--max-warm", opts->max_warm, "At most this many warm-up measurements per axis")->capture_default_str()->check(CLI::Range(1, 100));
+  cmd->add_option("--max-coolant", opts->max_coolant,
+                  "At most this many measurements of the coolant warm-up per axis (the last at saturation)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100));
   cmd->add_option("--cooldown", opts->cooldown, "Cool-down measurements after saturation (0: none)")->capture_default_str()->check(CLI::Range(0, 20));
   cmd->add_option("--ambient-days", opts->ambient_days, "Days after the cold day for the other-ambient measurements")
       ->delimiter(',')->capture_default_str();

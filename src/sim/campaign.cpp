@@ -60,7 +60,31 @@ std::string CampaignSummary::BriefReport() const {
     first = false;
   }
   s += fmt::format("), {:.1f} h of machine time in {:.2f} s", machine_time_s / 3600.0, wall_time_s);
+  for (const auto& gap : WarmUpCoverageGaps(files)) s += "\n  " + gap;
   return s;
+}
+
+std::vector<std::string> WarmUpCoverageGaps(const std::vector<CampaignFile>& files, double max_gap_fraction) {
+  std::map<std::pair<std::string, std::string>, std::vector<double>> rises;  // (axis, state) → in test order
+  for (const auto& f : files)
+    if (f.state == "warm" || f.state == "coolant") rises[{f.axis, f.state}].push_back(f.nut_rise_c);
+  std::vector<std::string> out;
+  for (const auto& [key, r] : rises) {
+    const auto& [axis, state] = key;
+    std::vector<double> steps = r;
+    if (state == "warm") steps.insert(steps.begin(), 0.0);  // the cold state is the warm-up's start
+    if (steps.size() < 2) continue;
+    const double lo = steps.front(), hi = *std::max_element(steps.begin(), steps.end());
+    double gap = 0;
+    for (std::size_t i = 1; i < steps.size(); ++i) gap = std::max(gap, steps[i] - steps[i - 1]);
+    if (!(hi - lo > 0) || gap <= max_gap_fraction * (hi - lo)) continue;
+    std::string at;
+    for (double v : r) at += fmt::format("{}{:+.1f}", at.empty() ? "" : ", ", v);
+    out.push_back(fmt::format("{} {} warm-up: tests at nut {} °C vs cold; {:.1f} of its {:.1f} °C rise ({:.0f} %) "
+                              "lie between two of them, untested",
+                              axis, state == "warm" ? "dry" : "coolant", at, gap, hi - lo, 100 * gap / (hi - lo)));
+  }
+  return out;
 }
 
 namespace {

@@ -234,6 +234,32 @@ int RunCli(const std::string& args, std::string* err) {
   return WEXITSTATUS(rc);
 }
 
+CampaignFile SessionTest(const std::string& axis, const std::string& state, double nut_rise_c) {
+  CampaignFile f;
+  f.axis = axis;
+  f.state = state;
+  f.nut_rise_c = nut_rise_c;
+  return f;
+}
+
+TEST(Campaign, WarmUpCoverageGapsNameTheSessionsThatLeaveMostOfTheRiseUntested) {
+  std::vector<CampaignFile> files = {SessionTest("X", "cold", 0)};
+  for (double r : {0.7, 1.2, 1.7, 2.2, 2.7, 3.5, 4.4, 5.4, 6.8, 8.4, 10.5, 13.1}) files.push_back(SessionTest("X", "warm", r));
+  for (double r : {5.0, 5.7, 6.1, 12.9}) files.push_back(SessionTest("Y", "coolant", r));  // the nut's first jump, then saturation
+  for (double r : {0.5, 1.0, 6.0}) files.push_back(SessionTest("Z", "warm", r));           // counted from the cold state
+  for (double r : {3.0, 2.0}) files.push_back(SessionTest("Z", "cooldown", r));            // not a warm-up
+  const auto gaps = WarmUpCoverageGaps(files);
+  ASSERT_EQ(gaps.size(), 2u);
+  EXPECT_EQ(gaps[0], "Y coolant warm-up: tests at nut +5.0, +5.7, +6.1, +12.9 °C vs cold; 6.8 of its 7.9 °C rise (86 %) "
+                     "lie between two of them, untested");
+  EXPECT_NE(gaps[1].find("Z dry warm-up: tests at nut +0.5, +1.0, +6.0 °C"), std::string::npos) << gaps[1];
+  EXPECT_NE(gaps[1].find("5.0 of its 6.0 °C rise (83 %)"), std::string::npos) << gaps[1];
+  EXPECT_EQ(WarmUpCoverageGaps(files, 0.9).size(), 0u);  // the threshold is the caller's
+  CampaignSummary summary;
+  summary.files = files;
+  EXPECT_NE(summary.BriefReport().find("\n  Y coolant warm-up"), std::string::npos) << summary.BriefReport();
+}
+
 TEST(Campaign, CliRunsAndRejectsBadMachineFile) {
   const auto dir = TempDir("cli");
   fs::create_directories(dir);
@@ -260,6 +286,19 @@ TEST(Campaign, CliRunsAndRejectsBadMachineFile) {
   EXPECT_EQ(RunCli("sim campaign --machine " + tiny.string() + " --out " + (dir / "out4").string(), &err), 2);
   EXPECT_NE(err.find("do not fit the travel"), std::string::npos) << err;
 
+  // --max-coolant reaches the campaign: that many coolant warm-up tests (the nut of this small axis
+  // rises in fine steps), and a count of 0 is refused.
+  EXPECT_EQ(RunCli("sim campaign --quiet --machine " + machine.string() + " --out " + (dir / "out6").string() +
+                       " --axes Y --runs 2 --warm-runs 2 --spacing-mm 200 --max-warm 1 --cooldown 0 --ambient-days 5 --max-coolant 3",
+                   &err),
+            0)
+      << err;
+  const auto manifest6 = nlohmann::json::parse(ReadTextFile((dir / "out6" / "manifest.json").string()));
+  int coolant_tests = 0;
+  for (const auto& e : manifest6["measurements"]) coolant_tests += e["state"] == "coolant";
+  EXPECT_EQ(coolant_tests, 3);
+  EXPECT_EQ(RunCli("sim campaign --machine " + machine.string() + " --out " + (dir / "out7").string() + " --max-coolant 0", &err), 2);
+  EXPECT_NE(err.find("--max-coolant"), std::string::npos) << err;
   EXPECT_EQ(RunCli("sim campaign --machine " + machine.string() + " --out " + (dir / "out3").string() + " --axes Q", &err), 2);
   EXPECT_NE(err.find("'Q'"), std::string::npos) << err;
   EXPECT_EQ(RunCli("sim campaign --machine " + machine.string() + " --out " + (dir / "out5").string() + " --ambient-hours 10,24", &err), 2);

@@ -69,10 +69,18 @@ struct CampaignFile {
   double nut_rise_c = 0;  // nut sensor vs the axis' cold measurement
 };
 
+// Where a warm-up's tests leave most of its rise untested: for each axis's dry warm-up ("warm",
+// counted from the cold state) and coolant warm-up ("coolant", from its first test), the largest
+// step in nut rise between two tests when it is more than `max_gap_fraction` of the session's
+// rise, as one line naming the tests' rises. A coolant warm-up with few tests bunches them in the
+// nut's first jump and then waits for saturation (bench/results/zoo.md): said, not hidden.
+std::vector<std::string> WarmUpCoverageGaps(const std::vector<CampaignFile>& files, double max_gap_fraction = 0.5);
+
 struct CampaignSummary {
   std::vector<CampaignFile> files;
   double machine_time_s = 0;
   double wall_time_s = 0;
+  // The file counts and machine time; then one line per WarmUpCoverageGaps entry.
   std::string BriefReport() const;
 };
 
