@@ -88,7 +88,7 @@ struct FitOptions {
   // CoolantMemoryGridS(). Off by default since the slower fall (key_lag_fall_factor): the CV, judged
   // on the campaign's one coolant session from a cold machine, kept it where the working day's
   // coolant over a warm machine then did worse; without it the machine zoo keeps more rows under
-  // the must line (seeds 1–5: 629 against 627 of 650, goal 501 against 483, sum of A_on −0…−2 %)
+  // the must line (seeds 1–5: 629 against 627 of 650, goal 497 against 483, sum of A_on −0…−2 %)
   // and so do seven descriptions not in the repository (bench/results/zoo.md).
   std::vector<double> coolant_loss_grid_s = {};
   static std::vector<double> CoolantMemoryGridS() { return {0, 600, 1200, 2400, 4800, 9600}; }
