@@ -15,6 +15,7 @@
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/core/toml_reader.hpp"
 #include "trueaxis/sim/ambient_profile.hpp"
+#include "trueaxis/sim/virtual_sensor.hpp"
 
 namespace trueaxis::sim {
 
@@ -246,8 +247,37 @@ MachineDescription ParseMachineToml(const std::string& text, const std::string& 
       m.sensors.push_back(std::move(s));
     }
   }
+  if (const toml::node* n = r.Node("day_fault")) {
+    auto* arr = n->as_array();
+    if (!arr || !arr->is_array_of_tables()) r.Fail("day_fault", n, "must be an array of tables ([[day_fault]])");
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+      const toml::table& ft = *(*arr)[i].as_table();
+      TomlTableReader fr(ft, source, fmt::format("day_fault[{}]", i));
+      DayFaultDescription f;
+      fr.String("sensor", f.sensor, true);
+      f.source_line = fr.Line(ft.get("sensor"));
+      fr.Double("at_h", f.at_h, 0, 24, true);
+      fr.String("kind", f.kind);
+      const auto kind = ParseSensorFaultKind(f.kind);
+      if (!kind || *kind == SensorFaultKind::kNone)
+        fr.Fail("kind", ft.get("kind"), fmt::format("'{}' is not a sensor fault (open, short, stuck, drift, spikes)", f.kind));
+      fr.RejectUnknown();
+      m.day_faults.push_back(std::move(f));
+    }
+  }
   r.RejectUnknown();
   FinishMachineDescription(m);
+  // Checked once the default sensors exist (a file without [[sensor]] still has x_nut, ...).
+  for (std::size_t i = 0; i < m.day_faults.size(); ++i) {
+    const auto& f = m.day_faults[i];
+    const bool known = std::any_of(m.sensors.begin(), m.sensors.end(), [&](const SensorDescription& s) { return s.name == f.sensor; });
+    if (!known) {
+      std::vector<std::string> names;
+      for (const auto& s : m.sensors) names.push_back(s.name);
+      throw InputError(source, f.source_line, fmt::format("day_fault[{}].sensor", i),
+                       fmt::format("the machine has no sensor '{}' (its sensors: {})", f.sensor, fmt::join(names, ", ")));
+    }
+  }
   return m;
 }
 

@@ -352,6 +352,14 @@ void VirtualMachine::ThermalStep(double h) {
     a.dist_mm = 0;
   }
   net_.Step(h);
+  for (auto it = scheduled_faults_.begin(); it != scheduled_faults_.end();) {
+    if (t_s_ >= it->at_s - 1e-9) {
+      sensors_[it->sensor]->SetFault(it->fault, it->at_s);
+      it = scheduled_faults_.erase(it);
+    } else {
+      ++it;
+    }
+  }
   for (std::size_t i = 0; i < sensors_.size(); ++i) sensors_[i]->Sample(net_.Temperature(sensor_node_[i]), h, t_s_);
 }
 
@@ -483,6 +491,14 @@ bool VirtualMachine::SetSensorFault(const std::string& name, const SensorFault& 
   const int i = SensorIndex(name);
   if (i < 0) return false;
   sensors_[i]->SetFault(fault, t_s_);
+  return true;
+}
+
+bool VirtualMachine::ScheduleSensorFault(const std::string& name, const SensorFault& fault, double at_s) {
+  const int i = SensorIndex(name);
+  if (i < 0) return false;
+  if (at_s <= t_s_) sensors_[static_cast<std::size_t>(i)]->SetFault(fault, t_s_);
+  else scheduled_faults_.push_back({static_cast<std::size_t>(i), fault, at_s});
   return true;
 }
 

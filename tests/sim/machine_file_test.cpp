@@ -35,23 +35,7 @@ TEST(MachineFile, DefaultSensorsWhenNoneListed) {
   EXPECT_EQ(names, (std::vector<std::string>{"x_nut", "x_bearing", "x_motor", "y_nut", "y_bearing", "y_motor", "ambient", "bed"}));
 }
 
-struct BadCase {
-  const char* what;
-  std::string toml;
-  int line;
-  const char* field;
-};
-
-void ExpectBad(const BadCase& c) {
-  try {
-    ParseMachineToml(c.toml, "bad.toml");
-    ADD_FAILURE() << c.what << ": no error";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.source(), "bad.toml") << c.what;
-    EXPECT_EQ(e.line(), c.line) << c.what << ": " << e.what();
-    EXPECT_EQ(e.field(), c.field) << c.what << ": " << e.what();
-  }
-}
+using testing::ExpectBad;
 
 const std::string kAxis = "[[axis]]\nname = \"X\"\ntravel_mm = 500\nlead_mm = 10\n";  // lines 1–4
 

@@ -3,6 +3,9 @@
 // run in milliseconds and are not masked by weather.
 #include <string>
 
+#include <gtest/gtest.h>
+
+#include "trueaxis/core/input_error.hpp"
 #include "trueaxis/sim/machine_description.hpp"
 
 namespace trueaxis::sim::testing {
@@ -36,6 +39,28 @@ backlash_um = 3
 
 inline MachineDescription TestMachine(const std::string& ambient = "") {
   return ParseMachineToml(TestMachineToml("", ambient), "test.toml");
+}
+
+// A machine file that must be refused: by an InputError naming bad.toml, `line` and `field`, and
+// saying `why` (empty: not checked).
+struct BadMachineFile {
+  const char* what;
+  std::string toml;
+  int line;
+  const char* field;
+  const char* why = "";
+};
+
+inline void ExpectBad(const BadMachineFile& c) {
+  try {
+    ParseMachineToml(c.toml, "bad.toml");
+    ADD_FAILURE() << c.what << ": no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), "bad.toml") << c.what;
+    EXPECT_EQ(e.line(), c.line) << c.what << ": " << e.what();
+    EXPECT_EQ(e.field(), c.field) << c.what << ": " << e.what();
+    EXPECT_NE(std::string(e.what()).find(c.why), std::string::npos) << c.what << ": " << e.what();
+  }
 }
 
 }  // namespace trueaxis::sim::testing

@@ -121,6 +121,17 @@ struct SensorDescription {
   double time_constant_s = std::numeric_limits<double>::quiet_NaN();  // first-order lag of probe + mounting
 };
 
+// A sensor fault the demo's working day injects (machine file `[[day_fault]]`; the zoo's "sensor
+// that dies during the day", issue 10). The calibration campaign never sees it; the day's machine
+// has it from `at_h` hours after the day's start (07:00) to the day's end (the other day, months
+// later, starts with the sensor replaced).
+struct DayFaultDescription {
+  std::string sensor;          // a [[sensor]] name (or a default one: x_nut, ambient, ...)
+  double at_h = 0;             // hours after the working day's start
+  std::string kind = "open";   // open, short, stuck, drift, spikes (sim::ParseSensorFaultKind)
+  int source_line = 0;         // for messages
+};
+
 struct MachineDescription {
   std::string source;       // file path (for messages)
   std::string name = "machine";
@@ -132,6 +143,7 @@ struct MachineDescription {
   BedDescription bed;
   CoolantDescription coolant[kCoolantStateCount];  // by CoolantState
   std::vector<SensorDescription> sensors;  // defaults filled in by the reader
+  std::vector<DayFaultDescription> day_faults;  // the working day's sensor faults (demo)
 
   // Index of an axis by name (case-insensitive), or -1.
   int AxisIndex(const std::string& name) const;

@@ -122,6 +122,9 @@ class VirtualMachine : public hw::CncLink, public hw::TemperatureSource {
   int SensorIndex(const std::string& name) const;  // −1 when absent
   // Inject or clear (kind kNone) a fault; false when the sensor is unknown.
   bool SetSensorFault(const std::string& name, const SensorFault& fault);
+  // The same at machine time `at_s` (applied on the thermal grid, at the first step at or after
+  // it; at once when that is past): a sensor that dies while a program runs. False when unknown.
+  bool ScheduleSensorFault(const std::string& name, const SensorFault& fault, double at_s);
 
   // ---- CNC side -----------------------------------------------------------
   void SetCompensationEnabled(bool on) { compensation_enabled_ = on; }
@@ -169,6 +172,12 @@ class VirtualMachine : public hw::CncLink, public hw::TemperatureSource {
   std::vector<std::unique_ptr<Axis>> axes_;
   std::vector<std::unique_ptr<VirtualSensor>> sensors_;
   std::vector<std::size_t> sensor_node_;
+  struct ScheduledFault {
+    std::size_t sensor;
+    SensorFault fault;
+    double at_s;
+  };
+  std::vector<ScheduledFault> scheduled_faults_;
   CoolantState coolant_ = CoolantState::kOff;
   bool compensation_enabled_ = true;
   bool link_fault_ = false;
