@@ -29,17 +29,32 @@ void RunCycles(benchmark::State& state, Compensator& comp, runtime::testing::Moc
       static_cast<double>(state.iterations()) * n_axes, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+// The mock machine of the cycle benchmarks: axes A, B, … and six temperature channels, unlocked.
+struct CycleRig {
+  static std::vector<std::string> AxisNames(int n) {
+    std::vector<std::string> names;
+    for (int i = 0; i < n; ++i) names.push_back(std::string(1, static_cast<char>('A' + i)));
+    return names;
+  }
+  explicit CycleRig(int n_axes)
+      : names(AxisNames(n_axes)),
+        cnc(names, trueaxis::testing::MockLocking::kUnlocked),
+        temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0,
+              trueaxis::testing::MockLocking::kUnlocked) {}
+  std::vector<std::string> names;
+  runtime::testing::MockCnc cnc;
+  runtime::testing::MockTemperatures temps;
+};
+
 // range(0): axes; range(1): 0 = degree-2 polynomial Er(x), 1 = 35-point table (seed 002).
 void BM_CompensationCycle(benchmark::State& state) {
   const int n_axes = static_cast<int>(state.range(0));
   const bool table = state.range(1) != 0;
-  std::vector<std::string> names;
-  for (int i = 0; i < n_axes; ++i) names.push_back(std::string(1, static_cast<char>('A' + i)));
-  runtime::testing::MockCnc cnc(names, trueaxis::testing::MockLocking::kUnlocked);
-  runtime::testing::MockTemperatures temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0,
-                                           trueaxis::testing::MockLocking::kUnlocked);
+  CycleRig rig(n_axes);
+  auto& cnc = rig.cnc;
+  auto& temps = rig.temps;
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
-  auto model = std::make_shared<model::CompositeModel>(*runtime::testing::TestModel(1.0, names));
+  auto model = std::make_shared<model::CompositeModel>(*runtime::testing::TestModel(1.0, rig.names));
   if (table) {
     for (auto& a : model->axes)
       for (auto& d : a.directions) {
@@ -62,14 +77,12 @@ BENCHMARK(BM_CompensationCycle)->ArgsProduct({{1, 3, 5, 8}, {0, 1}})->ArgNames({
 // range(0): axes; range(1): coolant 0 = off (lag only), 1 = flood (lag + loss).
 void BM_CompensationCycleThermalState(benchmark::State& state) {
   const int n_axes = static_cast<int>(state.range(0));
-  std::vector<std::string> names;
-  for (int i = 0; i < n_axes; ++i) names.push_back(std::string(1, static_cast<char>('A' + i)));
-  runtime::testing::MockCnc cnc(names, trueaxis::testing::MockLocking::kUnlocked);
-  runtime::testing::MockTemperatures temps({"ambient", "nut", "bearing", "motor", "spindle", "coolant_tank"}, 22.0,
-                                           trueaxis::testing::MockLocking::kUnlocked);
+  CycleRig rig(n_axes);
+  auto& cnc = rig.cnc;
+  auto& temps = rig.temps;
   cnc.machine.coolant = state.range(1) ? CoolantState::kFlood : CoolantState::kOff;
   auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
-  auto model = std::make_shared<model::CompositeModel>(*runtime::testing::TestModel(1.0, names));
+  auto model = std::make_shared<model::CompositeModel>(*runtime::testing::TestModel(1.0, rig.names));
   for (auto& a : model->axes) {
     a.key_lag_s = {600, 900};
     a.key_loss_s[static_cast<std::size_t>(CoolantState::kFlood)] = {300, 450};
@@ -78,6 +91,32 @@ void BM_CompensationCycleThermalState(benchmark::State& state) {
   RunCycles(state, *comp, cnc, temps, n_axes);
 }
 BENCHMARK(BM_CompensationCycleThermalState)->ArgsProduct({{3}, {0, 1}})->ArgNames({"axes", "flood"});
+
+// A model with fallbacks (AxisModel::fallbacks, issue 10): every axis lagged as above plus two
+// fallbacks, each with its own lag, advanced every cycle alongside the model. range(1): 0 = every
+// key reads (the fallbacks only advanced), 1 = the nut lost (the first fallback predicts).
+void BM_CompensationCycleFallbacks(benchmark::State& state) {
+  const int n_axes = static_cast<int>(state.range(0));
+  CycleRig rig(n_axes);
+  auto& cnc = rig.cnc;
+  auto& temps = rig.temps;
+  auto comp = Compensator::ForHardware(CompensatorOptions{}, cnc, temps, {});
+  auto model = std::make_shared<model::CompositeModel>(*runtime::testing::TestModel(1.0, rig.names));
+  for (auto& a : model->axes) {
+    a.key_lag_s = {600, 900};
+    for (const auto& keys : {std::vector<std::string>{"bearing", "motor"}, std::vector<std::string>{"nut", "motor"}}) {
+      model::AxisModel f = a;
+      f.key_sensors = keys;
+      f.baseline_temp_c = {22, 22};
+      f.key_lag_s = {900, 1200};
+      a.fallbacks.push_back(std::move(f));
+    }
+  }
+  comp->PublishModel(model, "bench");
+  if (state.range(1)) temps.SetFault("nut", true);  // never read: lost from the first cycle
+  RunCycles(state, *comp, cnc, temps, n_axes);
+}
+BENCHMARK(BM_CompensationCycleFallbacks)->ArgsProduct({{3}, {0, 1}})->ArgNames({"axes", "nut_lost"});
 
 void BM_ModelSwapPickup(benchmark::State& state) {
   // Publish (off-loop bind) + the cycle that picks it up.

@@ -58,6 +58,7 @@ struct FitCliOptions {
   std::vector<double> lag_grid_s = model::FitOptions{}.key_lag_grid_s;
   std::vector<double> lag_fall_grid = model::FitOptions{}.key_lag_fall_grid;
   std::vector<double> coolant_loss_grid_s = model::FitOptions{}.coolant_loss_grid_s;
+  bool no_fallback_models = false;
   double envelope_margin = model::FitOptions{}.tan_beta_margin;
 };
 
@@ -123,6 +124,7 @@ void RunFit(const FitCliOptions& o) {
   fo.coolant_loss_grid_s = o.coolant_loss_grid_s;
   if (o.coolant_loss_grid_s.size() == 1 && o.coolant_loss_grid_s[0] < 0) fo.coolant_loss_grid_s.clear();
   fo.tan_beta_margin = o.envelope_margin;
+  fo.fallback_models = !o.no_fallback_models;
   std::string why;
   if (!fo.IsValid(&why)) throw InputError("command line", 0, "options", why);
 
@@ -187,6 +189,9 @@ void Setup(CLI::App& app) {
       ->delimiter(',')
       ->allow_extra_args(false)
       ->capture_default_str();
+  cmd->add_flag("--no-fallback-models", opts->no_fallback_models,
+               "Fit no fallback models (by default an axis with two or more key sensors is also fitted without "
+               "each, for the compensator to use when that sensor is lost; docs/model-file.md)");
   cmd->add_option("--envelope-margin", opts->envelope_margin,
                   "Fitted envelope of key rises and tanβ, widened by this fraction of its width (negative: none)")
       ->capture_default_str();

@@ -37,11 +37,8 @@ std::vector<double> Positions(const GeometricError& g) {
   return x;
 }
 
-}  // namespace
-
-CompensationBound DeriveCompensationBound(const AxisModel& axis, const CompensationBoundOptions& o) {
-  std::string why;
-  if (!o.IsValid(&why)) throw std::invalid_argument("CompensationBoundOptions: " + why);
+// The largest |correction| of one model (the axis's own or a fallback) over the envelope.
+double LargestCorrection(const AxisModel& axis, const CompensationBoundOptions& o) {
   const std::size_t keys = axis.key_sensors.size();
   // Two levels per key sensor: the coolest and the hottest it may be.
   std::vector<std::array<double, 2>> levels(keys);
@@ -80,6 +77,17 @@ CompensationBound DeriveCompensationBound(const AxisModel& axis, const Compensat
         }
     }
   }
+  return worst;
+}
+
+}  // namespace
+
+CompensationBound DeriveCompensationBound(const AxisModel& axis, const CompensationBoundOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why)) throw std::invalid_argument("CompensationBoundOptions: " + why);
+  // A fallback model (a key sensor lost) drives the same axis: its corrections must pass too.
+  double worst = LargestCorrection(axis, o);
+  for (const auto& f : axis.fallbacks) worst = std::max(worst, LargestCorrection(f, o));
   CompensationBound b;
   b.model_max_um = worst;
   const double wanted = std::ceil(worst * (1 + o.margin_fraction) / o.round_to_um) * o.round_to_um;

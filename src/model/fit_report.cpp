@@ -103,6 +103,7 @@ std::string RenderFitReportHtml(const FitResult& result, const std::vector<FitSt
         t.AddRow({s.keys.empty() ? "(none)" : fmt::format("{}", fmt::join(s.keys, ", ")), Num(s.cv_rms_um), s.note});
       page.AddTable(t);
       for (const auto& n : sum.coolant_notes) page.AddNote(n);
+      for (const auto& n : sum.fallback_notes) page.AddNote(n);
     }
     if (!a.key_sensors.empty()) {
       std::vector<std::string> header{"coolant", "direction"};

@@ -87,6 +87,7 @@ std::string FitSummary::FullReport() const {
     }
     if (!a.key_offsets_reason.empty()) out += fmt::format("pivots: {}\n", a.key_offsets_reason);
     for (const auto& n : a.coolant_notes) out += "  " + n + "\n";
+    for (const auto& n : a.fallback_notes) out += "  " + n + "\n";
     out += "states (µm; residual = measured − model, all points):\n";
     out += fmt::format("  {:<16} {:<8} {:<7} {:>6} {:>10} {:>10} {:>10} {:>9} {:>9} {:>11} {:>11}  mean key rises °C\n",
                        "state", "kind", "coolant", "points", "uncorr RMS", "uncorr max", "geom-only", "resid RMS",
@@ -175,6 +176,7 @@ nlohmann::json FitSummary::ToJson() const {
                       {"reference_source", a.reference_source},
                       {"rho_source", a.rho_source},
                       {"coolant_notes", a.coolant_notes},
+                      {"fallback_notes", a.fallback_notes},
                       {"states", states}});
   }
   return {{"axes", axes_j}, {"warnings", warnings}};

@@ -516,6 +516,7 @@ class AxisFitter {
     std::vector<std::string> other_axis;
     for (const auto& n : cold_.sensor_names) {
       if (above_ambient && n == amb) continue;
+      if (std::find(o_.excluded_sensors.begin(), o_.excluded_sensors.end(), n) != o_.excluded_sensors.end()) continue;
       if (o_.own_axis_sensors_only && per_axis_names && o_.key_sensors.empty() && axis_prefixed(n) &&
           Lower(n).rfind(own_prefix, 0) != 0) {
         other_axis.push_back(n);
@@ -1391,6 +1392,38 @@ measure::Measurement PredictionResidual(const AxisModel& axis, const measure::Me
   return out;
 }
 
+namespace {
+// AxisModel::fallbacks: the axis fitted again without each of its key sensors in turn, its keys
+// chosen by the same CV from the remaining candidates (the other keys, the motor, the bed, ...;
+// on the machine zoo this beat keeping just the other keys: bench/results/zoo.md), every other
+// option as asked; best LOSO CV first. A reduced fit that keeps no key is left out. Its warnings
+// repeat the main fit's and are dropped.
+void FitFallbacks(const std::string& axis, const std::vector<const FitState*>& states, const FitOptions& options,
+                  AxisModel& am, AxisFitSummary& sum) {
+  std::vector<std::pair<double, AxisModel>> found;
+  for (std::size_t k = 0; k < am.key_sensors.size(); ++k) {
+    FitOptions fo = options;
+    fo.fallback_models = false;
+    fo.key_sensors.clear();
+    fo.excluded_sensors.push_back(am.key_sensors[k]);
+    std::vector<std::string> warnings;
+    AxisFitSummary fs;
+    AxisFitter fitter(axis, states, fo, warnings);
+    AxisModel fb = fitter.Fit(fs);
+    if (fb.key_sensors.empty()) {
+      sum.fallback_notes.push_back(fmt::format("without {}: no thermal part could be fitted, no fallback", am.key_sensors[k]));
+      continue;
+    }
+    sum.fallback_notes.push_back(fmt::format("fallback without {}: keys {}, LOSO CV {:.3f} µm (the full model's {:.3f} µm)",
+                                             am.key_sensors[k], fmt::join(fb.key_sensors, ", "), fs.thermal_cv_rms_um,
+                                             sum.thermal_cv_rms_um));
+    found.emplace_back(std::isfinite(fs.thermal_cv_rms_um) ? fs.thermal_cv_rms_um : 1e300, std::move(fb));
+  }
+  std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& f : found) am.fallbacks.push_back(std::move(f.second));
+}
+}  // namespace
+
 FitResult FitCompositeModel(const std::vector<FitState>& states, const FitOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("invalid fit options: " + why);
@@ -1419,7 +1452,9 @@ FitResult FitCompositeModel(const std::vector<FitState>& states, const FitOption
   for (const auto& axis : order) {
     AxisFitSummary sum;
     AxisFitter fitter(axis, by_axis[axis], options, res.summary.warnings);
-    res.model.axes.push_back(fitter.Fit(sum));
+    AxisModel am = fitter.Fit(sum);
+    if (options.fallback_models && am.key_sensors.size() >= 2) FitFallbacks(axis, by_axis[axis], options, am, sum);
+    res.model.axes.push_back(std::move(am));
     res.summary.axes.push_back(std::move(sum));
   }
   res.model.fit_summary = res.summary.ToJson();

@@ -1,8 +1,10 @@
 #include "trueaxis/model/model_json.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/json_text.hpp"
@@ -190,34 +192,42 @@ DirectionModel DirectionFromJson(const Reader& r, const json& j, const std::stri
   return d;
 }
 
+
+json AxisToJson(const AxisModel& a) {
+  json ja{{"axis", a.axis},
+          {"reference_position_mm", a.reference_position_mm},
+          {"key_sensors", a.key_sensors},
+          {"baseline_temp_c", a.baseline_temp_c},
+          {"rho_um_per_mm_per_c", a.rho_um_per_mm_per_c},
+          {"forward", DirectionToJson(a.directions[0], a.key_shifts[0])},
+          {"reverse", DirectionToJson(a.directions[1], a.key_shifts[1])}};
+  if (!a.ambient_sensor.empty()) {
+    ja["ambient_sensor"] = a.ambient_sensor;
+    ja["ambient_baseline_c"] = a.ambient_baseline_c;
+  }
+  ja["key_temperature_rise"] = a.key_rise_above_ambient ? "above_ambient" : "from_baseline";
+  if (a.HasKeyLag()) ja["key_lag_s"] = a.key_lag_s;  // absent = no lag (older readers see today's model)
+  if (a.HasKeyLag() && a.key_lag_fall_factor != 1) ja["key_lag_fall_factor"] = a.key_lag_fall_factor;
+  json loss = json::object();  // absent = no coolant loss
+  for (std::size_t c = 0; c < a.key_loss_s.size(); ++c)
+    if (!a.key_loss_s[c].empty()) loss[std::string(CoolantStateName(static_cast<CoolantState>(c)))] = a.key_loss_s[c];
+  if (!loss.empty()) ja["key_loss_s"] = std::move(loss);
+  if (!a.key_fitted_range_c.empty()) ja["key_fitted_range_c"] = a.key_fitted_range_c;
+  if (!a.ambient_sensor.empty() && std::isfinite(a.ambient_fitted_range_c[0]) && std::isfinite(a.ambient_fitted_range_c[1]))
+    ja["ambient_fitted_range_c"] = a.ambient_fitted_range_c;
+  if (!a.fallbacks.empty()) {
+    json fb = json::array();
+    for (const auto& f : a.fallbacks) fb.push_back(AxisToJson(f));
+    ja["fallbacks"] = std::move(fb);
+  }
+  return ja;
+}
+
 }  // namespace
 
 nlohmann::json ModelToJson(const CompositeModel& model) {
   json axes = json::array();
-  for (const auto& a : model.axes) {
-    json ja{{"axis", a.axis},
-            {"reference_position_mm", a.reference_position_mm},
-            {"key_sensors", a.key_sensors},
-            {"baseline_temp_c", a.baseline_temp_c},
-            {"rho_um_per_mm_per_c", a.rho_um_per_mm_per_c},
-            {"forward", DirectionToJson(a.directions[0], a.key_shifts[0])},
-            {"reverse", DirectionToJson(a.directions[1], a.key_shifts[1])}};
-    if (!a.ambient_sensor.empty()) {
-      ja["ambient_sensor"] = a.ambient_sensor;
-      ja["ambient_baseline_c"] = a.ambient_baseline_c;
-    }
-    ja["key_temperature_rise"] = a.key_rise_above_ambient ? "above_ambient" : "from_baseline";
-    if (a.HasKeyLag()) ja["key_lag_s"] = a.key_lag_s;  // absent = no lag (older readers see today's model)
-    if (a.HasKeyLag() && a.key_lag_fall_factor != 1) ja["key_lag_fall_factor"] = a.key_lag_fall_factor;
-    json loss = json::object();  // absent = no coolant loss
-    for (std::size_t c = 0; c < a.key_loss_s.size(); ++c)
-      if (!a.key_loss_s[c].empty()) loss[std::string(CoolantStateName(static_cast<CoolantState>(c)))] = a.key_loss_s[c];
-    if (!loss.empty()) ja["key_loss_s"] = std::move(loss);
-    if (!a.key_fitted_range_c.empty()) ja["key_fitted_range_c"] = a.key_fitted_range_c;
-    if (!a.ambient_sensor.empty() && std::isfinite(a.ambient_fitted_range_c[0]) && std::isfinite(a.ambient_fitted_range_c[1]))
-      ja["ambient_fitted_range_c"] = a.ambient_fitted_range_c;
-    axes.push_back(std::move(ja));
-  }
+  for (const auto& a : model.axes) axes.push_back(AxisToJson(a));
   json sources = json::array();
   for (const auto& s : model.sources) {
     json js{{"path", s.path}, {"sha256", s.sha256}, {"state", s.state}};
@@ -246,6 +256,106 @@ nlohmann::json ModelToJson(const CompositeModel& model) {
           {"axes", axes},
           {"fit_summary", model.fit_summary}};
 }
+
+namespace {
+// One axis object (also a fallback's, `nested` then: no fallbacks of its own).
+AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bool nested) {
+  AxisModel a;
+  a.axis = r.String(ja, p, "axis");
+  a.reference_position_mm = r.Number(ja, p, "reference_position_mm");
+  if (ja.contains("key_sensors")) {
+    const json& ks = ja["key_sensors"];
+    if (!ks.is_array()) r.Fail(Reader::Join(p, "key_sensors"), "expected an array of names");
+    for (std::size_t k = 0; k < ks.size(); ++k) {
+      if (!ks[k].is_string()) r.Fail(fmt::format("{}.key_sensors[{}]", p, k), "expected a sensor name");
+      a.key_sensors.push_back(ks[k].get<std::string>());
+    }
+  }
+  a.baseline_temp_c = ja.contains("baseline_temp_c") ? r.Numbers(ja, p, "baseline_temp_c") : std::vector<double>{};
+  if (a.baseline_temp_c.size() != a.key_sensors.size())
+    r.Fail(Reader::Join(p, "baseline_temp_c"), "needs one temperature per key sensor");
+  if (ja.contains("key_fitted_range_c")) {
+    const json& fr = ja["key_fitted_range_c"];
+    const std::string where = Reader::Join(p, "key_fitted_range_c");
+    if (!fr.is_array() || fr.size() != a.key_sensors.size()) r.Fail(where, "needs one [low, high] per key sensor");
+    for (const auto& e : fr) {
+      if (!e.is_array() || e.size() != 2 || !e[0].is_number() || !e[1].is_number() || e[0].get<double>() > e[1].get<double>())
+        r.Fail(where, "each entry is [low °C, high °C] with low <= high");
+      a.key_fitted_range_c.push_back({e[0].get<double>(), e[1].get<double>()});
+    }
+  }
+  if (ja.contains("key_loss_s")) {
+    const std::string lp = Reader::Join(p, "key_loss_s");
+    const json& loss = ja["key_loss_s"];
+    if (!loss.is_object()) r.Fail(lp, "expected an object {\"<coolant>\": [seconds per key sensor]}");
+    for (const auto& [name, values] : loss.items()) {
+      const auto c = ParseCoolantState(name);
+      if (!c) r.Fail(Reader::Join(lp, name.c_str()), fmt::format("unknown coolant state '{}'", name));
+      auto v = r.Numbers(loss, lp, name.c_str());
+      if (v.size() != a.key_sensors.size()) r.Fail(Reader::Join(lp, name.c_str()), "needs one time constant per key sensor");
+      for (double t : v)
+        if (!(t >= 0) || !std::isfinite(t)) r.Fail(Reader::Join(lp, name.c_str()), "must be finite seconds >= 0");
+      a.key_loss_s[static_cast<std::size_t>(*c)] = std::move(v);
+    }
+  }
+  if (ja.contains("key_lag_s")) {
+    a.key_lag_s = r.Numbers(ja, p, "key_lag_s");
+    if (a.key_lag_s.size() != a.key_sensors.size())
+      r.Fail(Reader::Join(p, "key_lag_s"), "needs one time constant per key sensor");
+    for (std::size_t k = 0; k < a.key_lag_s.size(); ++k)
+      if (!(a.key_lag_s[k] >= 0) || !std::isfinite(a.key_lag_s[k]))
+        r.Fail(fmt::format("{}.key_lag_s[{}]", p, k), "must be a finite number of seconds >= 0");
+  }
+  a.key_lag_fall_factor = r.NumberOr(ja, p, "key_lag_fall_factor", 1);
+  if (!(a.key_lag_fall_factor >= 1) || !std::isfinite(a.key_lag_fall_factor))
+    r.Fail(Reader::Join(p, "key_lag_fall_factor"), "must be a finite factor >= 1 (1: one τ both ways)");
+  a.rho_um_per_mm_per_c = r.NumberOr(ja, p, "rho_um_per_mm_per_c", 0);
+  a.ambient_sensor = r.StringOr(ja, p, "ambient_sensor", "");
+  if (!a.ambient_sensor.empty()) a.ambient_baseline_c = r.Number(ja, p, "ambient_baseline_c");
+  if (ja.contains("ambient_fitted_range_c")) {
+    const std::string where = Reader::Join(p, "ambient_fitted_range_c");
+    if (a.ambient_sensor.empty()) r.Fail(where, "needs ambient_sensor");
+    const auto range = r.Numbers(ja, p, "ambient_fitted_range_c");
+    if (range.size() != 2 || !std::isfinite(range[0]) || !std::isfinite(range[1]) || range[0] > range[1])
+      r.Fail(where, "expected [low °C, high °C] with low <= high");
+    a.ambient_fitted_range_c = {range[0], range[1]};
+  }
+  const std::string rise = r.StringOr(ja, p, "key_temperature_rise", "from_baseline");
+  if (rise == "above_ambient") {
+    if (a.ambient_sensor.empty())
+      r.Fail(Reader::Join(p, "key_temperature_rise"), "\"above_ambient\" needs ambient_sensor and ambient_baseline_c");
+    a.key_rise_above_ambient = true;
+  } else if (rise != "from_baseline") {
+    r.Fail(Reader::Join(p, "key_temperature_rise"),
+           fmt::format("'{}' is not \"from_baseline\" or \"above_ambient\"", rise));
+  }
+  a.directions[0] = DirectionFromJson(r, r.Get(ja, p, "forward"), Reader::Join(p, "forward"), a.key_sensors.size(),
+                                      a.key_shifts[0]);
+  a.directions[1] = DirectionFromJson(r, r.Get(ja, p, "reverse"), Reader::Join(p, "reverse"), a.key_sensors.size(),
+                                      a.key_shifts[1]);
+  if (ja.contains("fallbacks")) {
+    const std::string fp = Reader::Join(p, "fallbacks");
+    const json& fb = ja["fallbacks"];
+    if (nested) r.Fail(fp, "a fallback model has no fallbacks of its own");
+    if (!fb.is_array()) r.Fail(fp, "expected an array of axis models");
+    for (std::size_t k = 0; k < fb.size(); ++k) {
+      const std::string q = fmt::format("{}[{}]", fp, k);
+      AxisModel f = AxisFromJson(r, fb[k], q, true);
+      if (f.axis != a.axis) r.Fail(Reader::Join(q, "axis"), fmt::format("is '{}', not the axis '{}' it stands in for", f.axis, a.axis));
+      // It stands in for a lost key: it must do without at least one of the axis's keys.
+      bool omits_one = false;
+      for (const auto& name : a.key_sensors)
+        omits_one = omits_one || std::find(f.key_sensors.begin(), f.key_sensors.end(), name) == f.key_sensors.end();
+      if (f.key_sensors.empty() || !omits_one)
+        r.Fail(Reader::Join(q, "key_sensors"),
+               fmt::format("must name key sensors and do without at least one of the axis's ({})", fmt::join(a.key_sensors, ", ")));
+      a.fallbacks.push_back(std::move(f));
+    }
+  }
+  return a;
+}
+
+}  // namespace
 
 CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& source) {
   Reader r(source);
@@ -289,80 +399,8 @@ CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& sourc
   for (std::size_t i = 0; i < axes.size(); ++i) {
     const std::string p = fmt::format("axes[{}]", i);
     const json& ja = axes[i];
-    AxisModel a;
-    a.axis = r.String(ja, p, "axis");
+    AxisModel a = AxisFromJson(r, ja, p, false);
     if (m.FindAxis(a.axis)) r.Fail(Reader::Join(p, "axis"), fmt::format("axis '{}' is given twice", a.axis));
-    a.reference_position_mm = r.Number(ja, p, "reference_position_mm");
-    if (ja.contains("key_sensors")) {
-      const json& ks = ja["key_sensors"];
-      if (!ks.is_array()) r.Fail(Reader::Join(p, "key_sensors"), "expected an array of names");
-      for (std::size_t k = 0; k < ks.size(); ++k) {
-        if (!ks[k].is_string()) r.Fail(fmt::format("{}.key_sensors[{}]", p, k), "expected a sensor name");
-        a.key_sensors.push_back(ks[k].get<std::string>());
-      }
-    }
-    a.baseline_temp_c = ja.contains("baseline_temp_c") ? r.Numbers(ja, p, "baseline_temp_c") : std::vector<double>{};
-    if (a.baseline_temp_c.size() != a.key_sensors.size())
-      r.Fail(Reader::Join(p, "baseline_temp_c"), "needs one temperature per key sensor");
-    if (ja.contains("key_fitted_range_c")) {
-      const json& fr = ja["key_fitted_range_c"];
-      const std::string where = Reader::Join(p, "key_fitted_range_c");
-      if (!fr.is_array() || fr.size() != a.key_sensors.size()) r.Fail(where, "needs one [low, high] per key sensor");
-      for (const auto& e : fr) {
-        if (!e.is_array() || e.size() != 2 || !e[0].is_number() || !e[1].is_number() || e[0].get<double>() > e[1].get<double>())
-          r.Fail(where, "each entry is [low °C, high °C] with low <= high");
-        a.key_fitted_range_c.push_back({e[0].get<double>(), e[1].get<double>()});
-      }
-    }
-    if (ja.contains("key_loss_s")) {
-      const std::string lp = Reader::Join(p, "key_loss_s");
-      const json& loss = ja["key_loss_s"];
-      if (!loss.is_object()) r.Fail(lp, "expected an object {\"<coolant>\": [seconds per key sensor]}");
-      for (const auto& [name, values] : loss.items()) {
-        const auto c = ParseCoolantState(name);
-        if (!c) r.Fail(Reader::Join(lp, name.c_str()), fmt::format("unknown coolant state '{}'", name));
-        auto v = r.Numbers(loss, lp, name.c_str());
-        if (v.size() != a.key_sensors.size()) r.Fail(Reader::Join(lp, name.c_str()), "needs one time constant per key sensor");
-        for (double t : v)
-          if (!(t >= 0) || !std::isfinite(t)) r.Fail(Reader::Join(lp, name.c_str()), "must be finite seconds >= 0");
-        a.key_loss_s[static_cast<std::size_t>(*c)] = std::move(v);
-      }
-    }
-    if (ja.contains("key_lag_s")) {
-      a.key_lag_s = r.Numbers(ja, p, "key_lag_s");
-      if (a.key_lag_s.size() != a.key_sensors.size())
-        r.Fail(Reader::Join(p, "key_lag_s"), "needs one time constant per key sensor");
-      for (std::size_t k = 0; k < a.key_lag_s.size(); ++k)
-        if (!(a.key_lag_s[k] >= 0) || !std::isfinite(a.key_lag_s[k]))
-          r.Fail(fmt::format("{}.key_lag_s[{}]", p, k), "must be a finite number of seconds >= 0");
-    }
-    a.key_lag_fall_factor = r.NumberOr(ja, p, "key_lag_fall_factor", 1);
-    if (!(a.key_lag_fall_factor >= 1) || !std::isfinite(a.key_lag_fall_factor))
-      r.Fail(Reader::Join(p, "key_lag_fall_factor"), "must be a finite factor >= 1 (1: one τ both ways)");
-    a.rho_um_per_mm_per_c = r.NumberOr(ja, p, "rho_um_per_mm_per_c", 0);
-    a.ambient_sensor = r.StringOr(ja, p, "ambient_sensor", "");
-    if (!a.ambient_sensor.empty()) a.ambient_baseline_c = r.Number(ja, p, "ambient_baseline_c");
-    if (ja.contains("ambient_fitted_range_c")) {
-      const std::string where = Reader::Join(p, "ambient_fitted_range_c");
-      if (a.ambient_sensor.empty()) r.Fail(where, "needs ambient_sensor");
-      const auto range = r.Numbers(ja, p, "ambient_fitted_range_c");
-      if (range.size() != 2 || !std::isfinite(range[0]) || !std::isfinite(range[1]) || range[0] > range[1])
-        r.Fail(where, "expected [low °C, high °C] with low <= high");
-      a.ambient_fitted_range_c = {range[0], range[1]};
-    }
-    const std::string rise = r.StringOr(ja, p, "key_temperature_rise", "from_baseline");
-    if (rise == "above_ambient") {
-      if (a.ambient_sensor.empty())
-        r.Fail(Reader::Join(p, "key_temperature_rise"), "\"above_ambient\" needs ambient_sensor and ambient_baseline_c");
-      a.key_rise_above_ambient = true;
-    } else if (rise != "from_baseline") {
-      r.Fail(Reader::Join(p, "key_temperature_rise"),
-             fmt::format("'{}' is not \"from_baseline\" or \"above_ambient\"", rise));
-    }
-    a.directions[0] = DirectionFromJson(r, r.Get(ja, p, "forward"), Reader::Join(p, "forward"), a.key_sensors.size(),
-                                        a.key_shifts[0]);
-    a.directions[1] = DirectionFromJson(r, r.Get(ja, p, "reverse"), Reader::Join(p, "reverse"), a.key_sensors.size(),
-                                        a.key_shifts[1]);
     m.axes.push_back(std::move(a));
   }
   if (doc.contains("fit_summary")) m.fit_summary = doc["fit_summary"];

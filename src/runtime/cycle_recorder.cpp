@@ -22,6 +22,7 @@ void FillRecord(const CycleStatus& s, CycleRecord& r) {
     o.direction = static_cast<std::int8_t>(DirectionSign(a.direction));
     o.enabled = a.enabled;
     o.thermal_used = a.thermal_used;
+    o.fallback_model = static_cast<std::int8_t>(a.fallback_model);
     o.geometric_um = a.prediction.geometric_um;
     o.thermal_um = a.prediction.thermal_um;
     o.ambient_um = a.prediction.ambient_um;

@@ -31,6 +31,7 @@ StepState::StepState(std::size_t axis_count, std::size_t channel_count, const Co
       shaper(axis_count),
       pending(axis_count) {
   dynamics.axes.resize(axis_count);
+  dynamics.fallback_thermal.resize(axis_count);
 }
 
 StepOutputs::StepOutputs(std::size_t axis_count, std::size_t channel_count)
@@ -141,6 +142,17 @@ double GenericCorrection(const BoundAxis& ba, std::size_t i, const StepState& st
   return std::isfinite(error) ? -error : 0.0;  // a broken model never drives the axis
 }
 
+// Whether every key channel of `b` is usable (ok or held; a held one raises sensor_held).
+bool KeysRead(const BoundAxis& b, std::span<const ChannelStatus> channels, std::uint32_t& alarms) {
+  bool ok = true;
+  for (int ch : b.key_channel) {
+    const ChannelStatus& c = channels[static_cast<std::size_t>(ch)];
+    if (c.health == ChannelHealth::kHeld) alarms |= kAlarmSensorHeld;
+    if (c.health == ChannelHealth::kLost) ok = false;
+  }
+  return ok;
+}
+
 // The desired correction of one axis (physical µm; NaN = hold).
 double DesiredCorrection(const StepModel& model, const StepState& state, const StepInputs& in, std::size_t i,
                          bool link_usable, StepOutputs& out, std::uint32_t& alarms) {
@@ -163,28 +175,43 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
   if (!st.enabled || !ba || !ba->has_model) return 0;
   if (ba->generic) return GenericCorrection(*ba, i, state, out, st, alarms);
 
-  double key_temps[kMaxKeySensors];
-  bool keys_ok = true;
-  for (std::size_t k = 0; k < ba->key_channel.size(); ++k) {
-    const ChannelStatus& c = out.channels[static_cast<std::size_t>(ba->key_channel[k])];
-    if (c.health == ChannelHealth::kHeld) alarms |= kAlarmSensorHeld;
-    if (c.health == ChannelHealth::kLost) keys_ok = false;
-    key_temps[k] = state.dynamics.axes[i].thermal.key_c[k];  // = c.value_c when the model has no lag or loss
+  // The model's own keys; when one is lost, the first fallback model whose keys all read (its
+  // state advanced alongside), else the sensor fault policy.
+  const ModelDynamics::Axis& dyn = state.dynamics.axes[i];
+  const BoundAxis* use = ba;
+  const model::AxisThermalState* thermal = &dyn.thermal;
+  bool keys_ok = KeysRead(*ba, out.channels, alarms);
+  if (!keys_ok) {
+    alarms |= kAlarmSensorFallback;
+    const std::size_t n_fallbacks = i < state.dynamics.fallback_thermal.size() ? ba->fallbacks.size() : 0;
+    for (std::size_t f = 0; f < n_fallbacks; ++f) {
+      std::uint32_t unused = 0;
+      const model::AxisThermalState& ft = state.dynamics.fallback_thermal[i][f];
+      if (ft.valid && KeysRead(ba->fallbacks[f], out.channels, unused)) {
+        use = &ba->fallbacks[f];
+        thermal = &ft;
+        st.fallback_model = static_cast<int>(f);
+        keys_ok = true;
+        break;
+      }
+    }
   }
+  double key_temps[kMaxKeySensors];
+  for (std::size_t k = 0; k < use->key_channel.size(); ++k)
+    key_temps[k] = thermal->key_c[k];  // = the readings when the model has no lag or loss
   double ambient = std::nan("");
-  if (ba->ambient_channel >= 0) {
-    const ChannelStatus& c = out.channels[static_cast<std::size_t>(ba->ambient_channel)];
+  if (use->ambient_channel >= 0) {
+    const ChannelStatus& c = out.channels[static_cast<std::size_t>(use->ambient_channel)];
     if (c.health == ChannelHealth::kHeld) alarms |= kAlarmSensorHeld;
     if (c.health == ChannelHealth::kLost) alarms |= kAlarmSensorFallback;  // ambient adjustment dropped
     ambient = c.value_c;
   }
-  if (!keys_ok) alarms |= kAlarmSensorFallback;
   if (!keys_ok && o.sensor.fallback == SensorFallback::kZero) return 0;
-  model::ThermalState ts{std::span<const double>(key_temps, ba->key_channel.size()), ambient,
+  model::ThermalState ts{std::span<const double>(key_temps, use->key_channel.size()), ambient,
                          state.machine.coolant, keys_ok};
   // Constructed in place (guaranteed elision: Predict writes st.prediction itself). Assigning would
   // go through a temporary whose wide copy then stalls on store forwarding: ~5 ns per axis.
-  ::new (&st.prediction) model::Prediction(model::Predict(ba->model, st.model_position_mm, st.direction, ts));
+  ::new (&st.prediction) model::Prediction(model::Predict(use->model, st.model_position_mm, st.direction, ts));
   st.thermal_used = keys_ok;
   // Held at the fitted envelope, or the room outside the fitted range (extrapolated): both alarmed.
   if (st.prediction.tan_beta_limited || st.prediction.ambient_extrapolated) alarms |= kAlarmModelExtrapolated;
@@ -214,6 +241,40 @@ void AdvanceGenericDynamics(const BoundAxis& ba, std::span<const ChannelStatus> 
 }
 }  // namespace
 
+namespace {
+// One keyed model's thermal state (the axis's own or a fallback's) to the channels' values; true
+// when one of its keys is lost (the state then restarts at the readings once they all read).
+bool AdvanceKeyedState(const BoundAxis& ba, std::span<const ChannelStatus> channels, CoolantState coolant, double dt_s,
+                       bool restart, model::AxisThermalState& thermal) {
+  const std::size_t n = ba.key_channel.size();
+  bool any_lost = false;
+  if (!ba.thermal_dynamics) {
+    // No lag and no loss: AdvanceThermalState would return the readings (valid when all read).
+    // Taken here without the call, the sink or the loss look-up: the common real-time case.
+    bool all_read = true;
+    for (std::size_t k = 0; k < n; ++k) {
+      const ChannelStatus& c = channels[static_cast<std::size_t>(ba.key_channel[k])];
+      any_lost = any_lost || c.health == ChannelHealth::kLost;
+      all_read = all_read && !std::isnan(c.value_c);
+      thermal.key_c[k] = c.value_c;
+    }
+    thermal.valid = all_read;
+    return any_lost;
+  }
+  double readings[kMaxKeySensors];
+  for (std::size_t k = 0; k < n; ++k) {
+    const ChannelStatus& c = channels[static_cast<std::size_t>(ba.key_channel[k])];
+    any_lost = any_lost || c.health == ChannelHealth::kLost;
+    readings[k] = c.value_c;
+  }
+  if (any_lost || restart) thermal.valid = false;  // restart at the readings
+  const double ambient =
+      ba.ambient_channel >= 0 ? channels[static_cast<std::size_t>(ba.ambient_channel)].value_c : std::nan("");
+  model::AdvanceThermalState(ba.model, thermal, {std::span<const double>(readings, n), ambient, coolant}, dt_s);
+  return any_lost;
+}
+}  // namespace
+
 void AdvanceModelDynamics(const BoundModel& bound, std::span<const ChannelStatus> channels, CoolantState coolant,
                           double now_s, ModelDynamics& dynamics) {
   // Advanced every cycle for every axis with a model, enabled or not, so the lagged temperature
@@ -227,32 +288,15 @@ void AdvanceModelDynamics(const BoundModel& bound, std::span<const ChannelStatus
       if (ba.generic_dynamics) AdvanceGenericDynamics(ba, channels, now_s, bound.id, d);
       continue;
     }
-    const std::size_t n = ba.key_channel.size();
-    bool any_lost = false;
-    if (!ba.thermal_dynamics) {
-      // No lag and no loss: AdvanceThermalState would return the readings (valid when all read).
-      // Taken here without the call, the sink or the loss look-up: the common real-time case.
-      bool all_read = true;
-      for (std::size_t k = 0; k < n; ++k) {
-        const ChannelStatus& c = channels[static_cast<std::size_t>(ba.key_channel[k])];
-        any_lost = any_lost || c.health == ChannelHealth::kLost;
-        all_read = all_read && !std::isnan(c.value_c);
-        d.thermal.key_c[k] = c.value_c;
-      }
-      d.thermal.valid = all_read;
-    } else {
-      double readings[kMaxKeySensors];
-      for (std::size_t k = 0; k < n; ++k) {
-        const ChannelStatus& c = channels[static_cast<std::size_t>(ba.key_channel[k])];
-        any_lost = any_lost || c.health == ChannelHealth::kLost;
-        readings[k] = c.value_c;
-      }
-      if (any_lost || d.model_id != bound.id) d.thermal.valid = false;  // restart at the readings
-      const double ambient =
-          ba.ambient_channel >= 0 ? channels[static_cast<std::size_t>(ba.ambient_channel)].value_c : std::nan("");
-      model::AdvanceThermalState(ba.model, d.thermal, {std::span<const double>(readings, n), ambient, coolant},
-                                 now_s - d.time_s);
-    }
+    const double dt_s = now_s - d.time_s;
+    const bool any_lost = AdvanceKeyedState(ba, channels, coolant, dt_s, d.model_id != bound.id, d.thermal);
+    const bool fallbacks_restart = d.fallback_model_id != bound.id;
+    // (fallback_thermal is sized with the axes by StepState; a hand-made ModelDynamics without it
+    // simply has no fallback states, and DesiredCorrection then uses none.)
+    const std::size_t n_fallbacks = i < dynamics.fallback_thermal.size() ? ba.fallbacks.size() : 0;
+    for (std::size_t f = 0; f < n_fallbacks; ++f)
+      AdvanceKeyedState(ba.fallbacks[f], channels, coolant, dt_s, fallbacks_restart, dynamics.fallback_thermal[i][f]);
+    d.fallback_model_id = bound.id;
     d.time_s = now_s;
     d.model_id = any_lost ? 0 : bound.id;
   }
@@ -297,6 +341,7 @@ void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOu
     AxisStatus& st = out.axes[i];
     st.prediction = model::Prediction{};
     st.thermal_used = false;
+    st.fallback_model = -1;
     double desired = DesiredCorrection(model, state, in, i, link_usable, out, alarms);
     // The additional error term (error sign): the correction gets its negative, before the shaper.
     st.extra_error_um = 0;

@@ -28,7 +28,11 @@ void HistoryLogger::Log(const CycleRecord& r) {
     writer_.PushTemperature(t, channel_names_[i], r.temp_c[i], r.temp_c[i], ChannelHealthName(r.health[i]));
   for (std::size_t i = 0; i < r.axis_count && i < axis_names_.size(); ++i) {
     const AxisRecord& a = r.axes[i];
-    const char* state = !r.link_read_ok ? "link_lost" : !a.enabled ? "disabled" : a.thermal_used ? "full" : "geometric";
+    const char* state = !r.link_read_ok ? "link_lost"
+                        : !a.enabled    ? "disabled"
+                        : !a.thermal_used ? "geometric"
+                        : a.fallback_model >= 0 ? "fallback_model"  // a key sensor lost: a reduced model
+                                                : "full";
     writer_.PushCompensation(t, axis_names_[i], a.cnc_position_mm, a.output_um, state);
   }
   const std::uint32_t raised = r.alarms & ~last_alarms_;

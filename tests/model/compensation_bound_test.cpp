@@ -31,6 +31,22 @@ TEST(CompensationBound, LargestCorrectionOverTravelAndTemperatureWithHeadroom) {
   EXPECT_FALSE(b.limited_by_controller);
 }
 
+// A fallback (used when the key sensor is lost) asking for more sets the bound: 0.02 on a bearing
+// seen at 20…25 °C (+5): 0.02·10·1000 = 200 µm. One asking for less leaves it.
+TEST(CompensationBound, AFallbackModelsCorrectionsMustPassToo) {
+  AxisModel a = ThermalOnlyAxis();
+  AxisModel f = ThermalOnlyAxis();
+  f.key_sensors = {"x_bearing"};
+  f.key_fitted_range_c = {{20, 25}};
+  for (auto& d : f.directions) d.thermal = {{CoolantState::kOff, {0.02}, 0}};
+  a.fallbacks.push_back(f);
+  const auto b = DeriveCompensationBound(a);
+  EXPECT_NEAR(b.model_max_um, 200.0, 1e-9);
+  EXPECT_DOUBLE_EQ(b.bound_um, 250.0);
+  for (auto& d : a.fallbacks[0].directions) d.thermal = {{CoolantState::kOff, {0.005}, 0}};
+  EXPECT_NEAR(DeriveCompensationBound(a).model_max_um, 150.0, 1e-9);
+}
+
 TEST(CompensationBound, TheControllerLimitCapsItAndSaysSo) {
   CompensationBoundOptions o;
   o.controller_limit_um = 100;

@@ -128,5 +128,61 @@ TEST(ModelJson, BadFieldsAreNamedByPath) {
   EXPECT_THROW(ModelFromJson(j, "m.json"), InputError);
 }
 
+AxisModel ExampleFallback() {
+  AxisModel f = ExampleAxis();
+  f.key_sensors = {"bearing", "motor"};  // without the nut; the fit may take another sensor in
+  f.baseline_temp_c = {20, 21};
+  for (auto& d : f.directions) d.thermal = {{CoolantState::kOff, {-0.02, 0.003}, 0}};
+  return f;
+}
+
+TEST(ModelJson, FallbackModelsRoundTripInOrder) {
+  CompositeModel m;
+  m.axes = {ExampleAxis()};
+  m.axes[0].fallbacks = {ExampleFallback(), ExampleFallback()};
+  m.axes[0].fallbacks[1].key_sensors = {"nut"};
+  m.axes[0].fallbacks[1].baseline_temp_c = {20};
+  for (auto& d : m.axes[0].fallbacks[1].directions) d.thermal = {{CoolantState::kOff, {-0.012}, 0}};
+  const auto back = ModelFromJson(ModelToJson(m), "m.json");
+  ASSERT_EQ(back.axes[0].fallbacks.size(), 2u);
+  EXPECT_EQ(back.axes[0].fallbacks[0].key_sensors, (std::vector<std::string>{"bearing", "motor"}));
+  EXPECT_EQ(back.axes[0].fallbacks[1].key_sensors, (std::vector<std::string>{"nut"}));
+  const double temps[] = {27, 24};
+  ThermalState s{temps, 21.5, CoolantState::kOff, true};
+  EXPECT_DOUBLE_EQ(Predict(back.axes[0].fallbacks[0], 300, Direction::kForward, s).total_um,
+                   Predict(m.axes[0].fallbacks[0], 300, Direction::kForward, s).total_um);
+  // A model without fallbacks writes no "fallbacks" field (older readers see the same file).
+  m.axes[0].fallbacks.clear();
+  EXPECT_FALSE(ModelToJson(m)["axes"][0].contains("fallbacks"));
+}
+
+TEST(ModelJson, BadFallbacksAreRefusedByPath) {
+  CompositeModel m;
+  m.axes = {ExampleAxis()};
+  m.axes[0].fallbacks = {ExampleFallback()};
+  auto expect_error = [](const nlohmann::json& j, const std::string& field, const std::string& why) {
+    try {
+      ModelFromJson(j, "m.json");
+      ADD_FAILURE() << "accepted: " << field;
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("'" + field + "'"), std::string::npos) << what;
+      EXPECT_NE(what.find(why), std::string::npos) << what;
+    }
+  };
+  auto j = ModelToJson(m);
+  j["axes"][0]["fallbacks"][0]["key_sensors"] = {"bearing", "nut"};  // every key of the axis: no fallback
+  expect_error(j, "axes[0].fallbacks[0].key_sensors", "do without at least one");
+  j = ModelToJson(m);
+  j["axes"][0]["fallbacks"][0]["axis"] = "Y";
+  expect_error(j, "axes[0].fallbacks[0].axis", "not the axis 'X'");
+  j = ModelToJson(m);
+  j["axes"][0]["fallbacks"][0]["fallbacks"] = nlohmann::json::array({j["axes"][0]["fallbacks"][0]});
+  expect_error(j, "axes[0].fallbacks[0].fallbacks", "no fallbacks of its own");
+  j = ModelToJson(m);
+  j["axes"][0]["fallbacks"] = "bearing";
+  expect_error(j, "axes[0].fallbacks", "expected an array");
+}
+
 }  // namespace
 }  // namespace trueaxis::model

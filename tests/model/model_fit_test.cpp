@@ -1,11 +1,15 @@
 #include "trueaxis/model/model_fit.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <set>
 
 #include <gmock/gmock.h>
 #include <map>
 
 #include <gtest/gtest.h>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "synthetic_machine.hpp"
 #include "trueaxis/core/input_error.hpp"
@@ -470,6 +474,53 @@ TEST(CompositeModelAboveAmbient, KeyRiseIsMeasuredAboveTheRoomAndFallsBackWithou
   j["axes"][0]["key_temperature_rise"] = "above_ambient";
   j["axes"][0].erase("ambient_sensor");
   EXPECT_THROW(ModelFromJson(j, "mem"), InputError);
+}
+
+}  // namespace
+}  // namespace trueaxis::model
+
+namespace trueaxis::model {
+namespace {
+using testing::SyntheticMachine;
+
+// AxisModel::fallbacks (FitOptions::fallback_models): the axis refitted without each key sensor in
+// turn, the keys then chosen from the other candidates, best CV first; each still predicts a heated
+// state's thermal error, which the geometric part alone would leave.
+TEST(ModelFit, FallbackModelsDoWithoutEachKeyAndStillPredictTheHeat) {
+  SyntheticMachine sm;
+  const auto states = sm.MakeStates(sm.DefaultStates());
+  auto res = FitCompositeModel(states, {});
+  const auto& a = res.model.axes[0];
+  ASSERT_THAT(a.key_sensors, ::testing::UnorderedElementsAre("nut", "bearing")) << res.summary.FullReport();
+  ASSERT_EQ(a.fallbacks.size(), 2u) << res.summary.FullReport();
+  ASSERT_EQ(res.summary.axes[0].fallback_notes.size(), 2u);
+  std::set<std::string> done_without;
+  for (const auto& f : a.fallbacks) {
+    EXPECT_EQ(f.axis, "X");
+    EXPECT_TRUE(f.fallbacks.empty());
+    for (const auto& key : a.key_sensors)
+      if (std::find(f.key_sensors.begin(), f.key_sensors.end(), key) == f.key_sensors.end()) done_without.insert(key);
+  }
+  EXPECT_EQ(done_without, (std::set<std::string>{"nut", "bearing"}));
+  // The nut carries most of the heat: the fallback that keeps it comes first.
+  EXPECT_THAT(a.fallbacks[0].key_sensors, ::testing::Contains("nut"));
+  EXPECT_THAT(res.summary.axes[0].fallback_notes[0], HasSubstr("without"));
+
+  // heated-3: nut +4.5, bearing +1.5, motor +6.5 °C above a 20 °C room.
+  const std::map<std::string, double> reading{{"nut", 24.5}, {"bearing", 21.5}, {"motor", 26.5}};
+  const double x = 500;
+  const double thermal_truth = (sm.k_nut * 4.5 + sm.k_bearing * 1.5) * (sm.px_mm - x);
+  for (const auto& f : a.fallbacks) {
+    std::vector<double> keys;
+    for (const auto& k : f.key_sensors) keys.push_back(reading.at(k));
+    ThermalState ts{keys, 20.0, CoolantState::kOff, true};
+    const double predicted = Predict(f, x, Direction::kForward, ts).total_um - sm.Geometric(x, true);
+    EXPECT_NEAR(predicted, thermal_truth, 0.35 * std::fabs(thermal_truth)) << fmt::format("{}", fmt::join(f.key_sensors, ","));
+  }
+
+  FitOptions none;
+  none.fallback_models = false;
+  EXPECT_TRUE(FitCompositeModel(states, none).model.axes[0].fallbacks.empty());
 }
 
 }  // namespace

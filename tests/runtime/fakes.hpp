@@ -6,6 +6,7 @@
 
 #include "../support/mock_hardware.hpp"
 #include "trueaxis/model/composite_model.hpp"
+#include "trueaxis/runtime/compensator.hpp"
 
 namespace trueaxis::runtime::testing {
 
@@ -39,5 +40,22 @@ inline std::shared_ptr<const model::CompositeModel> TestModel(double geometric_s
   for (const auto& a : axes) m->axes.push_back(TestAxisModel(a, geometric_scale));
   return m;
 }
+
+// One axis X standing at 400 mm (forward), channels ambient / nut / bearing at 20 °C, and a
+// compensator that lets any correction through within one cycle and accepts stepped temperatures:
+// what the model asks for is what `desired_um` shows, cycle by cycle.
+struct OneAxisRig {
+  OneAxisRig() : cnc({"X"}), temps({"ambient", "nut", "bearing"}, 20.0) {
+    CompensatorOptions o;
+    o.shaper.max_step_um = 1000;
+    o.shaper.max_correction_um = 500;
+    o.sensor.max_rate_c_per_s = 0;  // the tests step temperatures on purpose
+    comp = Compensator::ForHardware(o, cnc, temps, {});
+    cnc.axes[0] = {400, +1, true};
+  }
+  MockCnc cnc;
+  MockTemperatures temps;
+  std::unique_ptr<Compensator> comp;
+};
 
 }  // namespace trueaxis::runtime::testing

@@ -23,24 +23,13 @@ std::shared_ptr<const model::CompositeModel> LaggedModel(double nut_tau_s, doubl
   return m;
 }
 
-struct LagRig {
-  LagRig() : cnc({"X"}), temps({"ambient", "nut", "bearing"}, 20.0) {
-    CompensatorOptions o;
-    o.shaper.max_step_um = 1000;
-    o.shaper.max_correction_um = 500;
-    o.sensor.max_rate_c_per_s = 0;  // the test steps temperatures on purpose
-    comp = Compensator::ForHardware(o, cnc, temps, {});
-    cnc.axes[0] = {400, +1, true};
-  }
+struct LagRig : testing::OneAxisRig {
   // The error the model predicts at the CNC's position for the given (lagged) key temperatures.
   double ExpectedDesired(const model::CompositeModel& m, double nut_c, double bearing_c) const {
     const double key[2] = {nut_c, bearing_c};
     model::ThermalState ts{std::span<const double>(key, 2), 20.0, CoolantState::kOff, true};
     return model::CorrectionUm(model::Predict(m.axes[0], 400, Direction::kForward, ts));
   }
-  MockCnc cnc;
-  MockTemperatures temps;
-  std::unique_ptr<Compensator> comp;
 };
 
 TEST(CompensatorLag, KeyTemperaturesArePassedThroughTheFirstOrderLag) {

@@ -8,7 +8,9 @@
 // range, or the table's points), the key sensors all at the low end or all at the high end of their
 // fitted ranges (AxisModel::key_fitted_range_c; the hot end extended by `extra_rise_c`; the sensors
 // of one drive warm and cool together),
-// the ambient at its baseline ± `ambient_margin_c`, every coolant state with fitted gains.
+// the ambient at its baseline ± `ambient_margin_c`, every coolant state with fitted gains; the same
+// for each of the axis's fallback models (AxisModel::fallbacks), which drive the axis when a key
+// sensor is lost.
 //   bound = clamp(round_up(max |correction| × (1 + margin_fraction), round_to_um),
 //                 min_bound_um, controller_limit_um)
 // When the model needs more than the controller accepts, `limited_by_controller` says so: the

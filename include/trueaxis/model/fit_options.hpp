@@ -57,6 +57,8 @@ struct FitOptions {
   // axis' error without causing it, and a different warm-up path would break
   // that correlation. Shared sensors (ambient, bed, ...) stay candidates.
   bool own_axis_sensors_only = true;
+  // Sensors that are never key-sensor candidates (a fallback model's lost key, a sensor known bad).
+  std::vector<std::string> excluded_sensors;
   // Thermal lag of the key sensors (thermal_lag.hpp): the τ values (seconds) tried, after the
   // keys are chosen, by the same leave-one-state-out CV, the lag applied along each file's time
   // series (through the logged history when the manifest has one). The best τ > 0 is kept only
@@ -107,6 +109,11 @@ struct FitOptions {
   // else −cte/1000 from `# cte_um_per_m_c:` metadata, else 0 (warned).
   double rho_um_per_mm_per_c = std::numeric_limits<double>::quiet_NaN();
   double min_ambient_range_c = 1.0;
+
+  // Fallback models (AxisModel::fallbacks): with two or more key sensors, the axis is fitted again
+  // without each one of them (the other keys given, every other option the same), so the
+  // compensator keeps a thermal part when a key sensor dies. Ordered by their LOSO CV. false: none.
+  bool fallback_models = true;
 
   // Used when a file has no `# axis:` line (empty: such a file is an error).
   std::string default_axis;

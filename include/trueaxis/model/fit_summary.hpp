@@ -77,6 +77,7 @@ struct AxisFitSummary {
   double rho_um_per_mm_per_c = 0;
   std::string rho_source;
   std::vector<std::string> coolant_notes;  // how each coolant entry was fitted
+  std::vector<std::string> fallback_notes; // the fallback models (FitOptions::fallback_models), in order
   std::vector<StateFitStats> states;
 };
 

@@ -24,6 +24,7 @@ struct AxisRecord {
   std::int8_t direction = 1;  // +1 forward model, −1 reverse model
   bool enabled = false;
   bool thermal_used = false;
+  std::int8_t fallback_model = -1;  // AxisStatus::fallback_model
   double geometric_um = 0, thermal_um = 0, ambient_um = 0;  // predicted error parts
   double desired_um = 0;   // target correction (NaN = hold)
   double output_um = 0;    // shaped correction, physical

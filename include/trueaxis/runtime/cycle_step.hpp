@@ -68,6 +68,7 @@ struct AxisStatus {
   Direction direction = Direction::kForward;  // model used (held while stopped)
   bool enabled = false;         // effective enable (switches, CNC flag)
   bool thermal_used = false;
+  int fallback_model = -1;      // thermal part from the model's fallback #n (a key sensor lost); -1: the model's own
   model::Prediction prediction; // zero when not evaluated
   double extra_error_um = 0;     // StepInputs::extra_error_um used this cycle (error sign; 0 = none)
   double desired_um = 0;        // target correction (physical µm) before shaping; NaN = hold
@@ -110,12 +111,17 @@ struct ModelDynamics {
     // The model's thermal state (model::AdvanceThermalState: key temperatures lagged and, under a
     // coolant, drawn to the room — issue 10's coolant memory).
     model::AxisThermalState thermal;
+    std::uint64_t fallback_model_id = 0;  // model the fallback states belong to (0: restart them)
     // The state of a model behind model::AxisErrorModel that has dynamics (the interval trend).
     model::AxisModelDynamics generic;
     double time_s = 0;                            // time of the last update
     std::uint64_t model_id = 0;  // model the state belongs to; 0 = restart at the readings
   };
   std::vector<Axis> axes;
+  // Per axis, the same state for each of its fallback models (BoundAxis::fallbacks), advanced
+  // alongside so a fallback taking over has the machine's history, not a cold start. Kept apart
+  // from `axes`: a cycle without fallbacks does not pull them through the cache.
+  std::vector<std::array<model::AxisThermalState, kMaxFallbackModels>> fallback_thermal;
 };
 
 struct StepState {

@@ -1,0 +1,128 @@
+// A lost key sensor hands the axis to the model's fallback fitted without it (AxisModel::fallbacks,
+// docs/runtime.md "Sensor faults"): the fallback's prediction is used, with its own key state
+// advanced alongside the model's, and the sensor_fallback alarm stays raised while it runs.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "fakes.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/model/thermal_state.hpp"
+#include "trueaxis/runtime/compensator.hpp"
+#include "trueaxis/runtime/cycle_step.hpp"
+
+namespace trueaxis::runtime {
+namespace {
+using testing::TestAxisModel;
+
+// X with keys nut + bearing (no lag) and one fallback on the bearing alone, with gains of its own
+// so its correction is told apart from the full model's and from the geometric part.
+model::AxisModel BearingOnlyFallback(double bearing_tau_s) {
+  model::AxisModel f = TestAxisModel("X");
+  f.key_sensors = {"bearing"};
+  f.baseline_temp_c = {20};
+  if (bearing_tau_s > 0) f.key_lag_s = {bearing_tau_s};
+  for (auto& d : f.directions) d.thermal = {{CoolantState::kOff, {-0.025}, 0}};
+  return f;
+}
+
+std::shared_ptr<const model::CompositeModel> ModelWithFallback(double bearing_tau_s) {
+  auto m = std::make_shared<model::CompositeModel>();
+  m->axes.push_back(TestAxisModel("X"));
+  m->axes.back().fallbacks.push_back(BearingOnlyFallback(bearing_tau_s));
+  return m;
+}
+
+struct Rig : testing::OneAxisRig {
+  static double Desired(const model::AxisModel& a, std::vector<double> keys) {
+    model::ThermalState ts{std::span<const double>(keys.data(), keys.size()), 20.0, CoolantState::kOff, true};
+    return model::CorrectionUm(model::Predict(a, 400, Direction::kForward, ts));
+  }
+};
+
+TEST(FallbackModel, TakesOverWhenAKeySensorIsLostAndHandsBackWhenItReturns) {
+  Rig r;
+  const auto m = ModelWithFallback(0);
+  r.comp->PublishModel(m, "with fallback");
+  r.temps.Set("nut", 26);
+  r.temps.Set("bearing", 23);
+  const auto& ok = r.comp->RunCycle(r.cnc, r.temps, 0.0);
+  EXPECT_EQ(ok.axes[0].fallback_model, -1);
+  EXPECT_NEAR(ok.axes[0].desired_um, Rig::Desired(m->axes[0], {26, 23}), 1e-9);
+
+  r.temps.SetFault("nut", true);
+  const auto& held = r.comp->RunCycle(r.cnc, r.temps, 30.0);  // within hold_last_good_s: the model, held value
+  EXPECT_TRUE(held.alarms & kAlarmSensorHeld);
+  EXPECT_EQ(held.axes[0].fallback_model, -1);
+
+  const auto& lost = r.comp->RunCycle(r.cnc, r.temps, 100.0);  // beyond it: the fallback
+  EXPECT_TRUE(lost.alarms & kAlarmSensorFallback);
+  EXPECT_TRUE(lost.axes[0].thermal_used);
+  EXPECT_EQ(lost.axes[0].fallback_model, 0);
+  const double fallback = Rig::Desired(m->axes[0].fallbacks[0], {23});
+  EXPECT_NEAR(lost.axes[0].desired_um, fallback, 1e-9);
+  // Neither the full model (with the last nut reading) nor the geometric part alone.
+  EXPECT_GT(std::fabs(fallback - Rig::Desired(m->axes[0], {26, 23})), 1.0);
+  model::ThermalState none{{}, std::nan(""), CoolantState::kOff, false};
+  EXPECT_GT(std::fabs(fallback - model::CorrectionUm(model::Predict(m->axes[0], 400, Direction::kForward, none))), 1.0);
+
+  r.temps.SetFault("nut", false);
+  r.temps.Set("nut", 25);
+  const auto& back = r.comp->RunCycle(r.cnc, r.temps, 100.01);
+  EXPECT_EQ(back.axes[0].fallback_model, -1);
+  EXPECT_FALSE(back.alarms & kAlarmSensorFallback);
+  EXPECT_NEAR(back.axes[0].desired_um, Rig::Desired(m->axes[0], {25, 23}), 1e-9);
+}
+
+TEST(FallbackModel, ItsLagCarriesTheHistoryFromBeforeTheLoss) {
+  Rig r;
+  const double tau = 600;
+  const auto m = ModelWithFallback(tau);
+  r.comp->PublishModel(m, "lagged fallback");
+  r.comp->RunCycle(r.cnc, r.temps, 0.0);  // every state starts at 20 °C
+  r.temps.Set("bearing", 26);
+  for (int t = 1; t <= 300; ++t) r.comp->RunCycle(r.cnc, r.temps, t);
+  r.temps.SetFault("nut", true);
+  const CycleStatus* s = nullptr;
+  for (int t = 301; t <= 400; ++t) s = &r.comp->RunCycle(r.cnc, r.temps, t);
+  ASSERT_EQ(s->axes[0].fallback_model, 0);
+  // The bearing's lagged value over 400 s of a step to 26 °C, not a restart at the reading.
+  const double lagged = 26 - 6 * std::exp(-400 / tau);
+  EXPECT_NEAR(s->axes[0].desired_um, Rig::Desired(m->axes[0].fallbacks[0], {lagged}), 1e-6);
+  EXPECT_GT(std::fabs(Rig::Desired(m->axes[0].fallbacks[0], {26}) - s->axes[0].desired_um), 0.5);
+}
+
+TEST(FallbackModel, WithoutOneTheAxisFallsBackToItsGeometricPart) {
+  Rig r;
+  auto m = std::make_shared<model::CompositeModel>();
+  m->axes.push_back(TestAxisModel("X"));
+  r.comp->PublishModel(m, "no fallback");
+  r.comp->RunCycle(r.cnc, r.temps, 0.0);
+  r.temps.SetFault("nut", true);
+  const auto& lost = r.comp->RunCycle(r.cnc, r.temps, 100.0);
+  EXPECT_TRUE(lost.alarms & kAlarmSensorFallback);
+  EXPECT_FALSE(lost.axes[0].thermal_used);
+  EXPECT_EQ(lost.axes[0].fallback_model, -1);
+}
+
+TEST(FallbackModel, AFallbackWhoseKeyHasNoChannelIsABindErrorNamingIt) {
+  auto m = std::make_shared<model::CompositeModel>();
+  m->axes.push_back(TestAxisModel("X"));
+  model::AxisModel f = BearingOnlyFallback(0);
+  f.key_sensors = {"motor"};
+  m->axes.back().fallbacks.push_back(f);
+  std::vector<AxisInterface> axes(1);
+  axes[0].axis = "X";
+  try {
+    BindModel(m, "model.json", axes, {"ambient", "nut", "bearing"}, {});
+    FAIL() << "bound a fallback whose key has no channel";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("axes[X].fallbacks[0].key_sensors"), std::string::npos) << what;
+    EXPECT_NE(what.find("'motor'"), std::string::npos) << what;
+    EXPECT_NE(what.find("--no-fallback-models"), std::string::npos) << what;
+  }
+}
+
+}  // namespace
+}  // namespace trueaxis::runtime
