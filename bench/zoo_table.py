@@ -30,6 +30,9 @@ DEMO_OPTIONS = [
      "ridge on the bearing key's gain (demo --secondary-key-ridge; 0: the seed's plain least squares)"),
     ("--key-offsets", "--key-offsets", False,
      "each key's own pivot: auto, on, off (demo --key-offsets; off: one pivot Px, the seed's form)"),
+    ("--no-fallback-models", "--no-fallback-models", True,
+     "fit no fallback models (demo --no-fallback-models): a sensor that dies in the day ([[day_fault]]) leaves its "
+     "axis the geometric part only"),
     ("--no-lag-fall", "--no-lag-fall", True,
      "fit one lag tau both ways (demo --no-lag-fall): the lag before the longer fall"),
 ]

@@ -64,6 +64,9 @@ void Setup(CLI::App& app) {
                 "Let the fit try issue 10's coolant memory (one set of gains, the keys drawn to the room under "
                 "coolant; fit --coolant-loss-grid-s), off by default since it did worse on the machine zoo "
                 "(bench/results/zoo.md)");
+  cmd->add_flag_function("--no-fallback-models", [opts](std::int64_t) { opts->demo.fallback_models = false; },
+                         "Fit no fallback models (fit --no-fallback-models): a key sensor lost in the day "
+                         "([[day_fault]]) then leaves its axis the geometric part only");
   cmd->add_flag_function("--no-envelope", [opts](std::int64_t) { opts->demo.fitted_envelope = false; },
                          "Fit without the gains' fitted envelope (fit --envelope-margin -1): gains per coolant state "
                          "and no envelope is the model before issue 10's coolant work, the baseline of "

@@ -68,7 +68,8 @@ std::string DemoResult::BriefReport() const {
   std::string s = fmt::format("{:<14} {:<4} {:>10} {:>12} {:>12} {:>8}\n", "state", "axis", "nut rise", "A off (µm)",
                               "A on (µm)", "factor");
   for (const auto& r : states)
-    s += fmt::format("{:<14} {:<4} {:>+8.2f} °C {:>12.2f} {:>12.2f} {:>7.1f}×\n", r.state, r.axis, r.nut_rise_c,
+    s += fmt::format("{:<14} {:<4} {:>11} {:>12.2f} {:>12.2f} {:>7.1f}×\n", r.state, r.axis,
+                     std::isnan(r.nut_rise_c) ? std::string("no reading") : fmt::format("{:+.2f} °C", r.nut_rise_c),
                      r.eval_off.axis.A_um, r.eval_on.axis.A_um, r.Factor());
   s += fmt::format("loop: {}; machine time {:.1f} h; wall {:.1f} s (campaign {:.1f} s, fit {:.1f} s, day {:.1f} s)\n",
                    loop_stats.BriefReport(), machine_time_h, wall_s, campaign_wall_s, fit_wall_s, day_wall_s);
@@ -83,6 +84,17 @@ std::string DemoResult::BriefReport() const {
                           room ? fmt::format(" (room outside the fitted range in {} cycles)", room) : "");
   }
   if (!bounds.empty()) s += "bounds: " + bounds + "\n";
+  for (const auto& f : sensor_faults) s += "sensor fault: " + f + "\n";
+  std::string reduced, lost;
+  for (std::size_t i = 0; i < machine_axes.size(); ++i) {
+    const std::uint64_t r = i < fallback_model_cycles.size() ? fallback_model_cycles[i] : 0;
+    const std::uint64_t g = i < sensor_fallback_cycles.size() ? sensor_fallback_cycles[i] : 0;
+    if (r) reduced += fmt::format("{}{} {} cycles", reduced.empty() ? "" : ", ", machine_axes[i], r);
+    if (g) lost += fmt::format("{}{} {} cycles", lost.empty() ? "" : ", ", machine_axes[i], g);
+  }
+  if (!reduced.empty() || !lost.empty())
+    s += fmt::format("key sensor lost (alarm sensor_fallback): on a fallback model {}; without the thermal part {}\n",
+                     reduced.empty() ? "never" : reduced, lost.empty() ? "never" : lost);
   return s;
 }
 
@@ -117,7 +129,11 @@ class DayObserver : public runtime::CycleObserver {
     if (result_.clamped_cycles.size() < s.axes.size()) result_.clamped_cycles.resize(s.axes.size(), 0);
     if (result_.extrapolated_cycles.size() < s.axes.size()) result_.extrapolated_cycles.resize(s.axes.size(), 0);
     if (result_.room_extrapolated_cycles.size() < s.axes.size()) result_.room_extrapolated_cycles.resize(s.axes.size(), 0);
+    if (result_.sensor_fallback_cycles.size() < s.axes.size()) result_.sensor_fallback_cycles.resize(s.axes.size(), 0);
+    if (result_.fallback_model_cycles.size() < s.axes.size()) result_.fallback_model_cycles.resize(s.axes.size(), 0);
     for (std::size_t i = 0; i < s.axes.size(); ++i) {
+      if ((s.alarms & runtime::kAlarmSensorFallback) && s.axes[i].enabled && !s.axes[i].thermal_used) ++result_.sensor_fallback_cycles[i];
+      if (s.axes[i].fallback_model >= 0) ++result_.fallback_model_cycles[i];
       if (s.axes[i].clamped) ++result_.clamped_cycles[i];
       if (s.axes[i].prediction.tan_beta_limited) ++result_.extrapolated_cycles[i];
       if (s.axes[i].prediction.ambient_extrapolated) ++result_.room_extrapolated_cycles[i];
@@ -170,6 +186,7 @@ class WorkingDay {
         laser_(laser, o.seed * 7919 + 4242) {
     for (std::size_t i = 0; i < vm_.ChannelCount(); ++i) result_.channel_names.push_back(vm_.ChannelName(i));
     for (std::size_t i = 0; i < vm_.AxisCount(); ++i) all_axes_.push_back(vm_.AxisName(i));
+    day_faults_ = md.day_faults;
     result_.machine_axes = all_axes_;
     // Axes without a model (not calibrated in this run) stay switched off.
     std::vector<runtime::AxisInterface> interfaces;
@@ -219,6 +236,7 @@ class WorkingDay {
     // The working day starts at 07:00, `day_offset` days after the campaign's first day.
     IdleUntil(o_.day_offset * 86400.0);
     observer_->SetDayStart(vm_.TimeS(), false);
+    ScheduleDayFaults();
     if (model_loaded) model_loaded(vm_.UnixTimeS());
     Progress(fmt::format("working day {}: machine cold, compensator running every {:.0f} ms", vm_.IsoTime(), o_.period_s * 1000));
     Step(60);
@@ -234,6 +252,10 @@ class WorkingDay {
     // Another day: the machine soaked at another season's air, mid-morning.
     const double day_h = (vm_.TimeS() - o_.day_offset * 86400.0) / 3600.0;
     IdleUntil(o_.other_day_offset * 86400.0 + 3 * 3600.0);
+    for (const auto& f : day_faults_) {  // months later: the sensor was replaced
+      vm_.SetSensorFault(f.sensor, sim::SensorFault{});
+      Progress(fmt::format("sensor {} replaced since the working day", f.sensor));
+    }
     observer_->SetDayStart(vm_.TimeS() - day_h * 3600.0 - 3600.0, true);  // plotted after a 1 h gap
     Progress(fmt::format("another day {}: machine soaked at {:.1f} °C air", vm_.IsoTime(), vm_.AmbientC()));
     Step(60);
@@ -250,6 +272,20 @@ class WorkingDay {
   double MachineTimeS() const { return vm_.TimeS(); }
 
  private:
+  // The machine file's [[day_fault]]s, at their hours after the day's start (the machine applies
+  // each on its thermal grid; the compensator finds out from the readings, as on a real machine).
+  void ScheduleDayFaults() {
+    for (const auto& f : day_faults_) {
+      sim::SensorFault fault;
+      fault.kind = *sim::ParseSensorFaultKind(f.kind);  // checked by the machine-file reader
+      const double at_s = vm_.TimeS() + f.at_h * 3600.0;
+      vm_.ScheduleSensorFault(f.sensor, fault, at_s);
+      result_.sensor_faults.push_back(fmt::format("{} {} at {} ({:g} h into the working day; [[day_fault]] in the machine file)",
+                                                  f.sensor, f.kind, sim::FormatIsoTime(vm_.UnixTimeS() + f.at_h * 3600.0), f.at_h));
+      Progress("sensor fault scheduled: " + result_.sensor_faults.back());
+    }
+  }
+
   void StartModbus() {
     drivers::ModbusMachineServerOptions so;
     so.machine_period_s = 0.0002;
@@ -432,6 +468,7 @@ class WorkingDay {
   std::unique_ptr<runtime::LoopRunner> runner_;
   std::function<void(double)> advance_;
   std::map<std::string, double> cold_nut_;
+  std::vector<sim::DayFaultDescription> day_faults_;
   // MODBUS mode
   std::mutex vm_mutex_;
   std::unique_lock<std::mutex> vm_lock_;
@@ -513,6 +550,7 @@ DemoResult RunDemo(const DemoOptions& o) {
                      : o.key_offsets == "off" ? model::FitOptions::KeyOffsets::kOff
                                               : model::FitOptions::KeyOffsets::kAuto;
     if (o.coolant_memory) fo.coolant_loss_grid_s = model::FitOptions::CoolantMemoryGridS();
+    fo.fallback_models = o.fallback_models;
     if (!o.fitted_envelope) fo.tan_beta_margin = -1;
     model::FitResult one = model::FitCompositeModel(axis_states, fo);
     // Er(x): the seed-000 polynomial, unless the seed-002 table (linear

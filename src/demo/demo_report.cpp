@@ -122,6 +122,16 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
                              "with the room that cold or warm too (docs/campaign.md, --ambient-hours and "
                              "--ambient-days).", room));
 
+  for (const auto& f : r.sensor_faults) page.AddNote("Sensor fault in the working day: " + f + ".");
+  for (std::size_t i = 0; i < r.machine_axes.size(); ++i) {
+    const std::uint64_t reduced = i < r.fallback_model_cycles.size() ? r.fallback_model_cycles[i] : 0;
+    const std::uint64_t lost = i < r.sensor_fallback_cycles.size() ? r.sensor_fallback_cycles[i] : 0;
+    if (reduced || lost)
+      page.AddNote(fmt::format("WARNING: {}'s key sensor was lost (alarm sensor_fallback): {} cycles on the model's "
+                               "fallback fitted without it, {} cycles without the thermal part (docs/runtime.md, "
+                               "sensor faults).", r.machine_axes[i], reduced, lost));
+  }
+
   page.AddHeading("Setup");
   const auto& so = o.compensator.shaper;
   page.AddKeyValueTable({
@@ -135,7 +145,7 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
       {"interface", r.interface_used},
       {"output limits", fmt::format("|correction| ≤ the axis's bound (table above), change ≤ {} µm per cycle, "
                                     "quantum δ = 1 µm, hysteresis {} δ", so.max_step_um, so.hysteresis)},
-      {"sensor fault policy", fmt::format("hold last good {} s, then geometric part only", o.compensator.sensor.hold_last_good_s)},
+      {"sensor fault policy", fmt::format("hold last good {} s, then the model's fallback without the lost key sensor, else the geometric part only", o.compensator.sensor.hold_last_good_s)},
       {"mode", o.fast ? "--fast (fewer targets and runs)" : "full"},
       {"wall time", fmt::format("{:.1f} s (campaign {:.1f} s, fit {:.1f} s, day {:.1f} s)", r.wall_s, r.campaign_wall_s,
                                 r.fit_wall_s, r.day_wall_s)},

@@ -46,6 +46,9 @@ struct DemoOptions {
   // Issue 10's coolant memory (model/thermal_state.hpp, FitOptions::coolant_loss_grid_s): tried by
   // the fit when true (FitOptions::CoolantMemoryGridS()); off by default, as in the fit.
   bool coolant_memory = false;
+  // Fallback models fitted without each key sensor (FitOptions::fallback_models), used by the
+  // compensator when a key sensor is lost (machine file [[day_fault]]). false: the geometric part only.
+  bool fallback_models = true;
   // The gains' fitted envelope (FitOptions::tan_beta_margin). false (with the coolant memory off):
   // the model before issue 10's coolant work, the baseline of bench/results/zoo.md.
   bool fitted_envelope = true;
@@ -123,6 +126,11 @@ struct DemoResult {
   // Per machine axis: cycles in which the room temperature lay outside the fit's range (the ρ
   // term extrapolated, not held: model::Prediction::ambient_extrapolated, alarm model_extrapolated).
   std::vector<std::uint64_t> room_extrapolated_cycles;
+  // Per machine axis: cycles the sensor fault policy ran it without its thermal part (a key sensor
+  // lost: alarm sensor_fallback), and the working day's sensor faults (machine file [[day_fault]]).
+  std::vector<std::uint64_t> sensor_fallback_cycles;
+  std::vector<std::uint64_t> fallback_model_cycles;  // ... and with the model's fallback (AxisModel::fallbacks)
+  std::vector<std::string> sensor_faults;
   std::uint64_t day_cycles = 0;
   std::string interface_used;      // "in-process CncLink" or "MODBUS TCP 127.0.0.1:<port>"
   std::vector<std::string> alarm_log;  // "<date> <alarms>" at each change
