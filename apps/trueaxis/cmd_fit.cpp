@@ -190,8 +190,8 @@ void Setup(CLI::App& app) {
       ->allow_extra_args(false)
       ->capture_default_str();
   cmd->add_flag("--no-fallback-models", opts->no_fallback_models,
-               "Fit no fallback models (by default an axis with two or more key sensors is also fitted without "
-               "each, for the compensator to use when that sensor is lost; docs/model-file.md)");
+               "Fit no fallback models (by default an axis with key sensors is also fitted without each of "
+               "them, its keys re-chosen from the other sensors, for the compensator to use when that sensor is lost; docs/model-file.md)");
   cmd->add_option("--envelope-margin", opts->envelope_margin,
                   "Fitted envelope of key rises and tanβ, widened by this fraction of its width (negative: none)")
       ->capture_default_str();

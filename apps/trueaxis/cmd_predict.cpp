@@ -6,6 +6,7 @@
 // Prints the model's predicted error at one position and the correction the
 // runtime would apply (docs/sign-convention.md: error = actual − commanded,
 // correction = −error, added to the command).
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -133,6 +134,8 @@ void RunPredict(const PredictOptions& o) {
     if (auto why = ImplausibleTemperatureC(*v)) throw InputError("command line", 0, "--temp", name + ": " + *why);
     bool known = false;
     for (const auto& k : axis->key_sensors) known = known || k == name;
+    for (const auto& f : axis->fallbacks)
+      for (const auto& k : f.key_sensors) known = known || k == name;
     if (!known && name != axis->ambient_sensor)
       throw InputError("command line", 0, "--temp",
                        fmt::format("'{}' is not a key sensor of axis {} (key sensors: {})", name, o.axis,
@@ -141,12 +144,38 @@ void RunPredict(const PredictOptions& o) {
   }
   std::vector<double> key_temps;
   const bool use_thermal = !o.geometric_only;
+  // A key sensor of the model not given: the first fallback model (fitted without it) whose keys
+  // all are, as the compensator does when that sensor is lost (docs/model-file.md).
+  std::string fallback_note;
+  const auto all_given = [&](const model::AxisModel& a) {
+    for (const auto& k : a.key_sensors)
+      if (!given.count(k)) return false;
+    return true;
+  };
+  if (use_thermal && !all_given(*axis)) {
+    for (const auto& f : axis->fallbacks) {
+      if (!all_given(f)) continue;
+      std::vector<std::string> missing;
+      for (const auto& k : axis->key_sensors)
+        if (!given.count(k)) missing.push_back(k);
+      fallback_note = fmt::format("{} not given: the fallback model fitted without it (keys {}), as the compensator "
+                                  "uses when that sensor is lost",
+                                  fmt::join(missing, ", "), fmt::join(f.key_sensors, ", "));
+      axis = &f;
+      break;
+    }
+  }
   for (const auto& k : axis->key_sensors) {
     auto it = given.find(k);
     if (it == given.end()) {
-      if (use_thermal)
+      if (use_thermal) {
+        std::vector<std::string> fallbacks;
+        for (const auto& f : axis->fallbacks) fallbacks.push_back(fmt::format("{}", fmt::join(f.key_sensors, " + ")));
         throw InputError("command line", 0, "--temp",
-                         fmt::format("key sensor '{}' needs a temperature (--temp {}=…), or pass --geometric-only", k, k));
+                         fmt::format("key sensor '{}' needs a temperature (--temp {}=…){}, or pass --geometric-only", k,
+                                     k, fallbacks.empty() ? "" : fmt::format(", or those of a fallback model ({})",
+                                                                             fmt::join(fallbacks, " or "))));
+      }
       key_temps.push_back(std::numeric_limits<double>::quiet_NaN());
     } else {
       key_temps.push_back(it->second);
@@ -199,7 +228,8 @@ void RunPredict(const PredictOptions& o) {
                      {"error_um", p.total_um},
                      {"correction_um", model::CorrectionUm(p)},
                      {"outside_fitted_range", outside},
-                     {"temperatures_outside_fitted_range", temp_outside}};
+                     {"temperatures_outside_fitted_range", temp_outside},
+                     {"fallback_model", fallback_note.empty() ? nlohmann::json(nullptr) : nlohmann::json(axis->key_sensors)}};
     std::cout << j.dump(2) << "\n";
     return;
   }
@@ -218,6 +248,12 @@ void RunPredict(const PredictOptions& o) {
                              FormatShortest(o.position_mm), FormatShortest(lo), FormatShortest(hi));
   for (const auto& w : temp_outside) std::cout << "  warning: " << w << " (thermal part extrapolated)\n";
   if (!use_thermal) std::cout << "  note: --geometric-only: thermal and ambient parts not applied\n";
+  if (!fallback_note.empty()) std::cout << "  note: " << fallback_note << "\n";
+  for (const auto& [name, value] : given) {
+    const bool used = name == axis->ambient_sensor ||
+                      std::find(axis->key_sensors.begin(), axis->key_sensors.end(), name) != axis->key_sensors.end();
+    if (!used) std::cout << "  note: " << name << " is not used (a key of a fallback model only)\n";
+  }
 
 }
 

@@ -39,6 +39,7 @@ std::string FitSummary::BriefReport() const {
     if (a.thermal_fitted && !a.lag_reason.empty()) out += fmt::format("; key lag τ {} s", Num(a.key_lag_s, 0));
     if (a.thermal_fitted && a.key_offsets) out += "; each key's own pivot";
     if (!a.thermal_fitted) out += "; geometric only";
+    for (const auto& n : a.fallback_notes) out += "\n  " + n;
     const StateFitStats* worst = nullptr;
     for (const auto& s : a.states)
       if (!worst || s.residual_rms_um > worst->residual_rms_um) worst = &s;

@@ -1396,7 +1396,8 @@ namespace {
 // AxisModel::fallbacks: the axis fitted again without each of its key sensors in turn, its keys
 // chosen by the same CV from the remaining candidates (the other keys, the motor, the bed, ...;
 // on the machine zoo this beat keeping just the other keys: bench/results/zoo.md), every other
-// option as asked; best LOSO CV first. A reduced fit that keeps no key is left out. Its warnings
+// option as asked; best LOSO CV first — also for a single-key model. A reduced fit that keeps no
+// key (no other sensor explains the heat) is left out. Its warnings
 // repeat the main fit's and are dropped.
 void FitFallbacks(const std::string& axis, const std::vector<const FitState*>& states, const FitOptions& options,
                   AxisModel& am, AxisFitSummary& sum) {
@@ -1453,7 +1454,7 @@ FitResult FitCompositeModel(const std::vector<FitState>& states, const FitOption
     AxisFitSummary sum;
     AxisFitter fitter(axis, by_axis[axis], options, res.summary.warnings);
     AxisModel am = fitter.Fit(sum);
-    if (options.fallback_models && am.key_sensors.size() >= 2) FitFallbacks(axis, by_axis[axis], options, am, sum);
+    if (options.fallback_models && !am.key_sensors.empty()) FitFallbacks(axis, by_axis[axis], options, am, sum);
     res.model.axes.push_back(std::move(am));
     res.summary.axes.push_back(std::move(sum));
   }

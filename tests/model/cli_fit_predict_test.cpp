@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 
 #include <gmock/gmock.h>
@@ -294,6 +295,36 @@ TEST_F(CliFit, BadInputsExitWithFileLineField) {
   EXPECT_EQ(r.code, 2);
   EXPECT_THAT(r.out, HasSubstr("format"));
   EXPECT_FALSE(fs::exists(P("x.json")));
+}
+
+// Without a key sensor's temperature, predict takes the model's fallback whose keys are all given
+// (as the compensator does when that sensor is lost), says so, and gives that model's prediction.
+TEST_F(CliFit, PredictUsesAFallbackModelWhenAKeySensorIsNotGiven) {
+  ASSERT_EQ(Cli("fit --out " + P("m.json") + AllFiles()).code, 0);
+  const auto model = ReadModelFile(P("m.json"));
+  ASSERT_FALSE(model.axes[0].fallbacks.empty());
+  const AxisModel& f = model.axes[0].fallbacks.back();
+  const std::map<std::string, double> reading{{"nut", 24.5}, {"bearing", 21.5}, {"motor", 26.5}};
+  std::string temps;
+  std::vector<double> keys;
+  for (const auto& k : f.key_sensors) {
+    temps += fmt::format("{}{}={}", temps.empty() ? "" : ",", k, reading.at(k));
+    keys.push_back(reading.at(k));
+  }
+  const std::string cmd = "predict --model " + P("m.json") + " --axis X --position-mm 400 --direction + --ambient-c 20 --temp " + temps;
+  auto r = Cli(cmd);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("the fallback model fitted without it"));
+  r = Cli(cmd + " --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["fallback_model"].get<std::vector<std::string>>(), f.key_sensors);
+  const double expected = Predict(f, 400, Direction::kForward, {keys, 20.0, CoolantState::kOff, true}).total_um;
+  EXPECT_NEAR(j["error_um"].get<double>(), expected, 1e-9);
+  // With every key of the model given, the model itself (no fallback).
+  r = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction + --ambient-c 20 --json --temp nut=24.5,bearing=21.5");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(nlohmann::json::parse(r.out)["fallback_model"].is_null());
 }
 
 TEST_F(CliFit, PredictRejectsMissingOrUnknownInputs) {

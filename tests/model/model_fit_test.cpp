@@ -521,6 +521,21 @@ TEST(ModelFit, FallbackModelsDoWithoutEachKeyAndStillPredictTheHeat) {
   FitOptions none;
   none.fallback_models = false;
   EXPECT_TRUE(FitCompositeModel(states, none).model.axes[0].fallbacks.empty());
+
+  // A model with a single key still gets a fallback, its keys taken from the other sensors; it
+  // predicts the heated state better than the geometric part alone (no thermal term).
+  FitOptions nut_only;
+  nut_only.key_sensors = {"nut"};
+  const auto single = FitCompositeModel(states, nut_only).model.axes[0];
+  ASSERT_EQ(single.fallbacks.size(), 1u);
+  const auto& f = single.fallbacks[0];
+  EXPECT_THAT(f.key_sensors, ::testing::Not(::testing::Contains("nut")));
+  EXPECT_THAT(f.key_sensors, ::testing::Contains("bearing"));
+  std::vector<double> keys;
+  for (const auto& k : f.key_sensors) keys.push_back(reading.at(k));
+  ThermalState ts{keys, 20.0, CoolantState::kOff, true};
+  const double predicted = Predict(f, x, Direction::kForward, ts).total_um - sm.Geometric(x, true);
+  EXPECT_LT(std::fabs(predicted - thermal_truth), 0.5 * std::fabs(thermal_truth));
 }
 
 }  // namespace

@@ -110,9 +110,10 @@ struct FitOptions {
   double rho_um_per_mm_per_c = std::numeric_limits<double>::quiet_NaN();
   double min_ambient_range_c = 1.0;
 
-  // Fallback models (AxisModel::fallbacks): with two or more key sensors, the axis is fitted again
-  // without each one of them (the other keys given, every other option the same), so the
-  // compensator keeps a thermal part when a key sensor dies. Ordered by their LOSO CV. false: none.
+  // Fallback models (AxisModel::fallbacks): an axis with key sensors is fitted again without each
+  // one of them (its keys re-chosen from the remaining candidates, every other option the same), so
+  // the compensator keeps a thermal part when a key sensor dies — also when the model has a single
+  // key. Ordered by their LOSO CV. false: none.
   bool fallback_models = true;
 
   // Used when a file has no `# axis:` line (empty: such a file is an error).
