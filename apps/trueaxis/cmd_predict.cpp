@@ -57,10 +57,36 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
   if (coolant_name.empty()) coolant_name = std::string(Trim(m.Meta("coolant").value_or("off")));
   const auto coolant = ParseCoolantState(coolant_name);
   if (!coolant) throw InputError(o.measurement, 0, "coolant", fmt::format("unknown coolant state '{}'", coolant_name));
+  // A key sensor not in the file, or never read in it (a dead channel): the first fallback model
+  // whose keys all are, as the compensator does when that sensor is lost; else refused.
+  const auto read = [&](const std::string& k) {
+    const auto idx = m.SensorIndex(k);
+    if (!idx) return false;
+    for (const auto& pt : m.points)
+      if (std::isfinite(pt.temperatures_c[*idx])) return true;
+    return false;
+  };
+  const auto all_read = [&](const model::AxisModel& a) { return std::all_of(a.key_sensors.begin(), a.key_sensors.end(), read); };
+  std::string fallback_note;
+  if (!all_read(*axis)) {
+    for (const auto& f : axis->fallbacks) {
+      if (!all_read(f)) continue;
+      std::vector<std::string> missing;
+      for (const auto& k : axis->key_sensors)
+        if (!read(k)) missing.push_back(k);
+      fallback_note = fmt::format("{} not read in this file: predicted with the fallback model fitted without it "
+                                  "(keys {}), as the compensator does when that sensor is lost",
+                                  fmt::join(missing, ", "), fmt::join(f.key_sensors, ", "));
+      axis = &f;
+      break;
+    }
+  }
   for (const auto& k : axis->key_sensors)
-    if (!m.SensorIndex(k))
+    if (!read(k))
       throw InputError(o.measurement, 0, fmt::format("t_{}_c", k),
-                       fmt::format("the model's key sensor '{}' is not in this file", k));
+                       fmt::format("the model's key sensor '{}' is not {} this file{}", k,
+                                   m.SensorIndex(k) ? "read in" : "in",
+                                   axis->fallbacks.empty() ? "" : " (nor are the keys of any of its fallback models)"));
   // Thermal lag (key_lag_s): through the logged history before the file when given (the file's
   // '# campaign_time_s:' is its start on the log's clock), else from the file's first reading.
   model::TemperatureHistory history;
@@ -82,6 +108,7 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
   const double n = static_cast<double>(m.points.size());
   std::cout << fmt::format("{}: axis {}, coolant {}, {} points\n", o.measurement, axis_name, CoolantStateName(*coolant),
                            m.points.size());
+  if (!fallback_note.empty()) std::cout << "  note: " << fallback_note << "\n";
   std::cout << fmt::format("  measured error        ISO 230-2 A {:>8.2f} µm   RMS {:>7.2f} µm\n", before.axis.A_um,
                            std::sqrt(ss_m / n));
   std::cout << fmt::format("  measured − predicted  ISO 230-2 A {:>8.2f} µm   RMS {:>7.2f} µm   (what would remain after "

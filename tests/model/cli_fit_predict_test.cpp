@@ -2,6 +2,8 @@
 // binary (TRUEAXIS_CLI_PATH), including the bad inputs a user will make.
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -325,6 +327,33 @@ TEST_F(CliFit, PredictUsesAFallbackModelWhenAKeySensorIsNotGiven) {
   r = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction + --ambient-c 20 --json --temp nut=24.5,bearing=21.5");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(nlohmann::json::parse(r.out)["fallback_model"].is_null());
+}
+
+// A laser file whose nut channel died (the column empty): predict --measurement takes the fallback
+// fitted without the nut, says so, and its residual is measured − that fallback's prediction.
+TEST_F(CliFit, PredictMeasurementWithADeadKeyChannelUsesTheFallback) {
+  ASSERT_EQ(Cli("fit --out " + P("m.json") + AllFiles()).code, 0);
+  const auto model = ReadModelFile(P("m.json"));
+  const AxisModel* without_nut = nullptr;
+  for (const auto& f : model.axes[0].fallbacks)
+    if (std::find(f.key_sensors.begin(), f.key_sensors.end(), "nut") == f.key_sensors.end()) without_nut = &f;
+  ASSERT_NE(without_nut, nullptr);
+  testing::SyntheticMachine day2;
+  std::mt19937 rng(78);
+  auto m = day2.Make({"heated-x", 5.0, 2.2, 3.0, 1.5}, rng);
+  const auto nut = *m.SensorIndex("nut");
+  for (auto& pt : m.points) pt.temperatures_c[nut] = std::nan("");
+  measure::WriteMeasurementCsv(m, P("dead_nut.csv"));
+  const auto r = Cli("predict --model " + P("m.json") + " --measurement " + P("dead_nut.csv") + " --residual-out " + P("res.csv"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("nut not read in this file: predicted with the fallback model"));
+  const auto res = measure::ReadMeasurementCsv(P("res.csv"));
+  for (std::size_t i = 0; i < m.points.size(); i += 41) {
+    const auto t = TemperaturesForPoint(*without_nut, m, m.points[i]);
+    const double pred = Predict(*without_nut, m.points[i].target_mm, m.points[i].direction,
+                                {t.key_temp_c, t.ambient_c, CoolantState::kOff, true}).total_um;
+    EXPECT_NEAR(res.points[i].deviation_um, m.points[i].deviation_um - pred, 1e-6);
+  }
 }
 
 TEST_F(CliFit, PredictRejectsMissingOrUnknownInputs) {
