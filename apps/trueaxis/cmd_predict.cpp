@@ -66,7 +66,9 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
       if (std::isfinite(pt.temperatures_c[*idx])) return true;
     return false;
   };
-  const auto all_read = [&](const model::AxisModel& a) { return std::all_of(a.key_sensors.begin(), a.key_sensors.end(), read); };
+  const auto all_read = [&](const model::AxisModel& a) {
+    return std::all_of(a.key_sensors.begin(), a.key_sensors.end(), read) && (a.ambient_sensor.empty() || read(a.ambient_sensor));
+  };
   std::string fallback_note;
   if (!all_read(*axis)) {
     for (const auto& f : axis->fallbacks) {
@@ -74,6 +76,7 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
       std::vector<std::string> missing;
       for (const auto& k : axis->key_sensors)
         if (!read(k)) missing.push_back(k);
+      if (!axis->ambient_sensor.empty() && !read(axis->ambient_sensor)) missing.push_back(axis->ambient_sensor);
       fallback_note = fmt::format("{} not read in this file: predicted with the fallback model fitted without it "
                                   "(keys {}), as the compensator does when that sensor is lost",
                                   fmt::join(missing, ", "), fmt::join(f.key_sensors, ", "));
@@ -174,10 +177,11 @@ void RunPredict(const PredictOptions& o) {
   // A key sensor of the model not given: the first fallback model (fitted without it) whose keys
   // all are, as the compensator does when that sensor is lost (docs/model-file.md).
   std::string fallback_note;
+  const bool room_given = !std::isnan(o.ambient_c) || (!axis->ambient_sensor.empty() && given.count(axis->ambient_sensor));
   const auto all_given = [&](const model::AxisModel& a) {
     for (const auto& k : a.key_sensors)
       if (!given.count(k)) return false;
-    return true;
+    return a.ambient_sensor.empty() || room_given;
   };
   if (use_thermal && !all_given(*axis)) {
     for (const auto& f : axis->fallbacks) {
@@ -185,6 +189,7 @@ void RunPredict(const PredictOptions& o) {
       std::vector<std::string> missing;
       for (const auto& k : axis->key_sensors)
         if (!given.count(k)) missing.push_back(k);
+      if (!axis->ambient_sensor.empty() && !room_given) missing.push_back(axis->ambient_sensor + " (--ambient-c)");
       fallback_note = fmt::format("{} not given: the fallback model fitted without it (keys {}), as the compensator "
                                   "uses when that sensor is lost",
                                   fmt::join(missing, ", "), fmt::join(f.key_sensors, ", "));

@@ -93,7 +93,7 @@ std::string DemoResult::BriefReport() const {
     if (g) lost += fmt::format("{}{} {} cycles", lost.empty() ? "" : ", ", machine_axes[i], g);
   }
   if (!reduced.empty() || !lost.empty())
-    s += fmt::format("key sensor lost (alarm sensor_fallback): on a fallback model {}; without the thermal part {}\n",
+    s += fmt::format("sensor lost (alarm sensor_fallback): on a fallback model {}; without the thermal part {}\n",
                      reduced.empty() ? "never" : reduced, lost.empty() ? "never" : lost);
   return s;
 }

@@ -1393,30 +1393,34 @@ measure::Measurement PredictionResidual(const AxisModel& axis, const measure::Me
 }
 
 namespace {
-// AxisModel::fallbacks: the axis fitted again without each of its key sensors in turn, its keys
-// chosen by the same CV from the remaining candidates (the other keys, the motor, the bed, ...;
-// on the machine zoo this beat keeping just the other keys: bench/results/zoo.md), every other
-// option as asked; best LOSO CV first — also for a single-key model. A reduced fit that keeps no
-// key (no other sensor explains the heat) is left out. Its warnings
-// repeat the main fit's and are dropped.
+// AxisModel::fallbacks: the axis fitted again without each of its key sensors in turn, and without
+// its ambient sensor, its keys chosen by the same CV from the remaining candidates (the other keys,
+// the motor, the bed, ...; on the machine zoo this beat keeping just the other keys:
+// bench/results/zoo.md), every other option as asked; best LOSO CV first — also for a single-key
+// model. A reduced fit that keeps no key (no other sensor explains the heat) is left out. Its
+// warnings repeat the main fit's and are dropped.
 void FitFallbacks(const std::string& axis, const std::vector<const FitState*>& states, const FitOptions& options,
                   AxisModel& am, AxisFitSummary& sum) {
+  std::vector<std::string> lost = am.key_sensors;
+  if (!am.ambient_sensor.empty()) lost.push_back(am.ambient_sensor);
   std::vector<std::pair<double, AxisModel>> found;
-  for (std::size_t k = 0; k < am.key_sensors.size(); ++k) {
+  for (const auto& sensor : lost) {
     FitOptions fo = options;
     fo.fallback_models = false;
     fo.key_sensors.clear();
-    fo.excluded_sensors.push_back(am.key_sensors[k]);
+    fo.excluded_sensors.push_back(sensor);
+    if (sensor == am.ambient_sensor) fo.ambient_sensor = "none";  // no room term: the room is not read
     std::vector<std::string> warnings;
     AxisFitSummary fs;
     AxisFitter fitter(axis, states, fo, warnings);
     AxisModel fb = fitter.Fit(fs);
     if (fb.key_sensors.empty()) {
-      sum.fallback_notes.push_back(fmt::format("without {}: no thermal part could be fitted, no fallback", am.key_sensors[k]));
+      sum.fallback_notes.push_back(fmt::format("without {}: no thermal part could be fitted, no fallback", sensor));
       continue;
     }
-    sum.fallback_notes.push_back(fmt::format("fallback without {}: keys {}, LOSO CV {:.3f} µm (the full model's {:.3f} µm)",
-                                             am.key_sensors[k], fmt::join(fb.key_sensors, ", "), fs.thermal_cv_rms_um,
+    sum.fallback_notes.push_back(fmt::format("fallback without {}: keys {}{}, LOSO CV {:.3f} µm (the full model's {:.3f} µm)",
+                                             sensor, fmt::join(fb.key_sensors, ", "),
+                                             fb.ambient_sensor.empty() ? ", no room term" : "", fs.thermal_cv_rms_um,
                                              sum.thermal_cv_rms_um));
     found.emplace_back(std::isfinite(fs.thermal_cv_rms_um) ? fs.thermal_cv_rms_um : 1e300, std::move(fb));
   }

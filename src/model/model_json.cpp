@@ -342,13 +342,15 @@ AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bo
       const std::string q = fmt::format("{}[{}]", fp, k);
       AxisModel f = AxisFromJson(r, fb[k], q, true);
       if (f.axis != a.axis) r.Fail(Reader::Join(q, "axis"), fmt::format("is '{}', not the axis '{}' it stands in for", f.axis, a.axis));
-      // It stands in for a lost key: it must do without at least one of the axis's keys.
-      bool omits_one = false;
+      // It stands in for a lost sensor: it must do without at least one of the axis's keys or its
+      // ambient sensor.
+      bool omits_one = !a.ambient_sensor.empty() && f.ambient_sensor != a.ambient_sensor;
       for (const auto& name : a.key_sensors)
         omits_one = omits_one || std::find(f.key_sensors.begin(), f.key_sensors.end(), name) == f.key_sensors.end();
       if (f.key_sensors.empty() || !omits_one)
         r.Fail(Reader::Join(q, "key_sensors"),
-               fmt::format("must name key sensors and do without at least one of the axis's ({})", fmt::join(a.key_sensors, ", ")));
+               fmt::format("must name key sensors and do without at least one of the axis's ({}{})",
+                           fmt::join(a.key_sensors, ", "), a.ambient_sensor.empty() ? "" : " or its ambient sensor " + a.ambient_sensor));
       a.fallbacks.push_back(std::move(f));
     }
   }

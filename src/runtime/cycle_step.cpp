@@ -175,19 +175,23 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
   if (!st.enabled || !ba || !ba->has_model) return 0;
   if (ba->generic) return GenericCorrection(*ba, i, state, out, st, alarms);
 
-  // The model's own keys; when one is lost, the first fallback model whose keys all read (its
-  // state advanced alongside), else the sensor fault policy.
+  // The model's own keys; when one of them or its ambient sensor is lost, the first fallback model
+  // whose sensors all read (its state advanced alongside), else the sensor fault policy (a lost
+  // ambient alone: the model without its room term).
   const ModelDynamics::Axis& dyn = state.dynamics.axes[i];
   const BoundAxis* use = ba;
   const model::AxisThermalState* thermal = &dyn.thermal;
+  const auto ambient_lost = [&](const BoundAxis& b) {
+    return b.ambient_channel >= 0 && out.channels[static_cast<std::size_t>(b.ambient_channel)].health == ChannelHealth::kLost;
+  };
   bool keys_ok = KeysRead(*ba, out.channels, alarms);
-  if (!keys_ok) {
+  if (!keys_ok || ambient_lost(*ba)) {
     alarms |= kAlarmSensorFallback;
     const std::size_t n_fallbacks = i < state.dynamics.fallback_thermal.size() ? ba->fallbacks.size() : 0;
     for (std::size_t f = 0; f < n_fallbacks; ++f) {
       std::uint32_t unused = 0;
       const model::AxisThermalState& ft = state.dynamics.fallback_thermal[i][f];
-      if (ft.valid && KeysRead(ba->fallbacks[f], out.channels, unused)) {
+      if (ft.valid && KeysRead(ba->fallbacks[f], out.channels, unused) && !ambient_lost(ba->fallbacks[f])) {
         use = &ba->fallbacks[f];
         thermal = &ft;
         st.fallback_model = static_cast<int>(f);

@@ -173,6 +173,11 @@ TEST(ModelJson, BadFallbacksAreRefusedByPath) {
   auto j = ModelToJson(m);
   j["axes"][0]["fallbacks"][0]["key_sensors"] = {"bearing", "nut"};  // every key of the axis: no fallback
   expect_error(j, "axes[0].fallbacks[0].key_sensors", "do without at least one");
+  // Every key but no room term: a fallback for the ambient sensor, accepted.
+  j["axes"][0]["fallbacks"][0].erase("ambient_sensor");
+  j["axes"][0]["fallbacks"][0].erase("ambient_baseline_c");
+  j["axes"][0]["fallbacks"][0]["key_temperature_rise"] = "from_baseline";
+  EXPECT_EQ(ModelFromJson(j, "m.json").axes[0].fallbacks[0].ambient_sensor, "");
   j = ModelToJson(m);
   j["axes"][0]["fallbacks"][0]["axis"] = "Y";
   expect_error(j, "axes[0].fallbacks[0].axis", "not the axis 'X'");

@@ -492,16 +492,22 @@ TEST(ModelFit, FallbackModelsDoWithoutEachKeyAndStillPredictTheHeat) {
   auto res = FitCompositeModel(states, {});
   const auto& a = res.model.axes[0];
   ASSERT_THAT(a.key_sensors, ::testing::UnorderedElementsAre("nut", "bearing")) << res.summary.FullReport();
-  ASSERT_EQ(a.fallbacks.size(), 2u) << res.summary.FullReport();
-  ASSERT_EQ(res.summary.axes[0].fallback_notes.size(), 2u);
+  ASSERT_EQ(a.ambient_sensor, "ambient");
+  ASSERT_EQ(a.fallbacks.size(), 3u) << res.summary.FullReport();  // without nut, bearing, ambient
+  ASSERT_EQ(res.summary.axes[0].fallback_notes.size(), 3u);
   std::set<std::string> done_without;
   for (const auto& f : a.fallbacks) {
     EXPECT_EQ(f.axis, "X");
     EXPECT_TRUE(f.fallbacks.empty());
     for (const auto& key : a.key_sensors)
       if (std::find(f.key_sensors.begin(), f.key_sensors.end(), key) == f.key_sensors.end()) done_without.insert(key);
+    if (f.ambient_sensor.empty()) {
+      done_without.insert("ambient");
+      EXPECT_THAT(f.key_sensors, ::testing::Not(::testing::Contains("ambient")));
+      EXPECT_FALSE(f.key_rise_above_ambient);
+    }
   }
-  EXPECT_EQ(done_without, (std::set<std::string>{"nut", "bearing"}));
+  EXPECT_EQ(done_without, (std::set<std::string>{"nut", "bearing", "ambient"}));
   // The nut carries most of the heat: the fallback that keeps it comes first.
   EXPECT_THAT(a.fallbacks[0].key_sensors, ::testing::Contains("nut"));
   EXPECT_THAT(res.summary.axes[0].fallback_notes[0], HasSubstr("without"));
@@ -513,7 +519,7 @@ TEST(ModelFit, FallbackModelsDoWithoutEachKeyAndStillPredictTheHeat) {
   for (const auto& f : a.fallbacks) {
     std::vector<double> keys;
     for (const auto& k : f.key_sensors) keys.push_back(reading.at(k));
-    ThermalState ts{keys, 20.0, CoolantState::kOff, true};
+    ThermalState ts{keys, f.ambient_sensor.empty() ? std::nan("") : 20.0, CoolantState::kOff, true};
     const double predicted = Predict(f, x, Direction::kForward, ts).total_um - sm.Geometric(x, true);
     EXPECT_NEAR(predicted, thermal_truth, 0.35 * std::fabs(thermal_truth)) << fmt::format("{}", fmt::join(f.key_sensors, ","));
   }
@@ -527,8 +533,10 @@ TEST(ModelFit, FallbackModelsDoWithoutEachKeyAndStillPredictTheHeat) {
   FitOptions nut_only;
   nut_only.key_sensors = {"nut"};
   const auto single = FitCompositeModel(states, nut_only).model.axes[0];
-  ASSERT_EQ(single.fallbacks.size(), 1u);
-  const auto& f = single.fallbacks[0];
+  ASSERT_EQ(single.fallbacks.size(), 2u);  // without the nut, without the ambient
+  const auto& f = *std::find_if(single.fallbacks.begin(), single.fallbacks.end(), [](const AxisModel& m) {
+    return std::find(m.key_sensors.begin(), m.key_sensors.end(), "nut") == m.key_sensors.end();
+  });
   EXPECT_THAT(f.key_sensors, ::testing::Not(::testing::Contains("nut")));
   EXPECT_THAT(f.key_sensors, ::testing::Contains("bearing"));
   std::vector<double> keys;

@@ -92,6 +92,31 @@ TEST(FallbackModel, ItsLagCarriesTheHistoryFromBeforeTheLoss) {
   EXPECT_GT(std::fabs(Rig::Desired(m->axes[0].fallbacks[0], {26}) - s->axes[0].desired_um), 0.5);
 }
 
+// The ambient sensor lost: the fallback fitted without a room term (its keys read) takes over,
+// instead of the model running on without its ρ term and with rises no longer above the room.
+TEST(FallbackModel, ALostAmbientSensorHandsTheAxisToTheFallbackWithoutARoomTerm) {
+  Rig r;
+  auto m = std::make_shared<model::CompositeModel>();
+  m->axes.push_back(TestAxisModel("X"));
+  model::AxisModel no_room = TestAxisModel("X");
+  no_room.ambient_sensor.clear();
+  no_room.rho_um_per_mm_per_c = 0;
+  for (auto& d : no_room.directions) d.thermal = {{CoolantState::kOff, {-0.015, -0.006}, 0}};
+  m->axes.back().fallbacks.push_back(no_room);
+  r.comp->PublishModel(m, "room fallback");
+  r.temps.Set("ambient", 23);
+  r.temps.Set("nut", 26);
+  r.temps.Set("bearing", 24);
+  EXPECT_EQ(r.comp->RunCycle(r.cnc, r.temps, 0.0).axes[0].fallback_model, -1);
+  r.temps.SetFault("ambient", true);
+  const auto& lost = r.comp->RunCycle(r.cnc, r.temps, 100.0);
+  EXPECT_TRUE(lost.alarms & kAlarmSensorFallback);
+  EXPECT_EQ(lost.axes[0].fallback_model, 0);
+  std::vector<double> keys{26, 24};
+  model::ThermalState ts{keys, std::nan(""), CoolantState::kOff, true};
+  EXPECT_NEAR(lost.axes[0].desired_um, model::CorrectionUm(model::Predict(no_room, 400, Direction::kForward, ts)), 1e-9);
+}
+
 TEST(FallbackModel, WithoutOneTheAxisFallsBackToItsGeometricPart) {
   Rig r;
   auto m = std::make_shared<model::CompositeModel>();

@@ -144,11 +144,11 @@ struct AxisModel {
   bool AmbientOutsideFittedRange(double ambient_c) const {
     return ambient_c < ambient_fitted_range_c[0] - 1e-9 || ambient_c > ambient_fitted_range_c[1] + 1e-9;
   }  // false for NaN (either side)
-  // Models of this axis fitted on the same data without one of its key sensors (JSON "fallbacks";
-  // their keys chosen from the other sensors), in order of preference: when a key sensor is lost,
-  // the compensator goes on with the first whose keys all read, instead of dropping the thermal
-  // part (docs/model-file.md, "Fallback models"). Each does without at least one of these keys and
-  // has no fallbacks of its own.
+  // Models of this axis fitted on the same data without one of its key sensors or its ambient
+  // sensor (JSON "fallbacks"; their keys chosen from the other sensors), in order of preference:
+  // when such a sensor is lost, the compensator goes on with the first whose sensors all read,
+  // instead of dropping the thermal part (docs/model-file.md, "Fallback models"). Each does without
+  // at least one of these keys or the ambient sensor and has no fallbacks of its own.
   std::vector<AxisModel> fallbacks;
   // The shifts of gains entry `g` of direction `d`; nullptr when it has none.
   const KeyShifts* ShiftsFor(Direction d, const ThermalGains* g) const {

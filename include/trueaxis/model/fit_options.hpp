@@ -111,7 +111,8 @@ struct FitOptions {
   double min_ambient_range_c = 1.0;
 
   // Fallback models (AxisModel::fallbacks): an axis with key sensors is fitted again without each
-  // one of them (its keys re-chosen from the remaining candidates, every other option the same), so
+  // one of them and without its ambient sensor (its keys re-chosen from the remaining candidates,
+  // every other option the same), so
   // the compensator keeps a thermal part when a key sensor dies — also when the model has a single
   // key. Ordered by their LOSO CV. false: none.
   bool fallback_models = true;
