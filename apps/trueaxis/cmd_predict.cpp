@@ -247,6 +247,12 @@ void RunPredict(const PredictOptions& o) {
                                        FormatShortest(ambient), axis->ambient_fitted_range_c[0],
                                        axis->ambient_fitted_range_c[1]));
   const auto* gains = axis->For(*dir).GainsFor(*coolant);
+  // Sensors given that the chosen model does not read (keys of another fallback only): said, not dropped silently.
+  std::vector<std::string> unused;
+  for (const auto& [name, value] : given)
+    if (name != axis->ambient_sensor &&
+        std::find(axis->key_sensors.begin(), axis->key_sensors.end(), name) == axis->key_sensors.end())
+      unused.push_back(name);
 
   if (o.json) {
     nlohmann::json j{{"axis", o.axis},
@@ -261,7 +267,8 @@ void RunPredict(const PredictOptions& o) {
                      {"correction_um", model::CorrectionUm(p)},
                      {"outside_fitted_range", outside},
                      {"temperatures_outside_fitted_range", temp_outside},
-                     {"fallback_model", fallback_note.empty() ? nlohmann::json(nullptr) : nlohmann::json(axis->key_sensors)}};
+                     {"fallback_model", fallback_note.empty() ? nlohmann::json(nullptr) : nlohmann::json(axis->key_sensors)},
+                     {"unused_sensors", unused}};
     std::cout << j.dump(2) << "\n";
     return;
   }
@@ -281,11 +288,7 @@ void RunPredict(const PredictOptions& o) {
   for (const auto& w : temp_outside) std::cout << "  warning: " << w << " (thermal part extrapolated)\n";
   if (!use_thermal) std::cout << "  note: --geometric-only: thermal and ambient parts not applied\n";
   if (!fallback_note.empty()) std::cout << "  note: " << fallback_note << "\n";
-  for (const auto& [name, value] : given) {
-    const bool used = name == axis->ambient_sensor ||
-                      std::find(axis->key_sensors.begin(), axis->key_sensors.end(), name) != axis->key_sensors.end();
-    if (!used) std::cout << "  note: " << name << " is not used (a key of a fallback model only)\n";
-  }
+  for (const auto& name : unused) std::cout << "  note: " << name << " is not used by this model (a key of another fallback model)\n";
 
 }
 

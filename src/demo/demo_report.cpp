@@ -127,8 +127,8 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
     const std::uint64_t reduced = i < r.fallback_model_cycles.size() ? r.fallback_model_cycles[i] : 0;
     const std::uint64_t lost = i < r.sensor_fallback_cycles.size() ? r.sensor_fallback_cycles[i] : 0;
     if (reduced || lost)
-      page.AddNote(fmt::format("WARNING: a sensor of {}'s model was lost (alarm sensor_fallback): {} cycles on the "
-                               "model's fallback fitted without it, {} cycles without the thermal part "
+      page.AddNote(fmt::format("WARNING: axis {} lost a sensor of its model (alarm sensor_fallback): {} cycles on a "
+                               "fallback model fitted without it, {} cycles without the thermal part "
                                "(docs/runtime.md, sensor faults).", r.machine_axes[i], reduced, lost));
   }
 

@@ -25,6 +25,8 @@ bool FitOptions::IsValid(std::string* why) const {
   if (!(secondary_key_ridge >= 0) || !std::isfinite(secondary_key_ridge))
     return fail("secondary_key_ridge must be a finite number >= 0 (0: plain least squares)");
   if (min_thermal_states < 1) return fail("min_thermal_states must be >= 1");
+  if (max_fallback_models < 1 || max_fallback_models > static_cast<int>(AxisModel::kMaxFallbacks))
+    return fail(fmt::format("max_fallback_models {} must be within 1 … {}", max_fallback_models, AxisModel::kMaxFallbacks));
   if (std::isinf(rho_um_per_mm_per_c)) return fail("rho_um_per_mm_per_c must be finite (or NaN for automatic)");
   if (!(min_ambient_range_c > 0)) return fail("min_ambient_range_c must be > 0");
   for (double tau : key_lag_grid_s)

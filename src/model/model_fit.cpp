@@ -1425,7 +1425,14 @@ void FitFallbacks(const std::string& axis, const std::vector<const FitState*>& s
     found.emplace_back(std::isfinite(fs.thermal_cv_rms_um) ? fs.thermal_cv_rms_um : 1e300, std::move(fb));
   }
   std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (auto& f : found) am.fallbacks.push_back(std::move(f.second));
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    if (i < static_cast<std::size_t>(options.max_fallback_models)) {
+      am.fallbacks.push_back(std::move(found[i].second));
+    } else {
+      sum.fallback_notes.push_back(fmt::format("not kept (at most {} fallbacks, the best by CV): keys {}",
+                                               options.max_fallback_models, fmt::join(found[i].second.key_sensors, ", ")));
+    }
+  }
 }
 }  // namespace
 

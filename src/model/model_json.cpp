@@ -338,6 +338,8 @@ AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bo
     const json& fb = ja["fallbacks"];
     if (nested) r.Fail(fp, "a fallback model has no fallbacks of its own");
     if (!fb.is_array()) r.Fail(fp, "expected an array of axis models");
+    if (fb.size() > AxisModel::kMaxFallbacks)
+      r.Fail(fp, fmt::format("{} fallback models, at most {}", fb.size(), AxisModel::kMaxFallbacks));
     for (std::size_t k = 0; k < fb.size(); ++k) {
       const std::string q = fmt::format("{}[{}]", fp, k);
       AxisModel f = AxisFromJson(r, fb[k], q, true);

@@ -25,22 +25,23 @@ std::string Known(const std::vector<std::string>& names) {
 }
 
 // One keyed axis model (or one of its fallbacks) against the channels.
-void BindAxis(const model::AxisModel& model_axis, const AxisInterface& ai, const std::string& label,
+void BindAxis(const model::AxisModel& am, const AxisInterface& ai, const std::string& label,
               const std::vector<std::string>& channel_names, const std::map<std::string, std::string>& channel_map,
               int fallback_index, BoundAxis& b) {
-  const model::AxisModel* am = &model_axis;
   b.has_model = true;
-  b.model = *am;
+  b.model = am;
   b.model.fallbacks.clear();
   if (!std::isnan(ai.reference_position_mm)) b.model.reference_position_mm = ai.reference_position_mm;
   b.thermal_dynamics = model::HasThermalDynamics(b.model);
-  const std::string field = fmt::format("axes[{}].{}key_sensors", am->axis, fallback_index >= 0 ? fmt::format("fallbacks[{}].", fallback_index) : "");
-  if (am->key_sensors.size() > kMaxKeySensors)
-    throw InputError(label, 0, field, fmt::format("{} key sensors, at most {} supported", am->key_sensors.size(), kMaxKeySensors));
-  if (am->baseline_temp_c.size() < am->key_sensors.size())
-    throw InputError(label, 0, fmt::format("axes[{}].baseline_temp_c", am->axis),
-                     fmt::format("{} baselines for {} key sensors", am->baseline_temp_c.size(), am->key_sensors.size()));
-  for (const auto& sensor : am->key_sensors) {
+  const std::string where =
+      fmt::format("axes[{}]{}", am.axis, fallback_index >= 0 ? fmt::format(".fallbacks[{}]", fallback_index) : "");
+  const std::string field = where + ".key_sensors";
+  if (am.key_sensors.size() > kMaxKeySensors)
+    throw InputError(label, 0, field, fmt::format("{} key sensors, at most {} supported", am.key_sensors.size(), kMaxKeySensors));
+  if (am.baseline_temp_c.size() < am.key_sensors.size())
+    throw InputError(label, 0, where + ".baseline_temp_c",
+                     fmt::format("{} baselines for {} key sensors", am.baseline_temp_c.size(), am.key_sensors.size()));
+  for (const auto& sensor : am.key_sensors) {
     const int ch = FindChannel(sensor, channel_names, channel_map);
     if (ch < 0)
       throw InputError(label, 0, field,
@@ -49,11 +50,11 @@ void BindAxis(const model::AxisModel& model_axis, const AxisInterface& ai, const
                                    fallback_index >= 0 ? ", or refit with `fit --no-fallback-models`" : ""));
     b.key_channel.push_back(ch);
   }
-  if (!am->ambient_sensor.empty()) {
-    b.ambient_channel = FindChannel(am->ambient_sensor, channel_names, channel_map);
+  if (!am.ambient_sensor.empty()) {
+    b.ambient_channel = FindChannel(am.ambient_sensor, channel_names, channel_map);
     if (b.ambient_channel < 0)
-      throw InputError(label, 0, fmt::format("axes[{}].ambient_sensor", am->axis),
-                       fmt::format("ambient sensor '{}' maps to no temperature channel (channels: {})", am->ambient_sensor,
+      throw InputError(label, 0, where + ".ambient_sensor",
+                       fmt::format("ambient sensor '{}' maps to no temperature channel (channels: {})", am.ambient_sensor,
                                    Known(channel_names)));
   }
 }
@@ -74,11 +75,13 @@ std::unique_ptr<BoundModel> BindModel(std::shared_ptr<const model::CompositeMode
     if (!am) continue;
     BoundAxis& b = bound->axes[i];
     BindAxis(*am, axes[i], label, channel_names, channel_map, -1, b);
-    for (std::size_t f = 0; f < am->fallbacks.size() && f < kMaxFallbackModels; ++f) {
+    if (am->fallbacks.size() > kMaxFallbackModels)  // the model reader refuses such a file; a hand-made model too
+      throw InputError(label, 0, fmt::format("axes[{}].fallbacks", am->axis),
+                       fmt::format("{} fallback models, at most {} supported", am->fallbacks.size(), kMaxFallbackModels));
+    for (std::size_t f = 0; f < am->fallbacks.size(); ++f) {
       b.fallbacks.emplace_back();
       BindAxis(am->fallbacks[f], axes[i], label, channel_names, channel_map, static_cast<int>(f), b.fallbacks.back());
     }
-    b.model.fallbacks.clear();
   }
   return bound;
 }

@@ -196,6 +196,7 @@ TEST(DemoSensorFault, AKeySensorDyingInTheDayHandsTheAxisToItsFallbackModel) {
   std::stringstream html;
   html << std::ifstream(r.report_path).rdbuf();
   EXPECT_NE(html.str().find("Sensor fault in the working day: y_nut open"), std::string::npos);
+  EXPECT_NE(html.str().find("WARNING: axis Y lost a sensor of its model (alarm sensor_fallback)"), std::string::npos);
   // The other day, months later, runs with the sensor replaced: the model's own keys again.
   for (const auto& s : r.states)
     if (s.state == "other day") EXPECT_FALSE(std::isnan(s.nut_rise_c));

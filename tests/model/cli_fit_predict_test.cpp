@@ -323,10 +323,20 @@ TEST_F(CliFit, PredictUsesAFallbackModelWhenAKeySensorIsNotGiven) {
   EXPECT_EQ(j["fallback_model"].get<std::vector<std::string>>(), f.key_sensors);
   const double expected = Predict(f, 400, Direction::kForward, {keys, 20.0, CoolantState::kOff, true}).total_um;
   EXPECT_NEAR(j["error_um"].get<double>(), expected, 1e-9);
-  // With every key of the model given, the model itself (no fallback).
-  r = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction + --ambient-c 20 --json --temp nut=24.5,bearing=21.5");
+  // With every key of the model given, the model itself (no fallback); a sensor only a fallback
+  // reads is named as unused, not dropped silently.
+  r = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction + --ambient-c 20 --json --temp nut=24.5,bearing=21.5,motor=26.5");
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_TRUE(nlohmann::json::parse(r.out)["fallback_model"].is_null());
+  const auto own = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(own["fallback_model"].is_null());
+  EXPECT_EQ(own["unused_sensors"].get<std::vector<std::string>>(), std::vector<std::string>{"motor"});
+  r = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction + --ambient-c 20 --temp nut=24.5,bearing=21.5,motor=26.5");
+  EXPECT_THAT(r.out, HasSubstr("motor is not used by this model"));
+  // fit --no-fallback-models writes none, and then a missing key is refused as before.
+  ASSERT_EQ(Cli("fit --no-fallback-models --out " + P("none.json") + AllFiles()).code, 0);
+  EXPECT_TRUE(ReadModelFile(P("none.json")).axes[0].fallbacks.empty());
+  r = Cli("predict --model " + P("none.json") + " --axis X --position-mm 400 --direction + --ambient-c 20 --temp " + temps);
+  EXPECT_EQ(r.code, 2) << r.out;
 }
 
 // A laser file whose nut channel died (the column empty): predict --measurement takes the fallback

@@ -187,6 +187,9 @@ TEST(ModelJson, BadFallbacksAreRefusedByPath) {
   j = ModelToJson(m);
   j["axes"][0]["fallbacks"] = "bearing";
   expect_error(j, "axes[0].fallbacks", "expected an array");
+  j = ModelToJson(m);
+  for (int k = 0; k < 4; ++k) j["axes"][0]["fallbacks"].push_back(j["axes"][0]["fallbacks"][0]);
+  expect_error(j, "axes[0].fallbacks", "5 fallback models, at most 4");
 }
 
 }  // namespace

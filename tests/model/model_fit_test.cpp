@@ -524,6 +524,18 @@ TEST(ModelFit, FallbackModelsDoWithoutEachKeyAndStillPredictTheHeat) {
     EXPECT_NEAR(predicted, thermal_truth, 0.35 * std::fabs(thermal_truth)) << fmt::format("{}", fmt::join(f.key_sensors, ","));
   }
 
+  // Capped: the best by CV kept, the others named in the notes.
+  FitOptions one;
+  one.max_fallback_models = 1;
+  const auto capped = FitCompositeModel(states, one);
+  ASSERT_EQ(capped.model.axes[0].fallbacks.size(), 1u);
+  EXPECT_EQ(capped.model.axes[0].fallbacks[0].key_sensors, a.fallbacks[0].key_sensors);
+  int not_kept = 0;
+  for (const auto& n : capped.summary.axes[0].fallback_notes) not_kept += n.rfind("not kept", 0) == 0 ? 1 : 0;
+  EXPECT_EQ(not_kept, 2);
+  one.max_fallback_models = 5;
+  EXPECT_FALSE(one.IsValid(nullptr));
+
   FitOptions none;
   none.fallback_models = false;
   EXPECT_TRUE(FitCompositeModel(states, none).model.axes[0].fallbacks.empty());

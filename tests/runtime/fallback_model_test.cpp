@@ -130,6 +130,22 @@ TEST(FallbackModel, WithoutOneTheAxisFallsBackToItsGeometricPart) {
   EXPECT_EQ(lost.axes[0].fallback_model, -1);
 }
 
+TEST(FallbackModel, MoreFallbacksThanTheRuntimeKeepsIsABindErrorNotASilentSkip) {
+  auto m = std::make_shared<model::CompositeModel>();
+  m->axes.push_back(TestAxisModel("X"));
+  for (std::size_t f = 0; f <= kMaxFallbackModels; ++f) m->axes.back().fallbacks.push_back(BearingOnlyFallback(0));
+  std::vector<AxisInterface> axes(1);
+  axes[0].axis = "X";
+  try {
+    BindModel(m, "model.json", axes, {"ambient", "nut", "bearing"}, {});
+    FAIL() << "bound more fallbacks than it keeps states for";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "axes[X].fallbacks") << e.what();
+  }
+  m->axes.back().fallbacks.pop_back();
+  EXPECT_EQ(BindModel(m, "model.json", axes, {"ambient", "nut", "bearing"}, {})->axes[0].fallbacks.size(), kMaxFallbackModels);
+}
+
 TEST(FallbackModel, AFallbackWhoseKeyHasNoChannelIsABindErrorNamingIt) {
   auto m = std::make_shared<model::CompositeModel>();
   m->axes.push_back(TestAxisModel("X"));

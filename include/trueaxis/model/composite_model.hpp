@@ -150,6 +150,7 @@ struct AxisModel {
   // instead of dropping the thermal part (docs/model-file.md, "Fallback models"). Each does without
   // at least one of these keys or the ambient sensor and has no fallbacks of its own.
   std::vector<AxisModel> fallbacks;
+  static constexpr std::size_t kMaxFallbacks = 4;  // the most a model file may hold per axis (the runtime keeps a state each)
   // The shifts of gains entry `g` of direction `d`; nullptr when it has none.
   const KeyShifts* ShiftsFor(Direction d, const ThermalGains* g) const {
     const auto& v = key_shifts[DirectionIndex(d)];

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "trueaxis/model/composite_model.hpp"
+
 namespace trueaxis::model {
 
 struct FitOptions {
@@ -116,6 +118,9 @@ struct FitOptions {
   // the compensator keeps a thermal part when a key sensor dies — also when the model has a single
   // key. Ordered by their LOSO CV. false: none.
   bool fallback_models = true;
+  // The most fallbacks kept per axis, the best by CV (1 … AxisModel::kMaxFallbacks); the others are
+  // named in the fit summary's fallback notes.
+  int max_fallback_models = static_cast<int>(AxisModel::kMaxFallbacks);
 
   // Used when a file has no `# axis:` line (empty: such a file is an error).
   std::string default_axis;

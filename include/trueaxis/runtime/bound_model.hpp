@@ -23,8 +23,8 @@
 namespace trueaxis::runtime {
 
 inline constexpr std::size_t kMaxKeySensors = 16;
-// Fallback models bound per axis (model::AxisModel::fallbacks; further ones are not bound).
-inline constexpr std::size_t kMaxFallbackModels = 4;
+// Fallback models per axis: at most what a model file may hold (the reader refuses more).
+inline constexpr std::size_t kMaxFallbackModels = model::AxisModel::kMaxFallbacks;
 
 struct BoundAxis {
   bool has_model = false;           // false: the model has no entry for this CNC axis → correction 0
@@ -32,8 +32,8 @@ struct BoundAxis {
   std::vector<int> key_channel;     // per model key sensor: channel index
   int ambient_channel = -1;         // -1: no ambient adjustment
   bool thermal_dynamics = false;    // model::HasThermalDynamics(model): else the key state is the readings
-  // The model's fallbacks (reduced key sets), bound the same way, in order of preference (at most
-  // kMaxFallbackModels; `model.fallbacks` itself is emptied, the copies live here).
+  // The model's fallbacks (reduced key sets), bound the same way, in order of preference
+  // (`model.fallbacks` itself is emptied, the copies live here).
   std::vector<BoundAxis> fallbacks;
   // Or a model behind the generic interface (PublishAxisModels), with a channel per Sensors().
   std::shared_ptr<const model::AxisErrorModel> generic;
