@@ -33,6 +33,10 @@ DEMO_OPTIONS = [
     ("--no-fallback-models", "--no-fallback-models", True,
      "fit no fallback models (demo --no-fallback-models): a sensor that dies in the day ([[day_fault]]) leaves its "
      "axis the geometric part only"),
+    ("--keys", "--keys", False,
+     "key sensors: seed (nut and bearing) or auto (chosen by the fit's CV from every sensor) (demo --keys)"),
+    ("--fallback-handover-s", "--fallback-handover-s", False,
+     "time constant of a fallback model's hand-over, s (demo --fallback-handover-s; 0: none)"),
     ("--no-lag-fall", "--no-lag-fall", True,
      "fit one lag tau both ways (demo --no-lag-fall): the lag before the longer fall"),
 ]

@@ -67,6 +67,11 @@ void Setup(CLI::App& app) {
   cmd->add_flag_function("--no-fallback-models", [opts](std::int64_t) { opts->demo.fallback_models = false; },
                          "Fit no fallback models (fit --no-fallback-models): a key sensor lost in the day "
                          "([[day_fault]]) then leaves its axis the geometric part only");
+  cmd->add_option("--fallback-handover-s", opts->demo.compensator.sensor.fallback_handover_s,
+                  "A fallback model taking over from a lost key sensor starts from the model's last correction; the "
+                  "difference decays with this time constant in s (0: the fallback's own prediction at once)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
   cmd->add_flag_function("--no-envelope", [opts](std::int64_t) { opts->demo.fitted_envelope = false; },
                          "Fit without the gains' fitted envelope (fit --envelope-margin -1): gains per coolant state "
                          "and no envelope is the model before issue 10's coolant work, the baseline of "
@@ -86,6 +91,11 @@ void Setup(CLI::App& app) {
                   "Each key's own pivot: auto (by the fit's cross-validation), on, off (one pivot Px, the seed's form; "
                   "bench/results/zoo.md compares)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
+  cmd->add_option("--keys", opts->demo.keys,
+                  "Key sensors: seed (the axis's nut and bearing, seed 000's key points), auto (chosen from every "
+                  "sensor by the fit's cross-validation, as `trueaxis fit`)")
+      ->check(CLI::IsMember({"seed", "auto"}))
       ->capture_default_str();
   cmd->add_flag_function("--no-lag-fall", [opts](std::int64_t) { opts->demo.lag_fall = false; },
                          "Fit one lag τ both ways (no longer lag while a key cools), for comparison");

@@ -539,7 +539,7 @@ DemoResult RunDemo(const DemoOptions& o) {
     model::FitOptions fo;
     const std::string nut = Lower(axis) + "_nut", bearing = Lower(axis) + "_bearing";
     const auto& sensors = axis_states.front().measurement.sensor_names;
-    if (std::find(sensors.begin(), sensors.end(), nut) != sensors.end() &&
+    if (o.keys == "seed" && std::find(sensors.begin(), sensors.end(), nut) != sensors.end() &&
         std::find(sensors.begin(), sensors.end(), bearing) != sensors.end())
       fo.key_sensors = {nut, bearing};
     if (o.geometric == "table") fo.geometric = model::FitOptions::Geometric::kTable;

@@ -145,7 +145,7 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
       {"interface", r.interface_used},
       {"output limits", fmt::format("|correction| ≤ the axis's bound (table above), change ≤ {} µm per cycle, "
                                     "quantum δ = 1 µm, hysteresis {} δ", so.max_step_um, so.hysteresis)},
-      {"sensor fault policy", fmt::format("hold last good {} s, then the model's fallback without the lost key sensor, else the geometric part only", o.compensator.sensor.hold_last_good_s)},
+      {"sensor fault policy", fmt::format("hold last good {} s, then the model's fallback without the lost key sensor (starting from the model's last correction, the difference decaying over {} s), else the geometric part only", o.compensator.sensor.hold_last_good_s, o.compensator.sensor.fallback_handover_s)},
       {"mode", o.fast ? "--fast (fewer targets and runs)" : "full"},
       {"wall time", fmt::format("{:.1f} s (campaign {:.1f} s, fit {:.1f} s, day {:.1f} s)", r.wall_s, r.campaign_wall_s,
                                 r.fit_wall_s, r.day_wall_s)},

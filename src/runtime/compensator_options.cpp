@@ -15,6 +15,8 @@ bool SensorFaultPolicy::IsValid(std::string* why) const {
   if (!(max_rate_c_per_s >= 0)) return fail("max_rate_c_per_s must be >= 0 (0 disables)");
   if (!(rate_allowance_c >= 0)) return fail("rate_allowance_c must be >= 0");
   if (!(hold_last_good_s >= 0) || !std::isfinite(hold_last_good_s)) return fail("hold_last_good_s must be >= 0");
+  if (!(fallback_handover_s >= 0) || !std::isfinite(fallback_handover_s))
+    return fail("fallback_handover_s must be >= 0 (0: no hand-over)");
   if (!(stale_after_s > 0) || !std::isfinite(stale_after_s)) return fail("stale_after_s must be > 0");
   return true;
 }

@@ -1,5 +1,6 @@
 #include "trueaxis/runtime/cycle_step.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <new>
 
@@ -32,6 +33,7 @@ StepState::StepState(std::size_t axis_count, std::size_t channel_count, const Co
       pending(axis_count) {
   dynamics.axes.resize(axis_count);
   dynamics.fallback_thermal.resize(axis_count);
+  dynamics.fallback_handover.resize(axis_count);
 }
 
 StepOutputs::StepOutputs(std::size_t axis_count, std::size_t channel_count)
@@ -216,6 +218,17 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
   // Constructed in place (guaranteed elision: Predict writes st.prediction itself). Assigning would
   // go through a temporary whose wide copy then stalls on store forwarding: ~5 ns per axis.
   ::new (&st.prediction) model::Prediction(model::Predict(use->model, st.model_position_mm, st.direction, ts));
+  if (st.fallback_model >= 0 && o.sensor.fallback_handover_s > 0 && i < state.dynamics.fallback_handover.size()) {
+    // The hand-over (ModelDynamics::Handover): from the model's last correction to the fallback's.
+    const ModelDynamics::Handover& h = state.dynamics.fallback_handover[i][static_cast<std::size_t>(st.fallback_model)];
+    if (std::isfinite(h.start_s)) {
+      const int d = st.direction == Direction::kReverse ? 1 : 0;
+      const double carried_um = (h.at0_um[d] + h.per_mm[d] * st.model_position_mm) *
+                                std::exp(-std::max(0.0, in.now_s - h.start_s) / o.sensor.fallback_handover_s);
+      st.prediction.thermal_um += carried_um;
+      st.prediction.total_um += carried_um;
+    }
+  }
   st.thermal_used = keys_ok;
   // Held at the fitted envelope, or the room outside the fitted range (extrapolated): both alarmed.
   if (st.prediction.tan_beta_limited || st.prediction.ambient_extrapolated) alarms |= kAlarmModelExtrapolated;
@@ -279,6 +292,62 @@ bool AdvanceKeyedState(const BoundAxis& ba, std::span<const ChannelStatus> chann
 }
 }  // namespace
 
+namespace {
+// The thermal + ambient part of `b`'s error as a line in the model position, per direction:
+// at0_um + per_mm · P0 (the model and its fallbacks share Er(x), which cancels in their difference).
+void ThermalLine(const BoundAxis& b, const model::AxisThermalState& thermal, double ambient_c, CoolantState coolant,
+                 std::array<double, 2>& at0_um, std::array<double, 2>& per_mm) {
+  const model::ThermalState ts{std::span<const double>(thermal.key_c.data(), b.key_channel.size()),
+                               b.ambient_channel >= 0 ? ambient_c : std::nan(""), coolant, true};
+  constexpr double kSpanMm = 1000;  // any two positions: the part is a line in P0
+  for (int d = 0; d < 2; ++d) {
+    const Direction dir = d == 0 ? Direction::kForward : Direction::kReverse;
+    const model::Prediction p0 = model::Predict(b.model, 0, dir, ts);
+    const model::Prediction p1 = model::Predict(b.model, kSpanMm, dir, ts);
+    at0_um[d] = p0.thermal_um + p0.ambient_um;
+    per_mm[d] = (p1.thermal_um + p1.ambient_um - at0_um[d]) / kSpanMm;
+  }
+}
+
+bool OwnSensorsRead(const BoundAxis& ba, std::span<const ChannelStatus> channels) {
+  for (const int ch : ba.key_channel)
+    if (channels[static_cast<std::size_t>(ch)].health == ChannelHealth::kLost) return false;
+  return ba.ambient_channel < 0 || channels[static_cast<std::size_t>(ba.ambient_channel)].health != ChannelHealth::kLost;
+}
+
+// Called before the states advance, so `d.thermal` and the fallbacks' states are still those of the
+// last cycle: in the cycle the model loses one of its own sensors, each fallback with a state gets
+// the model's thermal line then minus its own; while the model's sensors all read, none is kept.
+void TrackHandover(const BoundAxis& ba, std::span<const ChannelStatus> channels, CoolantState coolant, double now_s,
+                   bool restart, ModelDynamics::Axis& d,
+                   const std::array<model::AxisThermalState, kMaxFallbackModels>& fallback_thermal,
+                   std::array<ModelDynamics::Handover, kMaxFallbackModels>& handover) {
+  const bool read = OwnSensorsRead(ba, channels);
+  if (read || restart) {
+    for (auto& h : handover) h.start_s = std::nan("");
+  } else if (d.own_sensors_read && d.thermal.valid) {
+    std::array<double, 2> model_at0{}, model_per_mm{};
+    ThermalLine(ba, d.thermal, d.ambient_c, coolant, model_at0, model_per_mm);
+    for (std::size_t f = 0; f < ba.fallbacks.size(); ++f) {
+      ModelDynamics::Handover& h = handover[f];
+      h.start_s = std::nan("");
+      if (!fallback_thermal[f].valid) continue;
+      std::array<double, 2> at0{}, per_mm{};
+      ThermalLine(ba.fallbacks[f], fallback_thermal[f], d.ambient_c, coolant, at0, per_mm);
+      bool finite = true;
+      for (int k = 0; k < 2; ++k) {
+        h.at0_um[k] = model_at0[k] - at0[k];
+        h.per_mm[k] = model_per_mm[k] - per_mm[k];
+        finite = finite && std::isfinite(h.at0_um[k]) && std::isfinite(h.per_mm[k]);
+      }
+      if (finite) h.start_s = now_s;
+    }
+  }
+  d.own_sensors_read = read && !restart;
+  if (ba.ambient_channel >= 0 && read) d.ambient_c = channels[static_cast<std::size_t>(ba.ambient_channel)].value_c;
+}
+}  // namespace
+
 void AdvanceModelDynamics(const BoundModel& bound, std::span<const ChannelStatus> channels, CoolantState coolant,
                           double now_s, ModelDynamics& dynamics) {
   // Advanced every cycle for every axis with a model, enabled or not, so the lagged temperature
@@ -293,11 +362,14 @@ void AdvanceModelDynamics(const BoundModel& bound, std::span<const ChannelStatus
       continue;
     }
     const double dt_s = now_s - d.time_s;
-    const bool any_lost = AdvanceKeyedState(ba, channels, coolant, dt_s, d.model_id != bound.id, d.thermal);
     const bool fallbacks_restart = d.fallback_model_id != bound.id;
     // (fallback_thermal is sized with the axes by StepState; a hand-made ModelDynamics without it
     // simply has no fallback states, and DesiredCorrection then uses none.)
     const std::size_t n_fallbacks = i < dynamics.fallback_thermal.size() ? ba.fallbacks.size() : 0;
+    if (n_fallbacks > 0 && i < dynamics.fallback_handover.size())
+      TrackHandover(ba, channels, coolant, now_s, fallbacks_restart, d, dynamics.fallback_thermal[i],
+                    dynamics.fallback_handover[i]);
+    const bool any_lost = AdvanceKeyedState(ba, channels, coolant, dt_s, d.model_id != bound.id, d.thermal);
     for (std::size_t f = 0; f < n_fallbacks; ++f)
       AdvanceKeyedState(ba.fallbacks[f], channels, coolant, dt_s, fallbacks_restart, dynamics.fallback_thermal[i][f]);
     d.fallback_model_id = bound.id;

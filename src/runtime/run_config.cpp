@@ -38,6 +38,7 @@ void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptio
     m.Double("max_rate_c_per_s", o.sensor.max_rate_c_per_s, 0, 1e3);
     m.Double("rate_allowance_c", o.sensor.rate_allowance_c, 0, 100);
     m.Double("hold_last_good_s", o.sensor.hold_last_good_s, 0, 1e6);
+    m.Double("fallback_handover_s", o.sensor.fallback_handover_s, 0, 1e6);
     m.Double("stale_after_s", o.sensor.stale_after_s, 1e-3, 1e6);
     const int fb = m.Choice("fallback", {"geometric", "zero"});
     if (fb >= 0) o.sensor.fallback = fb == 0 ? SensorFallback::kGeometricOnly : SensorFallback::kZero;

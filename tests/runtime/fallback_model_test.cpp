@@ -34,9 +34,11 @@ std::shared_ptr<const model::CompositeModel> ModelWithFallback(double bearing_ta
 }
 
 struct Rig : testing::OneAxisRig {
-  static double Desired(const model::AxisModel& a, std::vector<double> keys) {
+  using OneAxisRig::OneAxisRig;
+  static double Desired(const model::AxisModel& a, std::vector<double> keys, double position_mm = 400,
+                        Direction direction = Direction::kForward) {
     model::ThermalState ts{std::span<const double>(keys.data(), keys.size()), 20.0, CoolantState::kOff, true};
-    return model::CorrectionUm(model::Predict(a, 400, Direction::kForward, ts));
+    return model::CorrectionUm(model::Predict(a, position_mm, direction, ts));
   }
 };
 
@@ -115,6 +117,52 @@ TEST(FallbackModel, ALostAmbientSensorHandsTheAxisToTheFallbackWithoutARoomTerm)
   std::vector<double> keys{26, 24};
   model::ThermalState ts{keys, std::nan(""), CoolantState::kOff, true};
   EXPECT_NEAR(lost.axes[0].desired_um, model::CorrectionUm(model::Predict(no_room, 400, Direction::kForward, ts)), 1e-9);
+}
+
+// The hand-over (SensorFaultPolicy::fallback_handover_s): the fallback starts from the model's last
+// correction and the difference decays with τ — at every position and in both directions, since it
+// is carried as the line the two thermal parts differ by.
+TEST(FallbackModel, TakesOverFromTheModelsLastCorrectionAndTheDifferenceDecaysWithTau) {
+  const double tau = 600;
+  Rig r(tau);
+  const auto m = ModelWithFallback(0);
+  const model::AxisModel& fb = m->axes[0].fallbacks[0];
+  r.comp->PublishModel(m, "hand-over");
+  r.temps.Set("nut", 26);
+  r.temps.Set("bearing", 23);
+  r.comp->RunCycle(r.cnc, r.temps, 0.0);
+  r.temps.SetFault("nut", true);
+  r.comp->RunCycle(r.cnc, r.temps, 30.0);  // held
+  // The cycle the nut is lost: no jump, the model's correction with the last nut reading.
+  const auto& lost = r.comp->RunCycle(r.cnc, r.temps, 100.0);
+  ASSERT_EQ(lost.axes[0].fallback_model, 0);
+  EXPECT_NEAR(lost.axes[0].desired_um, Rig::Desired(m->axes[0], {26, 23}), 1e-9);
+  const auto carried = [&](double position_mm, Direction d) {
+    return Rig::Desired(m->axes[0], {26, 23}, position_mm, d) - Rig::Desired(fb, {23}, position_mm, d);
+  };
+  ASSERT_GT(std::fabs(carried(400, Direction::kForward)), 1.0);  // the two models differ there
+  // One τ later, with the bearing warmer and the axis elsewhere in reverse: the fallback's own
+  // prediction for now plus the difference at the loss (at this position) times e^-1.
+  r.temps.Set("bearing", 25);
+  r.cnc.axes[0] = {100, -1, true};
+  const auto& later = r.comp->RunCycle(r.cnc, r.temps, 100.0 + tau);
+  ASSERT_EQ(later.axes[0].fallback_model, 0);
+  EXPECT_NEAR(later.axes[0].desired_um,
+              Rig::Desired(fb, {25}, 100, Direction::kReverse) + carried(100, Direction::kReverse) * std::exp(-1.0), 1e-9);
+  // Ten τ on: the fallback's own.
+  const auto& settled = r.comp->RunCycle(r.cnc, r.temps, 100.0 + 10 * tau);
+  EXPECT_NEAR(settled.axes[0].desired_um, Rig::Desired(fb, {25}, 100, Direction::kReverse), 1e-3);
+  // The nut back: the model; lost again: a new hand-over from the model's correction then.
+  r.temps.SetFault("nut", false);
+  r.temps.Set("nut", 28);
+  const double t_back = 100.0 + 11 * tau;
+  EXPECT_NEAR(r.comp->RunCycle(r.cnc, r.temps, t_back).axes[0].desired_um,
+              Rig::Desired(m->axes[0], {28, 25}, 100, Direction::kReverse), 1e-9);
+  r.temps.SetFault("nut", true);
+  r.comp->RunCycle(r.cnc, r.temps, t_back + 1);
+  const auto& again = r.comp->RunCycle(r.cnc, r.temps, t_back + 100);
+  ASSERT_EQ(again.axes[0].fallback_model, 0);
+  EXPECT_NEAR(again.axes[0].desired_um, Rig::Desired(m->axes[0], {28, 25}, 100, Direction::kReverse), 1e-9);
 }
 
 TEST(FallbackModel, WithoutOneTheAxisFallsBackToItsGeometricPart) {

@@ -31,6 +31,7 @@ hysteresis = 0.3
 
 [sensor_fault]
 hold_last_good_s = 20
+fallback_handover_s = 900
 fallback = "zero"
 max_rate_c_per_s = 1
 
@@ -78,6 +79,7 @@ TEST(RunConfig, ParsesEveryField) {
   EXPECT_DOUBLE_EQ(c.compensator.shaper.hysteresis, 0.3);
   EXPECT_EQ(c.compensator.sensor.fallback, SensorFallback::kZero);
   EXPECT_DOUBLE_EQ(c.compensator.sensor.hold_last_good_s, 20);
+  EXPECT_DOUBLE_EQ(c.compensator.sensor.fallback_handover_s, 900);
   EXPECT_EQ(c.compensator.link_loss, LinkLossPolicy::kRampToZero);
   EXPECT_EQ(c.compensator.link_recovery_cycles, 10);
   EXPECT_FALSE(c.compensator.follow_cnc_enable);
@@ -146,6 +148,7 @@ TEST(RunConfig, BadInputNamesLineAndField) {
   ExpectError(head + "[loop]\nperiod_s = \"fast\"\n", 6, "loop.period_s", "must be a number");
   ExpectError(head + "[[axis]]\npulse_equivalent_um = 1\n", 5, "axis[0].name", "missing");
   ExpectError(head + "[[axis]]\nname = \"X\"\n[[axis]]\nname = \"X\"\n", 8, "axis[1].name", "twice");
+  ExpectError(head + "[sensor_fault]\nfallback_handover_s = -60\n", 6, "sensor_fault.fallback_handover_s", "out of range");
   ExpectError(head + "[sensor_fault]\nmin_valid_c = 50\nmax_valid_c = 10\n", 7, "sensor_fault.max_valid_c", "greater");
   ExpectError("[machine]\nkind = \"virtual\"\n[model]\nfile = \"m.json\"\n", 1, "machine.file", "missing");
   ExpectError("[machine]\nkind = \"modbus\"\n", 1, "model", "missing");

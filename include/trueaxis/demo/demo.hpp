@@ -59,6 +59,9 @@ struct DemoOptions {
   double secondary_key_ridge = model::FitOptions{}.secondary_key_ridge;
   // Each key's own pivot (model::FitOptions::key_offsets): "auto", "on" or "off" (the seed's one Px).
   std::string key_offsets = "auto";
+  // The key sensors: "seed" = the axis's nut and bearing (seed 000's key points) when it has both;
+  // "auto" = chosen from every sensor by the fit's cross-validation, as `trueaxis fit` does.
+  std::string keys = "seed";
   // A falling key's longer lag (model::FitOptions::key_lag_fall_grid): true = by the fit's CV;
   // false = one τ both ways, for comparison (bench/results/zoo.md).
   bool lag_fall = true;

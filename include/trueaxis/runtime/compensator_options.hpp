@@ -34,6 +34,11 @@ struct SensorFaultPolicy {
   // dead terminal) is treated as a failed read: channels are held, then lost.
   double stale_after_s = 5;
   SensorFallback fallback = SensorFallback::kGeometricOnly;
+  // A fallback model taking over (AxisModel::fallbacks) starts from the model's last thermal
+  // correction: their difference at the loss is carried and decays with this time constant (s),
+  // so the correction does not step to a model that was the worse one a moment ago. 0: the
+  // fallback's own prediction at once (the shaper's ramp only). docs/runtime.md, step 4.
+  double fallback_handover_s = 7200;
 
   bool IsValid(std::string* why) const;
 };

@@ -19,6 +19,7 @@
 // through the one OutputShaper, so it ramps, never jumps.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -116,12 +117,28 @@ struct ModelDynamics {
     model::AxisModelDynamics generic;
     double time_s = 0;                            // time of the last update
     std::uint64_t model_id = 0;  // model the state belongs to; 0 = restart at the readings
+    // The model's own sensors (keys and ambient) all read in the last cycle, and the room reading
+    // then (NaN: none): what the hand-over to a fallback starts from.
+    bool own_sensors_read = false;
+    double ambient_c = std::numeric_limits<double>::quiet_NaN();
   };
   std::vector<Axis> axes;
   // Per axis, the same state for each of its fallback models (BoundAxis::fallbacks), advanced
   // alongside so a fallback taking over has the machine's history, not a cold start. Kept apart
   // from `axes`: a cycle without fallbacks does not pull them through the cache.
   std::vector<std::array<model::AxisThermalState, kMaxFallbackModels>> fallback_thermal;
+  // Per axis and fallback, the hand-over taken in the cycle the model lost its own sensors: the
+  // model's thermal + ambient error then, minus the fallback's, as a line in the model position per
+  // direction (at0_um + per_mm · P0). The fallback taking over adds it, decaying with
+  // SensorFaultPolicy::fallback_handover_s, so the correction does not jump to a model that was
+  // not the better one a moment ago. start_s NaN: none (the model's sensors read again, or the
+  // fallback had no state at the loss).
+  struct Handover {
+    double start_s = std::numeric_limits<double>::quiet_NaN();
+    std::array<double, 2> at0_um{};  // [forward, reverse]
+    std::array<double, 2> per_mm{};
+  };
+  std::vector<std::array<Handover, kMaxFallbackModels>> fallback_handover;
 };
 
 struct StepState {
