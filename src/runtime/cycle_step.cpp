@@ -221,7 +221,7 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
   if (st.fallback_model >= 0 && o.sensor.fallback_handover_s > 0 && i < state.dynamics.fallback_handover.size()) {
     // The hand-over (ModelDynamics::Handover): from the model's last correction to the fallback's.
     const ModelDynamics::Handover& h = state.dynamics.fallback_handover[i][static_cast<std::size_t>(st.fallback_model)];
-    if (std::isfinite(h.start_s)) {
+    if (std::isfinite(h.start_s) && h.coolant == state.machine.coolant) {
       const int d = st.direction == Direction::kReverse ? 1 : 0;
       const double carried_um = (h.at0_um[d] + h.per_mm[d] * st.model_position_mm) *
                                 std::exp(-std::max(0.0, in.now_s - h.start_s) / o.sensor.fallback_handover_s);
@@ -341,6 +341,7 @@ void TrackHandover(const BoundAxis& ba, std::span<const ChannelStatus> channels,
         finite = finite && std::isfinite(h.at0_um[k]) && std::isfinite(h.per_mm[k]);
       }
       if (finite) h.start_s = now_s;
+      h.coolant = coolant;
     }
   }
   d.own_sensors_read = read && !restart;

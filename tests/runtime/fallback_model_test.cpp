@@ -121,7 +121,7 @@ TEST(FallbackModel, ALostAmbientSensorHandsTheAxisToTheFallbackWithoutARoomTerm)
 
 // The hand-over (SensorFaultPolicy::fallback_handover_s): the fallback starts from the model's last
 // correction and the difference decays with τ — at every position and in both directions, since it
-// is carried as the line the two thermal parts differ by.
+// is carried as the line the two thermal parts differ by — while the coolant state is the loss's.
 TEST(FallbackModel, TakesOverFromTheModelsLastCorrectionAndTheDifferenceDecaysWithTau) {
   const double tau = 600;
   Rig r(tau);
@@ -149,6 +149,12 @@ TEST(FallbackModel, TakesOverFromTheModelsLastCorrectionAndTheDifferenceDecaysWi
   ASSERT_EQ(later.axes[0].fallback_model, 0);
   EXPECT_NEAR(later.axes[0].desired_um,
               Rig::Desired(fb, {25}, 100, Direction::kReverse) + carried(100, Direction::kReverse) * std::exp(-1.0), 1e-9);
+  // The flood on: the difference was taken with the dry gains and is no longer carried (the
+  // fallback has no flood gains of its own and uses its dry ones).
+  r.cnc.machine.coolant = CoolantState::kFlood;
+  EXPECT_NEAR(r.comp->RunCycle(r.cnc, r.temps, 101.0 + tau).axes[0].desired_um,
+              Rig::Desired(fb, {25}, 100, Direction::kReverse), 1e-9);
+  r.cnc.machine.coolant = CoolantState::kOff;
   // Ten τ on: the fallback's own.
   const auto& settled = r.comp->RunCycle(r.cnc, r.temps, 100.0 + 10 * tau);
   EXPECT_NEAR(settled.axes[0].desired_um, Rig::Desired(fb, {25}, 100, Direction::kReverse), 1e-3);
@@ -163,6 +169,40 @@ TEST(FallbackModel, TakesOverFromTheModelsLastCorrectionAndTheDifferenceDecaysWi
   const auto& again = r.comp->RunCycle(r.cnc, r.temps, t_back + 100);
   ASSERT_EQ(again.axes[0].fallback_model, 0);
   EXPECT_NEAR(again.axes[0].desired_um, Rig::Desired(m->axes[0], {28, 25}, 100, Direction::kReverse), 1e-9);
+}
+
+// A lost room sensor: the hand-over starts from the model's correction with the last good room
+// reading (the channel itself reads nothing any more).
+TEST(FallbackModel, TheHandOverFromALostAmbientUsesTheLastGoodRoomReading) {
+  const double tau = 900;
+  Rig r(tau);
+  auto m = std::make_shared<model::CompositeModel>();
+  m->axes.push_back(TestAxisModel("X"));
+  model::AxisModel no_room = TestAxisModel("X");
+  no_room.ambient_sensor.clear();
+  no_room.rho_um_per_mm_per_c = 0;
+  for (auto& d : no_room.directions) d.thermal = {{CoolantState::kOff, {-0.015, -0.006}, 0}};
+  m->axes.back().fallbacks.push_back(no_room);
+  r.comp->PublishModel(m, "room fallback with hand-over");
+  r.temps.Set("ambient", 23);
+  r.temps.Set("nut", 26);
+  r.temps.Set("bearing", 24);
+  r.comp->RunCycle(r.cnc, r.temps, 0.0);
+  r.temps.SetFault("ambient", true);
+  r.comp->RunCycle(r.cnc, r.temps, 30.0);  // held at 23 °C
+  std::vector<double> keys{26, 24};
+  const auto with_room = [&](double ambient_c) {
+    model::ThermalState ts{keys, ambient_c, CoolantState::kOff, true};
+    return model::CorrectionUm(model::Predict(m->axes[0], 400, Direction::kForward, ts));
+  };
+  model::ThermalState plain{keys, std::nan(""), CoolantState::kOff, true};
+  const double fallback = model::CorrectionUm(model::Predict(no_room, 400, Direction::kForward, plain));
+  ASSERT_GT(std::fabs(with_room(23) - fallback), 1.0);
+  const auto& lost = r.comp->RunCycle(r.cnc, r.temps, 100.0);
+  ASSERT_EQ(lost.axes[0].fallback_model, 0);
+  EXPECT_NEAR(lost.axes[0].desired_um, with_room(23), 1e-9);
+  const auto& later = r.comp->RunCycle(r.cnc, r.temps, 100.0 + tau);
+  EXPECT_NEAR(later.axes[0].desired_um, fallback + (with_room(23) - fallback) * std::exp(-1.0), 1e-9);
 }
 
 TEST(FallbackModel, WithoutOneTheAxisFallsBackToItsGeometricPart) {

@@ -131,10 +131,13 @@ struct ModelDynamics {
   // model's thermal + ambient error then, minus the fallback's, as a line in the model position per
   // direction (at0_um + per_mm · P0). The fallback taking over adds it, decaying with
   // SensorFaultPolicy::fallback_handover_s, so the correction does not jump to a model that was
-  // not the better one a moment ago. start_s NaN: none (the model's sensors read again, or the
+  // not the better one a moment ago, while the coolant state stays as it was. start_s NaN: none (the model's sensors read again, or the
   // fallback had no state at the loss).
   struct Handover {
     double start_s = std::numeric_limits<double>::quiet_NaN();
+    // The coolant state at the loss: the difference was taken with that state's gains, so it
+    // says nothing once another coolant state's gains are in use, and is then no longer carried.
+    CoolantState coolant = CoolantState::kOff;
     std::array<double, 2> at0_um{};  // [forward, reverse]
     std::array<double, 2> per_mm{};
   };
