@@ -33,6 +33,18 @@ std::shared_ptr<const model::CompositeModel> ModelWithFallback(double bearing_ta
   return m;
 }
 
+// X with a fallback fitted without the room sensor (its keys the model's, gains of its own).
+std::shared_ptr<const model::CompositeModel> ModelWithRoomFallback() {
+  auto m = std::make_shared<model::CompositeModel>();
+  m->axes.push_back(TestAxisModel("X"));
+  model::AxisModel no_room = TestAxisModel("X");
+  no_room.ambient_sensor.clear();
+  no_room.rho_um_per_mm_per_c = 0;
+  for (auto& d : no_room.directions) d.thermal = {{CoolantState::kOff, {-0.015, -0.006}, 0}};
+  m->axes.back().fallbacks.push_back(no_room);
+  return m;
+}
+
 struct Rig : testing::OneAxisRig {
   using OneAxisRig::OneAxisRig;
   static double Desired(const model::AxisModel& a, std::vector<double> keys, double position_mm = 400,
@@ -98,13 +110,8 @@ TEST(FallbackModel, ItsLagCarriesTheHistoryFromBeforeTheLoss) {
 // instead of the model running on without its ρ term and with rises no longer above the room.
 TEST(FallbackModel, ALostAmbientSensorHandsTheAxisToTheFallbackWithoutARoomTerm) {
   Rig r;
-  auto m = std::make_shared<model::CompositeModel>();
-  m->axes.push_back(TestAxisModel("X"));
-  model::AxisModel no_room = TestAxisModel("X");
-  no_room.ambient_sensor.clear();
-  no_room.rho_um_per_mm_per_c = 0;
-  for (auto& d : no_room.directions) d.thermal = {{CoolantState::kOff, {-0.015, -0.006}, 0}};
-  m->axes.back().fallbacks.push_back(no_room);
+  const auto m = ModelWithRoomFallback();
+  const model::AxisModel& no_room = m->axes[0].fallbacks[0];
   r.comp->PublishModel(m, "room fallback");
   r.temps.Set("ambient", 23);
   r.temps.Set("nut", 26);
@@ -176,13 +183,8 @@ TEST(FallbackModel, TakesOverFromTheModelsLastCorrectionAndTheDifferenceDecaysWi
 TEST(FallbackModel, TheHandOverFromALostAmbientUsesTheLastGoodRoomReading) {
   const double tau = 900;
   Rig r(tau);
-  auto m = std::make_shared<model::CompositeModel>();
-  m->axes.push_back(TestAxisModel("X"));
-  model::AxisModel no_room = TestAxisModel("X");
-  no_room.ambient_sensor.clear();
-  no_room.rho_um_per_mm_per_c = 0;
-  for (auto& d : no_room.directions) d.thermal = {{CoolantState::kOff, {-0.015, -0.006}, 0}};
-  m->axes.back().fallbacks.push_back(no_room);
+  const auto m = ModelWithRoomFallback();
+  const model::AxisModel& no_room = m->axes[0].fallbacks[0];
   r.comp->PublishModel(m, "room fallback with hand-over");
   r.temps.Set("ambient", 23);
   r.temps.Set("nut", 26);
