@@ -190,15 +190,20 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
   if (!keys_ok || ambient_lost(*ba)) {
     alarms |= kAlarmSensorFallback;
     const std::size_t n_fallbacks = i < state.dynamics.fallback_thermal.size() ? ba->fallbacks.size() : 0;
-    for (std::size_t f = 0; f < n_fallbacks; ++f) {
-      std::uint32_t unused = 0;
-      const model::AxisThermalState& ft = state.dynamics.fallback_thermal[i][f];
-      if (ft.valid && KeysRead(ba->fallbacks[f], out.channels, unused) && !ambient_lost(ba->fallbacks[f])) {
-        use = &ba->fallbacks[f];
-        thermal = &ft;
-        st.fallback_model = static_cast<int>(f);
-        keys_ok = true;
-        break;
+    // First a fallback whose keys and room sensor all read; failing that (a key and the room sensor
+    // both lost, while the model's keys do not read), one whose keys read, without its room term —
+    // as the model itself goes on when only its room sensor is lost.
+    for (int pass = 0; pass < 2 && use == ba && !(pass == 1 && keys_ok); ++pass) {
+      for (std::size_t f = 0; f < n_fallbacks; ++f) {
+        std::uint32_t unused = 0;
+        const model::AxisThermalState& ft = state.dynamics.fallback_thermal[i][f];
+        if (ft.valid && KeysRead(ba->fallbacks[f], out.channels, unused) && (pass == 1 || !ambient_lost(ba->fallbacks[f]))) {
+          use = &ba->fallbacks[f];
+          thermal = &ft;
+          st.fallback_model = static_cast<int>(f);
+          keys_ok = true;
+          break;
+        }
       }
     }
   }

@@ -207,6 +207,33 @@ TEST(FallbackModel, TheHandOverFromALostAmbientUsesTheLastGoodRoomReading) {
   EXPECT_NEAR(later.axes[0].desired_um, fallback + (with_room(23) - fallback) * std::exp(-1.0), 1e-9);
 }
 
+// A key and the room sensor both lost: no fallback has all its sensors, so the one whose keys read
+// goes on without its room term (as the model does when only its room sensor is lost), instead
+// of the geometric part alone.
+TEST(FallbackModel, AKeyAndTheRoomSensorLostLeaveTheFallbackWithoutItsRoomTerm) {
+  Rig r;
+  const auto m = ModelWithFallback(0);
+  const model::AxisModel& fb = m->axes[0].fallbacks[0];
+  ASSERT_EQ(fb.ambient_sensor, "ambient");
+  r.comp->PublishModel(m, "double fault");
+  r.temps.Set("nut", 26);
+  r.temps.Set("bearing", 23);
+  r.temps.Set("ambient", 22);
+  r.comp->RunCycle(r.cnc, r.temps, 0.0);
+  r.temps.SetFault("nut", true);
+  r.temps.SetFault("ambient", true);
+  const auto& lost = r.comp->RunCycle(r.cnc, r.temps, 100.0);
+  EXPECT_TRUE(lost.alarms & kAlarmSensorFallback);
+  ASSERT_EQ(lost.axes[0].fallback_model, 0);
+  EXPECT_TRUE(lost.axes[0].thermal_used);
+  std::vector<double> key{23};
+  model::ThermalState no_room{key, std::nan(""), CoolantState::kOff, true};
+  EXPECT_NEAR(lost.axes[0].desired_um, model::CorrectionUm(model::Predict(fb, 400, Direction::kForward, no_room)), 1e-9);
+  model::ThermalState last_room{key, 22.0, CoolantState::kOff, true};
+  EXPECT_GT(std::fabs(lost.axes[0].desired_um - model::CorrectionUm(model::Predict(fb, 400, Direction::kForward, last_room))),
+            0.1);  // the room term is gone, not held at the last reading
+}
+
 TEST(FallbackModel, WithoutOneTheAxisFallsBackToItsGeometricPart) {
   Rig r;
   auto m = std::make_shared<model::CompositeModel>();
