@@ -197,7 +197,8 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
       for (std::size_t f = 0; f < n_fallbacks; ++f) {
         std::uint32_t unused = 0;
         const model::AxisThermalState& ft = state.dynamics.fallback_thermal[i][f];
-        if (ft.valid && KeysRead(ba->fallbacks[f], out.channels, unused) && (pass == 1 || !ambient_lost(ba->fallbacks[f]))) {
+        const bool room_ok = pass == 1 || !ambient_lost(ba->fallbacks[f]);
+        if (ft.valid && KeysRead(ba->fallbacks[f], out.channels, unused) && room_ok) {
           use = &ba->fallbacks[f];
           thermal = &ft;
           st.fallback_model = static_cast<int>(f);

@@ -130,9 +130,9 @@ struct ModelDynamics {
   // Per axis and fallback, the hand-over taken in the cycle the model lost its own sensors: the
   // model's thermal + ambient error then, minus the fallback's, as a line in the model position per
   // direction (at0_um + per_mm · P0). The fallback taking over adds it, decaying with
-  // SensorFaultPolicy::fallback_handover_s, so the correction does not jump to a model that was
-  // not the better one a moment ago, while the coolant state stays as it was. start_s NaN: none (the model's sensors read again, or the
-  // fallback had no state at the loss).
+  // SensorFaultPolicy::fallback_handover_s while the coolant state stays as it was, so the
+  // correction does not jump away from the model that was the better one a moment ago.
+  // start_s NaN: none (the model's sensors read again, or the fallback had no state at the loss).
   struct Handover {
     double start_s = std::numeric_limits<double>::quiet_NaN();
     // The coolant state at the loss: the difference was taken with that state's gains, so it
