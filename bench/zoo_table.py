@@ -8,6 +8,7 @@ fails any row where compensation made A worse or more than doubled the repeatabi
 
 Usage (from the repository root, after a build):
   /usr/bin/python3 bench/zoo_table.py [--seed 3] [--out out/zoo] [--trueaxis build/apps/trueaxis/trueaxis] [machines...]
+  /usr/bin/python3 bench/zoo_table.py --kill x_nut@7.5 --out out/zoo_x_nut   # that sensor opens 7.5 h into every day
 """
 import argparse, glob, json, os, subprocess, sys, time
 
@@ -45,21 +46,44 @@ for opt, _, flag, help_text in DEMO_OPTIONS:
         ap.add_argument(opt, action="store_true", help=help_text)
     else:
         ap.add_argument(opt, default="", help=help_text)
+ap.add_argument("--kill", default="",
+                help="SENSOR@HOURS[:KIND]: a [[day_fault]] added to every machine (a copy of its file in the output "
+                     "directory), e.g. x_nut@7.5 or ambient@7.5:drift; KIND open (default), short, stuck, drift, spikes")
 ap.add_argument("machines", nargs="*")
 a = ap.parse_args()
 machines = a.machines or sorted(glob.glob("examples/machines/*.toml"))
+kill = None
+if a.kill:
+    sensor, _, rest = a.kill.partition("@")
+    hours, _, kind = rest.partition(":")
+    try:
+        kill = (sensor, float(hours), kind or "open")
+    except ValueError:
+        ap.error(f"--kill {a.kill}: expected SENSOR@HOURS[:KIND], e.g. x_nut@7.5")
 rows, worst = [], []
 for m in machines:
     name = os.path.splitext(os.path.basename(m))[0]
     out = os.path.join(a.out, name)
     t0 = time.time()
+    machine_file = m
+    if kill:
+        # The machine's own file plus the fault (run without it when the machine has no such sensor).
+        os.makedirs(out, exist_ok=True)
+        machine_file = os.path.join(out, "machine_with_fault.toml")
+        with open(m) as src, open(machine_file, "w") as dst:
+            dst.write(src.read())
+            dst.write(f'\n[[day_fault]]\nsensor = "{kill[0]}"\nat_h = {kill[1]}\nkind = "{kill[2]}"\n')
     demo_args = []
     for opt, demo_opt, flag, _ in DEMO_OPTIONS:
         value = getattr(a, opt[2:].replace("-", "_"))
         if value:
             demo_args += [demo_opt] if flag else [demo_opt, value]
-    r = subprocess.run([a.trueaxis, "demo", "--machine", m, "--seed", str(a.seed), "--out", out, "--quiet"] + demo_args,
-                       capture_output=True, text=True)
+    demo = lambda f: subprocess.run([a.trueaxis, "demo", "--machine", f, "--seed", str(a.seed), "--out", out, "--quiet"] +
+                                    demo_args, capture_output=True, text=True)
+    r = demo(machine_file)
+    if kill and r.returncode != 0 and f"has no sensor '{kill[0]}'" in r.stderr:
+        print(f"{name}: no sensor {kill[0]}, run without the fault", file=sys.stderr)
+        r = demo(m)
     if r.returncode != 0:
         print(f"{name}: demo failed (exit {r.returncode}): {r.stderr.strip()}", file=sys.stderr)
         rows.append((name, "-", "demo failed", "", "", "", "", ""))
@@ -90,5 +114,8 @@ for row in rows:
     n, ax, st, aoff, aon, ron, sc, must = row
     print(f"| {n} | {ax} | {st} | {aoff:.1f} | {aon:.1f} | {ron:.1f} | {sc:.2f} | {'yes' if must else '**no**'} |")
 ok = [r for r in rows if r[1] != "-"]
-print(f"\n{len(ok)} rows: {sum(1 for r in ok if r[7])} under the must line, {sum(1 for r in ok if r[6] <= 1)} at the goal (score <= 1); "
-      f"worst score {max(r[6] for r in ok):.2f} ({max(ok, key=lambda r: r[6])[0]} {max(ok, key=lambda r: r[6])[1]} {max(ok, key=lambda r: r[6])[2]})")
+failed = len(rows) - len(ok)
+worst_row = max(ok, key=lambda r: r[6]) if ok else None
+print(f"\n{len(ok)} rows: {sum(1 for r in ok if r[7])} under the must line, {sum(1 for r in ok if r[6] <= 1)} at the goal (score <= 1)" +
+      (f"; worst score {worst_row[6]:.2f} ({worst_row[0]} {worst_row[1]} {worst_row[2]})" if worst_row else "") +
+      (f"; {failed} demo(s) failed" if failed else ""))
