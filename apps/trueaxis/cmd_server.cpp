@@ -179,9 +179,13 @@ void PrintStatus(const std::string& url, bool json) {
   if (json || res->status != 200) return PrintOrFail(res);
   for (const auto& m : nlohmann::json::parse(res->body)) {
     std::string axes;
-    for (const auto& a : m["axes"])
-      axes += fmt::format(" {} {}", a["name"].get<std::string>(),
-                          a["applied_um"].is_null() ? "UNAVAILABLE" : fmt::format("{:+.1f} um", a["applied_um"].get<double>()));
+    for (const auto& a : m["axes"]) {
+      // The axis's compensation state when it is not the model with its own sensors.
+      const std::string state = a.value("state", std::string("full"));
+      axes += fmt::format(" {} {}{}", a["name"].get<std::string>(),
+                          a["applied_um"].is_null() ? "UNAVAILABLE" : fmt::format("{:+.1f} um", a["applied_um"].get<double>()),
+                          state == "full" || state == "link_lost" ? "" : " (" + state + ")");
+    }
     const std::string alarms = m["alarms"].get<std::string>();
     fmt::print("{:<12} {:<9} model rev {} | applied{} | alarms {}\n", m["name"].get<std::string>(),
                m["connected"].get<bool>() ? "connected" : "DOWN", m["model"]["revision"].get<int>(), axes,

@@ -25,6 +25,14 @@ std::string AlarmNames(std::uint32_t alarms) {
   return out;
 }
 
+const char* AxisCompensationState(bool link_read_ok, bool enabled, bool thermal_used, int fallback_model) {
+  return !link_read_ok        ? "link_lost"
+         : !enabled           ? "disabled"
+         : !thermal_used      ? "geometric"
+         : fallback_model >= 0 ? "fallback_model"
+                              : "full";
+}
+
 StepState::StepState(std::size_t axis_count, std::size_t channel_count, const CompensatorOptions& options)
     : channels(channel_count),
       good_reads_in_row(options.link_recovery_cycles),  // start as if connected; the first read decides

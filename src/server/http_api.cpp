@@ -44,7 +44,8 @@ nlohmann::json ToJson(const MachineStatus& s) {
                          {"applied_um", Value(a.applied_um)},
                          {"target_um", std::isfinite(a.target_um) ? nlohmann::json(a.target_um) : nlohmann::json(nullptr)},
                          {"output_um", a.output_um},
-                         {"enabled", a.enabled}});
+                         {"enabled", a.enabled},
+                         {"state", a.state}});
   for (const auto& c : s.channels) j["channels"].push_back({{"name", c.name}, {"temp_c", Value(c.temp_c)}, {"health", c.health}});
   return j;
 }

@@ -222,6 +222,7 @@ struct Shop::Impl {
       v.target_um = o.axes[a].desired_um;
       v.output_um = o.axes[a].output_um;
       v.enabled = m.controls.axis_enabled[a] != 0;
+      v.state = runtime::AxisCompensationState(fresh, o.axes[a].enabled, o.axes[a].thermal_used, o.axes[a].fallback_model);
     }
     for (std::size_t c = 0; c < s.channels.size(); ++c) {
       ChannelView& v = s.channels[c];

@@ -37,6 +37,7 @@ void ShopMqttRelay::PublishOnce() {
       j["correction_um"] = m.connected && std::isfinite(a.output_um) ? nlohmann::json(a.output_um) : nlohmann::json(nullptr);
       j["applied_um"] = a.applied_um ? nlohmann::json(*a.applied_um) : nlohmann::json(nullptr);
       j["enabled"] = a.enabled;
+      j["state"] = a.state;  // full | fallback_model | geometric | disabled | link_lost
       publisher_.PublishAt(m.name, "axis/" + a.name, j.dump());
     }
     for (const auto& c : m.channels) {

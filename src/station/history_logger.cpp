@@ -28,12 +28,8 @@ void HistoryLogger::Log(const CycleRecord& r) {
     writer_.PushTemperature(t, channel_names_[i], r.temp_c[i], r.temp_c[i], ChannelHealthName(r.health[i]));
   for (std::size_t i = 0; i < r.axis_count && i < axis_names_.size(); ++i) {
     const AxisRecord& a = r.axes[i];
-    const char* state = !r.link_read_ok ? "link_lost"
-                        : !a.enabled    ? "disabled"
-                        : !a.thermal_used ? "geometric"
-                        : a.fallback_model >= 0 ? "fallback_model"  // a key sensor lost: a reduced model
-                                                : "full";
-    writer_.PushCompensation(t, axis_names_[i], a.cnc_position_mm, a.output_um, state);
+    writer_.PushCompensation(t, axis_names_[i], a.cnc_position_mm, a.output_um,
+                             runtime::AxisCompensationState(r.link_read_ok, a.enabled, a.thermal_used, a.fallback_model));
   }
   const std::uint32_t raised = r.alarms & ~last_alarms_;
   const std::uint32_t cleared = last_alarms_ & ~r.alarms;

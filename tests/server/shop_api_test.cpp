@@ -132,6 +132,8 @@ TEST(ShopHttpApi, StatusModelsAndErrorsOverHttpAndTheCli) {
   EXPECT_TRUE(all[0]["axes"][0]["position_mm"].is_number());
   EXPECT_FALSE(all[1]["connected"].get<bool>());
   EXPECT_TRUE(all[1]["axes"][0]["position_mm"].is_null());  // UNAVAILABLE
+  EXPECT_EQ(all[1]["axes"][0]["state"], "link_lost");
+  EXPECT_EQ(all[0]["axes"][0]["state"], "full");  // the model with its own x_nut and room sensor
   EXPECT_TRUE(all[1]["channels"][0]["temp_c"].is_null());
   EXPECT_NE(all[1]["last_fault"].get<std::string>().find("connect"), std::string::npos);
 

@@ -78,6 +78,12 @@ struct AxisStatus {
   double written_um = 0;        // value written to the CNC (CNC units: ×2 on diameter axes)
 };
 
+// How an axis is compensated, in one word (the history's compensation state, the workshop
+// server's axis `state`): "link_lost" (the CNC could not be read), "disabled", "geometric" (no
+// thermal part: a key sensor lost without a usable fallback), "fallback_model" (a fallback fitted
+// without a lost sensor), "full" (the model with its own sensors). Not for the RT thread's output.
+const char* AxisCompensationState(bool link_read_ok, bool enabled, bool thermal_used, int fallback_model);
+
 struct CycleStatus {
   std::uint64_t cycle = 0;
   double time_s = 0;

@@ -44,6 +44,9 @@ struct AxisView {
   double target_um = 0;     // what the model asks for (physical µm; NaN = hold)
   double output_um = 0;     // the limiter's output the server last handed out (physical µm)
   bool enabled = true;      // the server's switch for this axis
+  // How the compensator treats it now (runtime::AxisCompensationState): full, fallback_model
+  // (a sensor of the model lost), geometric, disabled or link_lost.
+  std::string state = "link_lost";
 };
 
 struct ChannelView {
