@@ -31,7 +31,7 @@ json ToJson(const MachineSummary& m) {
   json axes = json::array(), channels = json::array();
   for (const auto& a : m.axes)
     axes.push_back({{"axis", a.axis}, {"enabled", a.enabled}, {"position_mm", Number(a.position_mm)},
-                    {"correction_um", Number(a.correction_um)}});
+                    {"correction_um", Number(a.correction_um)}, {"state", a.state}});
   for (const auto& c : m.channels)
     channels.push_back({{"channel", c.channel}, {"temp_c", Number(c.temp_c)}, {"health", c.health}});
   return {{"id", m.id},           {"name", m.name},         {"connected", m.connected},

@@ -49,6 +49,8 @@ void RunBackend::OnRecord(const runtime::CycleRecord& r) {
       summary_.axes[i].enabled = r.axes[i].enabled;
       summary_.axes[i].position_mm = r.axes[i].cnc_position_mm;
       summary_.axes[i].correction_um = r.axes[i].output_um;
+      summary_.axes[i].state =
+          runtime::AxisCompensationState(r.link_read_ok, r.axes[i].enabled, r.axes[i].thermal_used, r.axes[i].fallback_model);
       s.correction_um.push_back(r.axes[i].output_um);
     }
     for (std::size_t i = 0; i < r.channel_count && i < summary_.channels.size(); ++i) {

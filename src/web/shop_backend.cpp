@@ -30,7 +30,7 @@ MachineSummary Summarise(const server::MachineStatus& m) {
   s.name = m.name;
   s.connected = m.connected;
   s.alarms = SplitAlarmNames(m.alarm_names);
-  for (const auto& a : m.axes) s.axes.push_back({a.name, a.enabled, ValueOrNaN(a.position_mm), a.output_um});
+  for (const auto& a : m.axes) s.axes.push_back({a.name, a.enabled, ValueOrNaN(a.position_mm), a.output_um, a.state});
   for (const auto& c : m.channels) s.channels.push_back({c.name, ValueOrNaN(c.temp_c), c.health});
   s.model_revision = m.model.file.empty() ? "" : std::to_string(m.model.revision);
   s.coolant = m.coolant;

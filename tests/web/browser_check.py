@@ -102,6 +102,8 @@ try:
         fail('the live chart has %d points' % points)
     if text(d, '#axis-X-state') != 'on':
         fail('axis X should start enabled')
+    if text(d, '#axis-X-model') != 'model':
+        fail('axis X should show the model with its own sensors, not %r' % text(d, '#axis-X-model'))
     d.find_element(By.ID, 'axis-X-toggle').click()
     status = wait_status(d, ['done', 'refused'])
     if 'done' not in status:

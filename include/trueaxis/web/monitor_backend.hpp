@@ -30,6 +30,9 @@ struct AxisValue {
   bool enabled = false;        // the compensation of this axis is switched on (ramps through the limiter)
   double position_mm = 0;
   double correction_um = 0;    // the shaped correction now applied (correction sign)
+  // How the compensator treats it (runtime::AxisCompensationState): full, fallback_model,
+  // geometric, disabled, link_lost.
+  std::string state = "full";
 };
 
 struct ChannelValue {

@@ -5,6 +5,11 @@ const id = new URLSearchParams(location.search).get('id') || '';
 const base = '/api/machines/' + encodeURIComponent(id);
 const palette = ['#1f77b4', '#d62728', '#2ca02c', '#ff7f0e', '#9467bd', '#8c564b', '#e377c2', '#17becf'];
 const keepSamples = 300;
+// How the compensator treats an axis (the API's axes[].state, docs/server.md).
+const modelState = {
+  full: 'model', fallback_model: 'fallback model (a sensor lost)', geometric: 'geometric only (no thermal part)',
+  disabled: '—', link_lost: 'CNC not read',
+};
 let lastSeq = 0;
 let t0 = null;
 
@@ -79,7 +84,8 @@ async function refreshMachine() {
     });
     return TA.el('tr', {}, TA.el('td', {}, a.axis), TA.el('td', { class: 'mono' }, TA.num(a.position_mm, 3)),
       TA.el('td', { id: 'corr-' + a.axis, class: 'mono' }, TA.num(a.correction_um, 2)),
-      TA.el('td', { id: 'axis-' + a.axis + '-state' }, a.enabled ? 'on' : 'off'), TA.el('td', {}, button));
+      TA.el('td', { id: 'axis-' + a.axis + '-state' }, a.enabled ? 'on' : 'off'),
+      TA.el('td', { id: 'axis-' + a.axis + '-model' }, modelState[a.state] || a.state || ''), TA.el('td', {}, button));
   }));
 
   document.getElementById('model-revision').textContent = m.model.revision || 'none';
