@@ -145,6 +145,9 @@ def scenario_hal():
         check(abs(err) <= quantum_um, f"X{x} dir {d} nut {nut}: joint offset {at_joint:.4f} µm vs model correction "
                                       f"{expected:.4f} µm (diff {err:.4f} > quantum {quantum_um})")
         check(getp("trueaxis.alarms") == 0, f"X{x}: alarms {getp('trueaxis.alarms')}")
+        check(getp("trueaxis.x.thermal") == 1 and getp("trueaxis.x.fallback-model") == -1,
+              f"X{x}: the model with its own sensors expected (thermal {getp('trueaxis.x.thermal')}, "
+              f"fallback-model {getp('trueaxis.x.fallback-model')})")
     figures["worst_joint_vs_model_um"] = worst
 
     # Latency: a temperature step → first change of the correction pin → first change at the joint,
@@ -233,6 +236,7 @@ def scenario_lost_terminal():
     alarms = int(getp("trueaxis.alarms"))
     check(alarms & (1 << 2), f"alarm temperature_source (bit 2) expected, alarms = {alarms}")
     check(alarms & (1 << 1), f"alarm sensor_fallback (bit 1) expected, alarms = {alarms}")
+    check(getp("trueaxis.x.thermal") == 0, "no thermal part with every sensor lost")
     d = ramp_checks([s for s in samples if s[1] != c0] or samples, c0, 0.0, 0.5, 0.005, "lost terminal")
     figures.update(correction_um=c0, lost_to_zero_s=t_zero, ramp_s=d, alarms=alarms, port=port)
 

@@ -24,6 +24,8 @@ class StatusPins : public runtime::CycleObserver {
   Pin<std::int32_t> alarms_;
   Pin<double> temperature_age_s_;
   std::vector<Pin<bool>> clamped_;
+  std::vector<Pin<bool>> thermal_;                 // the thermal part is in use (not geometric only)
+  std::vector<Pin<std::int32_t>> fallback_model_;  // the fallback model in use, -1: the model's own
 };
 
 }  // namespace trueaxis::linuxcnc
