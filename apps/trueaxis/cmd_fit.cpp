@@ -12,6 +12,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -59,6 +60,7 @@ struct FitCliOptions {
   std::vector<double> lag_fall_grid = model::FitOptions{}.key_lag_fall_grid;
   std::vector<double> coolant_loss_grid_s = model::FitOptions{}.coolant_loss_grid_s;
   bool no_fallback_models = false;
+  std::vector<std::string> redundant;  // "y_nut,y_nut_b" per group
   double envelope_margin = model::FitOptions{}.tan_beta_margin;
 };
 
@@ -125,6 +127,15 @@ void RunFit(const FitCliOptions& o) {
   if (o.coolant_loss_grid_s.size() == 1 && o.coolant_loss_grid_s[0] < 0) fo.coolant_loss_grid_s.clear();
   fo.tan_beta_margin = o.envelope_margin;
   fo.fallback_models = !o.no_fallback_models;
+  for (const auto& group : o.redundant) {
+    std::vector<std::string> names;
+    std::string name;
+    for (std::istringstream in(group); std::getline(in, name, ',');)
+      if (!name.empty()) names.push_back(name);
+    if (names.size() < 2)
+      throw InputError("command line", 0, "--redundant", fmt::format("'{}': give two or more sensor names, comma separated", group));
+    fo.redundant_groups.push_back(std::move(names));
+  }
   std::string why;
   if (!fo.IsValid(&why)) throw InputError("command line", 0, "options", why);
 
@@ -192,6 +203,11 @@ void Setup(CLI::App& app) {
   cmd->add_flag("--no-fallback-models", opts->no_fallback_models,
                "Fit no fallback models (by default an axis with key sensors is also fitted without each of "
                "them, its keys re-chosen from the other sensors, for the compensator to use when that sensor is lost; docs/model-file.md)");
+  cmd->add_option("--redundant", opts->redundant,
+                  "Redundant probes at one place, comma separated (e.g. y_nut,y_nut_b; repeat for more groups): the "
+                  "temperature pipeline loses them together when they disagree, so a fallback fitted without one "
+                  "does without the others too")
+      ->allow_extra_args(false);
   cmd->add_option("--envelope-margin", opts->envelope_margin,
                   "Fitted envelope of key rises and tanβ, widened by this fraction of its width (negative: none)")
       ->capture_default_str();

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -175,6 +176,18 @@ class DayObserver : public runtime::CycleObserver {
   std::uint32_t alarms_ = 0, last_alarms_ = 0;
 };
 
+// Probes at one place (the machine file's sensors sharing a `location`, e.g. two on one nut):
+// the temperature pipeline checks them against each other (a neighbour group; when they disagree
+// by more than max_disagreement_c both are lost) and the fit's fallbacks do without all of them.
+std::vector<std::vector<std::string>> RedundantProbes(const sim::MachineDescription& md) {
+  std::map<std::string, std::vector<std::string>> by_location;
+  for (const auto& sd : md.sensors) by_location[sd.location].push_back(sd.name);
+  std::vector<std::vector<std::string>> groups;
+  for (auto& [where, names] : by_location)
+    if (names.size() >= 2) groups.push_back(names);
+  return groups;
+}
+
 class WorkingDay {
  public:
   WorkingDay(const sim::MachineDescription& md, const DemoOptions& o, const sim::LaserOptions& laser,
@@ -217,8 +230,9 @@ class WorkingDay {
       source = temp_client_.get();
     }
     if (o.signal_processing) {  // the one temperature pipeline, timed by the machine's clock
-      monitored_ = std::make_unique<signal::MonitoredTemperatureSource>(
-          *source, station::MonitorOptionsFor(o.compensator.sensor), [this] { return vm_.TimeS(); });
+      signal::MonitorOptions mo = station::MonitorOptionsFor(o.compensator.sensor);
+      mo.neighbour_groups = RedundantProbes(md);
+      monitored_ = std::make_unique<signal::MonitoredTemperatureSource>(*source, mo, [this] { return vm_.TimeS(); });
       source = monitored_.get();
       result_.interface_used += "; temperatures through signal::MonitoredTemperatureSource";
     }
@@ -251,11 +265,11 @@ class WorkingDay {
     vm_.SetCoolant(CoolantState::kOff);
     // Another day: the machine soaked at another season's air, mid-morning.
     const double day_h = (vm_.TimeS() - o_.day_offset * 86400.0) / 3600.0;
-    IdleUntil(o_.other_day_offset * 86400.0 + 3 * 3600.0);
-    for (const auto& f : day_faults_) {  // months later: the sensor was replaced
+    for (const auto& f : day_faults_) {  // in the months between: the sensor was replaced
       vm_.SetSensorFault(f.sensor, sim::SensorFault{});
       Progress(fmt::format("sensor {} replaced since the working day", f.sensor));
     }
+    IdleUntil(o_.other_day_offset * 86400.0 + 3 * 3600.0);
     observer_->SetDayStart(vm_.TimeS() - day_h * 3600.0 - 3600.0, true);  // plotted after a 1 h gap
     Progress(fmt::format("another day {}: machine soaked at {:.1f} °C air", vm_.IsoTime(), vm_.AmbientC()));
     Step(60);
@@ -551,6 +565,7 @@ DemoResult RunDemo(const DemoOptions& o) {
                                               : model::FitOptions::KeyOffsets::kAuto;
     if (o.coolant_memory) fo.coolant_loss_grid_s = model::FitOptions::CoolantMemoryGridS();
     fo.fallback_models = o.fallback_models;
+    fo.redundant_groups = RedundantProbes(md);
     if (!o.fitted_envelope) fo.tan_beta_margin = -1;
     model::FitResult one = model::FitCompositeModel(axis_states, fo);
     // Er(x): the seed-000 polynomial, unless the seed-002 table (linear

@@ -1409,6 +1409,12 @@ void FitFallbacks(const std::string& axis, const std::vector<const FitState*>& s
     fo.fallback_models = false;
     fo.key_sensors.clear();
     fo.excluded_sensors.push_back(sensor);
+    // Its redundant partners are lost with it when the pipeline finds them disagreeing.
+    std::vector<std::string> partners;
+    for (const auto& group : options.redundant_groups)
+      if (std::find(group.begin(), group.end(), sensor) != group.end())
+        for (const auto& other : group)
+          if (other != sensor) fo.excluded_sensors.push_back(other), partners.push_back(other);
     if (sensor == am.ambient_sensor) fo.ambient_sensor = "none";  // no room term: the room is not read
     std::vector<std::string> warnings;
     AxisFitSummary fs;
@@ -1418,8 +1424,9 @@ void FitFallbacks(const std::string& axis, const std::vector<const FitState*>& s
       sum.fallback_notes.push_back(fmt::format("without {}: no thermal part could be fitted, no fallback", sensor));
       continue;
     }
-    sum.fallback_notes.push_back(fmt::format("fallback without {}: keys {}{}, LOSO CV {:.3f} µm (the full model's {:.3f} µm)",
-                                             sensor, fmt::join(fb.key_sensors, ", "),
+    sum.fallback_notes.push_back(fmt::format("fallback without {}{}: keys {}{}, LOSO CV {:.3f} µm (the full model's {:.3f} µm)",
+                                             sensor, partners.empty() ? "" : fmt::format(" (and its redundant {})", fmt::join(partners, ", ")),
+                                             fmt::join(fb.key_sensors, ", "),
                                              fb.ambient_sensor.empty() ? ", no room term" : "", fs.thermal_cv_rms_um,
                                              sum.thermal_cv_rms_um));
     found.emplace_back(std::isfinite(fs.thermal_cv_rms_um) ? fs.thermal_cv_rms_um : 1e300, std::move(fb));

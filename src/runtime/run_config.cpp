@@ -165,7 +165,28 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
     TomlTableReader m(*t, source, "signal");
     m.Bool("enabled", c.signal_processing);
     if (m.String("calibration", c.calibration_file)) c.calibration_file = Resolve(base, c.calibration_file);
+    if (const toml::node* g = m.Node("groups")) {
+      const char* form = "an array of groups of redundant channels, e.g. [[\"y_nut\", \"y_nut_b\"]]";
+      const toml::array* groups = g->as_array();
+      if (!groups) m.Fail("groups", g, std::string("expected ") + form);
+      for (const auto& e : *groups) {
+        const toml::array* group = e.as_array();
+        if (!group || group->size() < 2) m.Fail("groups", &e, std::string("each group needs at least two channel names: ") + form);
+        std::vector<std::string> names;
+        for (const auto& n : *group) {
+          const auto name = n.value<std::string>();
+          if (!name) m.Fail("groups", &n, "a channel name is a string");
+          if (std::find(names.begin(), names.end(), *name) != names.end()) m.Fail("groups", &n, "'" + *name + "' twice in one group");
+          names.push_back(*name);
+        }
+        c.redundant_groups.push_back(std::move(names));
+      }
+      c.redundant_groups_line = m.Line(g);
+    }
+    m.Double("max_disagreement_c", c.max_disagreement_c, 0.1, 50);
     m.RejectUnknown();
+    if (!c.redundant_groups.empty() && !c.signal_processing)
+      m.Fail("groups", t->get("groups"), "needs enabled = true (the signal processing compares the channels)");
     if (!c.calibration_file.empty() && !c.signal_processing)
       m.Fail("calibration", t->get("calibration"), "needs enabled = true (calibration is applied by the signal processing)");
   }

@@ -1,8 +1,10 @@
 #include "trueaxis/station/machine_connection.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/signal/calibration.hpp"
@@ -85,8 +87,17 @@ void AttachTemperaturePipeline(const runtime::RunConfig& c, Machine& m) {
     const auto t0 = std::chrono::steady_clock::now();
     clock = [t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   }
-  m.monitored = std::make_unique<signal::MonitoredTemperatureSource>(*m.source, MonitorOptionsFor(c.compensator.sensor),
-                                                                     std::move(clock));
+  signal::MonitorOptions mo = MonitorOptionsFor(c.compensator.sensor);
+  mo.neighbour_groups = c.redundant_groups;
+  mo.faults.max_disagreement_c = c.max_disagreement_c;
+  std::vector<std::string> channels;
+  for (std::size_t i = 0; i < m.source->ChannelCount(); ++i) channels.push_back(m.source->ChannelName(i));
+  for (const auto& group : c.redundant_groups)
+    for (const auto& name : group)
+      if (std::find(channels.begin(), channels.end(), name) == channels.end())
+        throw InputError(c.source, c.redundant_groups_line, "signal.groups",
+                         fmt::format("'{}' is not a temperature channel of the machine ({})", name, fmt::join(channels, ", ")));
+  m.monitored = std::make_unique<signal::MonitoredTemperatureSource>(*m.source, mo, std::move(clock));
   if (!c.calibration_file.empty()) {
     for (const auto& name : m.monitored->monitor().SetCalibration(signal::ReadCalibrationFile(c.calibration_file)))
       m.warnings.push_back(fmt::format("calibration for '{}' matches no channel of the machine", name));

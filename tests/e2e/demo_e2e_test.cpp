@@ -208,6 +208,45 @@ TEST(DemoSensorFault, AKeySensorDyingInTheDayHandsTheAxisToItsFallbackModel) {
   fs::remove_all(dir, ec);
 }
 
+// A nut probe that drifts (+0.5 °C/h, no alarm of its own) with a second probe on the same nut
+// (the machine file's `location`): the pipeline finds the pair disagreeing and loses both, and
+// the fit's fallback for the nut does without the partner too, so the axis carries on with the
+// bearing and the motor. Without the second probe the drift goes unnoticed and the afternoon test
+// keeps 13.4 of 46.8 µm (bench/results/zoo.md); with it, 3.1 µm.
+TEST(DemoSensorFault, ARedundantProbeCatchesADriftingNutSensor) {
+  std::stringstream text;
+  text << std::ifstream(std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850_cheap_sensors.toml").rdbuf();
+  std::string toml = text.str();
+  const auto fault = toml.find("at_h = 7.5\nkind = \"open\"");
+  ASSERT_NE(fault, std::string::npos) << "the zoo machine's [[day_fault]] moved";
+  toml.replace(fault, std::string("at_h = 7.5\nkind = \"open\"").size(), "at_h = 1.0\nkind = \"drift\"");
+  const auto bearing = toml.find("[[sensor]]\nname = \"y_bearing\"");
+  ASSERT_NE(bearing, std::string::npos);
+  toml.insert(bearing, "[[sensor]]\nname = \"y_nut_b\"\nlocation = \"y_nut\"\nkind = \"ds18b20\"\noffset_c = -0.2\nnoise_c = 0.08\n");
+  const fs::path dir = fs::temp_directory_path() / ("trueaxis_demo_drift_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "machine.toml") << toml;
+  DemoOptions o;
+  o.machine_file = (dir / "machine.toml").string();
+  o.out_dir = (dir / "out").string();
+  o.axes = {"Y"};
+  o.seed = 1;
+  const DemoResult r = RunDemo(o);
+  ASSERT_EQ(r.machine_axes.at(1), "Y");
+  EXPECT_NE(r.alarms_seen & runtime::kAlarmSensorFallback, 0u);
+  EXPECT_GT(r.fallback_model_cycles.at(1), 100000u);  // the drift was caught and the fallback ran
+  EXPECT_EQ(r.sensor_fallback_cycles.at(1), 0u);      // never without a thermal part: the partner is out too
+  const StateResult* afternoon = nullptr;
+  for (const auto& st : r.states)
+    if (st.axis == "Y" && st.state == "afternoon") afternoon = &st;
+  ASSERT_NE(afternoon, nullptr);
+  EXPECT_LT(afternoon->eval_on.axis.A_um, 0.15 * afternoon->eval_off.axis.A_um)
+      << afternoon->eval_off.axis.A_um << " -> " << afternoon->eval_on.axis.A_um;
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+}
+
 TEST(DemoCli, FastDemoExitsZeroAndNamesTheReport) {
   const fs::path out = fs::temp_directory_path() / ("trueaxis_demo_cli_" + std::to_string(getpid()));
   fs::remove_all(out);

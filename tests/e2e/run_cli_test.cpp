@@ -169,6 +169,17 @@ TEST(RunCli, BadConfigAndUnfittingModelAreInputErrors) {
                             (dir.path / "e2.txt").string();
   EXPECT_EQ(RunShell(unfit), 2);
   EXPECT_NE(Slurp(dir.path / "e2.txt").find("x_screw_middle"), std::string::npos) << Slurp(dir.path / "e2.txt");
+
+  // A redundant-probe group naming a channel the machine does not have: refused, naming the line.
+  WriteXModel(dir.path / "model.json");
+  std::ofstream(dir.path / "groups.toml") << "[machine]\nkind = \"virtual\"\nfile = \"" << kMachine
+                                          << "\"\n[model]\nfile = \"model.json\"\n[signal]\ngroups = [[\"x_nut\", \"x_nut_b\"]]\n";
+  const std::string groups = kCli + " run --config " + (dir.path / "groups.toml").string() + " --duration-s 1 2> " +
+                             (dir.path / "e3.txt").string();
+  EXPECT_EQ(RunShell(groups), 2);
+  EXPECT_NE(Slurp(dir.path / "e3.txt").find("groups.toml:7: field 'signal.groups': 'x_nut_b' is not a temperature channel"),
+            std::string::npos)
+      << Slurp(dir.path / "e3.txt");
 }
 
 // A port unlikely to be taken (derived from the pid, so parallel test runs differ).

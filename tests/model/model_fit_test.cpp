@@ -556,6 +556,20 @@ TEST(ModelFit, FallbackModelsDoWithoutEachKeyAndStillPredictTheHeat) {
   ThermalState ts{keys, 20.0, CoolantState::kOff, true};
   const double predicted = Predict(f, x, Direction::kForward, ts).total_um - sm.Geometric(x, true);
   EXPECT_LT(std::fabs(predicted - thermal_truth), 0.5 * std::fabs(thermal_truth));
+
+  // Redundant probes (FitOptions::redundant_groups) are lost together when they disagree: the
+  // fallback without the nut then does without its partner too (here the bearing stands in for a
+  // second probe on the nut), and the note says so.
+  FitOptions paired = nut_only;
+  paired.redundant_groups = {{"nut", "bearing"}};
+  const auto with_pair = FitCompositeModel(states, paired);
+  const auto& fp = *std::find_if(with_pair.model.axes[0].fallbacks.begin(), with_pair.model.axes[0].fallbacks.end(),
+                                 [](const AxisModel& m) { return !m.ambient_sensor.empty(); });
+  EXPECT_THAT(fp.key_sensors, ::testing::Not(::testing::Contains("nut")));
+  EXPECT_THAT(fp.key_sensors, ::testing::Not(::testing::Contains("bearing")));
+  EXPECT_THAT(fp.key_sensors, ::testing::Contains("motor"));
+  EXPECT_THAT(with_pair.summary.axes[0].fallback_notes[0] + with_pair.summary.axes[0].fallback_notes[1],
+              HasSubstr("without nut (and its redundant bearing)"));
 }
 
 }  // namespace

@@ -57,6 +57,8 @@ enabled = false
 [signal]
 enabled = true
 calibration = "cal.json"
+groups = [["x_nut", "x_nut_b"], ["ambient", "ambient_2", "ambient_3"]]
+max_disagreement_c = 1.5
 
 [history]
 db = "out/history.sqlite"
@@ -94,6 +96,10 @@ TEST(RunConfig, ParsesEveryField) {
   EXPECT_EQ(c.history_db, "/etc/trueaxis/run/out/history.sqlite");
   EXPECT_TRUE(c.signal_processing);
   EXPECT_EQ(c.calibration_file, "/etc/trueaxis/run/cal.json");
+  ASSERT_EQ(c.redundant_groups.size(), 2u);
+  EXPECT_EQ(c.redundant_groups[0], (std::vector<std::string>{"x_nut", "x_nut_b"}));
+  EXPECT_EQ(c.redundant_groups[1].size(), 3u);
+  EXPECT_DOUBLE_EQ(c.max_disagreement_c, 1.5);
 }
 
 TEST(RunConfig, HistoryDatabaseUrlIsKeptAsWritten) {
@@ -155,6 +161,12 @@ TEST(RunConfig, BadInputNamesLineAndField) {
   ExpectError("[machine]\nkind = \"modbus\"\n[model]\nfile = \"m.json\"\nextra = 1\n", 5, "model.extra", "unknown key");
   ExpectError("[machine\nkind = 1\n", 1, "", "");
   ExpectError(head + "[loop]\nperiod_s = 0.1\n[link]\nstale_after_s = 0.1\n", 8, "link.stale_after_s", "twice the loop period");
+  ExpectError(head + "[signal]\ngroups = [\"y_nut\", \"y_nut_b\"]\n", 6, "signal.groups", "at least two");
+  ExpectError(head + "[signal]\ngroups = [[\"y_nut\"]]\n", 6, "signal.groups", "at least two");
+  ExpectError(head + "[signal]\ngroups = [[\"y_nut\", 3]]\n", 6, "signal.groups", "string");
+  ExpectError(head + "[signal]\ngroups = [[\"y_nut\", \"y_nut\"]]\n", 6, "signal.groups", "twice");
+  ExpectError(head + "[signal]\nenabled = false\ngroups = [[\"a\", \"b\"]]\n", 7, "signal.groups", "enabled = true");
+  ExpectError(head + "[signal]\nmax_disagreement_c = 0\n", 6, "signal.max_disagreement_c", "out of range");
   // the pipeline is on by default; switched off, a calibration file has nothing to apply it
   ExpectError(head + "[signal]\nenabled = false\ncalibration = \"c.json\"\n", 7, "signal.calibration", "enabled = true");
 }

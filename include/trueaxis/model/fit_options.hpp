@@ -61,6 +61,10 @@ struct FitOptions {
   bool own_axis_sensors_only = true;
   // Sensors that are never key-sensor candidates (a fallback model's lost key, a sensor known bad).
   std::vector<std::string> excluded_sensors;
+  // Redundant probes: sensors at one place (two probes on a nut), which the temperature pipeline
+  // checks against each other and, when they disagree, loses together (signal `disagreement`).
+  // A fallback fitted without one of them does without its partners too.
+  std::vector<std::vector<std::string>> redundant_groups;
   // Thermal lag of the key sensors (thermal_lag.hpp): the τ values (seconds) tried, after the
   // keys are chosen, by the same leave-one-state-out CV, the lag applied along each file's time
   // series (through the logged history when the manifest has one). The best τ > 0 is kept only

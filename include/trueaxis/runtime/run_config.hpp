@@ -66,6 +66,11 @@ struct RunConfig {
   // (signal::MonitoredTemperatureSource: calibration, filtering, fault status); on by default.
   bool signal_processing = true;
   std::string calibration_file;  // signal::CalibrationSet JSON (trueaxis calibrate), "" = none
+  // Redundant probes ([signal] groups, e.g. two on one nut): checked against each other by the
+  // pipeline (signal `disagreement`: farther apart than max_disagreement_c, a pair is lost together).
+  std::vector<std::vector<std::string>> redundant_groups;
+  double max_disagreement_c = 3.0;
+  int redundant_groups_line = 0;  // where [signal] groups was given (for errors naming a channel)
   std::string history_db;       // history: SQLite file or postgresql:// URL (store::OpenHistorySink); "" = none
   std::string log_csv;          // CSV log of decimated cycles ("" = none)
   double record_interval_s = 1.0;  // how often a cycle is logged (alarm changes always are)
