@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -156,26 +157,37 @@ TEST_F(DemoE2E, FloodCoolantHasItsOwnGainsUnlessTheMemoryIsAskedFor) {
   EXPECT_FALSE(shared.key_loss_s[static_cast<std::size_t>(CoolantState::kFlood)].empty());
 }
 
-// The zoo's sensor that dies during the day ([[day_fault]], issue 10): the Y nut's 1-Wire probe of
-// vmc850_cheap_sensors, here moved to 4 h into the day so the warm + coolant test runs without it.
-// The compensator carries on with the model's fallback fitted without that sensor; with only the
-// geometric part the test would keep ~80 % of its error (23.0 of 28.6 µm, bench/results/zoo.md).
-TEST(DemoSensorFault, AKeySensorDyingInTheDayHandsTheAxisToItsFallbackModel) {
+// The zoo's vmc850_cheap_sensors with its machine file edited by `edit`, written to a fresh
+// directory: the demo options for that machine (Y only), output inside the directory.
+DemoOptions CheapMachineEdited(const std::string& tag, const std::function<void(std::string&)>& edit, fs::path& dir) {
   std::stringstream text;
   text << std::ifstream(std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850_cheap_sensors.toml").rdbuf();
   std::string toml = text.str();
-  const auto at = toml.find("at_h = 7.5");
-  ASSERT_NE(at, std::string::npos) << "the zoo machine's [[day_fault]] moved";
-  toml.replace(at, 10, "at_h = 4.0");
-  const fs::path dir = fs::temp_directory_path() / ("trueaxis_demo_fault_" + std::to_string(getpid()));
+  edit(toml);
+  dir = fs::temp_directory_path() / ("trueaxis_demo_" + tag + "_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "machine.toml") << toml;
   DemoOptions o;
   o.machine_file = (dir / "machine.toml").string();
   o.out_dir = (dir / "out").string();
-  o.fast = true;
   o.axes = {"Y"};
+  return o;
+}
+
+// The zoo's sensor that dies during the day ([[day_fault]], issue 10): the Y nut's 1-Wire probe of
+// vmc850_cheap_sensors, here moved to 4 h into the day so the warm + coolant test runs without it.
+// The compensator carries on with the model's fallback fitted without that sensor; with only the
+// geometric part the test would keep ~80 % of its error (23.0 of 28.6 µm, bench/results/zoo.md).
+TEST(DemoSensorFault, AKeySensorDyingInTheDayHandsTheAxisToItsFallbackModel) {
+  fs::path dir;
+  bool edited = false;
+  DemoOptions o = CheapMachineEdited("fault", [&](std::string& toml) {
+    const auto at = toml.find("at_h = 7.5");
+    if ((edited = at != std::string::npos)) toml.replace(at, 10, "at_h = 4.0");
+  }, dir);
+  ASSERT_TRUE(edited) << "the zoo machine's [[day_fault]] moved";
+  o.fast = true;
   o.seed = 3;
   const DemoResult r = RunDemo(o);
   ASSERT_EQ(r.machine_axes.at(1), "Y");
@@ -214,23 +226,17 @@ TEST(DemoSensorFault, AKeySensorDyingInTheDayHandsTheAxisToItsFallbackModel) {
 // bearing and the motor. Without the second probe the drift goes unnoticed and the afternoon test
 // keeps 13.4 of 46.8 µm (bench/results/zoo.md); with it, 3.1 µm.
 TEST(DemoSensorFault, ARedundantProbeCatchesADriftingNutSensor) {
-  std::stringstream text;
-  text << std::ifstream(std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850_cheap_sensors.toml").rdbuf();
-  std::string toml = text.str();
-  const auto fault = toml.find("at_h = 7.5\nkind = \"open\"");
-  ASSERT_NE(fault, std::string::npos) << "the zoo machine's [[day_fault]] moved";
-  toml.replace(fault, std::string("at_h = 7.5\nkind = \"open\"").size(), "at_h = 1.0\nkind = \"drift\"");
-  const auto bearing = toml.find("[[sensor]]\nname = \"y_bearing\"");
-  ASSERT_NE(bearing, std::string::npos);
-  toml.insert(bearing, "[[sensor]]\nname = \"y_nut_b\"\nlocation = \"y_nut\"\nkind = \"ds18b20\"\noffset_c = -0.2\nnoise_c = 0.08\n");
-  const fs::path dir = fs::temp_directory_path() / ("trueaxis_demo_drift_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  std::ofstream(dir / "machine.toml") << toml;
-  DemoOptions o;
-  o.machine_file = (dir / "machine.toml").string();
-  o.out_dir = (dir / "out").string();
-  o.axes = {"Y"};
+  fs::path dir;
+  bool edited = false;
+  DemoOptions o = CheapMachineEdited("drift", [&](std::string& toml) {
+    const std::string open = "at_h = 7.5\nkind = \"open\"";
+    const auto fault = toml.find(open);
+    const auto bearing = toml.find("[[sensor]]\nname = \"y_bearing\"");
+    if (!(edited = fault != std::string::npos && bearing != std::string::npos)) return;
+    toml.replace(fault, open.size(), "at_h = 1.0\nkind = \"drift\"");
+    toml.insert(bearing, "[[sensor]]\nname = \"y_nut_b\"\nlocation = \"y_nut\"\nkind = \"ds18b20\"\noffset_c = -0.2\nnoise_c = 0.08\n");
+  }, dir);
+  ASSERT_TRUE(edited) << "the zoo machine's [[day_fault]] or y_bearing moved";
   o.seed = 1;
   const DemoResult r = RunDemo(o);
   ASSERT_EQ(r.machine_axes.at(1), "Y");
