@@ -6,6 +6,7 @@
 // direction from measurement files of several thermal states and writes the
 // model file (docs/model-file.md). With --previous the new model is the next
 // revision of that one: revision + 1, parent_sha256 and the lineage recorded.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -159,6 +160,18 @@ void RunFit(const FitCliOptions& o) {
   } else {
     states = model::LoadFitStates(o.inputs, o.manifest);
   }
+  // A redundant probe the files do not have would silently change nothing: refused.
+  for (const auto& group : fo.redundant_groups)
+    for (const auto& name : group) {
+      bool known = false;
+      for (const auto& st : states) {
+        const auto& names = st.measurement.sensor_names;
+        known = known || std::find(names.begin(), names.end(), name) != names.end();
+      }
+      if (!known)
+        throw InputError("command line", 0, "--redundant",
+                         fmt::format("'{}' is not a sensor of the measurement files (no t_{}_c column)", name, name));
+    }
   fo.created_utc = UtcNow();  // the clock is read here, at the edge, not by the fit
   auto result = model::FitCompositeModel(states, fo);
   auto& m = result.model;

@@ -11,9 +11,11 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "trueaxis/demo/demo.hpp"
 #include "trueaxis/model/model_json.hpp"
@@ -265,6 +267,26 @@ TEST(DemoCli, FastDemoExitsZeroAndNamesTheReport) {
   EXPECT_TRUE(fs::exists(out / "report.html"));
   fs::remove_all(out);
   fs::remove(out.string() + ".txt");
+}
+
+// --keys: "seed" gives the fit the axis's nut and bearing (seed 000's key points); "auto" lets it
+// select from every sensor, as `trueaxis fit` does; anything else is refused.
+TEST(DemoCli, KeysSeedOrAutoReachTheFit) {
+  const fs::path out = fs::temp_directory_path() / ("trueaxis_demo_keys_" + std::to_string(getpid()));
+  std::map<std::string, std::string> reason;
+  for (const std::string keys : {"seed", "auto"}) {
+    fs::remove_all(out);
+    const std::string cmd = std::string(TRUEAXIS_CLI_PATH) + " demo --fast --quiet --keys " + keys + " --out " + out.string() +
+                            " > /dev/null 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << keys;
+    const auto m = nlohmann::json::parse(std::ifstream(out / "model.json"));
+    reason[keys] = m["fit_summary"]["X"]["axes"][0]["key_selection_reason"].get<std::string>();
+  }
+  EXPECT_NE(reason["seed"].find("given in the options"), std::string::npos) << reason["seed"];
+  EXPECT_NE(reason["auto"].find("forward stepwise selection"), std::string::npos) << reason["auto"];
+  const std::string bad = std::string(TRUEAXIS_CLI_PATH) + " demo --fast --quiet --keys some --out " + out.string() + " > /dev/null 2>&1";
+  EXPECT_NE(std::system(bad.c_str()), 0);
+  fs::remove_all(out);
 }
 
 TEST(DemoCli, BadMachineFileIsAnInputError) {

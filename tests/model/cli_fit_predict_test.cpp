@@ -337,6 +337,19 @@ TEST_F(CliFit, PredictUsesAFallbackModelWhenAKeySensorIsNotGiven) {
   EXPECT_TRUE(ReadModelFile(P("none.json")).axes[0].fallbacks.empty());
   r = Cli("predict --model " + P("none.json") + " --axis X --position-mm 400 --direction + --ambient-c 20 --temp " + temps);
   EXPECT_EQ(r.code, 2) << r.out;
+  // fit --redundant: the fallback without the nut does without its partner (here the bearing
+  // stands in for a second probe on the nut); a name the files lack, or a lone name, is refused.
+  r = Cli("fit --redundant nut,bearing --out " + P("pair.json") + AllFiles());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("(and its redundant bearing)"));
+  const auto paired = ReadModelFile(P("pair.json"));
+  for (const auto& f : paired.axes[0].fallbacks)
+    if (std::find(f.key_sensors.begin(), f.key_sensors.end(), "nut") == f.key_sensors.end())
+      EXPECT_THAT(f.key_sensors, ::testing::Not(::testing::Contains("bearing")));
+  r = Cli("fit --redundant nut,nut_b --out " + P("bad.json") + AllFiles());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.out, HasSubstr("field '--redundant': 'nut_b' is not a sensor of the measurement files"));
+  EXPECT_EQ(Cli("fit --redundant nut --out " + P("bad.json") + AllFiles()).code, 2);
 }
 
 // A laser file whose nut channel died (the column empty): predict --measurement takes the fallback
