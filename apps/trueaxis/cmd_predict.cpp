@@ -45,6 +45,27 @@ struct PredictOptions {
   bool position_given = false;
 };
 
+// `first` and the later fallbacks of `parent` that replace the same sensor and whose sensors
+// `usable` accepts: the compensator averages them (AxisModel::replaces, docs/model-file.md).
+template <typename Usable>
+std::vector<const model::AxisModel*> FallbackGroup(const model::AxisModel& parent, const model::AxisModel& first,
+                                                   Usable usable) {
+  std::vector<const model::AxisModel*> group{&first};
+  bool after = false;
+  for (const auto& f : parent.fallbacks) {
+    if (&f == &first) after = true;
+    else if (after && !first.replaces.empty() && f.replaces == first.replaces && usable(f)) group.push_back(&f);
+  }
+  return group;
+}
+
+std::string DescribeFallbacks(const std::vector<const model::AxisModel*>& group) {
+  if (group.size() == 1) return fmt::format("the fallback model fitted without it (keys {})", fmt::join(group[0]->key_sensors, ", "));
+  std::vector<std::string> keys;
+  for (const auto* f : group) keys.push_back(fmt::format("{}", fmt::join(f->key_sensors, " + ")));
+  return fmt::format("the mean of the {} fallback models fitted without it (keys {})", group.size(), fmt::join(keys, "; "));
+}
+
 void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel& model) {
   const auto m = measure::ReadMeasurementCsv(o.measurement);
   std::string axis_name = o.axis.empty() ? std::string(Trim(m.Meta("axis").value_or(""))) : o.axis;
@@ -70,16 +91,19 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
     return std::all_of(a.key_sensors.begin(), a.key_sensors.end(), read) && (a.ambient_sensor.empty() || read(a.ambient_sensor));
   };
   std::string fallback_note;
+  std::vector<const model::AxisModel*> averaged;  // the fallbacks replacing the same sensor, as the compensator
   if (!all_read(*axis)) {
-    for (const auto& f : axis->fallbacks) {
+    const model::AxisModel* parent = axis;
+    for (const auto& f : parent->fallbacks) {
       if (!all_read(f)) continue;
       std::vector<std::string> missing;
-      for (const auto& k : axis->key_sensors)
+      for (const auto& k : parent->key_sensors)
         if (!read(k)) missing.push_back(k);
-      if (!axis->ambient_sensor.empty() && !read(axis->ambient_sensor)) missing.push_back(axis->ambient_sensor);
-      fallback_note = fmt::format("{} not read in this file: predicted with the fallback model fitted without it "
-                                  "(keys {}), as the compensator does when that sensor is lost",
-                                  fmt::join(missing, ", "), fmt::join(f.key_sensors, ", "));
+      if (!parent->ambient_sensor.empty() && !read(parent->ambient_sensor)) missing.push_back(parent->ambient_sensor);
+      averaged = FallbackGroup(*parent, f, all_read);
+      fallback_note = fmt::format("{} not read in this file: predicted with {}, as the compensator does when that sensor "
+                                  "is lost",
+                                  fmt::join(missing, ", "), DescribeFallbacks(averaged));
       axis = &f;
       break;
     }
@@ -101,7 +125,13 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
                        "--temperature-log needs the file's '# campaign_time_s:' line (its start on the log's clock)");
     history = model::TemperatureHistoryFromLog(o.temperature_log, m, *start_s);
   }
-  const auto residual = model::PredictionResidual(*axis, m, *coolant, history.empty() ? nullptr : &history);
+  auto residual = model::PredictionResidual(*axis, m, *coolant, history.empty() ? nullptr : &history);
+  for (std::size_t g = 1; g < averaged.size(); ++g) {  // residual = measured − the mean of their predictions
+    const auto other = model::PredictionResidual(*averaged[g], m, *coolant, history.empty() ? nullptr : &history);
+    for (std::size_t i = 0; i < residual.points.size(); ++i) residual.points[i].deviation_um += other.points[i].deviation_um;
+  }
+  if (averaged.size() > 1)
+    for (auto& pt : residual.points) pt.deviation_um /= static_cast<double>(averaged.size());
   const auto before = analysis::Evaluate(m);
   const auto after = analysis::Evaluate(residual);
   double ss_m = 0, ss_r = 0;
@@ -183,16 +213,18 @@ void RunPredict(const PredictOptions& o) {
       if (!given.count(k)) return false;
     return a.ambient_sensor.empty() || room_given;
   };
+  std::vector<const model::AxisModel*> averaged;  // the fallbacks replacing the same sensor, as the compensator
   if (use_thermal && !all_given(*axis)) {
-    for (const auto& f : axis->fallbacks) {
+    const model::AxisModel* parent = axis;
+    for (const auto& f : parent->fallbacks) {
       if (!all_given(f)) continue;
       std::vector<std::string> missing;
-      for (const auto& k : axis->key_sensors)
+      for (const auto& k : parent->key_sensors)
         if (!given.count(k)) missing.push_back(k);
-      if (!axis->ambient_sensor.empty() && !room_given) missing.push_back(axis->ambient_sensor + " (--ambient-c)");
-      fallback_note = fmt::format("{} not given: the fallback model fitted without it (keys {}), as the compensator "
-                                  "uses when that sensor is lost",
-                                  fmt::join(missing, ", "), fmt::join(f.key_sensors, ", "));
+      if (!parent->ambient_sensor.empty() && !room_given) missing.push_back(parent->ambient_sensor + " (--ambient-c)");
+      averaged = FallbackGroup(*parent, f, all_given);
+      fallback_note = fmt::format("{} not given: {}, as the compensator uses when that sensor is lost",
+                                  fmt::join(missing, ", "), DescribeFallbacks(averaged));
       axis = &f;
       break;
     }
@@ -228,7 +260,21 @@ void RunPredict(const PredictOptions& o) {
                                  axis->ambient_baseline_c));
 
   model::ThermalState st{key_temps, ambient, *coolant, use_thermal};
-  const auto p = model::Predict(*axis, o.position_mm, *dir, st);
+  auto p = model::Predict(*axis, o.position_mm, *dir, st);
+  if (averaged.size() > 1) {  // the mean of the fallbacks replacing the same sensor
+    for (std::size_t g = 1; g < averaged.size(); ++g) {
+      std::vector<double> temps;
+      for (const auto& k : averaged[g]->key_sensors) temps.push_back(given.at(k));
+      const auto q = model::Predict(*averaged[g], o.position_mm, *dir, {temps, ambient, *coolant, use_thermal});
+      p.thermal_um += q.thermal_um, p.ambient_um += q.ambient_um, p.total_um += q.total_um - q.geometric_um;
+      p.tan_beta_um_per_mm += q.tan_beta_um_per_mm;
+      p.tan_beta_limited = p.tan_beta_limited || q.tan_beta_limited;
+      p.ambient_extrapolated = p.ambient_extrapolated || q.ambient_extrapolated;
+    }
+    const double n = static_cast<double>(averaged.size());
+    p.total_um = p.geometric_um + (p.total_um - p.geometric_um) / n;
+    p.thermal_um /= n, p.ambient_um /= n, p.tan_beta_um_per_mm /= n;
+  }
   const auto& g = axis->For(*dir).geometric;
   const double lo = g.kind == model::GeometricError::Kind::kTable ? g.table_position_mm.front() : g.center_mm - g.half_span_mm;
   const double hi = g.kind == model::GeometricError::Kind::kTable ? g.table_position_mm.back() : g.center_mm + g.half_span_mm;
@@ -268,6 +314,7 @@ void RunPredict(const PredictOptions& o) {
                      {"outside_fitted_range", outside},
                      {"temperatures_outside_fitted_range", temp_outside},
                      {"fallback_model", fallback_note.empty() ? nlohmann::json(nullptr) : nlohmann::json(axis->key_sensors)},
+                     {"fallback_models_averaged", averaged.size()},
                      {"unused_sensors", unused}};
     std::cout << j.dump(2) << "\n";
     return;

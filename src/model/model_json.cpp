@@ -215,6 +215,7 @@ json AxisToJson(const AxisModel& a) {
   if (!a.key_fitted_range_c.empty()) ja["key_fitted_range_c"] = a.key_fitted_range_c;
   if (!a.ambient_sensor.empty() && std::isfinite(a.ambient_fitted_range_c[0]) && std::isfinite(a.ambient_fitted_range_c[1]))
     ja["ambient_fitted_range_c"] = a.ambient_fitted_range_c;
+  if (!a.replaces.empty()) ja["replaces"] = a.replaces;
   if (!a.fallbacks.empty()) {
     json fb = json::array();
     for (const auto& f : a.fallbacks) fb.push_back(AxisToJson(f));
@@ -333,6 +334,10 @@ AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bo
                                       a.key_shifts[0]);
   a.directions[1] = DirectionFromJson(r, r.Get(ja, p, "reverse"), Reader::Join(p, "reverse"), a.key_sensors.size(),
                                       a.key_shifts[1]);
+  if (ja.contains("replaces")) {
+    if (!nested) r.Fail(Reader::Join(p, "replaces"), "only a fallback model replaces a sensor");
+    a.replaces = r.String(ja, p, "replaces");
+  }
   if (ja.contains("fallbacks")) {
     const std::string fp = Reader::Join(p, "fallbacks");
     const json& fb = ja["fallbacks"];
@@ -353,6 +358,17 @@ AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bo
         r.Fail(Reader::Join(q, "key_sensors"),
                fmt::format("must name key sensors and do without at least one of the axis's ({}{})",
                            fmt::join(a.key_sensors, ", "), a.ambient_sensor.empty() ? "" : " or its ambient sensor " + a.ambient_sensor));
+      // The sensor it stands in for: one of the axis's, and one it does without.
+      if (!f.replaces.empty()) {
+        const bool is_key = std::find(a.key_sensors.begin(), a.key_sensors.end(), f.replaces) != a.key_sensors.end();
+        const bool is_room = !a.ambient_sensor.empty() && f.replaces == a.ambient_sensor;
+        if (!is_key && !is_room)
+          r.Fail(Reader::Join(q, "replaces"), fmt::format("'{}' is not a key sensor ({}) or the ambient sensor of the axis",
+                                                         f.replaces, fmt::join(a.key_sensors, ", ")));
+        const bool uses_it = is_room ? f.ambient_sensor == f.replaces
+                                     : std::find(f.key_sensors.begin(), f.key_sensors.end(), f.replaces) != f.key_sensors.end();
+        if (uses_it) r.Fail(Reader::Join(q, "replaces"), fmt::format("'{}' is a sensor this fallback itself uses", f.replaces));
+      }
       a.fallbacks.push_back(std::move(f));
     }
   }

@@ -195,6 +195,7 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
     return b.ambient_channel >= 0 && out.channels[static_cast<std::size_t>(b.ambient_channel)].health == ChannelHealth::kLost;
   };
   bool keys_ok = KeysRead(*ba, out.channels, alarms);
+  bool fallback_without_room = false;  // the fallback runs without its room term (a key and the room lost)
   if (!keys_ok || ambient_lost(*ba)) {
     alarms |= kAlarmSensorFallback;
     const std::size_t n_fallbacks = i < state.dynamics.fallback_thermal.size() ? ba->fallbacks.size() : 0;
@@ -210,6 +211,7 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
           use = &ba->fallbacks[f];
           thermal = &ft;
           st.fallback_model = static_cast<int>(f);
+          fallback_without_room = pass == 1;
           keys_ok = true;
           break;
         }
@@ -232,15 +234,57 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
   // Constructed in place (guaranteed elision: Predict writes st.prediction itself). Assigning would
   // go through a temporary whose wide copy then stalls on store forwarding: ~5 ns per axis.
   ::new (&st.prediction) model::Prediction(model::Predict(use->model, st.model_position_mm, st.direction, ts));
-  if (st.fallback_model >= 0 && o.sensor.fallback_handover_s > 0 && i < state.dynamics.fallback_handover.size()) {
-    // The hand-over (ModelDynamics::Handover): from the model's last correction to the fallback's.
-    const ModelDynamics::Handover& h = state.dynamics.fallback_handover[i][static_cast<std::size_t>(st.fallback_model)];
-    if (std::isfinite(h.start_s) && h.coolant == state.machine.coolant) {
-      const int d = st.direction == Direction::kReverse ? 1 : 0;
-      const double carried_um = (h.at0_um[d] + h.per_mm[d] * st.model_position_mm) *
-                                std::exp(-std::max(0.0, in.now_s - h.start_s) / o.sensor.fallback_handover_s);
-      st.prediction.thermal_um += carried_um;
-      st.prediction.total_um += carried_um;
+  // The hand-over (ModelDynamics::Handover): from the model's last correction to fallback f's.
+  const auto handover_um = [&](std::size_t f) {
+    if (o.sensor.fallback_handover_s <= 0 || i >= state.dynamics.fallback_handover.size()) return 0.0;
+    const ModelDynamics::Handover& h = state.dynamics.fallback_handover[i][f];
+    if (!std::isfinite(h.start_s) || h.coolant != state.machine.coolant) return 0.0;
+    const int d = st.direction == Direction::kReverse ? 1 : 0;
+    return (h.at0_um[d] + h.per_mm[d] * st.model_position_mm) *
+           std::exp(-std::max(0.0, in.now_s - h.start_s) / o.sensor.fallback_handover_s);
+  };
+  if (st.fallback_model >= 0) {
+    const auto first = static_cast<std::size_t>(st.fallback_model);
+    const double carried_um = handover_um(first);
+    st.prediction.thermal_um += carried_um;
+    st.prediction.total_um += carried_um;
+    st.fallbacks_averaged = 1;
+    // The other fallbacks fitted without the same sensor that can run now are averaged with it: the
+    // campaign's CV does not rank them the way a working day does (AxisModel::replaces).
+    const std::string& replaced = use->model.replaces;
+    double sum_um = st.prediction.total_um - st.prediction.geometric_um;
+    double sum_thermal_um = st.prediction.thermal_um, sum_ambient_um = st.prediction.ambient_um;
+    double sum_tan_beta = st.prediction.tan_beta_um_per_mm;
+    for (std::size_t f = first + 1; f < ba->fallbacks.size() && !replaced.empty(); ++f) {
+      const BoundAxis& other = ba->fallbacks[f];
+      const model::AxisThermalState& ft = state.dynamics.fallback_thermal[i][f];
+      std::uint32_t unused = 0;
+      if (other.model.replaces != replaced || !ft.valid || !KeysRead(other, out.channels, unused)) continue;
+      const bool room_read = !ambient_lost(other);
+      if (!room_read && !fallback_without_room) continue;  // the first pass: its room sensor must read
+      double other_temps[kMaxKeySensors];
+      for (std::size_t k = 0; k < other.key_channel.size(); ++k) other_temps[k] = ft.key_c[k];
+      const double other_ambient = other.ambient_channel >= 0 && room_read
+                                       ? out.channels[static_cast<std::size_t>(other.ambient_channel)].value_c
+                                       : std::nan("");
+      const model::ThermalState ots{std::span<const double>(other_temps, other.key_channel.size()), other_ambient,
+                                    state.machine.coolant, true};
+      const model::Prediction p = model::Predict(other.model, st.model_position_mm, st.direction, ots);
+      const double carried = handover_um(f);
+      sum_um += p.total_um - p.geometric_um + carried;
+      sum_thermal_um += p.thermal_um + carried;
+      sum_ambient_um += p.ambient_um;
+      sum_tan_beta += p.tan_beta_um_per_mm;
+      st.prediction.tan_beta_limited = st.prediction.tan_beta_limited || p.tan_beta_limited;
+      st.prediction.ambient_extrapolated = st.prediction.ambient_extrapolated || p.ambient_extrapolated;
+      ++st.fallbacks_averaged;
+    }
+    if (st.fallbacks_averaged > 1) {
+      const double n = st.fallbacks_averaged;
+      st.prediction.thermal_um = sum_thermal_um / n;
+      st.prediction.ambient_um = sum_ambient_um / n;
+      st.prediction.total_um = st.prediction.geometric_um + sum_um / n;
+      st.prediction.tan_beta_um_per_mm = sum_tan_beta / n;
     }
   }
   st.thermal_used = keys_ok;
@@ -433,6 +477,7 @@ void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOu
     st.prediction = model::Prediction{};
     st.thermal_used = false;
     st.fallback_model = -1;
+    st.fallbacks_averaged = 0;
     double desired = DesiredCorrection(model, state, in, i, link_usable, out, alarms);
     // The additional error term (error sign): the correction gets its negative, before the shaper.
     st.extra_error_um = 0;

@@ -112,8 +112,21 @@ TEST_F(CliFit, FitWritesModelReportAndPredictUsesIt) {
   ASSERT_EQ(text.code, 0) << text.out;
   EXPECT_THAT(text.out, HasSubstr("correction (added to the command)"));
   // Without the ambient reading the prediction would silently change (ρ term dropped, key rises
-  // no longer above ambient): refused, naming the option and the baseline.
-  auto no_ambient = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction - --temp nut=26,bearing=23");
+  // no longer above ambient): the fallback fitted without the room sensor predicts when its keys
+  // are given, and says so, as the compensator does when the room sensor is lost ...
+  const AxisModel* without_room = nullptr;
+  for (const auto& f : m.axes[0].fallbacks)
+    if (f.replaces == "ambient") without_room = &f;
+  ASSERT_NE(without_room, nullptr);
+  const std::map<std::string, double> reading{{"nut", 26}, {"bearing", 23}, {"motor", 27}};
+  std::string room_keys;
+  for (const auto& k : without_room->key_sensors) room_keys += fmt::format("{}{}={}", room_keys.empty() ? "" : ",", k, reading.at(k));
+  auto no_ambient = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction - --temp " + room_keys);
+  EXPECT_EQ(no_ambient.code, 0) << no_ambient.out;
+  EXPECT_THAT(no_ambient.out, HasSubstr("ambient (--ambient-c) not given: the fallback model fitted without it"));
+  // ... and a model without fallbacks refuses, naming the option and the baseline.
+  ASSERT_EQ(Cli("fit --no-fallback-models --out " + P("bare.json") + AllFiles()).code, 0);
+  no_ambient = Cli("predict --model " + P("bare.json") + " --axis X --position-mm 400 --direction - --temp nut=26,bearing=23");
   EXPECT_EQ(no_ambient.code, 2) << no_ambient.out;
   EXPECT_THAT(no_ambient.out, HasSubstr("--ambient-c"));
   // Kelvin (or a lost decimal point) is refused, not turned into a millimetre correction.
@@ -299,30 +312,45 @@ TEST_F(CliFit, BadInputsExitWithFileLineField) {
   EXPECT_FALSE(fs::exists(P("x.json")));
 }
 
-// Without a key sensor's temperature, predict takes the model's fallback whose keys are all given
-// (as the compensator does when that sensor is lost), says so, and gives that model's prediction.
+// Without a key sensor's temperature, predict takes the model's fallbacks fitted without it whose
+// keys are all given (as the compensator does when that sensor is lost), says so, and gives the mean
+// of their predictions.
 TEST_F(CliFit, PredictUsesAFallbackModelWhenAKeySensorIsNotGiven) {
   ASSERT_EQ(Cli("fit --out " + P("m.json") + AllFiles()).code, 0);
   const auto model = ReadModelFile(P("m.json"));
-  ASSERT_FALSE(model.axes[0].fallbacks.empty());
-  const AxisModel& f = model.axes[0].fallbacks.back();
-  const std::map<std::string, double> reading{{"nut", 24.5}, {"bearing", 21.5}, {"motor", 26.5}};
-  std::string temps;
-  std::vector<double> keys;
-  for (const auto& k : f.key_sensors) {
-    temps += fmt::format("{}{}={}", temps.empty() ? "" : ",", k, reading.at(k));
-    keys.push_back(reading.at(k));
+  const std::map<std::string, double> reading{{"bearing", 21.5}, {"motor", 26.5}};  // no nut
+  std::vector<const AxisModel*> without_nut;
+  for (const auto& f : model.axes[0].fallbacks)
+    if (f.replaces == "nut") without_nut.push_back(&f);
+  ASSERT_EQ(without_nut.size(), 2u) << "re-chosen keys and the model's other key";
+  double expected = 0;
+  for (const auto* f : without_nut) {
+    std::vector<double> keys;
+    for (const auto& k : f->key_sensors) keys.push_back(reading.at(k));
+    expected += Predict(*f, 400, Direction::kForward, {keys, 20.0, CoolantState::kOff, true}).total_um / 2;
   }
-  const std::string cmd = "predict --model " + P("m.json") + " --axis X --position-mm 400 --direction + --ambient-c 20 --temp " + temps;
+  const std::string cmd = "predict --model " + P("m.json") +
+                          " --axis X --position-mm 400 --direction + --ambient-c 20 --temp bearing=21.5,motor=26.5";
   auto r = Cli(cmd);
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_THAT(r.out, HasSubstr("the fallback model fitted without it"));
+  EXPECT_THAT(r.out, HasSubstr("nut not given: the mean of the 2 fallback models fitted without it"));
   r = Cli(cmd + " --json");
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["fallback_model"].get<std::vector<std::string>>(), f.key_sensors);
-  const double expected = Predict(f, 400, Direction::kForward, {keys, 20.0, CoolantState::kOff, true}).total_um;
+  EXPECT_EQ(j["fallback_model"].get<std::vector<std::string>>(), without_nut[0]->key_sensors);
+  EXPECT_EQ(j["fallback_models_averaged"].get<int>(), 2);
   EXPECT_NEAR(j["error_um"].get<double>(), expected, 1e-9);
+  // With only the bearing given, the one whose keys are given alone.
+  const AxisModel* bearing_only = without_nut[0]->key_sensors == std::vector<std::string>{"bearing"} ? without_nut[0] : without_nut[1];
+  ASSERT_EQ(bearing_only->key_sensors, std::vector<std::string>{"bearing"});
+  r = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction + --ambient-c 20 --json --temp bearing=21.5");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto alone = nlohmann::json::parse(r.out);
+  EXPECT_EQ(alone["fallback_models_averaged"].get<int>(), 1);
+  const double t_b[] = {21.5};
+  EXPECT_NEAR(alone["error_um"].get<double>(),
+              Predict(*bearing_only, 400, Direction::kForward, {t_b, 20.0, CoolantState::kOff, true}).total_um, 1e-9);
+  const std::string temps = "bearing=21.5,motor=26.5";
   // With every key of the model given, the model itself (no fallback); a sensor only a fallback
   // reads is named as unused, not dropped silently.
   r = Cli("predict --model " + P("m.json") + " --axis X --position-mm 400 --direction + --ambient-c 20 --json --temp nut=24.5,bearing=21.5,motor=26.5");
@@ -369,12 +397,20 @@ TEST_F(CliFit, PredictMeasurementWithADeadKeyChannelUsesTheFallback) {
   measure::WriteMeasurementCsv(m, P("dead_nut.csv"));
   const auto r = Cli("predict --model " + P("m.json") + " --measurement " + P("dead_nut.csv") + " --residual-out " + P("res.csv"));
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_THAT(r.out, HasSubstr("nut not read in this file: predicted with the fallback model"));
+  EXPECT_THAT(r.out, HasSubstr("nut not read in this file: predicted with the mean of the 2 fallback models"));
+  std::vector<const AxisModel*> group;  // the fallbacks replacing the nut: the residual is against their mean
+  for (const auto& f : model.axes[0].fallbacks)
+    if (f.replaces == "nut") group.push_back(&f);
+  ASSERT_EQ(group.size(), 2u);
+  EXPECT_THAT(group, ::testing::Contains(without_nut));
   const auto res = measure::ReadMeasurementCsv(P("res.csv"));
   for (std::size_t i = 0; i < m.points.size(); i += 41) {
-    const auto t = TemperaturesForPoint(*without_nut, m, m.points[i]);
-    const double pred = Predict(*without_nut, m.points[i].target_mm, m.points[i].direction,
-                                {t.key_temp_c, t.ambient_c, CoolantState::kOff, true}).total_um;
+    double pred = 0;
+    for (const auto* f : group) {
+      const auto t = TemperaturesForPoint(*f, m, m.points[i]);
+      pred += Predict(*f, m.points[i].target_mm, m.points[i].direction, {t.key_temp_c, t.ambient_c, CoolantState::kOff, true})
+                  .total_um / 2;
+    }
     EXPECT_NEAR(res.points[i].deviation_um, m.points[i].deviation_um - pred, 1e-6);
   }
 }

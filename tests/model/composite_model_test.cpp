@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "trueaxis/core/input_error.hpp"
@@ -143,8 +144,12 @@ TEST(ModelJson, FallbackModelsRoundTripInOrder) {
   m.axes[0].fallbacks[1].key_sensors = {"nut"};
   m.axes[0].fallbacks[1].baseline_temp_c = {20};
   for (auto& d : m.axes[0].fallbacks[1].directions) d.thermal = {{CoolantState::kOff, {-0.012}, 0}};
+  m.axes[0].fallbacks[0].replaces = "nut";
   const auto back = ModelFromJson(ModelToJson(m), "m.json");
   ASSERT_EQ(back.axes[0].fallbacks.size(), 2u);
+  EXPECT_EQ(back.axes[0].fallbacks[0].replaces, "nut");
+  EXPECT_EQ(back.axes[0].fallbacks[1].replaces, "");  // not stated (files before it): not averaged
+  EXPECT_FALSE(ModelToJson(m)["axes"][0]["fallbacks"][1].contains("replaces"));
   EXPECT_EQ(back.axes[0].fallbacks[0].key_sensors, (std::vector<std::string>{"bearing", "motor"}));
   EXPECT_EQ(back.axes[0].fallbacks[1].key_sensors, (std::vector<std::string>{"nut"}));
   const double temps[] = {27, 24};
@@ -188,8 +193,24 @@ TEST(ModelJson, BadFallbacksAreRefusedByPath) {
   j["axes"][0]["fallbacks"] = "bearing";
   expect_error(j, "axes[0].fallbacks", "expected an array");
   j = ModelToJson(m);
-  for (int k = 0; k < 4; ++k) j["axes"][0]["fallbacks"].push_back(j["axes"][0]["fallbacks"][0]);
-  expect_error(j, "axes[0].fallbacks", "5 fallback models, at most 4");
+  for (std::size_t k = 0; k < AxisModel::kMaxFallbacks; ++k) j["axes"][0]["fallbacks"].push_back(j["axes"][0]["fallbacks"][0]);
+  expect_error(j, "axes[0].fallbacks", fmt::format("{} fallback models, at most {}", AxisModel::kMaxFallbacks + 1,
+                                                   AxisModel::kMaxFallbacks));
+  // The sensor it replaces: one of the axis's, and not one it uses itself; only a fallback has one.
+  j = ModelToJson(m);
+  j["axes"][0]["fallbacks"][0]["replaces"] = "nut";
+  EXPECT_EQ(ModelFromJson(j, "m.json").axes[0].fallbacks[0].replaces, "nut");
+  j["axes"][0]["fallbacks"][0]["replaces"] = "spindle";
+  expect_error(j, "axes[0].fallbacks[0].replaces", "'spindle' is not a key sensor");
+  j["axes"][0]["fallbacks"][0]["replaces"] = "bearing";
+  expect_error(j, "axes[0].fallbacks[0].replaces", "'bearing' is a sensor this fallback itself uses");
+  j["axes"][0]["fallbacks"][0]["replaces"] = "ambient";
+  expect_error(j, "axes[0].fallbacks[0].replaces", "'ambient' is a sensor this fallback itself uses");
+  j["axes"][0]["fallbacks"][0]["replaces"] = 3;
+  expect_error(j, "axes[0].fallbacks[0].replaces", "");
+  j = ModelToJson(m);
+  j["axes"][0]["replaces"] = "nut";
+  expect_error(j, "axes[0].replaces", "only a fallback model");
 }
 
 }  // namespace

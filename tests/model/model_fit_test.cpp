@@ -484,8 +484,10 @@ namespace {
 using testing::SyntheticMachine;
 
 // AxisModel::fallbacks (FitOptions::fallback_models): the axis refitted without each key sensor in
-// turn, the keys then chosen from the other candidates, best CV first; each still predicts a heated
-// state's thermal error, which the geometric part alone would leave.
+// turn, and without its room sensor, twice — the keys chosen again from the other candidates, and
+// the model's other keys as they are (a second one only when its keys differ) — best CV first, each
+// naming the sensor it replaces; each still predicts a heated state's thermal error, which the
+// geometric part alone would leave.
 TEST(ModelFit, FallbackModelsDoWithoutEachKeyAndStillPredictTheHeat) {
   SyntheticMachine sm;
   const auto states = sm.MakeStates(sm.DefaultStates());
@@ -493,21 +495,39 @@ TEST(ModelFit, FallbackModelsDoWithoutEachKeyAndStillPredictTheHeat) {
   const auto& a = res.model.axes[0];
   ASSERT_THAT(a.key_sensors, ::testing::UnorderedElementsAre("nut", "bearing")) << res.summary.FullReport();
   ASSERT_EQ(a.ambient_sensor, "ambient");
-  ASSERT_EQ(a.fallbacks.size(), 3u) << res.summary.FullReport();  // without nut, bearing, ambient
-  ASSERT_EQ(res.summary.axes[0].fallback_notes.size(), 3u);
-  std::set<std::string> done_without;
+  std::map<std::string, std::vector<std::vector<std::string>>> by_replaced;  // the keys of each
   for (const auto& f : a.fallbacks) {
     EXPECT_EQ(f.axis, "X");
     EXPECT_TRUE(f.fallbacks.empty());
-    for (const auto& key : a.key_sensors)
-      if (std::find(f.key_sensors.begin(), f.key_sensors.end(), key) == f.key_sensors.end()) done_without.insert(key);
-    if (f.ambient_sensor.empty()) {
-      done_without.insert("ambient");
-      EXPECT_THAT(f.key_sensors, ::testing::Not(::testing::Contains("ambient")));
+    auto keys = f.key_sensors;
+    std::sort(keys.begin(), keys.end());
+    by_replaced[f.replaces].push_back(keys);
+    if (f.replaces == "ambient") {
+      EXPECT_TRUE(f.ambient_sensor.empty());
       EXPECT_FALSE(f.key_rise_above_ambient);
+    } else {
+      EXPECT_THAT(f.key_sensors, ::testing::Not(::testing::Contains(f.replaces)));
+      EXPECT_EQ(f.ambient_sensor, "ambient");
     }
   }
-  EXPECT_EQ(done_without, (std::set<std::string>{"nut", "bearing", "ambient"}));
+  ASSERT_EQ(by_replaced.size(), 3u) << res.summary.FullReport();  // without nut, bearing, ambient
+  // Without the room sensor, only the re-chosen keys (the model's own keys have nothing to stand
+  // for the room).
+  EXPECT_EQ(by_replaced["ambient"].size(), 1u) << res.summary.FullReport();
+  for (const auto& [replaced, variants] : by_replaced) {
+    SCOPED_TRACE(replaced);
+    if (replaced == "ambient") continue;
+    ASSERT_GE(variants.size(), 1u);
+    ASSERT_LE(variants.size(), 2u);
+    if (variants.size() == 2) EXPECT_NE(variants[0], variants[1]);  // never the same keys twice
+    // One of them is the model's other keys exactly.
+    std::vector<std::string> others;
+    for (const auto& k : a.key_sensors)
+      if (k != replaced) others.push_back(k);
+    std::sort(others.begin(), others.end());
+    EXPECT_THAT(variants, ::testing::Contains(others));
+  }
+  EXPECT_EQ(res.summary.axes[0].fallback_notes.size(), 5u) << res.summary.FullReport();
   // The nut carries most of the heat: the fallback that keeps it comes first.
   EXPECT_THAT(a.fallbacks[0].key_sensors, ::testing::Contains("nut"));
   EXPECT_THAT(res.summary.axes[0].fallback_notes[0], HasSubstr("without"));
@@ -532,8 +552,8 @@ TEST(ModelFit, FallbackModelsDoWithoutEachKeyAndStillPredictTheHeat) {
   EXPECT_EQ(capped.model.axes[0].fallbacks[0].key_sensors, a.fallbacks[0].key_sensors);
   int not_kept = 0;
   for (const auto& n : capped.summary.axes[0].fallback_notes) not_kept += n.rfind("not kept", 0) == 0 ? 1 : 0;
-  EXPECT_EQ(not_kept, 2);
-  one.max_fallback_models = 5;
+  EXPECT_EQ(not_kept, static_cast<int>(a.fallbacks.size()) - 1);
+  one.max_fallback_models = static_cast<int>(AxisModel::kMaxFallbacks) + 1;
   EXPECT_FALSE(one.IsValid(nullptr));
 
   FitOptions none;
@@ -545,7 +565,13 @@ TEST(ModelFit, FallbackModelsDoWithoutEachKeyAndStillPredictTheHeat) {
   FitOptions nut_only;
   nut_only.key_sensors = {"nut"};
   const auto single = FitCompositeModel(states, nut_only).model.axes[0];
-  ASSERT_EQ(single.fallbacks.size(), 2u);  // without the nut, without the ambient
+  // Without the nut: re-chosen keys only (it has no other key); without the ambient: re-chosen, and
+  // the nut alone unless the re-chosen keys are the nut alone.
+  ASSERT_GE(single.fallbacks.size(), 2u);
+  ASSERT_LE(single.fallbacks.size(), 3u);
+  EXPECT_EQ(std::count_if(single.fallbacks.begin(), single.fallbacks.end(),
+                          [](const AxisModel& m) { return m.replaces == "nut"; }),
+            1);
   const auto& f = *std::find_if(single.fallbacks.begin(), single.fallbacks.end(), [](const AxisModel& m) {
     return std::find(m.key_sensors.begin(), m.key_sensors.end(), "nut") == m.key_sensors.end();
   });
@@ -568,9 +594,11 @@ TEST(ModelFit, FallbackModelsDoWithoutEachKeyAndStillPredictTheHeat) {
   EXPECT_THAT(fp.key_sensors, ::testing::Not(::testing::Contains("nut")));
   EXPECT_THAT(fp.key_sensors, ::testing::Not(::testing::Contains("bearing")));
   EXPECT_THAT(fp.key_sensors, ::testing::Contains("motor"));
-  EXPECT_THAT(with_pair.summary.axes[0].fallback_notes[0] + with_pair.summary.axes[0].fallback_notes[1],
-              HasSubstr("without nut (and its redundant bearing)"));
+  std::string notes;
+  for (const auto& n : with_pair.summary.axes[0].fallback_notes) notes += n + "\n";
+  EXPECT_THAT(notes, HasSubstr("without nut (and its redundant bearing)"));
 }
+
 
 }  // namespace
 }  // namespace trueaxis::model

@@ -52,6 +52,17 @@ struct Rig : testing::OneAxisRig {
     model::ThermalState ts{std::span<const double>(keys.data(), keys.size()), 20.0, CoolantState::kOff, true};
     return model::CorrectionUm(model::Predict(a, position_mm, direction, ts));
   }
+  // Publishes `m`, runs a cycle with the nut at 26 °C and the bearing at 23 °C, then the nut faults:
+  // held at 30 s, lost at 100 s. Returns the status of that cycle.
+  const CycleStatus& LoseTheNut(const std::shared_ptr<const model::CompositeModel>& m, const char* label) {
+    comp->PublishModel(m, label);
+    temps.Set("nut", 26);
+    temps.Set("bearing", 23);
+    comp->RunCycle(cnc, temps, 0.0);
+    temps.SetFault("nut", true);
+    comp->RunCycle(cnc, temps, 30.0);  // held
+    return comp->RunCycle(cnc, temps, 100.0);
+  }
 };
 
 TEST(FallbackModel, TakesOverWhenAKeySensorIsLostAndHandsBackWhenItReturns) {
@@ -134,14 +145,8 @@ TEST(FallbackModel, TakesOverFromTheModelsLastCorrectionAndTheDifferenceDecaysWi
   Rig r(tau);
   const auto m = ModelWithFallback(0);
   const model::AxisModel& fb = m->axes[0].fallbacks[0];
-  r.comp->PublishModel(m, "hand-over");
-  r.temps.Set("nut", 26);
-  r.temps.Set("bearing", 23);
-  r.comp->RunCycle(r.cnc, r.temps, 0.0);
-  r.temps.SetFault("nut", true);
-  r.comp->RunCycle(r.cnc, r.temps, 30.0);  // held
   // The cycle the nut is lost: no jump, the model's correction with the last nut reading.
-  const auto& lost = r.comp->RunCycle(r.cnc, r.temps, 100.0);
+  const auto& lost = r.LoseTheNut(m, "hand-over");
   ASSERT_EQ(lost.axes[0].fallback_model, 0);
   EXPECT_NEAR(lost.axes[0].desired_um, Rig::Desired(m->axes[0], {26, 23}), 1e-9);
   const auto carried = [&](double position_mm, Direction d) {
@@ -280,6 +285,88 @@ TEST(FallbackModel, AFallbackWhoseKeyHasNoChannelIsABindErrorNamingIt) {
     EXPECT_NE(what.find("'motor'"), std::string::npos) << what;
     EXPECT_NE(what.find("--no-fallback-models"), std::string::npos) << what;
   }
+}
+
+}  // namespace
+}  // namespace trueaxis::runtime
+
+namespace trueaxis::runtime {
+namespace {
+
+// X with two fallbacks replacing the nut (the bearing with two gains: the fit's re-chosen keys and
+// the model's other key) and, between them, one replacing the room sensor.
+std::shared_ptr<const model::CompositeModel> ModelWithTwoNutFallbacks(bool state_replaced = true) {
+  auto m = std::make_shared<model::CompositeModel>();
+  m->axes.push_back(TestAxisModel("X"));
+  model::AxisModel a = BearingOnlyFallback(0);
+  model::AxisModel b = BearingOnlyFallback(0);
+  for (auto& d : b.directions) d.thermal = {{CoolantState::kOff, {-0.010}, 0}};
+  model::AxisModel no_room = ModelWithRoomFallback()->axes[0].fallbacks[0];
+  if (state_replaced) a.replaces = b.replaces = "nut", no_room.replaces = "ambient";
+  m->axes.back().fallbacks = {a, no_room, b};
+  return m;
+}
+
+double DesiredWithoutRoom(const model::AxisModel& a, std::vector<double> keys) {
+  model::ThermalState ts{std::span<const double>(keys.data(), keys.size()), std::nan(""), CoolantState::kOff, true};
+  return model::CorrectionUm(model::Predict(a, 400, Direction::kForward, ts));
+}
+
+// The fallbacks replacing the lost sensor that can run are averaged (AxisModel::replaces): the
+// campaign's CV does not rank them the way the working day does. One replacing another sensor is
+// not mixed in, and fallbacks of older files (no "replaces") are not averaged.
+TEST(FallbackModel, TheFallbacksReplacingTheLostSensorAreAveraged) {
+  Rig r;
+  const auto m = ModelWithTwoNutFallbacks();
+  const auto& fb = m->axes[0].fallbacks;
+  r.temps.Set("ambient", 20);
+  const auto& lost = r.LoseTheNut(m, "two for the nut");
+  ASSERT_EQ(lost.axes[0].fallback_model, 0);
+  EXPECT_EQ(lost.axes[0].fallbacks_averaged, 2);
+  const double a = Rig::Desired(fb[0], {23}), b = Rig::Desired(fb[2], {23});
+  ASSERT_GT(std::fabs(a - b), 1.0);  // the two differ: the mean is told apart from either
+  EXPECT_NEAR(lost.axes[0].desired_um, (a + b) / 2, 1e-9);
+
+  // The room sensor lost instead: the fallback replacing it alone.
+  r.temps.SetFault("nut", false);
+  r.comp->RunCycle(r.cnc, r.temps, 100.01);
+  r.temps.SetFault("ambient", true);
+  const auto& room = r.comp->RunCycle(r.cnc, r.temps, 200.0);
+  ASSERT_EQ(room.axes[0].fallback_model, 1);
+  EXPECT_EQ(room.axes[0].fallbacks_averaged, 1);
+  EXPECT_NEAR(room.axes[0].desired_um, DesiredWithoutRoom(fb[1], {26, 23}), 1e-9);
+
+  // The nut and the room lost together: the two replacing the nut, both without their room term.
+  r.temps.SetFault("nut", true);
+  const auto& both = r.comp->RunCycle(r.cnc, r.temps, 300.0);
+  ASSERT_EQ(both.axes[0].fallback_model, 0);
+  EXPECT_EQ(both.axes[0].fallbacks_averaged, 2);
+  EXPECT_NEAR(both.axes[0].desired_um, (DesiredWithoutRoom(fb[0], {23}) + DesiredWithoutRoom(fb[2], {23})) / 2, 1e-9);
+}
+
+TEST(FallbackModel, FallbacksThatNameNoReplacedSensorAreNotAveraged) {
+  Rig r;
+  const auto m = ModelWithTwoNutFallbacks(false);
+  const auto& lost = r.LoseTheNut(m, "older file");
+  ASSERT_EQ(lost.axes[0].fallback_model, 0);
+  EXPECT_EQ(lost.axes[0].fallbacks_averaged, 1);
+  EXPECT_NEAR(lost.axes[0].desired_um, Rig::Desired(m->axes[0].fallbacks[0], {23}), 1e-9);
+}
+
+// With the hand-over, each averaged fallback starts from the model's last correction, so their mean
+// does too; it then decays toward the mean of their own predictions.
+TEST(FallbackModel, AveragedFallbacksStartFromTheModelsLastCorrection) {
+  const double tau = 600;
+  Rig r(tau);
+  const auto m = ModelWithTwoNutFallbacks();
+  const auto& fb = m->axes[0].fallbacks;
+  const auto& lost = r.LoseTheNut(m, "two, hand-over");
+  ASSERT_EQ(lost.axes[0].fallbacks_averaged, 2);
+  const double model_last = Rig::Desired(m->axes[0], {26, 23});
+  EXPECT_NEAR(lost.axes[0].desired_um, model_last, 1e-9);
+  const double mean_own = (Rig::Desired(fb[0], {23}) + Rig::Desired(fb[2], {23})) / 2;
+  const auto& later = r.comp->RunCycle(r.cnc, r.temps, 100.0 + tau);
+  EXPECT_NEAR(later.axes[0].desired_um, mean_own + (model_last - mean_own) * std::exp(-1.0), 1e-9);
 }
 
 }  // namespace

@@ -150,7 +150,13 @@ struct AxisModel {
   // instead of dropping the thermal part (docs/model-file.md, "Fallback models"). Each does without
   // at least one of these keys or the ambient sensor and has no fallbacks of its own.
   std::vector<AxisModel> fallbacks;
-  static constexpr std::size_t kMaxFallbacks = 4;  // the most a model file may hold per axis (the runtime keeps a state each)
+  // Two per lost sensor (its keys re-chosen, and the model's other keys) for up to three keys and
+  // the room sensor: the most a model file may hold per axis (the runtime keeps a state each).
+  static constexpr std::size_t kMaxFallbacks = 8;
+  // A fallback's: the sensor of the axis's model it was fitted without (JSON "replaces"; empty in
+  // the model itself and in older files). When that sensor is lost, the compensator averages the
+  // fallbacks that replace it and can run (docs/model-file.md, "Fallback models").
+  std::string replaces;
   // The shifts of gains entry `g` of direction `d`; nullptr when it has none.
   const KeyShifts* ShiftsFor(Direction d, const ThermalGains* g) const {
     const auto& v = key_shifts[DirectionIndex(d)];

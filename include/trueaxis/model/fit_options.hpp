@@ -117,10 +117,10 @@ struct FitOptions {
   double min_ambient_range_c = 1.0;
 
   // Fallback models (AxisModel::fallbacks): an axis with key sensors is fitted again without each
-  // one of them and without its ambient sensor (its keys re-chosen from the remaining candidates,
-  // every other option the same), so
-  // the compensator keeps a thermal part when a key sensor dies — also when the model has a single
-  // key. Ordered by their LOSO CV. false: none.
+  // one of them, twice (its keys re-chosen from the remaining candidates; the model's other keys),
+  // and without its ambient sensor (keys re-chosen), every other option the same, so the
+  // compensator keeps a thermal part when a key sensor dies — also when the model has a single key.
+  // Ordered by their LOSO CV. false: none.
   bool fallback_models = true;
   // The most fallbacks kept per axis, the best by CV (1 … AxisModel::kMaxFallbacks); the others are
   // named in the fit summary's fallback notes.

@@ -70,6 +70,7 @@ struct AxisStatus {
   bool enabled = false;         // effective enable (switches, CNC flag)
   bool thermal_used = false;
   int fallback_model = -1;      // thermal part from the model's fallback #n (a key sensor lost); -1: the model's own
+  int fallbacks_averaged = 0;   // with fallback_model: how many fallbacks replacing the same sensor were averaged (≥ 1)
   model::Prediction prediction; // zero when not evaluated
   double extra_error_um = 0;     // StepInputs::extra_error_um used this cycle (error sign; 0 = none)
   double desired_um = 0;        // target correction (physical µm) before shaping; NaN = hold
