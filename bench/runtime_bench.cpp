@@ -93,8 +93,10 @@ void BM_CompensationCycleThermalState(benchmark::State& state) {
 BENCHMARK(BM_CompensationCycleThermalState)->ArgsProduct({{3}, {0, 1}})->ArgNames({"axes", "flood"});
 
 // A model with fallbacks (AxisModel::fallbacks, issue 10): every axis lagged as above plus two
-// fallbacks, each with its own lag, advanced every cycle alongside the model. range(1): 0 = every
-// key reads (the fallbacks only advanced), 1 = the nut lost (the first fallback predicts).
+// fallbacks (without the nut, without the bearing), each with its own lag, advanced every cycle
+// alongside the model. range(1): 0 = every key reads (the fallbacks only advanced), 1 = the nut lost
+// (its fallback predicts), 2 = the nut lost with a second fallback replacing it (the two averaged,
+// as the fit writes them: AxisModel::replaces).
 void BM_CompensationCycleFallbacks(benchmark::State& state) {
   const int n_axes = static_cast<int>(state.range(0));
   CycleRig rig(n_axes);
@@ -104,11 +106,15 @@ void BM_CompensationCycleFallbacks(benchmark::State& state) {
   auto model = std::make_shared<model::CompositeModel>(*runtime::testing::TestModel(1.0, rig.names));
   for (auto& a : model->axes) {
     a.key_lag_s = {600, 900};
-    for (const auto& keys : {std::vector<std::string>{"bearing", "motor"}, std::vector<std::string>{"nut", "motor"}}) {
+    std::vector<std::pair<std::vector<std::string>, std::string>> fallbacks = {{{"bearing", "motor"}, "nut"},
+                                                                               {{"nut", "motor"}, "bearing"}};
+    if (state.range(1) == 2) fallbacks.push_back({{"motor", "bearing"}, "nut"});
+    for (const auto& [keys, replaces] : fallbacks) {
       model::AxisModel f = a;
       f.key_sensors = keys;
       f.baseline_temp_c = {22, 22};
       f.key_lag_s = {900, 1200};
+      f.replaces = replaces;
       a.fallbacks.push_back(std::move(f));
     }
   }
@@ -116,7 +122,7 @@ void BM_CompensationCycleFallbacks(benchmark::State& state) {
   if (state.range(1)) temps.SetFault("nut", true);  // never read: lost from the first cycle
   RunCycles(state, *comp, cnc, temps, n_axes);
 }
-BENCHMARK(BM_CompensationCycleFallbacks)->ArgsProduct({{3}, {0, 1}})->ArgNames({"axes", "nut_lost"});
+BENCHMARK(BM_CompensationCycleFallbacks)->ArgsProduct({{3}, {0, 1, 2}})->ArgNames({"axes", "nut_lost"});
 
 void BM_ModelSwapPickup(benchmark::State& state) {
   // Publish (off-loop bind) + the cycle that picks it up.
