@@ -215,7 +215,8 @@ void Setup(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--no-fallback-models", opts->no_fallback_models,
                "Fit no fallback models (by default an axis with key sensors is also fitted without each of "
-               "them, its keys re-chosen from the other sensors, for the compensator to use when that sensor is lost; docs/model-file.md)");
+               "them, twice — its keys re-chosen from the other sensors, and the model's other keys — and without its "
+               "room sensor, for the compensator to average when that sensor is lost; docs/model-file.md)");
   cmd->add_option("--redundant", opts->redundant,
                   "Redundant probes at one place, comma separated (e.g. y_nut,y_nut_b; repeat for more groups): the "
                   "temperature pipeline loses them together when they disagree, so a fallback fitted without one "
