@@ -126,9 +126,16 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
     history = model::TemperatureHistoryFromLog(o.temperature_log, m, *start_s);
   }
   auto residual = model::PredictionResidual(*axis, m, *coolant, history.empty() ? nullptr : &history);
-  for (std::size_t g = 1; g < averaged.size(); ++g) {  // residual = measured − the mean of their predictions
+  // As the compensator: the first fallback's Er(x), plus the mean of the averaged fallbacks'
+  // thermal + room parts (residual = measured − Er(x)₀ − mean(total_g − Er(x)_g)).
+  const auto geometric_um = [&](const model::AxisModel& a, const measure::MeasurementPoint& pt) {
+    return model::Predict(a, pt.target_mm, pt.direction, {{}, std::nan(""), *coolant, false}).geometric_um;
+  };
+  for (std::size_t g = 1; g < averaged.size(); ++g) {
     const auto other = model::PredictionResidual(*averaged[g], m, *coolant, history.empty() ? nullptr : &history);
-    for (std::size_t i = 0; i < residual.points.size(); ++i) residual.points[i].deviation_um += other.points[i].deviation_um;
+    for (std::size_t i = 0; i < residual.points.size(); ++i)
+      residual.points[i].deviation_um += other.points[i].deviation_um + geometric_um(*averaged[g], m.points[i]) -
+                                         geometric_um(*axis, m.points[i]);
   }
   if (averaged.size() > 1)
     for (auto& pt : residual.points) pt.deviation_um /= static_cast<double>(averaged.size());

@@ -89,8 +89,11 @@ std::string DemoResult::BriefReport() const {
   std::string reduced, lost;
   for (std::size_t i = 0; i < machine_axes.size(); ++i) {
     const std::uint64_t r = i < fallback_model_cycles.size() ? fallback_model_cycles[i] : 0;
+    const std::uint64_t a = i < averaged_fallback_cycles.size() ? averaged_fallback_cycles[i] : 0;
     const std::uint64_t g = i < sensor_fallback_cycles.size() ? sensor_fallback_cycles[i] : 0;
-    if (r) reduced += fmt::format("{}{} {} cycles", reduced.empty() ? "" : ", ", machine_axes[i], r);
+    if (r)
+      reduced += fmt::format("{}{} {} cycles{}", reduced.empty() ? "" : ", ", machine_axes[i], r,
+                             a ? fmt::format(" ({} of them the mean of the fallbacks replacing the lost sensor)", a) : "");
     if (g) lost += fmt::format("{}{} {} cycles", lost.empty() ? "" : ", ", machine_axes[i], g);
   }
   if (!reduced.empty() || !lost.empty())
@@ -132,9 +135,11 @@ class DayObserver : public runtime::CycleObserver {
     if (result_.room_extrapolated_cycles.size() < s.axes.size()) result_.room_extrapolated_cycles.resize(s.axes.size(), 0);
     if (result_.sensor_fallback_cycles.size() < s.axes.size()) result_.sensor_fallback_cycles.resize(s.axes.size(), 0);
     if (result_.fallback_model_cycles.size() < s.axes.size()) result_.fallback_model_cycles.resize(s.axes.size(), 0);
+    if (result_.averaged_fallback_cycles.size() < s.axes.size()) result_.averaged_fallback_cycles.resize(s.axes.size(), 0);
     for (std::size_t i = 0; i < s.axes.size(); ++i) {
       if ((s.alarms & runtime::kAlarmSensorFallback) && s.axes[i].enabled && !s.axes[i].thermal_used) ++result_.sensor_fallback_cycles[i];
       if (s.axes[i].fallback_model >= 0) ++result_.fallback_model_cycles[i];
+      if (s.axes[i].fallbacks_averaged > 1) ++result_.averaged_fallback_cycles[i];
       if (s.axes[i].clamped) ++result_.clamped_cycles[i];
       if (s.axes[i].prediction.tan_beta_limited) ++result_.extrapolated_cycles[i];
       if (s.axes[i].prediction.ambient_extrapolated) ++result_.room_extrapolated_cycles[i];

@@ -125,11 +125,13 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
   for (const auto& f : r.sensor_faults) page.AddNote("Sensor fault in the working day: " + f + ".");
   for (std::size_t i = 0; i < r.machine_axes.size(); ++i) {
     const std::uint64_t reduced = i < r.fallback_model_cycles.size() ? r.fallback_model_cycles[i] : 0;
+    const std::uint64_t averaged = i < r.averaged_fallback_cycles.size() ? r.averaged_fallback_cycles[i] : 0;
     const std::uint64_t lost = i < r.sensor_fallback_cycles.size() ? r.sensor_fallback_cycles[i] : 0;
     if (reduced || lost)
       page.AddNote(fmt::format("WARNING: axis {} lost a sensor of its model (alarm sensor_fallback): {} cycles on a "
-                               "fallback model fitted without it, {} cycles without the thermal part "
-                               "(docs/runtime.md, sensor faults).", r.machine_axes[i], reduced, lost));
+                               "fallback model fitted without it ({} of them the mean of the fallbacks replacing "
+                               "that sensor), {} cycles without the thermal part (docs/runtime.md, sensor faults).",
+                               r.machine_axes[i], reduced, averaged, lost));
   }
 
   page.AddHeading("Setup");

@@ -1399,9 +1399,9 @@ namespace {
 // its keys re-chosen. Each names the sensor it replaces; the compensator averages the two when that
 // sensor is lost. Why both: on the machine zoo and on drawn machines the campaign's CV did not rank
 // them the way the working day did — the re-chosen keys (often a motor, which warms with the axis's
-// own test motion) won on some axes and lost badly on others, the other keys the reverse, with CV
-// ratios of 1.8–2.7 either way — and their average keeps more rows under the must line than either
-// (bench/results/zoo.md). Every other option as asked; best LOSO CV first — also for a single-key
+// own test motion) won on some axes and lost badly on others, the other keys the reverse, and the
+// one that helped the day had up to 2.7 × the other's CV — and their average keeps more rows under
+// the must line than either (bench/results/zoo.md). Every other option as asked; best LOSO CV first — also for a single-key
 // model. A reduced fit that keeps no key (no other sensor explains the heat) is left out, and so is
 // the second of two with the same keys. Its warnings repeat the main fit's and are dropped.
 void FitFallbacks(const std::string& axis, const std::vector<const FitState*>& states, const FitOptions& options,

@@ -197,6 +197,8 @@ TEST(DemoSensorFault, AKeySensorDyingInTheDayHandsTheAxisToItsFallbackModel) {
   EXPECT_NE(r.sensor_faults[0].find("y_nut open"), std::string::npos) << r.sensor_faults[0];
   EXPECT_NE(r.alarms_seen & runtime::kAlarmSensorFallback, 0u);
   EXPECT_GT(r.fallback_model_cycles.at(1), 100000u);
+  // Two fallbacks replace the nut (keys re-chosen; the bearing alone) and both read: averaged throughout.
+  EXPECT_EQ(r.averaged_fallback_cycles.at(1), r.fallback_model_cycles.at(1));
   EXPECT_EQ(r.sensor_fallback_cycles.at(1), 0u);  // never without a thermal part
   const StateResult* coolant = nullptr;
   for (const auto& s : r.states)
@@ -206,6 +208,8 @@ TEST(DemoSensorFault, AKeySensorDyingInTheDayHandsTheAxisToItsFallbackModel) {
   EXPECT_LT(coolant->eval_on.axis.A_um, 0.35 * coolant->eval_off.axis.A_um)
       << coolant->eval_off.axis.A_um << " -> " << coolant->eval_on.axis.A_um;
   EXPECT_NE(r.BriefReport().find("sensor lost (alarm sensor_fallback): on a fallback model Y"), std::string::npos)
+      << r.BriefReport();
+  EXPECT_NE(r.BriefReport().find("of them the mean of the fallbacks replacing the lost sensor"), std::string::npos)
       << r.BriefReport();
   std::stringstream html;
   html << std::ifstream(r.report_path).rdbuf();

@@ -395,23 +395,33 @@ TEST_F(CliFit, PredictMeasurementWithADeadKeyChannelUsesTheFallback) {
   const auto nut = *m.SensorIndex("nut");
   for (auto& pt : m.points) pt.temperatures_c[nut] = std::nan("");
   measure::WriteMeasurementCsv(m, P("dead_nut.csv"));
-  const auto r = Cli("predict --model " + P("m.json") + " --measurement " + P("dead_nut.csv") + " --residual-out " + P("res.csv"));
-  ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_THAT(r.out, HasSubstr("nut not read in this file: predicted with the mean of the 2 fallback models"));
-  std::vector<const AxisModel*> group;  // the fallbacks replacing the nut: the residual is against their mean
-  for (const auto& f : model.axes[0].fallbacks)
+  // The second fallback's Er(x) moved by 5 µm: as the compensator, the residual keeps the first
+  // one's Er(x) and averages only the thermal + room parts.
+  auto shifted = model;
+  std::vector<AxisModel*> group;  // the fallbacks replacing the nut, in file order
+  for (auto& f : shifted.axes[0].fallbacks)
     if (f.replaces == "nut") group.push_back(&f);
   ASSERT_EQ(group.size(), 2u);
-  EXPECT_THAT(group, ::testing::Contains(without_nut));
+  EXPECT_TRUE(group[0]->key_sensors == without_nut->key_sensors || group[1]->key_sensors == without_nut->key_sensors);
+  for (auto& d : group[1]->directions) {
+    ASSERT_EQ(d.geometric.kind, GeometricError::Kind::kPolynomial);
+    d.geometric.coefficients_um[0] += 5;
+  }
+  WriteModelFile(shifted, P("shifted.json"));
+  const auto r = Cli("predict --model " + P("shifted.json") + " --measurement " + P("dead_nut.csv") + " --residual-out " + P("res.csv"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("nut not read in this file: predicted with the mean of the 2 fallback models"));
   const auto res = measure::ReadMeasurementCsv(P("res.csv"));
   for (std::size_t i = 0; i < m.points.size(); i += 41) {
+    const auto& pt = m.points[i];
     double pred = 0;
     for (const auto* f : group) {
-      const auto t = TemperaturesForPoint(*f, m, m.points[i]);
-      pred += Predict(*f, m.points[i].target_mm, m.points[i].direction, {t.key_temp_c, t.ambient_c, CoolantState::kOff, true})
-                  .total_um / 2;
+      const auto t = TemperaturesForPoint(*f, m, pt);
+      const auto p = Predict(*f, pt.target_mm, pt.direction, {t.key_temp_c, t.ambient_c, CoolantState::kOff, true});
+      pred += (p.total_um - p.geometric_um) / 2;
     }
-    EXPECT_NEAR(res.points[i].deviation_um, m.points[i].deviation_um - pred, 1e-6);
+    pred += group[0]->For(pt.direction).geometric.Evaluate(pt.target_mm);
+    EXPECT_NEAR(res.points[i].deviation_um, pt.deviation_um - pred, 1e-6);
   }
 }
 

@@ -133,6 +133,7 @@ struct DemoResult {
   // lost: alarm sensor_fallback), and the working day's sensor faults (machine file [[day_fault]]).
   std::vector<std::uint64_t> sensor_fallback_cycles;
   std::vector<std::uint64_t> fallback_model_cycles;  // ... and with the model's fallback (AxisModel::fallbacks)
+  std::vector<std::uint64_t> averaged_fallback_cycles;  // ... of those, with fallbacks replacing the lost sensor averaged
   std::vector<std::string> sensor_faults;
   std::uint64_t day_cycles = 0;
   std::string interface_used;      // "in-process CncLink" or "MODBUS TCP 127.0.0.1:<port>"
