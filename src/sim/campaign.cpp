@@ -12,10 +12,12 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "trueaxis/core/ascii_case.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
+#include "trueaxis/sim/machine_log.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
 
 namespace trueaxis::sim {
@@ -110,11 +112,6 @@ double EstimateSaturationRise(const std::vector<std::pair<double, double>>& curv
 }
 
 
-std::string Lower(std::string s) {
-  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 std::string Fixed(double v, int digits) {
   if (!std::isfinite(v)) return "";
   const double scale = std::pow(10.0, digits);
@@ -137,10 +134,7 @@ class Campaign {
       }
     }
     midnight_unix_ = std::floor(vm_.UnixTimeS() / 86400.0) * 86400.0;
-    log_ = "time_s,date,coolant";
-    for (std::size_t i = 0; i < vm_.AxisCount(); ++i) log_ += "," + Lower(vm_.AxisName(i)) + "_mm";
-    for (const auto& s : sensor_names_) log_ += ",t_" + s + "_c";
-    log_ += "\n";
+    log_ = MachineLogHeader(vm_);
   }
 
   CampaignSummary Run() {
@@ -206,17 +200,9 @@ class Campaign {
   }
   void EndSession() { vm_.SetLogger(0, nullptr); }
 
-  void LogRow(const VirtualMachine& vm) {
-    std::string row = Fixed(vm.TimeS(), 1) + "," + vm.IsoTime() + "," + std::string(CoolantStateName(vm.coolant()));
-    for (std::size_t i = 0; i < vm.AxisCount(); ++i) row += "," + Fixed(vm.CommandedMm(i), 3);
-    for (std::size_t i = 0; i < vm.SensorCount(); ++i) {
-      const auto r = vm.sensor(i).Latest();
-      row += "," + (r.hardware_fault ? std::string() : Fixed(r.temp_c, 4));
-    }
-    log_ += row + "\n";
-  }
+  void LogRow(const VirtualMachine& vm) { log_ += MachineLogRow(vm); }
 
-  std::string NutSensor(std::size_t axis) const { return Lower(vm_.AxisName(axis)) + "_nut"; }
+  std::string NutSensor(std::size_t axis) const { return LowerAscii(vm_.AxisName(axis)) + "_nut"; }
 
   // Nut temperature as the engineer watches it: the sensor if there is one
   // (mean of the last minute), else the thermal node.

@@ -50,6 +50,7 @@ struct VirtualMachine::Axis {
   double extra_error_um = 0;  // SetExtraErrorUm: e.g. the spindle's growth at the tool on Z
   // accumulated over the current thermal step
   double dist_mm = 0;
+  double travel_mm = 0;  // whole path of the motor since the start (TravelMm)
   std::vector<double> occupancy_s;
 
   Axis(const AxisDescription& desc, std::uint64_t serial_seed) : d(desc), pitch(desc, serial_seed) {}
@@ -306,6 +307,7 @@ void VirtualMachine::AdvanceMotion(double dt) {
       const double m1 = MotorMm(a);
       a.AddPath(m0, m1, tt);
       a.dist_mm += std::abs(m1 - m0);
+      a.travel_mm += std::abs(m1 - m0);
       a.speed_now = feed;
       left -= tt;
       if (tt >= t_need) {  // arrived: settle now so Read() never shows a stale "moving"
@@ -461,6 +463,8 @@ double VirtualMachine::CorrectionUm(std::size_t axis) const { return axes_.at(ax
 void VirtualMachine::SetExtraErrorUm(std::size_t axis, double error_um) { axes_.at(axis)->extra_error_um = error_um; }
 int VirtualMachine::ServoDirection(std::size_t axis) const { return axes_.at(axis)->servo_dir; }
 double VirtualMachine::FeedNowMmMin(std::size_t axis) const { return axes_.at(axis)->speed_now; }
+
+double VirtualMachine::TravelMm(std::size_t axis) const { return axes_.at(axis)->travel_mm; }
 
 double VirtualMachine::NodeTemperatureC(const std::string& node) const {
   const std::size_t i = net_.FindNode(node);

@@ -118,7 +118,20 @@ TEST(Campaign, WritesFilesTemperatureLogAndManifest) {
   // The warm-up really warmed the nut by at least one 0.5 °C step.
   EXPECT_GT(last_warm_rise, 0.5);
   const std::string log = ReadTextFile((dir / "temperature_log.csv").string());
-  EXPECT_EQ(log.rfind("time_s,date,coolant,x_mm,y_mm,t_x_nut_c", 0), 0u);
+  EXPECT_EQ(log.rfind("time_s,date,coolant,x_mm,y_mm,x_travel_mm,y_travel_mm,t_x_nut_c", 0), 0u);
+  // The travelled path (the motion-heat input's history) grows over the campaign: the warm-up moved X.
+  {
+    const auto last_line_start = log.rfind('\n', log.size() - 2) + 1;
+    const std::string last = log.substr(last_line_start);
+    std::vector<std::string> cells;
+    for (std::size_t a = 0, b; a <= last.size(); a = b + 1) {
+      b = last.find(',', a);
+      if (b == std::string::npos) b = last.size();
+      cells.push_back(last.substr(a, b - a));
+    }
+    ASSERT_GT(cells.size(), 6u);
+    EXPECT_GT(std::stod(cells[5]), 10000.0);  // x_travel_mm: metres of warm-up and laser moves
+  }
   EXPECT_GT(std::count(log.begin(), log.end(), '\n'), 100);
   fs::remove_all(dir);
 }

@@ -191,6 +191,14 @@ TEST(Physics, NonBlockingMotionReportsDirectionAndMoving) {
   ASSERT_TRUE(vm.Read(st, ms));
   EXPECT_EQ(ms.coolant, CoolantState::kMist);
   EXPECT_THROW(vm.CommandMove(0, 700, 1000), std::invalid_argument);  // beyond the travel
+  // The travelled path counts both directions (the CNC's distance counter).
+  vm.MoveTo(0, 20, 6000);
+  const double travel0 = vm.TravelMm(0);
+  vm.MoveTo(0, 320, 6000);
+  vm.MoveTo(0, 120, 6000);
+  EXPECT_NEAR(vm.TravelMm(0) - travel0, 300 + 200, 1e-6);
+  vm.Advance(10);  // standing still adds nothing
+  EXPECT_NEAR(vm.TravelMm(0) - travel0, 500, 1e-6);
   // Machining duty cycle: moving half of the time.
   vm.CommandReciprocate(0, 100, 400, 3000, 0.5);
   int moving = 0;

@@ -99,6 +99,9 @@ class VirtualMachine : public hw::CncLink, public hw::TemperatureSource {
   double CorrectionUm(std::size_t axis) const;      // compensation currently applied
   int ServoDirection(std::size_t axis) const;       // +1/−1 last motor motion, 0 none yet
   double FeedNowMmMin(std::size_t axis) const;      // current speed (0 at rest)
+  // The path the axis has travelled since the start (mm, both directions counted): what a
+  // CNC's distance counter gives, and what the motion-heat input of a model integrates.
+  double TravelMm(std::size_t axis) const;
   // Model-free truth for tests: error the axis would have at x when
   // approached in `direction`, at the present temperatures.
   double ErrorAtUm(std::size_t axis, double x_mm, int direction) const;

@@ -1,0 +1,38 @@
+#include "trueaxis/sim/machine_log.hpp"
+
+#include <cctype>
+#include <cmath>
+
+#include "trueaxis/core/ascii_case.hpp"
+#include "trueaxis/core/coolant.hpp"
+#include "trueaxis/core/number_text.hpp"
+
+namespace trueaxis::sim {
+namespace {
+// Rounded to `digits` decimals, written without trailing zeros (the log stays small).
+std::string Fixed(double v, int digits) {
+  const double scale = std::pow(10.0, digits);
+  return FormatShortest(std::round(v * scale) / scale);
+}
+}  // namespace
+
+std::string MachineLogHeader(const VirtualMachine& vm) {
+  std::string h = "time_s,date,coolant";
+  for (std::size_t i = 0; i < vm.AxisCount(); ++i) h += "," + LowerAscii(vm.AxisName(i)) + "_mm";
+  for (std::size_t i = 0; i < vm.AxisCount(); ++i) h += "," + LowerAscii(vm.AxisName(i)) + "_travel_mm";
+  for (std::size_t i = 0; i < vm.ChannelCount(); ++i) h += ",t_" + vm.ChannelName(i) + "_c";
+  return h + "\n";
+}
+
+std::string MachineLogRow(const VirtualMachine& vm) {
+  std::string row = Fixed(vm.TimeS(), 1) + "," + vm.IsoTime() + "," + std::string(CoolantStateName(vm.coolant()));
+  for (std::size_t i = 0; i < vm.AxisCount(); ++i) row += "," + Fixed(vm.CommandedMm(i), 3);
+  for (std::size_t i = 0; i < vm.AxisCount(); ++i) row += "," + Fixed(vm.TravelMm(i), 1);
+  for (std::size_t i = 0; i < vm.SensorCount(); ++i) {
+    const auto r = vm.sensor(i).Latest();
+    row += "," + (r.hardware_fault || !std::isfinite(r.temp_c) ? std::string() : Fixed(r.temp_c, 4));
+  }
+  return row + "\n";
+}
+
+}  // namespace trueaxis::sim
