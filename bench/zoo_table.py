@@ -38,6 +38,9 @@ DEMO_OPTIONS = [
      "key sensors: seed (nut and bearing) or auto (chosen by the fit's CV from every sensor) (demo --keys)"),
     ("--fallback-handover-s", "--fallback-handover-s", False,
      "time constant of a fallback model's hand-over, s (demo --fallback-handover-s; 0: none)"),
+    ("--motion-heat", "--motion-heat", False,
+     "the motion-heat input (the axis's lagged feed as one more key): auto, on, off (demo --motion-heat; off: the "
+     "model before it)"),
     ("--no-lag-fall", "--no-lag-fall", True,
      "fit one lag tau both ways (demo --no-lag-fall): the lag before the longer fall"),
 ]

@@ -92,6 +92,11 @@ void Setup(CLI::App& app) {
                   "bench/results/zoo.md compares)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
+  cmd->add_option("--motion-heat", opts->demo.motion_heat,
+                  "The axis's lagged feed as one more key of the thermal slope (the motion-heat input): auto (kept "
+                  "by the fit's cross-validation), on, off (the default: the seed's keys only; bench/results/zoo.md compares)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   cmd->add_option("--keys", opts->demo.keys,
                   "Key sensors: seed (the axis's nut and bearing, seed 000's key points), auto (chosen from every "
                   "sensor by the fit's cross-validation, as `trueaxis fit`)")

@@ -55,6 +55,8 @@ struct FitCliOptions {
   double max_key_correlation = 0.98;
   double secondary_key_ridge = model::FitOptions{}.secondary_key_ridge;
   std::string key_offsets = "auto";
+  std::string motion_heat = "off";
+  std::vector<double> motion_lag_grid_s = model::FitOptions{}.motion_lag_grid_s;
   bool reuse_sources = false;
   bool full = false;
   std::vector<double> lag_grid_s = model::FitOptions{}.key_lag_grid_s;
@@ -118,6 +120,11 @@ void RunFit(const FitCliOptions& o) {
   else if (o.key_offsets == "on") fo.key_offsets = model::FitOptions::KeyOffsets::kOn;
   else if (o.key_offsets == "off") fo.key_offsets = model::FitOptions::KeyOffsets::kOff;
   else throw InputError("command line", 0, "--key-offsets", fmt::format("'{}' is not 'auto', 'on' or 'off'", o.key_offsets));
+  if (o.motion_heat == "auto") fo.motion_heat = model::FitOptions::MotionHeat::kAuto;
+  else if (o.motion_heat == "on") fo.motion_heat = model::FitOptions::MotionHeat::kOn;
+  else if (o.motion_heat == "off") fo.motion_heat = model::FitOptions::MotionHeat::kOff;
+  else throw InputError("command line", 0, "--motion-heat", fmt::format("'{}' is not 'auto', 'on' or 'off'", o.motion_heat));
+  fo.motion_lag_grid_s = o.motion_lag_grid_s;
   fo.reference_position_mm = o.reference_mm;
   fo.rho_um_per_mm_per_c = o.rho;
   fo.ambient_sensor = o.ambient_sensor;
@@ -246,6 +253,14 @@ void Setup(CLI::App& app) {
   cmd->add_option("--key-offsets", opts->key_offsets,
                   "Each key's own pivot (its rise also shifts the error over the travel): auto (by cross-validation), "
                   "on, off (one pivot Px, seed 000)")
+      ->capture_default_str();
+  cmd->add_option("--motion-heat", opts->motion_heat,
+                  "The axis's feed, lagged, as one more key of the thermal slope (needs the manifest's temperature "
+                  "log with <axis>_travel_mm): auto (kept by cross-validation), on, off (the default; bench/results/zoo.md)")
+      ->capture_default_str();
+  cmd->add_option("--motion-lag-grid-s", opts->motion_lag_grid_s,
+                  "Lag τ values (s) tried for the motion-heat input, by the same cross-validation")
+      ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--reference-mm", opts->reference_mm, "Reference point Px in mm (default: metadata or fitted)");
   cmd->add_option("--rho", opts->rho, "ρ in µm/mm/°C (default: fitted, or −cte/1000 from metadata)");

@@ -18,6 +18,7 @@
 
 #include "command.hpp"
 #include "trueaxis/analysis/evaluation.hpp"
+#include "trueaxis/core/ascii_case.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/number_text.hpp"
@@ -36,6 +37,7 @@ struct PredictOptions {
   std::string direction;
   std::vector<std::string> temps;
   double ambient_c = std::numeric_limits<double>::quiet_NaN();
+  double motion_m_per_min = std::numeric_limits<double>::quiet_NaN();  // the motion-heat input, when the model has one
   std::string coolant;  // empty: off (or the measurement file's own)
   bool geometric_only = false;
   bool json = false;
@@ -125,6 +127,13 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
                        "--temperature-log needs the file's '# campaign_time_s:' line (its start on the log's clock)");
     history = model::TemperatureHistoryFromLog(o.temperature_log, m, *start_s);
   }
+  // The motion-heat input needs the axis's travelled path before and during the file (the log's
+  // <axis>_travel_mm): without it the model cannot give its thermal part, and says so.
+  if (axis->HasMotionHeat() && !history.HasTravel())
+    throw InputError(o.measurement, 0, "--temperature-log",
+                     fmt::format("axis {}'s model has a motion-heat input (the axis's feed lagged by {} s): give "
+                                 "--temperature-log with the machine log that has {}_travel_mm over the file's time",
+                                 axis->axis, FormatShortest(axis->motion_lag_s), LowerAscii(axis->axis)));
   auto residual = model::PredictionResidual(*axis, m, *coolant, history.empty() ? nullptr : &history);
   // As the compensator: the first fallback's Er(x), plus the mean of the averaged fallbacks'
   // thermal + room parts (residual = measured − Er(x)₀ − mean(total_g − Er(x)_g)).
@@ -266,13 +275,24 @@ void RunPredict(const PredictOptions& o) {
                                  axis->key_rise_above_ambient ? " (key rises are measured above ambient)" : "",
                                  axis->ambient_baseline_c));
 
-  model::ThermalState st{key_temps, ambient, *coolant, use_thermal};
+  // The motion-heat input (the axis's lagged feed): asked for, as a key temperature is.
+  const auto motion_for = [&](const model::AxisModel& a) {
+    if (!a.HasMotionHeat() || !use_thermal) return 0.0;
+    if (std::isnan(o.motion_m_per_min))
+      throw InputError("command line", 0, "--motion-m-per-min",
+                       fmt::format("axis {}'s model has a motion-heat input (the axis's feed lagged by {} s): give "
+                                   "--motion-m-per-min (0: at rest for a few τ), or --geometric-only",
+                                   o.axis, FormatShortest(a.motion_lag_s)));
+    return o.motion_m_per_min;
+  };
+  model::ThermalState st{key_temps, ambient, *coolant, use_thermal, motion_for(*axis)};
   auto p = model::Predict(*axis, o.position_mm, *dir, st);
   if (averaged.size() > 1) {  // the mean of the fallbacks replacing the same sensor
     for (std::size_t g = 1; g < averaged.size(); ++g) {
       std::vector<double> temps;
       for (const auto& k : averaged[g]->key_sensors) temps.push_back(given.at(k));
-      const auto q = model::Predict(*averaged[g], o.position_mm, *dir, {temps, ambient, *coolant, use_thermal});
+      const auto q = model::Predict(*averaged[g], o.position_mm, *dir,
+                                    {temps, ambient, *coolant, use_thermal, motion_for(*averaged[g])});
       p.thermal_um += q.thermal_um, p.ambient_um += q.ambient_um, p.total_um += q.total_um - q.geometric_um;
       p.tan_beta_um_per_mm += q.tan_beta_um_per_mm;
       p.tan_beta_limited = p.tan_beta_limited || q.tan_beta_limited;
@@ -323,6 +343,7 @@ void RunPredict(const PredictOptions& o) {
                      {"fallback_model", fallback_note.empty() ? nlohmann::json(nullptr) : nlohmann::json(axis->key_sensors)},
                      {"fallback_models_averaged", averaged.size()},
                      {"unused_sensors", unused}};
+    if (axis->HasMotionHeat()) j["motion_m_per_min"] = st.motion_m_per_min;
     std::cout << j.dump(2) << "\n";
     return;
   }
@@ -333,6 +354,9 @@ void RunPredict(const PredictOptions& o) {
   std::cout << fmt::format("  geometric  Er(x)                  {:>10.3f} µm\n", p.geometric_um);
   std::cout << fmt::format("  thermal    tanβ·(Px − P0)         {:>10.3f} µm   (tanβ = {:.6f} µm/mm, Px = {:.3f} mm)\n",
                            p.thermal_um, p.tan_beta_um_per_mm, axis->reference_position_mm);
+  if (axis->HasMotionHeat() && use_thermal)
+    std::cout << fmt::format("  (tanβ includes the motion-heat input: {} m/min, the feed lagged by {} s)\n",
+                             FormatShortest(st.motion_m_per_min), FormatShortest(axis->motion_lag_s));
   std::cout << fmt::format("  ambient    ρ·ΔT_env·(Px − P0)     {:>10.3f} µm\n", p.ambient_um);
   std::cout << fmt::format("  predicted error (actual − commanded) {:>8.3f} µm\n", p.total_um);
   std::cout << fmt::format("  correction (added to the command)    {:>8.3f} µm\n", model::CorrectionUm(p));
@@ -365,6 +389,10 @@ void Setup(CLI::App& app) {
       ->delimiter(',')
       ->allow_extra_args(false);
   cmd->add_option("--ambient-c", o->ambient_c, "Ambient temperature in °C (for the ρ term)");
+  cmd->add_option("--motion-m-per-min", o->motion_m_per_min,
+                  "The motion-heat input of a model that has one: the axis's feed in m/min through the model's lag "
+                  "(0: at rest)")
+      ->check(CLI::Range(0.0, 1000.0));
   cmd->add_option("--coolant", o->coolant, "Coolant state: off, flood, mist, air (default off, or the file's)");
   cmd->add_flag("--geometric-only", o->geometric_only, "Geometric part only (no temperatures needed)");
   cmd->add_flag("--json", o->json, "Print JSON instead of text");

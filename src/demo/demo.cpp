@@ -27,7 +27,9 @@
 #include "trueaxis/runtime/loop_runner.hpp"
 #include "trueaxis/sim/campaign.hpp"
 #include "trueaxis/station/machine_connection.hpp"
+#include "trueaxis/core/text_file.hpp"
 #include "trueaxis/sim/laser_interferometer.hpp"
+#include "trueaxis/sim/machine_log.hpp"
 #include "trueaxis/sim/machine_description.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
 #include "trueaxis/store/history_writer.hpp"
@@ -49,6 +51,8 @@ bool DemoOptions::IsValid(std::string* why) const {
     return fail("geometric must be auto, polynomial or table, got '" + geometric + "'");
   if (day_offset < 1 || other_day_offset <= day_offset)
     return fail("day_offset must be >= 1 and other_day_offset > day_offset");
+  if (motion_heat != "auto" && motion_heat != "on" && motion_heat != "off")
+    return fail("motion_heat must be auto, on or off, got '" + motion_heat + "'");
   if (key_offsets != "auto" && key_offsets != "on" && key_offsets != "off")
     return fail("key_offsets must be auto, on or off, got '" + key_offsets + "'");
   {  // the fit's own check of the ridge, before anything runs
@@ -255,6 +259,9 @@ class WorkingDay {
     // The working day starts at 07:00, `day_offset` days after the campaign's first day.
     IdleUntil(o_.day_offset * 86400.0);
     observer_->SetDayStart(vm_.TimeS(), false);
+    // The day's machine log, as the campaign's temperature_log.csv: motion and temperatures.
+    machine_log_ = sim::MachineLogHeader(vm_);
+    vm_.SetLogger(30, [this](const sim::VirtualMachine& vm) { machine_log_ += sim::MachineLogRow(vm); });
     ScheduleDayFaults();
     if (model_loaded) model_loaded(vm_.UnixTimeS());
     Progress(fmt::format("working day {}: machine cold, compensator running every {:.0f} ms", vm_.IsoTime(), o_.period_s * 1000));
@@ -281,6 +288,8 @@ class WorkingDay {
     MeasureState("other day", axes);
     result_.loop_stats = runner_->Stats();
     result_.alarms_seen = observer_->alarms();
+    vm_.SetLogger(0, nullptr);
+    WriteTextFile((std::filesystem::path(result_.out_dir) / "day" / "machine_log.csv").string(), machine_log_);
   }
 
   ~WorkingDay() {
@@ -483,6 +492,7 @@ class WorkingDay {
   std::vector<std::string> all_axes_;
   std::unique_ptr<runtime::Compensator> comp_;
   std::unique_ptr<station::HistoryLogger> history_;
+  std::string machine_log_;
   std::unique_ptr<DayObserver> observer_;
   std::unique_ptr<runtime::LoopRunner> runner_;
   std::function<void(double)> advance_;
@@ -568,6 +578,9 @@ DemoResult RunDemo(const DemoOptions& o) {
     fo.key_offsets = o.key_offsets == "on"    ? model::FitOptions::KeyOffsets::kOn
                      : o.key_offsets == "off" ? model::FitOptions::KeyOffsets::kOff
                                               : model::FitOptions::KeyOffsets::kAuto;
+    fo.motion_heat = o.motion_heat == "on"    ? model::FitOptions::MotionHeat::kOn
+                     : o.motion_heat == "off" ? model::FitOptions::MotionHeat::kOff
+                                              : model::FitOptions::MotionHeat::kAuto;
     if (o.coolant_memory) fo.coolant_loss_grid_s = model::FitOptions::CoolantMemoryGridS();
     fo.fallback_models = o.fallback_models;
     fo.redundant_groups = RedundantProbes(md);

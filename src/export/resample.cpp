@@ -164,9 +164,17 @@ ResampleResult ResampleModel(const model::AxisModel& axis, const ResampleOptions
   // Thermal state from --temp name=value.
   std::vector<double> key(axis.key_sensors.size(), std::numeric_limits<double>::quiet_NaN());
   double ambient = std::numeric_limits<double>::quiet_NaN();
+  double motion_m_per_min = 0;  // the motion-heat input frozen at rest unless given
   int key_given = 0;
   for (const auto& [name, value] : o.thermal.temperatures_c) {
     bool matched = false;
+    if (axis.HasMotionHeat() && name == model::kMotionHeatName) {
+      if (!(value >= 0) || !std::isfinite(value))
+        throw InputError(source, 0, "--temp", fmt::format("{}={}: the motion-heat input is a feed in m/min >= 0",
+                                                          model::kMotionHeatName, Num(value)));
+      motion_m_per_min = value;
+      continue;
+    }
     for (std::size_t i = 0; i < axis.key_sensors.size(); ++i)
       if (axis.key_sensors[i] == name) {
         key[i] = value;
@@ -181,6 +189,7 @@ ResampleResult ResampleModel(const model::AxisModel& axis, const ResampleOptions
       std::string known;
       for (const auto& s : axis.key_sensors) known += (known.empty() ? "" : ", ") + s;
       if (!axis.ambient_sensor.empty()) known += (known.empty() ? "" : ", ") + axis.ambient_sensor + " (ambient)";
+      if (axis.HasMotionHeat()) known += (known.empty() ? "" : ", ") + std::string(model::kMotionHeatName) + " (m/min)";
       throw InputError(source, 0, "--temp",
                        fmt::format("unknown sensor '{}' for axis {}; the model knows: {}", name, axis.axis,
                                    known.empty() ? "no sensors" : known));
@@ -200,6 +209,7 @@ ResampleResult ResampleModel(const model::AxisModel& axis, const ResampleOptions
   state.ambient_c = ambient;
   state.coolant = o.thermal.coolant;
   state.use_thermal = true;
+  state.motion_m_per_min = motion_m_per_min;
 
   // Total thermal slope per direction at the frozen state: the thermal terms
   // are linear in (Px − x), so the value one millimetre below Px is the slope.
@@ -225,6 +235,9 @@ ResampleResult ResampleModel(const model::AxisModel& axis, const ResampleOptions
   }
   std::string temps;
   for (const auto& [name, value] : o.thermal.temperatures_c) temps += fmt::format(" {}={}", name, Num(value));
+  if (axis.HasMotionHeat() && std::none_of(o.thermal.temperatures_c.begin(), o.thermal.temperatures_c.end(),
+                                           [](const auto& t) { return t.first == model::kMotionHeatName; }))
+    temps += fmt::format(" {}=0 (at rest)", model::kMotionHeatName);
   t.provenance.push_back(fmt::format("source: model {} axis {}", source, axis.axis));
   t.provenance.push_back(fmt::format("thermal state: coolant {},{} tan_beta fwd {} rev {} um/mm about Px {} mm ({})",
                                      CoolantStateName(o.thermal.coolant), temps.empty() ? " cold (no --temp)" : temps,

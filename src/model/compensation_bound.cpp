@@ -54,6 +54,17 @@ double LargestCorrection(const AxisModel& axis, const CompensationBoundOptions& 
     ambients = {axis.ambient_baseline_c - o.ambient_margin_c, axis.ambient_baseline_c,
                 axis.ambient_baseline_c + o.ambient_margin_c};
 
+  // The motion-heat input (AxisModel::motion_lag_s) from standstill to the highest the gains were
+  // fitted at (their envelope; without one, a rapid 20 m/min held for good).
+  std::vector<double> motions{0.0};
+  if (axis.HasMotionHeat()) {
+    double hi = 0;
+    for (const auto& dm : axis.directions)
+      for (const auto& g : dm.thermal)
+        if (g.key_rise_range_c.size() > keys) hi = std::max(hi, g.key_rise_range_c[keys][1]);
+    motions.push_back(hi > 0 ? hi : 20.0);
+  }
+
   double worst = 0;
   std::vector<double> temps(keys);
   for (Direction d : {Direction::kForward, Direction::kReverse}) {
@@ -68,13 +79,14 @@ double LargestCorrection(const AxisModel& axis, const CompensationBoundOptions& 
     for (std::size_t level = 0; level < 2; ++level) {
       for (std::size_t k = 0; k < keys; ++k) temps[k] = levels[k][level];
       for (double amb : ambients)
-        for (CoolantState c : coolants) {
-          const ThermalState ts{std::span<const double>(temps), amb, c, true};
-          for (double x : xs) {
-            const double corr = std::fabs(CorrectionUm(Predict(axis, x, d, ts)));
-            if (std::isfinite(corr)) worst = std::max(worst, corr);
+        for (CoolantState c : coolants)
+          for (double motion : motions) {
+            const ThermalState ts{std::span<const double>(temps), amb, c, true, motion};
+            for (double x : xs) {
+              const double corr = std::fabs(CorrectionUm(Predict(axis, x, d, ts)));
+              if (std::isfinite(corr)) worst = std::max(worst, corr);
+            }
           }
-        }
     }
   }
   return worst;

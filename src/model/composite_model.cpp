@@ -54,13 +54,16 @@ Prediction Predict(const AxisModel& axis, double position_mm, Direction directio
   if (state.use_thermal) {
     if (const ThermalGains* g = dm.GainsFor(state.coolant)) {
       double tan_beta = g->offset_um_per_mm;
-      bool ok = state.key_temp_c.size() >= g->k_um_per_mm_per_c.size() &&
-                axis.baseline_temp_c.size() >= g->k_um_per_mm_per_c.size();
+      const std::size_t n_keys = axis.key_sensors.size();
+      const bool motion = axis.HasMotionHeat() && g->k_um_per_mm_per_c.size() > n_keys;
+      const std::size_t n_gains = std::min(g->k_um_per_mm_per_c.size(), n_keys);
+      bool ok = state.key_temp_c.size() >= n_gains && axis.baseline_temp_c.size() >= n_gains &&
+                !(motion && std::isnan(state.motion_m_per_min));
       // Rise above ambient (key_rise_above_ambient): subtract the room's own change.
       double ambient_shift_c = 0;
       if (axis.key_rise_above_ambient && !std::isnan(state.ambient_c) && !std::isnan(axis.ambient_baseline_c))
         ambient_shift_c = state.ambient_c - axis.ambient_baseline_c;
-      for (std::size_t i = 0; ok && i < g->k_um_per_mm_per_c.size(); ++i) {
+      for (std::size_t i = 0; ok && i < n_gains; ++i) {
         const double t = state.key_temp_c[i];
         if (std::isnan(t)) {
           ok = false;
@@ -68,12 +71,16 @@ Prediction Predict(const AxisModel& axis, double position_mm, Direction directio
         }
         tan_beta += g->k_um_per_mm_per_c[i] * HeldRise(*g, i, t - axis.baseline_temp_c[i] - ambient_shift_c, p);
       }
+      // The motion-heat input: one more key whose rise is M itself (no baseline, no room).
+      const double motion_rise = motion && ok ? HeldRise(*g, n_keys, state.motion_m_per_min, p) : 0.0;
+      if (motion && ok) tan_beta += g->k_um_per_mm_per_c[n_keys] * motion_rise;
       double shift_um = 0;  // Σ offset_i·ΔT_i (+ the room's): each key's own pivot (none in the seed's form)
       if (ok)
         if (const KeyShifts* ks = axis.ShiftsFor(direction, g)) {
-          for (std::size_t i = 0; i < ks->offset_um_per_c.size() && i < g->k_um_per_mm_per_c.size(); ++i)
+          for (std::size_t i = 0; i < ks->offset_um_per_c.size() && i < n_gains; ++i)
             shift_um += ks->offset_um_per_c[i] *
                         HeldRise(*g, i, state.key_temp_c[i] - axis.baseline_temp_c[i] - ambient_shift_c, p);
+          if (motion && ks->offset_um_per_c.size() > n_keys) shift_um += ks->offset_um_per_c[n_keys] * motion_rise;
           if (!std::isnan(state.ambient_c) && !std::isnan(axis.ambient_baseline_c))
             shift_um += ks->ambient_offset_um_per_c * (state.ambient_c - axis.ambient_baseline_c);
         }

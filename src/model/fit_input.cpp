@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "trueaxis/core/ascii_case.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/json_text.hpp"
 #include "trueaxis/core/plausibility.hpp"
@@ -23,17 +24,12 @@
 namespace trueaxis::model {
 namespace {
 
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-
 bool StartsWith(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
 
 // "coolant:flood" / "coolant-flood" / "coolant_flood" → "flood"; "" otherwise.
 // Only a known coolant name counts, so "coolant-03" (a sequence) is not misread.
 std::string CoolantFromLabel(const std::string& label) {
-  const std::string l = Lower(label);
+  const std::string l = LowerAscii(label);
   for (const char* p : {"coolant:", "coolant-", "coolant_"})
     if (StartsWith(l, p)) {
       std::string rest = l.substr(std::string(p).size());
@@ -58,7 +54,7 @@ const char* StateKindName(StateKind k) {
 }
 
 StateKind KindFromLabel(const std::string& label) {
-  const std::string l = Lower(std::string(Trim(label)));
+  const std::string l = LowerAscii(std::string(Trim(label)));
   if (l.empty()) return StateKind::kUnknown;
   if (StartsWith(l, "cold")) return StateKind::kCold;
   if (StartsWith(l, "ambient")) return StateKind::kAmbient;
@@ -84,13 +80,13 @@ FitState MakeFitState(measure::Measurement m, const std::string& label_override,
     coolant = CoolantFromLabel(s.label);
     field = "state";
   }
-  if (coolant.empty() && Lower(s.label).rfind("coolant", 0) == 0)
+  if (coolant.empty() && LowerAscii(s.label).rfind("coolant", 0) == 0)
     throw InputError(m.source, 0, "coolant",
                      fmt::format("state '{}' is a coolant state but does not say which coolant; add '# coolant: flood' "
                                  "(or mist/air)",
                                  s.label));
   if (!coolant.empty()) {
-    auto c = ParseCoolantState(Lower(coolant));
+    auto c = ParseCoolantState(LowerAscii(coolant));
     if (!c)
       throw InputError(m.source, 0, field,
                        fmt::format("unknown coolant state '{}' (expected off, flood, mist or air)", coolant));
@@ -108,6 +104,7 @@ struct TemperatureLog {
   std::vector<double> time_s;
   std::vector<std::vector<double>> rows;  // parallel to sensors
   std::vector<CoolantState> coolant;      // per row; empty when the log has no coolant column
+  std::map<std::string, std::vector<double>> travel_mm;  // per axis (lower case): <axis>_travel_mm
 };
 
 // Every row must have the header's field count, a time after the previous
@@ -117,6 +114,7 @@ TemperatureLog ReadTemperatureLog(const std::string& path) {
   const std::string text = ReadTextFile(path);
   TemperatureLog log;
   std::vector<int> col_sensor;  // per column: index into sensors, -1 other
+  std::vector<std::string> col_travel;  // per column: the axis of a <axis>_travel_mm column, else empty
   int time_col = -1, coolant_col = -1;
   std::size_t columns = 0;
   const std::string canonical = CanonicalCsv(text);  // ';' + decimal-comma exports read as CSV
@@ -131,6 +129,10 @@ TemperatureLog ReadTemperatureLog(const std::string& path) {
         const std::string h(cells[c]);
         if (h == "time_s") time_col = static_cast<int>(c);
         if (h == "coolant") coolant_col = static_cast<int>(c);
+        const std::string travel_suffix = "_travel_mm";
+        const bool travel = h.size() > travel_suffix.size() && h.substr(h.size() - travel_suffix.size()) == travel_suffix;
+        col_travel.push_back(travel ? LowerAscii(h.substr(0, h.size() - travel_suffix.size())) : std::string());
+        if (travel) log.travel_mm[col_travel.back()];
         if (h.size() > 4 && h.rfind("t_", 0) == 0 && h.substr(h.size() - 2) == "_c") {
           col_sensor.push_back(static_cast<int>(log.sensors.size()));
           log.sensors.push_back(h.substr(2, h.size() - 4));
@@ -159,6 +161,19 @@ TemperatureLog ReadTemperatureLog(const std::string& path) {
       if (!v) throw InputError(path, line, field, fmt::format("'{}' is not a number", cells[c]));
       if (auto why = ImplausibleTemperatureC(*v)) throw InputError(path, line, field, *why);
       vals[col_sensor[c]] = *v;
+    }
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      if (col_travel[c].empty()) continue;
+      const auto v = cells[c].empty() ? std::optional<double>(std::nan("")) : ParseDouble(cells[c]);
+      const std::string field = col_travel[c] + "_travel_mm";
+      if (!v || std::isinf(*v) || *v < 0)
+        throw InputError(path, line, field, fmt::format("'{}' is not a path length in mm (a number >= 0)", cells[c]));
+      auto& series = log.travel_mm[col_travel[c]];
+      if (!series.empty() && std::isfinite(series.back()) && std::isfinite(*v) && *v < series.back() - 1e-6)
+        throw InputError(path, line, field,
+                         fmt::format("{} mm is less than the previous row's {} mm: the travelled path only grows",
+                                     FormatShortest(*v), FormatShortest(series.back())));
+      series.push_back(*v);
     }
     if (coolant_col >= 0) {
       const std::string name(cells[static_cast<std::size_t>(coolant_col)]);
@@ -191,6 +206,21 @@ TemperatureHistory HistoryBefore(const TemperatureLog& log, const measure::Measu
     h.time_s.push_back(rel);
     h.temps_c.push_back(std::move(vals));
     if (!log.coolant.empty()) h.coolant.push_back(log.coolant[r]);
+  }
+  // The axis's travel up to the measurement's end.
+  const auto axis = m.Meta("axis");
+  const auto travel = axis ? log.travel_mm.find(LowerAscii(*axis)) : log.travel_mm.end();
+  if (travel != log.travel_mm.end()) {
+    double end_s = 0;
+    for (const auto& p : m.points)
+      if (p.time_s) end_s = std::max(end_s, *p.time_s);
+    for (std::size_t r = 0; r < log.time_s.size(); ++r) {
+      const double rel = log.time_s[r] - start_s;
+      if (rel < -TemperatureHistory::kWindowS || !std::isfinite(travel->second[r])) continue;
+      h.travel_time_s.push_back(rel);
+      h.travel_mm.push_back(travel->second[r]);
+      if (rel > end_s) break;  // one row past the end: the last point lies between two rows
+    }
   }
   return h;
 }

@@ -31,6 +31,8 @@ bool FitOptions::IsValid(std::string* why) const {
   if (!(min_ambient_range_c > 0)) return fail("min_ambient_range_c must be > 0");
   for (double tau : key_lag_grid_s)
     if (!(tau >= 0) || !std::isfinite(tau)) return fail("key_lag_grid_s values must be finite seconds >= 0");
+  for (double tau : motion_lag_grid_s)
+    if (!(tau >= 0) || !std::isfinite(tau)) return fail("motion_lag_grid_s values must be finite seconds >= 0");
   for (double f : key_lag_fall_grid)
     if (!(f >= 1) || !std::isfinite(f)) return fail("key_lag_fall_grid values must be finite factors >= 1");
   if (!(min_lag_cv_improvement >= 0 && min_lag_cv_improvement < 1))

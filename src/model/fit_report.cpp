@@ -102,12 +102,15 @@ std::string RenderFitReportHtml(const FitResult& result, const std::vector<FitSt
       for (const auto& s : sum.selection_steps)
         t.AddRow({s.keys.empty() ? "(none)" : fmt::format("{}", fmt::join(s.keys, ", ")), Num(s.cv_rms_um), s.note});
       page.AddTable(t);
+      if (!sum.motion_reason.empty()) page.AddNote("motion heat: " + sum.motion_reason);
       for (const auto& n : sum.coolant_notes) page.AddNote(n);
       for (const auto& n : sum.fallback_notes) page.AddNote(n);
     }
     if (!a.key_sensors.empty()) {
       std::vector<std::string> header{"coolant", "direction"};
       for (const auto& k : a.key_sensors) header.push_back("k " + k + " (µm/mm/°C)");
+      if (a.HasMotionHeat())
+        header.push_back(fmt::format("k motion heat, τ {} s (µm/mm per m/min)", Num(a.motion_lag_s, 0)));
       report::HtmlTable t(header, "Gains (the coolant look-up table)");
       for (int d = 0; d < 2; ++d)
         for (const auto& g : a.directions[d].thermal) {

@@ -37,6 +37,7 @@ std::string FitSummary::BriefReport() const {
                          Num(a.thermal_cv_rms_um), Num(a.no_thermal_cv_rms_um), Num(a.reference_position_mm, 1),
                          Num(a.rho_um_per_mm_per_c, 5));
     if (a.thermal_fitted && !a.lag_reason.empty()) out += fmt::format("; key lag τ {} s", Num(a.key_lag_s, 0));
+    if (a.thermal_fitted && a.motion_lag_s > 0) out += fmt::format("; motion heat τ {} s", Num(a.motion_lag_s, 0));
     if (a.thermal_fitted && a.key_offsets) out += "; each key's own pivot";
     if (!a.thermal_fitted) out += "; geometric only";
     for (const auto& n : a.fallback_notes) out += "\n  " + n;
@@ -87,6 +88,11 @@ std::string FitSummary::FullReport() const {
         out += fmt::format("  τ {:>6} s: LOSO CV RMS {} µm\n", Num(c[0], 0), Num(c[1]));
     }
     if (!a.key_offsets_reason.empty()) out += fmt::format("pivots: {}\n", a.key_offsets_reason);
+    if (!a.motion_reason.empty()) {
+      out += fmt::format("motion heat: {}\n", a.motion_reason);
+      for (const auto& c : a.motion_candidates)
+        out += fmt::format("  τ {:>6} s: LOSO CV RMS {} µm\n", Num(c[0], 0), Num(c[1]));
+    }
     for (const auto& n : a.coolant_notes) out += "  " + n + "\n";
     for (const auto& n : a.fallback_notes) out += "  " + n + "\n";
     out += "states (µm; residual = measured − model, all points):\n";
@@ -166,6 +172,13 @@ nlohmann::json FitSummary::ToJson() const {
                       {"thermal_cv_rms_um", JsonNum(a.thermal_cv_rms_um)},
                       {"key_lag_s", JsonNum(a.key_lag_s)},
                       {"lag_reason", a.lag_reason},
+                      {"motion_lag_s", JsonNum(a.motion_lag_s)},
+                      {"motion_reason", a.motion_reason},
+                      {"motion_candidates", [&] {
+                         nlohmann::json arr = nlohmann::json::array();
+                         for (const auto& c : a.motion_candidates) arr.push_back({{"tau_s", JsonNum(c[0])}, {"cv_rms_um", JsonNum(c[1])}});
+                         return arr;
+                       }()},
                       {"key_offsets", a.key_offsets},
                       {"key_offsets_reason", a.key_offsets_reason},
                       {"lag_candidates", [&] {

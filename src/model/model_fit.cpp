@@ -1,5 +1,6 @@
 #include "trueaxis/model/model_fit.hpp"
 #include "trueaxis/model/thermal_lag.hpp"
+#include "trueaxis/model/motion_heat.hpp"
 #include "trueaxis/model/thermal_state.hpp"
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "trueaxis/core/ascii_case.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
 
@@ -20,11 +22,6 @@ namespace trueaxis::model {
 namespace {
 
 constexpr double kSameTargetTolMm = 1e-6;
-
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
 
 std::string StateName(const FitState& s) { return s.label.empty() ? s.path : s.label; }
 
@@ -446,7 +443,7 @@ class AxisFitter {
   }
 
   std::string AmbientSensorName() {
-    if (Lower(o_.ambient_sensor) == "none") return "";
+    if (LowerAscii(o_.ambient_sensor) == "none") return "";
     auto in_all = [&](const std::string& n) {
       for (auto* s : all_)
         if (!s->measurement.SensorIndex(n)) return false;
@@ -460,7 +457,7 @@ class AxisFitter {
       return o_.ambient_sensor;
     }
     for (const auto& n : cold_.sensor_names) {
-      const std::string l = Lower(n);
+      const std::string l = LowerAscii(n);
       if ((l == "ambient" || l == "air" || l == "env" || l == "environment" || l == "room") && in_all(n)) return n;
     }
     return "";
@@ -507,18 +504,18 @@ class AxisFitter {
     std::vector<std::string> candidates;
     const bool above_ambient = !amb.empty();
     // "x_nut" belongs to axis X; a one-letter prefix other than this axis' marks another axis' sensor.
-    const std::string own_prefix = axis_name_.size() == 1 ? Lower(axis_name_) + "_" : "";
+    const std::string own_prefix = axis_name_.size() == 1 ? LowerAscii(axis_name_) + "_" : "";
     auto axis_prefixed = [](const std::string& n) {
       return n.size() > 2 && n[1] == '_' && std::isalpha(static_cast<unsigned char>(n[0]));
     };
     bool per_axis_names = false;
-    for (const auto& n : cold_.sensor_names) per_axis_names = per_axis_names || (!own_prefix.empty() && Lower(n).rfind(own_prefix, 0) == 0);
+    for (const auto& n : cold_.sensor_names) per_axis_names = per_axis_names || (!own_prefix.empty() && LowerAscii(n).rfind(own_prefix, 0) == 0);
     std::vector<std::string> other_axis;
     for (const auto& n : cold_.sensor_names) {
       if (above_ambient && n == amb) continue;
       if (std::find(o_.excluded_sensors.begin(), o_.excluded_sensors.end(), n) != o_.excluded_sensors.end()) continue;
       if (o_.own_axis_sensors_only && per_axis_names && o_.key_sensors.empty() && axis_prefixed(n) &&
-          Lower(n).rfind(own_prefix, 0) != 0) {
+          LowerAscii(n).rfind(own_prefix, 0) != 0) {
         other_axis.push_back(n);
         continue;
       }
@@ -572,6 +569,11 @@ class AxisFitter {
     // Thermal points; each candidate's rise lagged by its own τ (0: each point's own reading),
     // `fall_factor` times longer while it falls (dry; chosen after τ below).
     double fall_factor = 1;
+    // The motion-heat input (FitOptions::motion_lag_grid_s): its τ (0: none yet), and its place in
+    // each point's rises, after the candidates: a key like the sensors, with M (m/min) as its rise.
+    double motion_tau = 0;
+    const std::size_t motion_col = candidates.size();
+    motion_col_ = motion_col;
     auto build_points = [&](const std::vector<double>& tau_s, const std::array<double, kCoolantStateCount>& loss_s = {}) {
     std::vector<ThermalPoint> pts;
     for (std::size_t si = 0; si < thermal_.size(); ++si) {
@@ -591,6 +593,7 @@ class AxisFitter {
           d.coolant = thermal_[si]->coolant;
           lagged[j] = ObservedSensorSeries(m, *idx[j], d, &thermal_[si]->history);
         }
+      const std::vector<double> motion = MotionHeatAtPoints(m, thermal_[si]->history, motion_tau);
       for (std::size_t pi = 0; pi < m.points.size(); ++pi) {
         const auto& p = m.points[pi];
         ThermalPoint t;
@@ -607,6 +610,7 @@ class AxisFitter {
           const double temp = !idx[j] ? kNaN : lagged[j].empty() ? p.temperatures_c[*idx[j]] : lagged[j][pi];
           t.rise.push_back(temp - base[j] - amb_shift);
         }
+        t.rise.push_back(motion[pi]);  // motion_col (NaN without a motion τ)
         pts.push_back(std::move(t));
       }
     }
@@ -749,7 +753,8 @@ class AxisFitter {
     // then each key's own τ in turn (coordinate descent over the grid, two passes: the nut and the
     // bearing reach the screw on different time scales). Each step is kept only when it lowers the
     // CV by min_lag_cv_improvement (τ = 0 everywhere leaves the points exactly as before).
-    std::vector<double> key_lag_s(candidates.size(), 0.0);
+    std::vector<double> key_lag_s(candidates.size() + 1, 0.0);  // + the motion column's: never lagged again
+    std::vector<double> plain_lag_s;  // the lag chosen before the fall factor (empty: none chosen)
     bool lag_grid = false;
     for (double tau : o_.key_lag_grid_s) lag_grid = lag_grid || tau > 0;
     if (thermal && lag_grid) {
@@ -809,6 +814,7 @@ class AxisFitter {
       // A falling key lags longer (AxisModel::key_lag_fall_factor), kept by the same rule.
       // (With each key's own τ, per_key_lag, one τ both ways: the factor is searched with one τ.)
       std::string fall;
+      plain_lag_s = key_lag_s;  // the lag before a longer fall: the motion input is also tried on it
       if (per_key.empty() && best_fall != 1 && best_fall_cv <= gain * cur_cv) {
         fall = fmt::format("; with a falling key lagging {}× longer (τ = {} s rising): {:.3f} → {:.3f} µm",
                            FormatShortest(best_fall), FormatShortest(best_fall_tau), cur_cv, best_fall_cv);
@@ -854,6 +860,84 @@ class AxisFitter {
                                                    : "one pivot Px for every key: given in the options";
       }
       sum.key_offsets = form_.key_offsets;
+    }
+    // The motion-heat input (motion_heat.hpp): the axis's lagged feed as one more key, its τ from the
+    // grid by the same LOSO CV, kept when it lowers the CV by min_cv_improvement. Only when every
+    // state's history has the axis's travel (a real machine's log may not: then the seed's form).
+    if (thermal && !keys.empty()) {
+      bool grid = false;
+      for (double t : o_.motion_lag_grid_s) grid = grid || t > 0;
+      std::vector<std::string> without_travel;
+      for (auto* s : thermal_)
+        if (!s->history.HasTravel()) without_travel.push_back(s->path);
+      if (o_.motion_heat == FitOptions::MotionHeat::kOff) {
+        sum.motion_reason = "not tried (off in the options)";
+      } else if (!grid) {
+        sum.motion_reason = "not tried (no motion τ grid)";
+      } else if (!without_travel.empty()) {
+        sum.motion_reason = fmt::format("not tried: {} of {} states have no travelled path of axis {} in their history "
+                                        "(the machine log's {}_travel_mm column; first: {})",
+                                        without_travel.size(), thermal_.size(), axis_name_, LowerAscii(axis_name_),
+                                        without_travel.front());
+      } else {
+        const double cv0 = CrossValidate(pts, off_states, keys, false, fit_rho ? joint_rho(keys) : rho, form_);
+        auto with = keys;
+        with.push_back(motion_col);
+        // The CV with M lagged by `tau`, on the keys' lag `lag` with fall factor `fall`.
+        auto motion_cv = [&](const std::vector<double>& lag, double fall, double tau) {
+          const double keep_fall = fall_factor, keep_tau = motion_tau;
+          fall_factor = fall, motion_tau = tau;
+          auto trial = build_points(lag);
+          for (auto& p : trial) p.lever_mm = px - p.x;
+          const double cv = CrossValidate(trial, off_states, with, false,
+                                          fit_rho ? JointRho(trial, off_states, with, form_) : rho, form_);
+          fall_factor = keep_fall, motion_tau = keep_tau;
+          return cv;
+        };
+        // (a) on the keys' lag as chosen; (b) when a longer fall was chosen, also on the plain lag
+        // with the fall factor chosen again alongside M: the longer fall and M both stand for the
+        // screw's heat after the nut stops, and the one chosen first would otherwise take it all.
+        double best_cv = std::numeric_limits<double>::infinity(), best_tau = 0, best_fall = fall_factor;
+        std::vector<double> best_lag = key_lag_s;
+        for (double tau : o_.motion_lag_grid_s) {
+          if (!(tau > 0)) continue;
+          double cv = motion_cv(key_lag_s, fall_factor, tau);
+          if (cv < best_cv) best_cv = cv, best_tau = tau, best_fall = fall_factor, best_lag = key_lag_s;
+          if (fall_factor != 1 && !plain_lag_s.empty())
+            for (double f : o_.key_lag_fall_grid) {
+              const double cv_b = motion_cv(plain_lag_s, f, tau);
+              cv = std::min(cv, cv_b);
+              if (cv_b < best_cv) best_cv = cv_b, best_tau = tau, best_fall = f, best_lag = plain_lag_s;
+            }
+          sum.motion_candidates.push_back({tau, cv});
+        }
+        const bool forced = o_.motion_heat == FitOptions::MotionHeat::kOn;
+        if (best_tau > 0 && (forced || best_cv <= (1 - o_.min_cv_improvement) * cv0)) {
+          const bool refall = best_fall != fall_factor || best_lag != key_lag_s;
+          motion_tau = best_tau;
+          fall_factor = best_fall;
+          key_lag_s = best_lag;
+          pts = build_points(key_lag_s);
+          for (auto& p : pts) p.lever_mm = px - p.x;
+          keys = with;
+          sum.motion_lag_s = best_tau;
+          double largest = 0;
+          for (auto k : keys) largest = std::max(largest, key_lag_s[k]);
+          sum.key_lag_s = largest;
+          sum.motion_reason = fmt::format("the axis's feed lagged by τ = {} s as one more key lowers the LOSO CV from "
+                                          "{:.3f} to {:.3f} µm{}{}",
+                                          FormatShortest(best_tau), cv0, best_cv,
+                                          refall ? fmt::format(" (with the keys' lag {} s and a falling key {}× "
+                                                               "longer, chosen again alongside it)",
+                                                               FormatShortest(sum.key_lag_s), FormatShortest(best_fall))
+                                                 : std::string(),
+                                          forced ? " (on in the options)" : "");
+        } else {
+          sum.motion_reason = fmt::format("none: the best τ = {} s gives LOSO CV {:.3f} µm against {:.3f} µm without "
+                                          "(kept at ≥ {:.0f} % better)",
+                                          FormatShortest(best_tau), best_cv, cv0, 100 * o_.min_cv_improvement);
+        }
+      }
     }
     // The coolant's memory (thermal_state.hpp): the key states drawn to the room with a loss τ while
     // a coolant runs, and ONE set of gains for every state, against today's table (own gains per
@@ -950,7 +1034,8 @@ class AxisFitter {
             pts, [&](const ThermalPoint& p) { return p.dir == 0 && off_states.count(p.state); }, keys, false, rho,
             GainForm{0.0, form_.key_offsets});
         std::vector<std::string> shrunk_names;
-        for (std::size_t j = 1; j < keys.size(); ++j) shrunk_names.push_back(candidates[keys[j]]);
+        for (std::size_t j = 1; j < keys.size(); ++j)
+          shrunk_names.push_back(keys[j] < candidates.size() ? candidates[keys[j]] : std::string("motion heat"));
         sum.key_selection_reason += fmt::format(
             "; the gains of {} shrunk toward the {}-only fit (ridge λ {}, FitOptions::secondary_key_ridge): forward "
             "{:.5f} µm/mm/°C, plain least squares {}",
@@ -958,13 +1043,16 @@ class AxisFitter {
             fmt::join(fits[0].k, " / "), plain.ok ? fmt::format("{:.5f}", fmt::join(plain.k, " / ")) : std::string("–"));
       }
       for (auto k : keys) {
+        if (k == motion_col) continue;  // the motion input is not a sensor (always the last key)
         model_.key_sensors.push_back(candidates[k]);
         model_.baseline_temp_c.push_back(base[k]);
       }
+      model_.motion_lag_s = motion_tau;
       bool any_lag = false;
       for (auto k : keys) any_lag = any_lag || key_lag_s[k] > 0;
       if (any_lag) {
-        for (auto k : keys) model_.key_lag_s.push_back(key_lag_s[k]);
+        for (auto k : keys)
+          if (k != motion_col) model_.key_lag_s.push_back(key_lag_s[k]);
         model_.key_lag_fall_factor = fall_factor;
       }
       for (const auto& name : model_.key_sensors) model_.key_fitted_range_c.push_back(SensorRange(name));
@@ -980,7 +1068,7 @@ class AxisFitter {
         for (std::size_t si = 0; si < thermal_.size(); ++si) {
           const auto c = static_cast<std::size_t>(thermal_[si]->coolant);
           if (thermal_[si]->coolant != CoolantState::kOff && model_.key_loss_s[c].empty())
-            model_.key_loss_s[c].assign(keys.size(), key_loss[c]);
+            model_.key_loss_s[c].assign(model_.key_sensors.size(), key_loss[c]);
         }
       } else {
         FitCoolant(pts, keys, rho, fits, sum);
@@ -1055,6 +1143,34 @@ class AxisFitter {
                                            sum.candidate_note.empty() ? "" : "; " + sum.candidate_note);
   }
 
+  // With the motion-heat input among `keys` (always the last), a coolant's own gains are fitted on
+  // the key sensors only, with M's gain held at the off-coolant value: a coolant's few states (4 or
+  // 5 of one session) cannot tell M from the keys, and own gains for it swung to the opposite sign
+  // on drawn machines (rnd3_09_gantry Y warm + coolant 14.6 → 53.0 µm). `keys` without M, and the
+  // points with the off gains' M part taken out of r.
+  bool HasMotionKey(const std::vector<std::size_t>& keys) const { return !keys.empty() && keys.back() == motion_col_; }
+  std::vector<std::size_t> SensorKeys(const std::vector<std::size_t>& keys) const {
+    return HasMotionKey(keys) ? std::vector<std::size_t>(keys.begin(), keys.end() - 1) : keys;
+  }
+  std::vector<ThermalPoint> WithoutMotionPart(const std::vector<ThermalPoint>& pts, const std::vector<std::size_t>& keys,
+                                              const GainFit* off_fits) const {
+    std::vector<ThermalPoint> out = pts;
+    if (!HasMotionKey(keys)) return out;
+    const std::size_t j = keys.size() - 1;
+    for (auto& p : out) {
+      const GainFit& g = off_fits[p.dir];
+      const double m = p.rise[motion_col_];
+      if (!std::isfinite(m) || j >= g.k.size()) continue;
+      p.r -= g.k[j] * m * p.lever_mm + (j < g.ko.size() ? g.ko[j] * m : 0.0);
+    }
+    return out;
+  }
+  // A coolant's own gains for the sensor keys completed with the off gains' M entry.
+  static void AppendMotionGain(const GainFit& off, GainFit& g) {
+    if (off.k.size() == g.k.size() + 1) g.k.push_back(off.k.back());
+    if (!g.ko.empty() && off.ko.size() == g.ko.size() + 1) g.ko.push_back(off.ko.back());
+  }
+
   // The off-coolant gains times one factor fitted on `use`'s points of direction `dir` (the
   // coolant fallback: one parameter, so it cannot swing far from what the off states showed).
   template <typename Use>
@@ -1080,13 +1196,16 @@ class AxisFitter {
                    const GainFit* off_fits, const std::set<std::size_t>& states, bool own) const {
     double ss = 0;
     std::size_t n = 0;
+    const auto sensor_keys = SensorKeys(keys);
+    const auto own_pts = own ? WithoutMotionPart(pts, keys, off_fits) : std::vector<ThermalPoint>{};
     for (int dir = 0; dir < 2; ++dir)
       for (std::size_t s : states) {
         auto train = [&](const ThermalPoint& p) { return p.dir == dir && p.state != s && states.count(p.state); };
         GainFit g;
         if (own) {
-          g = SolveGains(pts, train, keys, false, rho, form_);
+          g = SolveGains(own_pts, train, sensor_keys, false, rho, form_);
           if (!g.ok) return std::numeric_limits<double>::infinity();
+          AppendMotionGain(off_fits[dir], g);
         } else {
           g = off_fits[dir];
           const double f = CoolantFactor(pts, keys, rho, off_fits[dir], dir, train);
@@ -1113,7 +1232,8 @@ class AxisFitter {
       // one-factor form: with a few states of one warm-up the key rises move together, and own
       // gains fitted on them can be large and of opposite sign — they then extrapolate wildly on
       // any other mix of nut and bearing temperatures (issue 10: gantry2000 X with flood coolant).
-      bool own = states.size() >= keys.size() + 1 && !keys.empty();
+      const auto sensor_keys = SensorKeys(keys);
+      bool own = states.size() >= sensor_keys.size() + 1 && !sensor_keys.empty();
       std::string why;
       if (own && states.size() >= 2 && o_.coolant_form_by_cv) {
         const double cv_own = CoolantCv(pts, keys, rho, off_fits, states, true);
@@ -1127,8 +1247,10 @@ class AxisFitter {
         KeyShifts shifts;  // each key's own pivot (kept only with key offsets)
         tg.coolant = coolant;
         if (own) {
-          auto g = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && states.count(p.state); }, keys,
+          auto g = SolveGains(WithoutMotionPart(pts, keys, off_fits),
+                              [&](const ThermalPoint& p) { return p.dir == dir && states.count(p.state); }, sensor_keys,
                               false, rho, form_);
+          if (g.ok) AppendMotionGain(off_fits[dir], g);
           const GainFit& used = g.ok ? g : off_fits[dir];
           tg.k_um_per_mm_per_c = used.k;
           shifts.offset_um_per_c = used.ko;
@@ -1144,7 +1266,7 @@ class AxisFitter {
             sum.coolant_notes.push_back(fmt::format("coolant {}: {} state(s){}: off-coolant gains × one fitted factor "
                                                     "({:.3f} forward",
                                                     CoolantStateName(coolant), states.size(),
-                                                    why.empty() ? fmt::format(" < keys + 1 = {}", keys.size() + 1) : why,
+                                                    why.empty() ? fmt::format(" < keys + 1 = {}", sensor_keys.size() + 1) : why,
                                                     f));
           else
             sum.coolant_notes.back() += fmt::format(", {:.3f} reverse)", f);
@@ -1153,8 +1275,9 @@ class AxisFitter {
         if (form_.key_offsets) model_.key_shifts[dir].push_back(std::move(shifts));
       }
       if (own)
-        sum.coolant_notes.push_back(fmt::format("coolant {}: gains fitted on its own {} state(s){}",
-                                                CoolantStateName(coolant), states.size(), why));
+        sum.coolant_notes.push_back(fmt::format("coolant {}: gains fitted on its own {} state(s){}{}",
+                                                CoolantStateName(coolant), states.size(), why,
+                                                HasMotionKey(keys) ? " (the motion-heat gain held at the off-coolant value)" : ""));
     }
   }
 
@@ -1186,7 +1309,10 @@ class AxisFitter {
         for (std::size_t j = 0; j < keys.size(); ++j) {
           const double mr = o_.tan_beta_margin * (rise[j][1] - rise[j][0]);
           g.key_rise_range_c.push_back({rise[j][0] - mr, rise[j][1] + mr});
-          rises += fmt::format(", {} rise [{:.2f}, {:.2f}] °C", candidates_[keys[j]], rise[j][0] - mr, rise[j][1] + mr);
+          if (keys[j] < candidates_.size())
+            rises += fmt::format(", {} rise [{:.2f}, {:.2f}] °C", candidates_[keys[j]], rise[j][0] - mr, rise[j][1] + mr);
+          else
+            rises += fmt::format(", motion heat [{:.2f}, {:.2f}] m/min", rise[j][0] - mr, rise[j][1] + mr);
         }
         sum.coolant_notes.push_back(fmt::format("envelope {} coolant {}: tanβ [{:.4f}, {:.4f}] µm/mm{} (fitted "
                                                 "states ± {:.0f} %)",
@@ -1226,7 +1352,7 @@ class AxisFitter {
       for (std::size_t pi = 0; pi < m.points.size(); ++pi) {
         const auto& p = m.points[pi];
         const auto& t = lagged[pi];
-        const auto pr = Predict(model_, p.target_mm, p.direction, {t.key_temp_c, t.ambient_c, s.coolant, true});
+        const auto pr = Predict(model_, p.target_mm, p.direction, {t.key_temp_c, t.ambient_c, s.coolant, true, t.motion_m_per_min});
         const double res = p.deviation_um - pr.total_um;
         su += p.deviation_um * p.deviation_um;
         sg += std::pow(p.deviation_um - pr.geometric_um, 2);
@@ -1273,6 +1399,7 @@ class AxisFitter {
   std::vector<std::array<double, 2>> stage1_;
   std::vector<std::string> candidates_;  // the key-sensor candidates of PrepareThermal (for notes)
   bool shared_gains_ = false;            // one gains entry for every coolant state (coolant memory)
+  std::size_t motion_col_ = std::numeric_limits<std::size_t>::max();  // the motion input's column in rise
   GainForm form_;                        // ridge and key offsets of every gains solve
   measure::Measurement cold_;
   AxisModel model_;
@@ -1369,6 +1496,11 @@ std::vector<PointTemperatures> LaggedKeyTemperatures(const AxisModel& axis, cons
     const auto series = ObservedSensorSeries(m, *idx, d, history);
     for (std::size_t i = 0; i < out.size(); ++i) out[i].key_temp_c[k] = series[i];
   }
+  if (axis.HasMotionHeat()) {
+    const auto motion = history ? MotionHeatAtPoints(m, *history, axis.motion_lag_s)
+                                : std::vector<double>(out.size(), kNaN);
+    for (std::size_t i = 0; i < out.size(); ++i) out[i].motion_m_per_min = motion[i];
+  }
   return out;
 }
 
@@ -1379,7 +1511,7 @@ measure::Measurement PredictedMeasurement(const AxisModel& axis, const measure::
   for (std::size_t i = 0; i < out.points.size(); ++i) {
     auto& p = out.points[i];
     const auto& t = temps[i];
-    p.deviation_um = Predict(axis, p.target_mm, p.direction, {t.key_temp_c, t.ambient_c, coolant, true}).total_um;
+    p.deviation_um = Predict(axis, p.target_mm, p.direction, {t.key_temp_c, t.ambient_c, coolant, true, t.motion_m_per_min}).total_um;
   }
   return out;
 }

@@ -147,14 +147,16 @@ DirectionModel DirectionFromJson(const Reader& r, const json& j, const std::stri
       g.k_um_per_mm_per_c = r.Numbers(t[i], ep, "k_um_per_mm_per_c");
       if (g.k_um_per_mm_per_c.size() != n_keys)
         r.Fail(Reader::Join(ep, "k_um_per_mm_per_c"),
-               fmt::format("has {} gains but the axis has {} key sensors", g.k_um_per_mm_per_c.size(), n_keys));
+               fmt::format("has {} gains but the axis needs {} (one per key sensor, and one more with motion_heat)",
+                           g.k_um_per_mm_per_c.size(), n_keys));
       g.offset_um_per_mm = r.NumberOr(t[i], ep, "offset_um_per_mm", 0);
       if (t[i].contains("offset_um_per_c")) {
         KeyShifts ks;
         ks.offset_um_per_c = r.Numbers(t[i], ep, "offset_um_per_c");
         if (ks.offset_um_per_c.size() != n_keys)
           r.Fail(Reader::Join(ep, "offset_um_per_c"),
-                 fmt::format("has {} offsets but the axis has {} key sensors", ks.offset_um_per_c.size(), n_keys));
+                 fmt::format("has {} offsets but the axis needs {} (one per key sensor, and one more with motion_heat)",
+                             ks.offset_um_per_c.size(), n_keys));
         ks.ambient_offset_um_per_c = r.NumberOr(t[i], ep, "ambient_offset_um_per_c", 0);
         shifts.resize(i + 1);
         shifts[i] = std::move(ks);
@@ -175,7 +177,7 @@ DirectionModel DirectionFromJson(const Reader& r, const json& j, const std::stri
         const std::string rp = Reader::Join(ep, "key_rise_range_c");
         const json& ranges = t[i]["key_rise_range_c"];
         if (!ranges.is_array() || ranges.size() != n_keys)
-          r.Fail(rp, fmt::format("expected one [low, high] °C per key sensor ({})", n_keys));
+          r.Fail(rp, fmt::format("expected one [low, high] per key sensor in °C, and one in m/min with motion_heat ({})", n_keys));
         for (std::size_t k = 0; k < ranges.size(); ++k) {
           const json& e = ranges[k];
           const std::string kp = fmt::format("{}[{}]", rp, k);
@@ -208,6 +210,10 @@ json AxisToJson(const AxisModel& a) {
   ja["key_temperature_rise"] = a.key_rise_above_ambient ? "above_ambient" : "from_baseline";
   if (a.HasKeyLag()) ja["key_lag_s"] = a.key_lag_s;  // absent = no lag (older readers see today's model)
   if (a.HasKeyLag() && a.key_lag_fall_factor != 1) ja["key_lag_fall_factor"] = a.key_lag_fall_factor;
+  if (a.HasMotionHeat())  // the live input it needs, stated for whoever wires a real CNC to it
+    ja["motion_heat"] = {{"tau_s", a.motion_lag_s},
+                         {"input", "axis position every cycle (feed |dP/dt| in m/min, lagged by tau_s)"},
+                         {"gain", "last entry of each gains entry's k_um_per_mm_per_c (µm/mm per m/min)"}};
   json loss = json::object();  // absent = no coolant loss
   for (std::size_t c = 0; c < a.key_loss_s.size(); ++c)
     if (!a.key_loss_s[c].empty()) loss[std::string(CoolantStateName(static_cast<CoolantState>(c)))] = a.key_loss_s[c];
@@ -310,6 +316,13 @@ AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bo
   a.key_lag_fall_factor = r.NumberOr(ja, p, "key_lag_fall_factor", 1);
   if (!(a.key_lag_fall_factor >= 1) || !std::isfinite(a.key_lag_fall_factor))
     r.Fail(Reader::Join(p, "key_lag_fall_factor"), "must be a finite factor >= 1 (1: one τ both ways)");
+  if (ja.contains("motion_heat")) {
+    const std::string mp = Reader::Join(p, "motion_heat");
+    const json& mh = ja["motion_heat"];
+    if (!mh.is_object()) r.Fail(mp, "expected an object {\"tau_s\": seconds}");
+    a.motion_lag_s = r.Number(mh, mp, "tau_s");
+    if (!(a.motion_lag_s > 0) || !std::isfinite(a.motion_lag_s)) r.Fail(Reader::Join(mp, "tau_s"), "must be finite seconds > 0");
+  }
   a.rho_um_per_mm_per_c = r.NumberOr(ja, p, "rho_um_per_mm_per_c", 0);
   a.ambient_sensor = r.StringOr(ja, p, "ambient_sensor", "");
   if (!a.ambient_sensor.empty()) a.ambient_baseline_c = r.Number(ja, p, "ambient_baseline_c");
@@ -330,9 +343,9 @@ AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bo
     r.Fail(Reader::Join(p, "key_temperature_rise"),
            fmt::format("'{}' is not \"from_baseline\" or \"above_ambient\"", rise));
   }
-  a.directions[0] = DirectionFromJson(r, r.Get(ja, p, "forward"), Reader::Join(p, "forward"), a.key_sensors.size(),
+  a.directions[0] = DirectionFromJson(r, r.Get(ja, p, "forward"), Reader::Join(p, "forward"), a.GainCount(),
                                       a.key_shifts[0]);
-  a.directions[1] = DirectionFromJson(r, r.Get(ja, p, "reverse"), Reader::Join(p, "reverse"), a.key_sensors.size(),
+  a.directions[1] = DirectionFromJson(r, r.Get(ja, p, "reverse"), Reader::Join(p, "reverse"), a.GainCount(),
                                       a.key_shifts[1]);
   if (ja.contains("replaces")) {
     if (!nested) r.Fail(Reader::Join(p, "replaces"), "only a fallback model replaces a sensor");

@@ -21,8 +21,20 @@ double KeySinkC(const AxisModel& axis, std::size_t k, double ambient_c) {
   return base;
 }
 
+void AdvanceMotionHeat(double tau_s, AxisThermalState& state, double position_mm, double dt_s) {
+  if (!(dt_s > 0)) {
+    if (!std::isnan(position_mm)) state.last_position_mm = position_mm;
+    return;
+  }
+  const double feed = std::isnan(position_mm) || std::isnan(state.last_position_mm)
+                          ? 0.0
+                          : std::abs(position_mm - state.last_position_mm) / dt_s * 0.06;  // mm/s → m/min
+  state.motion_m_per_min = feed + (state.motion_m_per_min - feed) * std::exp(-dt_s / tau_s);
+  state.last_position_mm = position_mm;
+}
+
 bool HasThermalDynamics(const AxisModel& axis) {
-  if (axis.HasKeyLag()) return true;
+  if (axis.HasKeyLag() || axis.HasMotionHeat()) return true;
   for (const auto& loss : axis.key_loss_s)
     for (double tau : loss)
       if (tau > 0) return true;
@@ -44,6 +56,7 @@ void AdvanceThermalState(const AxisModel& axis, AxisThermalState& state, const T
     else state.key_c[k] = ObserverStep(state.key_c[k], raw, KeySinkC(axis, k, in.ambient_c), dt_s, axis.KeyLagS(k), tau_loss);
   }
   state.valid = all_read;
+  if (axis.HasMotionHeat()) AdvanceMotionHeat(axis.motion_lag_s, state, in.position_mm, dt_s);
 }
 
 }  // namespace trueaxis::model

@@ -38,7 +38,8 @@ StepState::StepState(std::size_t axis_count, std::size_t channel_count, const Co
       good_reads_in_row(options.link_recovery_cycles),  // start as if connected; the first read decides
       direction(axis_count, Direction::kForward),
       shaper(axis_count),
-      pending(axis_count) {
+      pending(axis_count),
+      model_position_mm(axis_count, std::nan("")) {
   dynamics.axes.resize(axis_count);
   dynamics.fallback_thermal.resize(axis_count);
   dynamics.fallback_handover.resize(axis_count);
@@ -230,7 +231,7 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
   }
   if (!keys_ok && o.sensor.fallback == SensorFallback::kZero) return 0;
   model::ThermalState ts{std::span<const double>(key_temps, use->key_channel.size()), ambient,
-                         state.machine.coolant, keys_ok};
+                         state.machine.coolant, keys_ok, thermal->motion_m_per_min};
   // Constructed in place (guaranteed elision: Predict writes st.prediction itself). Assigning would
   // go through a temporary whose wide copy then stalls on store forwarding: ~5 ns per axis.
   ::new (&st.prediction) model::Prediction(model::Predict(use->model, st.model_position_mm, st.direction, ts));
@@ -268,7 +269,7 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
                                        ? out.channels[static_cast<std::size_t>(other.ambient_channel)].value_c
                                        : std::nan("");
       const model::ThermalState ots{std::span<const double>(other_temps, other.key_channel.size()), other_ambient,
-                                    state.machine.coolant, true};
+                                    state.machine.coolant, true, ft.motion_m_per_min};
       const model::Prediction p = model::Predict(other.model, st.model_position_mm, st.direction, ots);
       const double carried = handover_um(f);
       sum_um += p.total_um - p.geometric_um + carried;
@@ -320,7 +321,7 @@ namespace {
 // One keyed model's thermal state (the axis's own or a fallback's) to the channels' values; true
 // when one of its keys is lost (the state then restarts at the readings once they all read).
 bool AdvanceKeyedState(const BoundAxis& ba, std::span<const ChannelStatus> channels, CoolantState coolant, double dt_s,
-                       bool restart, model::AxisThermalState& thermal) {
+                       bool restart, double position_mm, model::AxisThermalState& thermal) {
   const std::size_t n = ba.key_channel.size();
   bool any_lost = false;
   if (!ba.thermal_dynamics) {
@@ -345,7 +346,8 @@ bool AdvanceKeyedState(const BoundAxis& ba, std::span<const ChannelStatus> chann
   if (any_lost || restart) thermal.valid = false;  // restart at the readings
   const double ambient =
       ba.ambient_channel >= 0 ? channels[static_cast<std::size_t>(ba.ambient_channel)].value_c : std::nan("");
-  model::AdvanceThermalState(ba.model, thermal, {std::span<const double>(readings, n), ambient, coolant}, dt_s);
+  model::AdvanceThermalState(ba.model, thermal, {std::span<const double>(readings, n), ambient, coolant, position_mm},
+                             dt_s);
   return any_lost;
 }
 }  // namespace
@@ -356,7 +358,8 @@ namespace {
 void ThermalLine(const BoundAxis& b, const model::AxisThermalState& thermal, double ambient_c, CoolantState coolant,
                  std::array<double, 2>& at0_um, std::array<double, 2>& per_mm) {
   const model::ThermalState ts{std::span<const double>(thermal.key_c.data(), b.key_channel.size()),
-                               b.ambient_channel >= 0 ? ambient_c : std::nan(""), coolant, true};
+                               b.ambient_channel >= 0 ? ambient_c : std::nan(""), coolant, true,
+                               thermal.motion_m_per_min};
   constexpr double kSpanMm = 1000;  // any two positions: the part is a line in P0
   for (int d = 0; d < 2; ++d) {
     const Direction dir = d == 0 ? Direction::kForward : Direction::kReverse;
@@ -408,7 +411,7 @@ void TrackHandover(const BoundAxis& ba, std::span<const ChannelStatus> channels,
 }  // namespace
 
 void AdvanceModelDynamics(const BoundModel& bound, std::span<const ChannelStatus> channels, CoolantState coolant,
-                          double now_s, ModelDynamics& dynamics) {
+                          double now_s, ModelDynamics& dynamics, std::span<const double> position_mm) {
   // Advanced every cycle for every axis with a model, enabled or not, so the lagged temperature
   // tracks the machine's history and not only the time compensation was on. Restarted at the
   // current readings when the model changes (other keys or τ) and once a lost key returns.
@@ -428,9 +431,11 @@ void AdvanceModelDynamics(const BoundModel& bound, std::span<const ChannelStatus
     if (n_fallbacks > 0 && i < dynamics.fallback_handover.size())
       TrackHandover(ba, channels, coolant, now_s, fallbacks_restart, d, dynamics.fallback_thermal[i],
                     dynamics.fallback_handover[i]);
-    const bool any_lost = AdvanceKeyedState(ba, channels, coolant, dt_s, d.model_id != bound.id, d.thermal);
+    const double position = i < position_mm.size() ? position_mm[i] : std::nan("");
+    const bool any_lost = AdvanceKeyedState(ba, channels, coolant, dt_s, d.model_id != bound.id, position, d.thermal);
     for (std::size_t f = 0; f < n_fallbacks; ++f)
-      AdvanceKeyedState(ba.fallbacks[f], channels, coolant, dt_s, fallbacks_restart, dynamics.fallback_thermal[i][f]);
+      AdvanceKeyedState(ba.fallbacks[f], channels, coolant, dt_s, fallbacks_restart, position,
+                        dynamics.fallback_thermal[i][f]);
     d.fallback_model_id = bound.id;
     d.time_s = now_s;
     d.model_id = any_lost ? 0 : bound.id;
@@ -460,6 +465,10 @@ void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOu
   const bool temps_ok = ConditionTemperatures(o.sensor, in.temperatures, in.now_s, state, out, alarms);
   bool read_ok = false;
   const bool link_usable = TakeCncSnapshot(model, in.cnc, in.now_s, state, read_ok, alarms);
+  for (std::size_t i = 0; i < state.model_position_mm.size(); ++i)
+    state.model_position_mm[i] = link_usable && i < model.axes.size()
+                                     ? model.axes[i].ModelPositionMm(in.cnc->axes[i].position_mm)
+                                     : std::nan("");
   if (link_usable) {
     for (std::size_t i = 0; i < model.axes.size(); ++i) {
       const hw::AxisState& as = in.cnc->axes[i];
@@ -469,7 +478,9 @@ void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOu
       }
     }
   }
-  if (model.bound) AdvanceModelDynamics(*model.bound, out.channels, state.machine.coolant, in.now_s, state.dynamics);
+  if (model.bound)
+    AdvanceModelDynamics(*model.bound, out.channels, state.machine.coolant, in.now_s, state.dynamics,
+                         state.model_position_mm);
 
   for (std::size_t i = 0; i < model.axes.size(); ++i) {
     const AxisInterface& ai = model.axes[i];

@@ -59,6 +59,8 @@ struct DemoOptions {
   double secondary_key_ridge = model::FitOptions{}.secondary_key_ridge;
   // Each key's own pivot (model::FitOptions::key_offsets): "auto", "on" or "off" (the seed's one Px).
   std::string key_offsets = "auto";
+  // The motion-heat input (model::FitOptions::motion_heat): "auto", "on" or "off" (the default).
+  std::string motion_heat = "off";
   // The key sensors: "seed" = the axis's nut and bearing (seed 000's key points) when it has both;
   // "auto" = chosen from every sensor by the fit's cross-validation, as `trueaxis fit` does.
   std::string keys = "seed";

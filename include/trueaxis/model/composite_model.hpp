@@ -2,7 +2,8 @@
 // The composite geometric + thermal error model of seed 000 (MISSION M4, M5):
 //
 //   Er(x, T) = Er(x) + tanβ·(Px − P0) + ρ·ΔT_env·(Px − P0)
-//   tanβ     = Σ_i k_i·ΔT_i            (k per coolant state, ΔT_i rise of key sensor i)
+//   tanβ     = Σ_i k_i·ΔT_i (+ k_m·M)  (k per coolant state, ΔT_i rise of key sensor i; M the axis's
+//                                       motion-heat input when the model has one, AxisModel::motion_lag_s)
 //
 // with Er(x) the cold-state error of one direction of approach, Px the
 // reference point, P0 the current machine coordinate. One AxisModel per axis,
@@ -49,7 +50,10 @@ struct GeometricError {
 // tanβ gains for one coolant working state (the seed's look-up table).
 struct ThermalGains {
   CoolantState coolant = CoolantState::kOff;
-  std::vector<double> k_um_per_mm_per_c;  // parallel to AxisModel::key_sensors
+  // Parallel to AxisModel::key_sensors, then (when the model has a motion-heat input,
+  // AxisModel::HasMotionHeat) one more: the gain of M, µm/mm per m/min. The same holds for
+  // key_rise_range_c (M's range in m/min) and KeyShifts::offset_um_per_c (µm per m/min).
+  std::vector<double> k_um_per_mm_per_c;
   double offset_um_per_mm = 0;            // constant term of tanβ (0 in the seed's form)
   // The envelope these gains were fitted in (issue 10), both optional:
   //  - key_rise_range_c (JSON "key_rise_range_c", [low, high] °C per key sensor): the rises ΔT_i
@@ -112,6 +116,14 @@ struct AxisModel {
   // Per key sensor: the lowest and highest reading in the fit's measurements (°C). A prediction
   // outside this range is an extrapolation and is flagged (predict warns). Empty: not recorded.
   std::vector<std::array<double, 2>> key_fitted_range_c;
+  // The motion-heat input (issue 10's observer of the screw's heat driven by the axis's own motion):
+  // M = the axis's feed |dP0/dt| in m/min through a first-order lag of this time constant (s; JSON
+  // "motion_heat": {"tau_s": …}). It enters tanβ as one more key with rise M (gains arrays one
+  // longer). 0: none (the seed's form). Live input: the axis position every cycle (thermal_state.hpp).
+  double motion_lag_s = 0;
+  bool HasMotionHeat() const { return motion_lag_s > 0; }
+  // The number of gains per entry: the key sensors, and M.
+  std::size_t GainCount() const { return key_sensors.size() + (HasMotionHeat() ? 1 : 0); }
   std::array<DirectionModel, 2> directions;
 
   // τ of key sensor i (0 when not given).
@@ -204,12 +216,18 @@ struct CompositeModel {
   const AxisModel* FindAxis(const std::string& name) const;
 };
 
+// The name the motion-heat input goes by where inputs are given by name (export --temp, predict).
+inline constexpr const char* kMotionHeatName = "motion_m_per_min";
+
 // The thermal state the prediction is made for.
 struct ThermalState {
   std::span<const double> key_temp_c;  // current (already lagged, AxisModel::key_lag_s) temperatures, parallel to key_sensors
   double ambient_c = std::numeric_limits<double>::quiet_NaN();  // NaN: no ambient adjustment
   CoolantState coolant = CoolantState::kOff;
   bool use_thermal = true;             // false: geometric part only (sensor-fault fallback)
+  // The motion-heat input M (m/min, AxisModel::motion_lag_s; AxisThermalState::motion_m_per_min).
+  // Used only by a model with one; NaN there: the thermal part is 0 (geometric only), as a NaN key.
+  double motion_m_per_min = 0;
 };
 
 struct Prediction {

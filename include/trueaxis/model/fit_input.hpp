@@ -34,7 +34,13 @@ struct TemperatureHistory {
   std::vector<double> time_s;                // relative to the measurement's start (< 0), ascending
   std::vector<std::vector<double>> temps_c;  // per row, parallel to the measurement's sensor_names (NaN: absent)
   std::vector<CoolantState> coolant;         // per row, when the log has a coolant column (else empty: off)
+  // The measured axis's travelled path (the log's <axis>_travel_mm column, docs/campaign.md) from
+  // kWindowS before the start to the measurement's end (the laser test moves the axis too): the
+  // motion-heat input's history (AxisModel::motion_lag_s). Empty when the log has no such column.
+  std::vector<double> travel_time_s;  // relative to the measurement's start, ascending
+  std::vector<double> travel_mm;
   bool empty() const { return time_s.empty(); }
+  bool HasTravel() const { return travel_time_s.size() >= 2; }
 };
 
 struct FitState {

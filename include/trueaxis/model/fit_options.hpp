@@ -80,6 +80,19 @@ struct FitOptions {
   // default: on the machine zoo the per-key τ chosen by the campaign's LOSO CV did not carry over
   // to the held-out working day (gantry2000 X afternoon 51 → 70 µm, bench/results/zoo.md).
   bool per_key_lag = false;
+  // The motion-heat input (AxisModel::motion_lag_s, motion_heat.hpp): the lag τ values (s) tried for
+  // the axis's feed as one more key, after the keys, their lag and pivots are chosen, by the same
+  // leave-one-state-out CV; the best is kept when it lowers the CV by min_cv_improvement. Tried only
+  // when every state's history has the axis's travelled path (the machine log's <axis>_travel_mm).
+  // {} or {0}: never (the seed's form).
+  std::vector<double> motion_lag_grid_s = {600, 900, 1200, 1800, 2400, 3600, 5400};
+  // auto: kept by the CV rule above; on: the best τ of the grid kept whatever the CV says (when
+  // every state has the travel); off: not tried. Off by default: on the machine zoo (seeds 1–3) and
+  // 48 drawn machines `auto` kept 910 of 951 rows under the must line against 911 without it, the
+  // same 672 at the goal, the sum of A_on −0.5 % — the campaign's CV did not tell the axes it helped
+  // on the working day from those it hurt (bench/results/zoo.md). Opt in with auto.
+  enum class MotionHeat { kAuto, kOn, kOff };
+  MotionHeat motion_heat = MotionHeat::kOff;
   // Coolant gains: with keys + 1 states or more a coolant gets its own gains; when true, only if
   // they predict a held-out coolant state better than the off gains × one factor (off by default:
   // on the machine zoo both forms extrapolate badly from 4 states of one session, and the factor

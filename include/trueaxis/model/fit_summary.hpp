@@ -69,6 +69,10 @@ struct AxisFitSummary {
   std::vector<std::array<double, 2>> lag_candidates;  // {tau_s, cv_rms_um}
   double key_lag_s = 0;
   std::string lag_reason;
+  // The motion-heat input (FitOptions::motion_lag_grid_s): τ kept (0: none) and why, each τ's CV.
+  double motion_lag_s = 0;
+  std::string motion_reason;
+  std::vector<std::array<double, 2>> motion_candidates;  // {tau_s, cv_rms_um}
   bool key_offsets = false;         // each key's own pivot (FitOptions::key_offsets)
   std::string key_offsets_reason;
   double no_thermal_cv_rms_um = kNaN;    // residual RMS with no thermal term (step 0)

@@ -48,6 +48,9 @@ FitResult FitCompositeModel(const std::vector<FitState>& states, const FitOption
 struct PointTemperatures {
   std::vector<double> key_temp_c;
   double ambient_c = kNaN;
+  // The motion-heat input (m/min, motion_heat.hpp) for a model with one: from the history's travel
+  // (LaggedKeyTemperatures); NaN when not known (Predict then gives the geometric part only).
+  double motion_m_per_min = 0;
 };
 PointTemperatures TemperaturesForPoint(const AxisModel& axis, const measure::Measurement& m,
                                        const measure::MeasurementPoint& p);

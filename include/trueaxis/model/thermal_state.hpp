@@ -24,6 +24,11 @@ inline constexpr std::size_t kMaxStateKeys = 16;
 struct AxisThermalState {
   std::array<double, kMaxStateKeys> key_c{};  // effective key temperatures, parallel to key_sensors
   bool valid = false;                         // false: the next advance restarts at the readings
+  // The motion-heat input M (AxisModel::motion_lag_s): the axis's feed in m/min through its lag.
+  // Starts at 0 (the axis at rest for the last few τ) and is not restarted with the keys: it is the
+  // axis's own history, which a lost sensor does not change.
+  double motion_m_per_min = 0;
+  double last_position_mm = std::numeric_limits<double>::quiet_NaN();  // NaN: none yet
 };
 
 // The live inputs the model needs (a real CNC supplies them: sensor readings and the coolant state).
@@ -31,7 +36,14 @@ struct ThermalInputs {
   std::span<const double> key_c;  // conditioned readings of the key sensors (NaN: lost)
   double ambient_c = std::numeric_limits<double>::quiet_NaN();  // NaN: none (the loss then draws to the baseline)
   CoolantState coolant = CoolantState::kOff;
+  // The axis position (mm, the model's frame) for the motion-heat input; NaN: not known this step
+  // (a link fault): the step then counts as standstill and the next position starts afresh.
+  double position_mm = std::numeric_limits<double>::quiet_NaN();
 };
+
+// M towards the feed of this step, |position − last| / dt in m/min, the exact first-order step for a
+// feed held over dt: M ← v + (M − v)·exp(−dt/τ). dt <= 0 only records the position.
+void AdvanceMotionHeat(double tau_s, AxisThermalState& state, double position_mm, double dt_s);
 
 // One key: towards the reading `raw_c` with τ_lag and, when τ_loss > 0, towards `sink_c` with τ_loss,
 // the exact solution for inputs held over dt (so the result does not depend on the cycle time):
@@ -44,7 +56,8 @@ double ObserverStep(double state_c, double raw_c, double sink_c, double dt_s, do
 // Keys beyond kMaxStateKeys are not tracked (the runtime refuses such models).
 void AdvanceThermalState(const AxisModel& axis, AxisThermalState& state, const ThermalInputs& in, double dt_s);
 
-// Whether the model has any dynamics at all: a key lag or a coolant loss time constant > 0. Without
+// Whether the model has any dynamics at all: a key lag, a coolant loss time constant > 0 or a
+// motion-heat input. Without
 // them AdvanceThermalState is the identity on the readings (state = readings, valid when every key
 // reads), so a real-time caller decides this once per model and skips the advance.
 bool HasThermalDynamics(const AxisModel& axis);

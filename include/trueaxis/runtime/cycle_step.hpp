@@ -166,6 +166,7 @@ struct StepState {
   std::vector<OutputShaperState> pending;
   std::uint64_t outstanding = 0;           // sequence of the outstanding command; 0 = none
   ModelDynamics dynamics;
+  std::vector<double> model_position_mm;   // per axis, this cycle's (NaN: not known): the motion-heat input
 
   StepState() = default;
   StepState(std::size_t axis_count, std::size_t channel_count, const CompensatorOptions& options);
@@ -223,7 +224,9 @@ void CommitWrite(const StepModel& model, StepState& state, bool write_ok, StepOu
 // later snapshot acknowledges it (Step then advances the shaper to it) or reports it failed.
 void AwaitWrite(const StepModel& model, StepState& state, StepOutputs& out);
 // The model-side dynamics (ModelDynamics) for one cycle; called by Step, once.
+// `position_mm`: each axis's position in its model's frame this cycle (NaN: not known, e.g. the
+// link down), for a model's motion-heat input; empty: none known.
 void AdvanceModelDynamics(const BoundModel& bound, std::span<const ChannelStatus> channels, CoolantState coolant,
-                          double now_s, ModelDynamics& dynamics);
+                          double now_s, ModelDynamics& dynamics, std::span<const double> position_mm = {});
 
 }  // namespace trueaxis::runtime
