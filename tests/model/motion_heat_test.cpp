@@ -120,19 +120,12 @@ TEST(MotionHeatSeries, MatchesThePerCycleStepAlongALoggedTravel) {
 // past the file's end; a bad or shrinking travel is refused with its line and column.
 TEST(MotionHeatHistory, TheLogsTravelColumnReachesPastTheFileAndBadValuesAreNamed) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("trueaxis_motion_history_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  WriteTextFile((dir / "m.csv").string(),
-                "# axis: X\n# state: warm\nrun,direction,target_mm,deviation_um,time_s,t_nut_c\n"
-                "1,+,0,0,0,25\n1,+,100,0,100,25\n");
+  const fs::path dir = testing::OneFileCampaignDir("motion_history", "25");
   // X runs at 1 m/min (1000 mm per minute) from 3000 s on; Y never moves. File at 10000 s.
   std::string log = "time_s,date,coolant,x_mm,y_mm,x_travel_mm,y_travel_mm,t_nut_c\n";
   for (int t = 0; t <= 10200; t += 60)
     log += fmt::format("{},d,off,0,0,{},0,25\n", t, t < 3000 ? 0 : (t - 3000) * 1000 / 60);
   WriteTextFile((dir / "temperature_log.csv").string(), log);
-  WriteTextFile((dir / "manifest.json").string(),
-                R"({"temperature_log": "temperature_log.csv", "measurements": [{"file": "m.csv", "axis": "X", "state": "warm", "start_time_s": 10000}]})");
   const auto states = LoadFitStates({}, (dir / "manifest.json").string());
   ASSERT_EQ(states.size(), 1u);
   const auto& h = states[0].history;

@@ -1,11 +1,15 @@
 #pragma once
 // A known composite model that writes measurement files, so the fitter can be
 // checked against the truth it should recover (degree, gains, sensors, Px, ρ).
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "trueaxis/core/text_file.hpp"
 #include "trueaxis/measure/measurement.hpp"
 #include "trueaxis/model/fit_input.hpp"
 #include "trueaxis/model/fit_options.hpp"
@@ -176,6 +180,20 @@ inline AxisModel OneKeyAxis(double k_um_per_mm_per_c) {
     d.thermal.push_back(g);
   }
   return a;
+}
+
+// A fresh temporary directory `trueaxis_<name>_<pid>` with one warm measurement of axis X, m.csv
+// (nut at `nut_c` at 0 and 100 s), and a manifest that starts it at 10000 s on the clock of
+// temperature_log.csv, which the caller writes.
+inline std::filesystem::path OneFileCampaignDir(const std::string& name, const std::string& nut_c) {
+  const auto dir = std::filesystem::temp_directory_path() / ("trueaxis_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  WriteTextFile((dir / "m.csv").string(), "# axis: X\n# state: warm\nrun,direction,target_mm,deviation_um,time_s,t_nut_c\n"
+                                          "1,+,0,0,0," + nut_c + "\n1,+,100,0,100," + nut_c + "\n");
+  WriteTextFile((dir / "manifest.json").string(),
+                R"({"temperature_log": "temperature_log.csv", "measurements": [{"file": "m.csv", "axis": "X", "state": "warm", "start_time_s": 10000}]})");
+  return dir;
 }
 
 // RMS of measured − predicted over every point of a state (the model's own thermal state along it).

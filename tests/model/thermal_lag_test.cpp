@@ -194,19 +194,12 @@ namespace {
 // runs through it before the file's points.
 TEST(LagHistory, ManifestTemperatureLogFeedsTheFilterBeforeTheFile) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("trueaxis_lag_history_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  WriteTextFile((dir / "m.csv").string(),
-                "# axis: X\n# state: warm\nrun,direction,target_mm,deviation_um,time_s,t_nut_c\n"
-                "1,+,0,0,0,30\n1,+,100,0,100,30\n");
+  const fs::path dir = testing::OneFileCampaignDir("lag_history", "30");
   // Nut at 20 °C for hours, then 30 °C from 100 s before the file (campaign clock: file at 10000 s).
   std::string log = "time_s,date,coolant,t_nut_c,t_other_c\n";
   for (int t = 0; t < 10000; t += 50) log += std::to_string(t) + ",d,off," + (t < 9900 ? "20" : "30") + ",1\n";
   log += "10050,d,off,30,1\n";  // after the start: not history
   WriteTextFile((dir / "temperature_log.csv").string(), log);
-  WriteTextFile((dir / "manifest.json").string(),
-                R"({"temperature_log": "temperature_log.csv", "measurements": [{"file": "m.csv", "axis": "X", "state": "warm", "start_time_s": 10000}]})");
   const auto states = LoadFitStates({}, (dir / "manifest.json").string());
   ASSERT_EQ(states.size(), 1u);
   const auto& h = states[0].history;
