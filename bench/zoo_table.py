@@ -41,6 +41,10 @@ DEMO_OPTIONS = [
     ("--motion-heat", "--motion-heat", False,
      "the motion-heat input (the axis's lagged feed as one more key): auto, on, off (demo --motion-heat; off: the "
      "model before it)"),
+    ("--motion-lag-grid-s", "--motion-lag-grid-s", False,
+     "lag tau values (s) tried for the motion-heat input, e.g. 3600 (demo --motion-lag-grid-s)"),
+    ("--warmup-per-test", "--warmup-per-test", False,
+     "study: the dry warm-up's next test waits for r x the last test's duration of machining (demo --warmup-per-test)"),
     ("--no-lag-fall", "--no-lag-fall", True,
      "fit one lag tau both ways (demo --no-lag-fall): the lag before the longer fall"),
 ]

@@ -97,6 +97,13 @@ void Setup(CLI::App& app) {
                   "by the fit's cross-validation), on, off (the default: the seed's keys only; bench/results/zoo.md compares)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
+  cmd->add_option("--motion-lag-grid-s", opts->demo.motion_lag_grid_s,
+                  "Lag τ values (s) the fit tries for the motion-heat input (with --motion-heat auto or on)")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--warmup-per-test", opts->demo.min_warmup_per_test,
+                  "Study: the dry warm-up's next test waits for this many times the last test's duration of machining")
+      ->check(CLI::Range(0.0, 10.0));
   cmd->add_option("--keys", opts->demo.keys,
                   "Key sensors: seed (the axis's nut and bearing, seed 000's key points), auto (chosen from every "
                   "sensor by the fit's cross-validation, as `trueaxis fit`)")

@@ -547,6 +547,7 @@ DemoResult RunDemo(const DemoOptions& o) {
     c.max_warm_measurements = 6;
     c.max_coolant_measurements = 3;
   }
+  c.min_warmup_per_test = o.min_warmup_per_test;
   c.progress = [&](const std::string& line) { progress("[campaign] " + line); };
   progress(fmt::format("[demo] 1/4 calibration campaign on {} (axes {}) → {}", md.name, fmt::join(axes, ","), c.out_dir));
   const auto t_campaign = Clock::now();
@@ -578,6 +579,7 @@ DemoResult RunDemo(const DemoOptions& o) {
     fo.key_offsets = o.key_offsets == "on"    ? model::FitOptions::KeyOffsets::kOn
                      : o.key_offsets == "off" ? model::FitOptions::KeyOffsets::kOff
                                               : model::FitOptions::KeyOffsets::kAuto;
+    fo.motion_lag_grid_s = o.motion_lag_grid_s;
     fo.motion_heat = o.motion_heat == "on"    ? model::FitOptions::MotionHeat::kOn
                      : o.motion_heat == "off" ? model::FitOptions::MotionHeat::kOff
                                               : model::FitOptions::MotionHeat::kAuto;

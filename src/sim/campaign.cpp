@@ -31,6 +31,7 @@ bool CampaignOptions::IsValid(std::string* why) const {
   if (!laser.IsValid(why)) return false;
   if (!(warmup_feed_low_mm_min > 0 && warmup_feed_high_mm_min > 0)) return fail("warm-up feeds must be positive");
   if (!(nut_step_c > 0)) return fail("nut_step_c must be positive");
+  if (!(min_warmup_per_test >= 0 && min_warmup_per_test <= 10)) return fail("min_warmup_per_test must be 0–10");
   if (!(nut_step_growth >= 0 && nut_step_growth <= 1)) return fail("nut_step_growth must be in 0–1");
   if (cooldown_measurements < 0 || cooldown_measurements > 20) return fail("cooldown_measurements must be 0–20");
   if (!(cooldown_step_c > 0) || !(max_cooldown_hours > 0)) return fail("cooldown step and time cap must be positive");
@@ -283,7 +284,7 @@ class Campaign {
     std::deque<double> history;  // nut readings every chunk of warm-up time
     std::deque<double> minute;   // last minute, to average the sensor noise
     double next = o_.nut_step_c;
-    double warm_s = 0;
+    double warm_s = 0, warm_at_test_s = 0, last_test_s = 0;
     int taken = 0;
     std::vector<std::pair<double, double>> curve;  // (warm-up seconds, nut rise), never reset
     StartWarmUpMotion();
@@ -310,8 +311,12 @@ class Campaign {
         ++taken;
         break;
       }
-      if (rise >= next && taken + 1 < max_measurements) {
+      const bool machined_enough = state != "warm" || warm_s - warm_at_test_s >= o_.min_warmup_per_test * last_test_s;
+      if (rise >= next && machined_enough && taken + 1 < max_measurements) {
+        const double t0 = vm_.TimeS();
         MeasureAndWrite(axis, state);
+        last_test_s = vm_.TimeS() - t0;
+        warm_at_test_s = warm_s;
         ++taken;
         // Spread the remaining measurements over the rise still to come (issue 10: with a fixed
         // 0.5 °C step a hot machine used them all by +5 °C and jumped to its +11 °C saturation).

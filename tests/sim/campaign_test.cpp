@@ -136,6 +136,32 @@ TEST(Campaign, WritesFilesTemperatureLogAndManifest) {
   fs::remove_all(dir);
 }
 
+// min_warmup_per_test: each dry warm-up test waits for machining of at least r × the last test's
+// duration (the gap between two warm tests is machining only); the coolant warm-up is not held.
+TEST(Campaign, WarmUpTestsWaitForMachiningOfRTimesTheLastTest) {
+  const auto dir = TempDir("campaign_warmup_per_test");
+  auto c = ShortCampaign(dir, 3);
+  c.max_warm_measurements = 4;
+  c.min_warmup_per_test = 1.5;
+  const auto summary = RunCampaign(testing::TestMachine(), c);
+  const CampaignFile* prev = nullptr;
+  int pairs = 0;
+  for (const auto& f : summary.files) {
+    if (f.state != "warm") continue;
+    if (prev) {
+      EXPECT_GE(f.start_time_s - prev->end_time_s, 1.5 * (prev->end_time_s - prev->start_time_s) - 1) << f.file;
+      ++pairs;
+    }
+    prev = &f;
+  }
+  EXPECT_GE(pairs, 1);
+  c.min_warmup_per_test = -1;
+  std::string why;
+  EXPECT_FALSE(c.IsValid(&why));
+  EXPECT_NE(why.find("min_warmup_per_test"), std::string::npos) << why;
+  fs::remove_all(dir);
+}
+
 // The hour of the day of a measurement's "date" metadata (YYYY-MM-DDTHH:MM:SS).
 double HourOfDay(const measure::Measurement& m) {
   const std::string d = m.Meta("date").value_or("");

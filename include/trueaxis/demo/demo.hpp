@@ -61,6 +61,8 @@ struct DemoOptions {
   std::string key_offsets = "auto";
   // The motion-heat input (model::FitOptions::motion_heat): "auto", "on" or "off" (the default).
   std::string motion_heat = "off";
+  double min_warmup_per_test = 0;  // sim::CampaignOptions::min_warmup_per_test (study option)
+  std::vector<double> motion_lag_grid_s = model::FitOptions{}.motion_lag_grid_s;  // its τ values tried
   // The key sensors: "seed" = the axis's nut and bearing (seed 000's key points) when it has both;
   // "auto" = chosen from every sensor by the fit's cross-validation, as `trueaxis fit` does.
   std::string keys = "seed";

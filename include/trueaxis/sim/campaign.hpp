@@ -29,6 +29,9 @@ struct CampaignOptions {
   double nut_step_growth = 0.25;          // … or this fraction of the rise so far, or the even share of
                                           // the rise still to come (extrapolated from the warm-up curve),
                                           // whichever is larger: the tests cover the whole rise
+  // The dry warm-up's next test waits for at least this many times the last test's duration of
+  // machining (as well as the nut step): 0 = none. Study option (bench/results/zoo.md).
+  double min_warmup_per_test = 0;
   int max_warm_measurements = 16;      // the last one is kept for saturation
   double max_warmup_hours = 5;            // give up waiting for saturation after this
   double saturation_window_min = 30;      // saturated when the nut rose less than
