@@ -921,6 +921,10 @@ class AxisFitter {
           for (auto& p : pts) p.lever_mm = px - p.x;
           keys = with;
           sum.motion_lag_s = best_tau;
+          if (refall)  // the lag's reason above describes the choice without M: say it changed
+            sum.lag_reason += fmt::format("; then, with the motion-heat input, τ {} s and a falling key {}× longer "
+                                          "(motion heat below)",
+                                          FormatShortest(key_lag_s[keys.front()]), FormatShortest(best_fall));
           double largest = 0;
           for (auto k : keys) largest = std::max(largest, key_lag_s[k]);
           sum.key_lag_s = largest;
