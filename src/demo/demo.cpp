@@ -441,6 +441,9 @@ class WorkingDay {
     m.SetMeta("coolant", std::string(CoolantStateName(vm_.coolant())));
     m.SetMeta("instrument", "trueaxis virtual laser interferometer (demo, compensator in the loop)");
     const double t0 = vm_.TimeS();
+    // The test's start on day/machine_log.csv's clock, as the campaign's files carry it on theirs:
+    // `predict --measurement F --temperature-log day/machine_log.csv` replays the day's history.
+    m.SetMeta("campaign_time_s", fmt::format("{:.1f}", t0));
     auto record = [&](int run, Direction dir, double target) {
       MoveAndWait(axis, target, lo.feed_mm_min);
       Step(lo.dwell_s);

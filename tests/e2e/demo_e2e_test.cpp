@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "trueaxis/demo/demo.hpp"
+#include "trueaxis/measure/measurement_file.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/store/history_db.hpp"
@@ -135,6 +136,34 @@ TEST_F(DemoE2E, WritesReportModelMeasurementsAndHistory) {
   store::HistoryDb db(r.history_path, store::HistoryDb::Mode::kReadOnly);
   EXPECT_FALSE(db.QueryCompensation({}, {"X"}).empty());
   EXPECT_EQ(db.QueryModelChanges({}).size(), 1u);
+}
+
+// Each day file carries its start on day/machine_log.csv's clock (as the campaign's files do on
+// theirs), so `predict` can replay a held-out test with the day's history behind it.
+TEST_F(DemoE2E, DayFilesReplayAgainstTheDaysMachineLog) {
+  const fs::path day = fs::path(result_->out_dir) / "day";
+  const fs::path file = day / "X_warm_coolant_off.csv";
+  const auto m = measure::ReadMeasurementFile(file.string());
+  const auto start = m.Meta("campaign_time_s");
+  ASSERT_TRUE(start.has_value());
+  std::ifstream log(day / "machine_log.csv");
+  std::string header, first, line, last;
+  std::getline(log, header);
+  std::getline(log, first);
+  while (std::getline(log, line))
+    if (!line.empty()) last = line;
+  ASSERT_EQ(header.rfind("time_s,", 0), 0u) << header;
+  const double t0 = std::stod(first.substr(0, first.find(','))), t1 = std::stod(last.substr(0, last.find(',')));
+  EXPECT_GT(std::stod(*start), t0);  // within the day, not the campaign's or the file's own clock
+  EXPECT_LT(std::stod(*start), t1);
+  const fs::path out = fs::path(result_->out_dir) / "replay.txt";
+  const std::string cmd = std::string(TRUEAXIS_CLI_PATH) + " predict --model " + result_->model_path + " --measurement " +
+                          file.string() + " --temperature-log " + (day / "machine_log.csv").string() + " > " +
+                          out.string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(out).rdbuf();
+  std::stringstream text;
+  text << std::ifstream(out).rdbuf();
+  EXPECT_NE(text.str().find("measured − predicted"), std::string::npos) << text.str();
 }
 
 // The coolant memory is opt-in (issue 10, bench/results/zoo.md): by default the flood coolant gets
