@@ -26,6 +26,7 @@ struct Options {
   int cooldown = 2;
   std::vector<int> ambient_days = {60, 150};
   std::vector<double> ambient_hours = trueaxis::sim::CampaignOptions{}.ambient_hours;
+  std::vector<double> coolant_prewarm_h = trueaxis::sim::CampaignOptions{}.coolant_prewarm_h;
   bool no_coolant = false;
   bool material_compensation = false;
   bool quiet = false;
@@ -47,6 +48,7 @@ void Run(const Options& o) {
   c.ambient_day_offsets = o.ambient_days;
   c.ambient_hours = o.ambient_hours;
   c.coolant_session = !o.no_coolant;
+  c.coolant_prewarm_h = o.coolant_prewarm_h;
   if (!o.quiet) c.progress = [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
   std::string why;
   if (!c.IsValid(&why)) throw trueaxis::InputError("command line", why);
@@ -88,6 +90,12 @@ void Setup(CLI::App& app) {
                   "the room below the warm structure at night, rising, falling; 14: one soaked afternoon, two sets "
                   "of tests shorter; bench/results/zoo.md)")
       ->delimiter(',')->capture_default_str();
+  cmd->add_option("--coolant-prewarm-h", opts->coolant_prewarm_h,
+                  "Coolant sessions, one per value: the flood starts after that many hours of dry warm-up machining "
+                  "(0: over the cold machine)")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 12.0));
   cmd->add_flag("--no-coolant", opts->no_coolant, "Skip the coolant session");
   cmd->add_flag("--material-compensation", opts->material_compensation, "Laser material compensation on (CTE 11.5)");
   cmd->add_flag("--quiet", opts->quiet, "No progress on stderr");

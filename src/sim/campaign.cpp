@@ -8,6 +8,7 @@
 #include <deque>
 #include <filesystem>
 #include <map>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -50,6 +51,8 @@ bool CampaignOptions::IsValid(std::string* why) const {
       return fail("ambient_hours must be in increasing order (the measurements of one day follow each other)");
   }
   if (!(log_interval_s > 0)) return fail("log_interval_s must be positive");
+  for (double h : coolant_prewarm_h)
+    if (!(h >= 0 && h <= 12)) return fail(fmt::format("coolant_prewarm_h: {} h is not in [0, 12]", h));
   return true;
 }
 
@@ -68,24 +71,30 @@ std::string CampaignSummary::BriefReport() const {
 }
 
 std::vector<std::string> WarmUpCoverageGaps(const std::vector<CampaignFile>& files, double max_gap_fraction) {
-  std::map<std::pair<std::string, std::string>, std::vector<double>> rises;  // (axis, state) → in test order
-  for (const auto& f : files)
-    if (f.state == "warm" || f.state == "coolant") rises[{f.axis, f.state}].push_back(f.nut_rise_c);
+  // (axis, state, coolant session) → rises in test order
+  std::map<std::tuple<std::string, std::string, int>, std::vector<double>> rises;
+  int sessions = 0;
+  for (const auto& f : files) {
+    if (f.state == "warm" || f.state == "coolant") rises[{f.axis, f.state, f.coolant_session}].push_back(f.nut_rise_c);
+    sessions = std::max(sessions, f.coolant_session);
+  }
   std::vector<std::string> out;
   for (const auto& [key, r] : rises) {
-    const auto& [axis, state] = key;
+    const auto& [axis, state, session] = key;
     std::vector<double> steps = r;
     if (state == "warm") steps.insert(steps.begin(), 0.0);  // the cold state is the warm-up's start
     if (steps.size() < 2) continue;
-    const double lo = steps.front(), hi = *std::max_element(steps.begin(), steps.end());
+    // A session over a warm machine first falls to the coolant: its span is the tests' whole range.
+    const double lo = *std::min_element(steps.begin(), steps.end()), hi = *std::max_element(steps.begin(), steps.end());
     double gap = 0;
-    for (std::size_t i = 1; i < steps.size(); ++i) gap = std::max(gap, steps[i] - steps[i - 1]);
+    for (std::size_t i = 1; i < steps.size(); ++i) gap = std::max(gap, std::fabs(steps[i] - steps[i - 1]));
     if (!(hi - lo > 0) || gap <= max_gap_fraction * (hi - lo)) continue;
     std::string at;
     for (double v : r) at += fmt::format("{}{:+.1f}", at.empty() ? "" : ", ", v);
+    const std::string which = state == "warm" ? "dry" : sessions > 1 ? fmt::format("coolant (session {})", session) : "coolant";
     out.push_back(fmt::format("{} {} warm-up: tests at nut {} °C vs cold; {:.1f} of its {:.1f} °C rise ({:.0f} %) "
                               "lie between two of them, untested",
-                              axis, state == "warm" ? "dry" : "coolant", at, gap, hi - lo, 100 * gap / (hi - lo)));
+                              axis, which, at, gap, hi - lo, 100 * gap / (hi - lo)));
   }
   return out;
 }
@@ -160,19 +169,12 @@ class Campaign {
       last_day = std::max(last_day, offset);
     }
     if (o_.coolant_session && o_.max_coolant_measurements > 0) {
-      for (std::size_t k = 0; k < axes_.size(); ++k) {
-        GoTo(last_day + 1 + static_cast<int>(k), 7.0);
-        StartSession();
-        vm_.SetCoolant(o_.coolant_state);
-        Setup(axes_[k]);
-        const double nut0 = MeanColumn(MeasureAndWrite(axes_[k], "coolant"), NutSensor(axes_[k]));
-        WarmUp(axes_[k], nut0, "coolant", o_.max_coolant_measurements - 1);
-        // The coolant still running over an axis at rest (a tool change, a measuring cycle, the
-        // operator's break): the screw is drawn to the coolant, not to the nut's reading — a state
-        // the working day has and the warm-up alone never shows the fit (issue 10).
-        if (o_.coolant_rest) CoolDown(axes_[k], "coolant_rest");
-        EndSession();
+      int day = last_day;
+      for (double prewarm_h : o_.coolant_prewarm_h) {
+        ++coolant_session_;
+        for (std::size_t a : axes_) CoolantSession(a, ++day, prewarm_h);
       }
+      coolant_session_ = 0;
     }
     WriteTextFile((std::filesystem::path(o_.out_dir) / "temperature_log.csv").string(), log_);
     WriteManifest();
@@ -256,6 +258,7 @@ class Campaign {
     const double nut = MeanColumn(m, NutSensor(axis));
     if (state == "cold" || !cold_nut_.count(axis_name)) cold_nut_[axis_name] = nut;
     f.nut_rise_c = nut - cold_nut_[axis_name];
+    f.coolant_session = coolant_session_;
     m.SetMeta("nut_rise_c", Fixed(f.nut_rise_c, 3));
     measure::WriteMeasurementCsv(m, (std::filesystem::path(o_.out_dir) / file).string());
     std::map<std::string, double> means;
@@ -303,7 +306,8 @@ class Campaign {
       if (history.size() > window + 1) history.pop_front();
       const double rise = nut - nut0;
       curve.emplace_back(warm_s, rise);
-      const bool saturated = history.size() > window && history.back() - history.front() < o_.saturation_rise_c;
+      // Settled, not still falling: a session over a warm machine first sees the nut drawn down to the coolant.
+      const bool saturated = history.size() > window && std::abs(history.back() - history.front()) < o_.saturation_rise_c;
       const bool timeout = warm_s >= o_.max_warmup_hours * 3600;
       if (saturated || timeout) {
         Progress(saturated ? "thermal saturation reached" : "warm-up time cap reached");
@@ -312,7 +316,7 @@ class Campaign {
         break;
       }
       const bool machined_enough = state != "warm" || warm_s - warm_at_test_s >= o_.min_warmup_per_test * last_test_s;
-      if (rise >= next && machined_enough && taken + 1 < max_measurements) {
+      if (std::abs(rise) >= next && machined_enough && taken + 1 < max_measurements) {  // up, or down to the coolant
         const double t0 = vm_.TimeS();
         MeasureAndWrite(axis, state);
         last_test_s = vm_.TimeS() - t0;
@@ -324,10 +328,10 @@ class Campaign {
         const int remaining = max_measurements - 1 - taken;
         // At least nut_step_c, growing with the rise (a hot machine's rise is long; until the
         // curve bends, its end is unknown), and at least the even share of what is still to come.
-        double step = std::max(o_.nut_step_c, o_.nut_step_growth * rise);
+        double step = std::max(o_.nut_step_c, o_.nut_step_growth * std::abs(rise));
         if (std::isfinite(saturation_rise) && saturation_rise > rise && remaining > 0)
           step = std::max(step, (saturation_rise - rise) / (remaining + 1));
-        next = rise + step;
+        next = std::abs(rise) + step;
         StartWarmUpMotion();
         history.clear();  // the measurement interrupted the warm-up: judge saturation afresh
         minute.clear();
@@ -366,6 +370,28 @@ class Campaign {
                            o_.cooldown_measurements, o_.cooldown_step_c, o_.max_cooldown_hours));
   }
 
+  // Flood on (after `prewarm_h` of dry warm-up machining), a test at once, a warm-up under the
+  // coolant, then the stop under it.
+  void CoolantSession(std::size_t axis, int day, double prewarm_h) {
+    GoTo(day, 7.0);
+    StartSession();
+    if (prewarm_h > 0) {
+      Progress(fmt::format("dry machining {:.1f} h before the coolant session", prewarm_h));
+      StartWarmUpMotion();
+      vm_.Advance(prewarm_h * 3600);
+      for (std::size_t i = 0; i < vm_.AxisCount(); ++i) vm_.CommandStop(i);
+    }
+    vm_.SetCoolant(o_.coolant_state);
+    Setup(axis);
+    const double nut0 = MeanColumn(MeasureAndWrite(axis, "coolant"), NutSensor(axis));
+    WarmUp(axis, nut0, "coolant", o_.max_coolant_measurements - 1);
+    // The coolant still running over an axis at rest (a tool change, a measuring cycle, the
+    // operator's break): the screw is drawn to the coolant, not to the nut's reading — a state
+    // the working day has and the warm-up alone never shows the fit (issue 10).
+    if (o_.coolant_rest) CoolDown(axis, "coolant_rest");
+    EndSession();
+  }
+
   void ColdAndWarm(std::size_t axis, int k) {
     GoTo(k, 7.0);
     StartSession();
@@ -399,6 +425,7 @@ class Campaign {
       e["start_time_s"] = std::round(f.start_time_s * 10) / 10;
       e["end_time_s"] = std::round(f.end_time_s * 10) / 10;
       e["nut_rise_c"] = std::round(f.nut_rise_c * 1000) / 1000;
+      if (f.coolant_session > 0) e["coolant_session"] = f.coolant_session;
       auto& mt = e["mean_temperatures_c"] = nlohmann::ordered_json::object();
       for (const auto& s : sensor_names_) {
         const double v = means_[i].at(s);
@@ -419,6 +446,7 @@ class Campaign {
   std::string log_;
   std::map<std::string, int> sequence_, file_count_;
   std::map<std::string, double> cold_nut_;
+  int coolant_session_ = 0;  // the session being measured (CampaignFile::coolant_session)
   std::vector<std::map<std::string, double>> means_;
   CampaignSummary summary_;
 };

@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -162,6 +163,49 @@ TEST(Campaign, WarmUpTestsWaitForMachiningOfRTimesTheLastTest) {
   fs::remove_all(dir);
 }
 
+// coolant_prewarm_h: one coolant session per entry, each on its own day; the second starts after
+// an hour of dry machining, so its first test finds the nut warm, and the flood then draws it down.
+TEST(Campaign, CoolantSessionsAfterDryMachiningStartOverAWarmMachine) {
+  const auto dir = TempDir("campaign_coolant_prewarm");
+  auto c = ShortCampaign(dir, 4);
+  c.max_coolant_measurements = 3;
+  c.coolant_prewarm_h = {0, 1};
+  const auto summary = RunCampaign(testing::TestMachine(), c);
+  std::map<int, std::vector<const CampaignFile*>> by_session;
+  for (const auto& f : summary.files) {
+    if (f.state == "coolant" || f.state == "coolant_rest") {
+      EXPECT_EQ(f.coolant, "flood") << f.file;
+      by_session[f.coolant_session].push_back(&f);
+    } else {
+      EXPECT_EQ(f.coolant_session, 0) << f.file;
+    }
+  }
+  ASSERT_EQ(by_session.size(), 2u);
+  ASSERT_TRUE(by_session.count(1) && by_session.count(2));
+  const CampaignFile& first1 = *by_session[1].front();
+  const CampaignFile& first2 = *by_session[2].front();
+  EXPECT_EQ(first1.state, "coolant");
+  EXPECT_EQ(first2.state, "coolant");
+  EXPECT_NE(first1.start_date.substr(0, 10), first2.start_date.substr(0, 10));  // another day
+  EXPECT_GT(first2.nut_rise_c, first1.nut_rise_c + 1.0) << "the second session starts over a warm machine";
+  // The session's first test comes after the hour of dry machining (the day starts at 07:00).
+  EXPECT_GE(first2.start_date.substr(11, 5), "08:00") << first2.start_date;
+  // The manifest says which session each coolant file belongs to.
+  const auto manifest = nlohmann::json::parse(ReadTextFile((dir / "manifest.json").string()));
+  int with_session = 0;
+  for (const auto& e : manifest["measurements"])
+    if (e.contains("coolant_session")) {
+      ++with_session;
+      EXPECT_EQ(e["state"].get<std::string>().rfind("coolant", 0), 0u) << e.dump();
+    }
+  EXPECT_EQ(with_session, static_cast<int>(by_session[1].size() + by_session[2].size()));
+  c.coolant_prewarm_h = {0, -1};
+  std::string why;
+  EXPECT_FALSE(c.IsValid(&why));
+  EXPECT_NE(why.find("coolant_prewarm_h"), std::string::npos) << why;
+  fs::remove_all(dir);
+}
+
 // The hour of the day of a measurement's "date" metadata (YYYY-MM-DDTHH:MM:SS).
 double HourOfDay(const measure::Measurement& m) {
   const std::string d = m.Meta("date").value_or("");
@@ -297,6 +341,14 @@ TEST(Campaign, WarmUpCoverageGapsNameTheSessionsThatLeaveMostOfTheRiseUntested) 
   CampaignSummary summary;
   summary.files = files;
   EXPECT_NE(summary.BriefReport().find("\n  Y coolant warm-up"), std::string::npos) << summary.BriefReport();
+  // Two coolant sessions are judged apart; one over a warm machine falls first, then rises.
+  std::vector<CampaignFile> two;
+  for (double r : {5.0, 5.7, 6.1, 6.6}) two.push_back(SessionTest("Y", "coolant", r)), two.back().coolant_session = 1;
+  for (double r : {12.0, 8.0, 12.5}) two.push_back(SessionTest("Y", "coolant", r)), two.back().coolant_session = 2;
+  const auto gaps2 = WarmUpCoverageGaps(two);
+  ASSERT_EQ(gaps2.size(), 1u);
+  EXPECT_NE(gaps2[0].find("Y coolant (session 2) warm-up: tests at nut +12.0, +8.0, +12.5 °C"), std::string::npos)
+      << gaps2[0];
 }
 
 TEST(Campaign, CliRunsAndRejectsBadMachineFile) {

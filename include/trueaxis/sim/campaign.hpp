@@ -53,7 +53,12 @@ struct CampaignOptions {
   std::vector<double> ambient_hours = {3, 10, 19};
   bool coolant_session = true;
   CoolantState coolant_state = CoolantState::kFlood;
-  int max_coolant_measurements = 4;
+  int max_coolant_measurements = 4;     // per coolant session
+  // One coolant session per entry, each on its own day per axis: the flood starts after this many
+  // hours of dry warm-up machining (0: over the cold machine, seed 000's session). A session over a
+  // warm machine shows the fit the sensors drawn to the coolant while the screw still holds the
+  // dry heat, as on a working day whose flood follows hours of dry machining.
+  std::vector<double> coolant_prewarm_h = {0};
   bool coolant_rest = true;  // after the coolant warm-up: the axes stop under coolant, cooldown measurements ("coolant_rest")
   double log_interval_s = 30;
   std::function<void(const std::string&)> progress;  // one line per event (stderr in the CLI)
@@ -70,10 +75,12 @@ struct CampaignFile {
   double start_time_s = 0, end_time_s = 0;
   std::string start_date;
   double nut_rise_c = 0;  // nut sensor vs the axis' cold measurement
+  int coolant_session = 0;  // 1-based: which of coolant_prewarm_h's sessions (0: a dry-day state)
 };
 
 // Where a warm-up's tests leave most of its rise untested: for each axis's dry warm-up ("warm",
-// counted from the cold state) and coolant warm-up ("coolant", from its first test), the largest
+// counted from the cold state) and coolant warm-up ("coolant", from its first test; each session
+// on its own), the largest
 // step in nut rise between two tests when it is more than `max_gap_fraction` of the session's
 // rise, as one line naming the tests' rises. A coolant warm-up with few tests bunches them in the
 // nut's first jump and then waits for saturation (bench/results/zoo.md): said, not hidden.
