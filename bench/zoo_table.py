@@ -23,6 +23,8 @@ DEMO_OPTIONS = [
      "before issue 10's coolant work"),
     ("--coolant-memory", "--coolant-memory", True,
      "let the fit try the coolant memory (demo --coolant-memory): stop 27's default"),
+    ("--coolant-soak", "--coolant-soak", True,
+     "a coolant's own gains keep the off gains' soaked response (demo --coolant-soak)"),
     ("--no-coolant-rest", "--no-coolant-rest", True,
      "calibrate without the campaign's stop under coolant (demo --no-coolant-rest), for comparison"),
     ("--ambient-hours", "--ambient-hours", False,
@@ -45,6 +47,8 @@ DEMO_OPTIONS = [
      "lag tau values (s) tried for the motion-heat input, e.g. 3600 (demo --motion-lag-grid-s)"),
     ("--warmup-per-test", "--warmup-per-test", False,
      "study: the dry warm-up's next test waits for r x the last test's duration of machining (demo --warmup-per-test)"),
+    ("--coolant-prewarm-h", "--coolant-prewarm-h", False,
+     "hours of dry machining before each of the campaign's coolant sessions, e.g. 0,2 (demo --coolant-prewarm-h)"),
     ("--no-lag-fall", "--no-lag-fall", True,
      "fit one lag tau both ways (demo --no-lag-fall): the lag before the longer fall"),
 ]

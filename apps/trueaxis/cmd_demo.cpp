@@ -64,6 +64,9 @@ void Setup(CLI::App& app) {
                 "Let the fit try issue 10's coolant memory (one set of gains, the keys drawn to the room under "
                 "coolant; fit --coolant-loss-grid-s), off by default since it did worse on the machine zoo "
                 "(bench/results/zoo.md)");
+  cmd->add_flag("--coolant-soak", opts->demo.coolant_soak,
+                "A coolant's own gains keep the off-coolant gains' response to a soak (the sums of the key gains "
+                "and shifts held; fit --coolant-soak)");
   cmd->add_flag_function("--no-fallback-models", [opts](std::int64_t) { opts->demo.fallback_models = false; },
                          "Fit no fallback models (fit --no-fallback-models): a key sensor lost in the day "
                          "([[day_fault]]) then leaves its axis the geometric part only");
@@ -104,6 +107,11 @@ void Setup(CLI::App& app) {
   cmd->add_option("--warmup-per-test", opts->demo.min_warmup_per_test,
                   "Study: the dry warm-up's next test waits for this many times the last test's duration of machining")
       ->check(CLI::Range(0.0, 10.0));
+  cmd->add_option("--coolant-prewarm-h", opts->demo.coolant_prewarm_h,
+                  "Coolant sessions of the campaign: one per value, the flood starting after that many hours of dry "
+                  "machining (0: over the cold machine; default 0)")
+      ->delimiter(',')
+      ->check(CLI::Range(0.0, 12.0));
   cmd->add_option("--keys", opts->demo.keys,
                   "Key sensors: seed (the axis's nut and bearing, seed 000's key points), auto (chosen from every "
                   "sensor by the fit's cross-validation, as `trueaxis fit`)")

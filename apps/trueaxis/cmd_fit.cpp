@@ -63,6 +63,7 @@ struct FitCliOptions {
   std::vector<double> lag_fall_grid = model::FitOptions{}.key_lag_fall_grid;
   std::vector<double> coolant_loss_grid_s = model::FitOptions{}.coolant_loss_grid_s;
   bool no_fallback_models = false;
+  bool coolant_soak = false;
   std::vector<std::string> redundant;  // "y_nut,y_nut_b" per group
   double envelope_margin = model::FitOptions{}.tan_beta_margin;
 };
@@ -135,6 +136,7 @@ void RunFit(const FitCliOptions& o) {
   if (o.coolant_loss_grid_s.size() == 1 && o.coolant_loss_grid_s[0] < 0) fo.coolant_loss_grid_s.clear();
   fo.tan_beta_margin = o.envelope_margin;
   fo.fallback_models = !o.no_fallback_models;
+  fo.coolant_soak_constraint = o.coolant_soak;
   for (const auto& group : o.redundant) {
     std::vector<std::string> names;
     std::string name;
@@ -220,6 +222,10 @@ void Setup(CLI::App& app) {
       ->delimiter(',')
       ->allow_extra_args(false)
       ->capture_default_str();
+  cmd->add_flag("--coolant-soak", opts->coolant_soak,
+                "A coolant's own gains keep the off-coolant response to a soak: with two key sensors or more, the sum "
+                "of their gains (and of the keys' and the room's shifts) held at the off gains' (opt-in; "
+                "bench/results/zoo.md)");
   cmd->add_flag("--no-fallback-models", opts->no_fallback_models,
                "Fit no fallback models (by default an axis with key sensors is also fitted without each of "
                "them, twice — its keys re-chosen from the other sensors, and the model's other keys — and without its "

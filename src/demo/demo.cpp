@@ -551,6 +551,7 @@ DemoResult RunDemo(const DemoOptions& o) {
     c.max_coolant_measurements = 3;
   }
   c.min_warmup_per_test = o.min_warmup_per_test;
+  if (!o.coolant_prewarm_h.empty()) c.coolant_prewarm_h = o.coolant_prewarm_h;
   c.progress = [&](const std::string& line) { progress("[campaign] " + line); };
   progress(fmt::format("[demo] 1/4 calibration campaign on {} (axes {}) → {}", md.name, fmt::join(axes, ","), c.out_dir));
   const auto t_campaign = Clock::now();
@@ -586,6 +587,7 @@ DemoResult RunDemo(const DemoOptions& o) {
     fo.motion_heat = o.motion_heat == "on"    ? model::FitOptions::MotionHeat::kOn
                      : o.motion_heat == "off" ? model::FitOptions::MotionHeat::kOff
                                               : model::FitOptions::MotionHeat::kAuto;
+    fo.coolant_soak_constraint = o.coolant_soak;
     if (o.coolant_memory) fo.coolant_loss_grid_s = model::FitOptions::CoolantMemoryGridS();
     fo.fallback_models = o.fallback_models;
     fo.redundant_groups = RedundantProbes(md);

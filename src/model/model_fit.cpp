@@ -103,6 +103,12 @@ struct GainForm {
   // The room's shift is fitted only when the rows' room temperature varied by this much (°C): a
   // fold without the other-ambient states cannot determine it (FitOptions::min_ambient_range_c).
   double min_room_range_c = 1.0;
+  // A coolant's own gains keep the off-coolant gains' response to a soak (every key and the room
+  // risen alike): Σk + ρ and Σko + o_a held at these values (NaN: free). The coolant's few states
+  // of one season cannot determine that direction; the machine soaked with the coolant at the
+  // room's temperature expands as it does dry.
+  double soak_slope = std::numeric_limits<double>::quiet_NaN();
+  double soak_shift = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Least squares r = Σ k_j·rise_j·L (+ ρ·amb·L) (+ Σ o_j·rise_j + o_a·amb with form.key_offsets) over
@@ -173,6 +179,19 @@ GainFit SolveGains(const std::vector<ThermalPoint>& pts, Pred use, const std::ve
       if (offset_cols > 0) a(first_extra + shrunk + j, slope_cols + 1 + j) = w;
     }
   }
+  // The soak constraints as heavily weighted rows in the unit-norm system (coefficients 1/scale).
+  auto constrain = [&](Eigen::Index first, Eigen::Index count, double target) {
+    if (!std::isfinite(target) || count <= 0) return;
+    Eigen::VectorXd row = Eigen::VectorXd::Zero(cols);
+    for (Eigen::Index j = first; j < first + count; ++j) row(j) = 1.0 / scale(j);
+    const double w = 1e6 / row.norm();
+    a.conservativeResize(a.rows() + 1, Eigen::NoChange);
+    b.conservativeResize(b.rows() + 1);
+    a.row(a.rows() - 1) = w * row.transpose();
+    b(b.rows() - 1) = w * target;
+  };
+  constrain(0, slope_cols, form.soak_slope - (fit_rho ? 0.0 : fixed_rho));
+  if (offset_cols > 0) constrain(slope_cols, offset_cols, form.soak_shift);
   Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
   c = c.cwiseQuotient(scale);
   g.k.assign(c.data(), c.data() + keys.size());
@@ -1061,11 +1080,12 @@ class AxisFitter {
       }
       for (const auto& name : model_.key_sensors) model_.key_fitted_range_c.push_back(SensorRange(name));
       sum.key_sensors = model_.key_sensors;
-      for (int dir = 0; dir < 2; ++dir)
-        {
-          model_.directions[dir].thermal.push_back({CoolantState::kOff, fits[dir].k, 0});
-          if (form_.key_offsets) model_.key_shifts[dir].push_back({fits[dir].ko, fits[dir].ambient_offset});
-        }
+      for (int dir = 0; dir < 2; ++dir) {
+        ThermalGains off;
+        off.k_um_per_mm_per_c = fits[dir].k;
+        model_.directions[dir].thermal.push_back(std::move(off));
+        if (form_.key_offsets) model_.key_shifts[dir].push_back({fits[dir].ko, fits[dir].ambient_offset});
+      }
       if (shared_gains_) {
         // Every coolant of the data is recorded, with 0 when the shared gains cover it without a
         // loss: the file says which coolant states the one set of gains was fitted on.
@@ -1175,6 +1195,26 @@ class AxisFitter {
     if (!g.ko.empty() && off.ko.size() == g.ko.size() + 1) g.ko.push_back(off.ko.back());
   }
 
+  // A coolant's own gains for `sensor_keys` on the points `use` selects, with the off ρ. With the
+  // soak constraint (FitOptions::coolant_soak_constraint) and two keys or more, Σk (and the keys'
+  // and the room's shifts summed) held at the off gains' `off`: the machine soaked under the
+  // coolant expands as it does dry, and what the coolant changes is how the keys share it. With
+  // one key the constraint would leave the off gain itself, so it is not applied.
+  template <typename Use>
+  GainFit CoolantOwnGains(const std::vector<ThermalPoint>& pts, Use use, const std::vector<std::size_t>& sensor_keys,
+                          double rho, const GainFit& off) const {
+    GainForm f = form_;
+    if (o_.coolant_soak_constraint && sensor_keys.size() >= 2) {
+      f.soak_slope = rho;
+      for (std::size_t j = 0; j < sensor_keys.size() && j < off.k.size(); ++j) f.soak_slope += off.k[j];
+      if (form_.key_offsets) {
+        f.soak_shift = off.ambient_offset;
+        for (std::size_t j = 0; j < sensor_keys.size() && j < off.ko.size(); ++j) f.soak_shift += off.ko[j];
+      }
+    }
+    return SolveGains(pts, use, sensor_keys, false, rho, f);
+  }
+
   // The off-coolant gains times one factor fitted on `use`'s points of direction `dir` (the
   // coolant fallback: one parameter, so it cannot swing far from what the off states showed).
   template <typename Use>
@@ -1207,7 +1247,7 @@ class AxisFitter {
         auto train = [&](const ThermalPoint& p) { return p.dir == dir && p.state != s && states.count(p.state); };
         GainFit g;
         if (own) {
-          g = SolveGains(own_pts, train, sensor_keys, false, rho, form_);
+          g = CoolantOwnGains(own_pts, train, sensor_keys, rho, off_fits[dir]);
           if (!g.ok) return std::numeric_limits<double>::infinity();
           AppendMotionGain(off_fits[dir], g);
         } else {
@@ -1251,9 +1291,9 @@ class AxisFitter {
         KeyShifts shifts;  // each key's own pivot (kept only with key offsets)
         tg.coolant = coolant;
         if (own) {
-          auto g = SolveGains(WithoutMotionPart(pts, keys, off_fits),
-                              [&](const ThermalPoint& p) { return p.dir == dir && states.count(p.state); }, sensor_keys,
-                              false, rho, form_);
+          auto g = CoolantOwnGains(WithoutMotionPart(pts, keys, off_fits),
+                                   [&](const ThermalPoint& p) { return p.dir == dir && states.count(p.state); },
+                                   sensor_keys, rho, off_fits[dir]);
           if (g.ok) AppendMotionGain(off_fits[dir], g);
           const GainFit& used = g.ok ? g : off_fits[dir];
           tg.k_um_per_mm_per_c = used.k;

@@ -229,6 +229,48 @@ TEST(ModelFit, CoolantStatesGetTheirOwnGainsLookUpEntry) {
   EXPECT_THAT(res.summary.axes[0].coolant_notes[0], HasSubstr("factor"));
 }
 
+// FitOptions::coolant_soak_constraint: a coolant's own gains keep the off gains' soaked response
+// (their sum, and the summed shifts with key offsets); the truth here halves every gain under
+// flood, so the free fit finds half the sum and the constrained one the off sum exactly.
+TEST(ModelFit, CoolantSoakConstraintHoldsTheSumOfTheOwnGainsAtTheOffGains) {
+  SyntheticMachine sm;
+  auto list = sm.DefaultStates();
+  for (const SyntheticMachine::State& st : std::vector<SyntheticMachine::State>{{"coolant-1", 2.0, 0.5, 1.0, 0.3, "flood"},
+                                                                                {"coolant-2", 4.0, 2.5, 3.0, 0.6, "flood"},
+                                                                                {"coolant-3", 5.0, 1.5, 2.0, 0.9, "flood"},
+                                                                                {"coolant-4", 7.0, 3.0, 4.0, 1.2, "flood"}})
+    list.push_back(st);
+  const auto states = sm.MakeStates(list);
+  for (const auto offsets : {FitOptions::KeyOffsets::kOff, FitOptions::KeyOffsets::kOn}) {
+    FitOptions fo;
+    fo.key_sensors = {"nut", "bearing"};
+    fo.key_offsets = offsets;
+    const auto free_fit = FitCompositeModel(states, fo);
+    fo.coolant_soak_constraint = true;
+    const auto held = FitCompositeModel(states, fo);
+    for (int d = 0; d < 2; ++d) {
+      const Direction dir = d == 0 ? Direction::kForward : Direction::kReverse;
+      auto sum = [&](const AxisModel& a, CoolantState c) {
+        const auto* g = a.For(dir).GainsFor(c);
+        return g->k_um_per_mm_per_c[0] + g->k_um_per_mm_per_c[1];
+      };
+      auto shift_sum = [&](const AxisModel& a, CoolantState c) {
+        const auto* ks = a.ShiftsFor(dir, a.For(dir).GainsFor(c));
+        return ks ? ks->offset_um_per_c[0] + ks->offset_um_per_c[1] + ks->ambient_offset_um_per_c : 0.0;
+      };
+      const AxisModel& f = free_fit.model.axes[0];
+      const AxisModel& h = held.model.axes[0];
+      ASSERT_NE(h.For(dir).GainsFor(CoolantState::kFlood), h.For(dir).GainsFor(CoolantState::kOff));
+      const double off_sum = sum(h, CoolantState::kOff);
+      EXPECT_NEAR(off_sum, sm.k_nut + sm.k_bearing, 0.0005);
+      EXPECT_NEAR(sum(f, CoolantState::kFlood), sm.k_nut_flood_factor * off_sum, 0.0005) << "the free fit follows the truth";
+      EXPECT_NEAR(sum(h, CoolantState::kFlood), off_sum, 1e-6 * std::fabs(off_sum)) << "held at the off sum";
+      if (offsets == FitOptions::KeyOffsets::kOn)
+        EXPECT_NEAR(shift_sum(h, CoolantState::kFlood), shift_sum(h, CoolantState::kOff), 1e-6);
+    }
+  }
+}
+
 TEST(ModelFit, TooFewHeatedStatesGiveGeometricOnlyWithWarning) {
   SyntheticMachine sm;
   auto res = FitCompositeModel(sm.MakeStates({{"cold", 0, 0, 0, 0}, {"heated-1", 3, 1, 2, 0}}), {});

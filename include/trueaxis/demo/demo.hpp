@@ -46,6 +46,8 @@ struct DemoOptions {
   // Issue 10's coolant memory (model/thermal_state.hpp, FitOptions::coolant_loss_grid_s): tried by
   // the fit when true (FitOptions::CoolantMemoryGridS()); off by default, as in the fit.
   bool coolant_memory = false;
+  // A coolant's own gains keep the off gains' soaked response (FitOptions::coolant_soak_constraint).
+  bool coolant_soak = false;
   // Fallback models fitted without each key sensor (FitOptions::fallback_models), used by the
   // compensator when a key sensor is lost (machine file [[day_fault]]). false: the geometric part only.
   bool fallback_models = true;
@@ -62,6 +64,9 @@ struct DemoOptions {
   // The motion-heat input (model::FitOptions::motion_heat): "auto", "on" or "off" (the default).
   std::string motion_heat = "off";
   double min_warmup_per_test = 0;  // sim::CampaignOptions::min_warmup_per_test (study option)
+  // Hours of dry machining before each coolant session (sim::CampaignOptions::coolant_prewarm_h);
+  // empty: the campaign's default.
+  std::vector<double> coolant_prewarm_h;
   std::vector<double> motion_lag_grid_s = model::FitOptions{}.motion_lag_grid_s;  // its τ values tried
   // The key sensors: "seed" = the axis's nut and bearing (seed 000's key points) when it has both;
   // "auto" = chosen from every sensor by the fit's cross-validation, as `trueaxis fit` does.

@@ -98,6 +98,10 @@ struct FitOptions {
   // on the machine zoo both forms extrapolate badly from 4 states of one session, and the factor
   // form was worse; the prediction's slope envelope guards against the wild case instead).
   bool coolant_form_by_cv = false;
+  // A coolant's own gains keep the off-coolant response to a soak: the sum of the key gains (and of
+  // the keys' and the room's shifts) held at the off gains' (the soaked machine with the coolant at
+  // the room's temperature expands as it does dry; one season's coolant states cannot tell).
+  bool coolant_soak_constraint = false;
   // The envelope of the thermal slope each gains entry may give (ThermalGains::min/max_tan_beta):
   // the range over the fit's states of that coolant (and 0, the cold state), widened on both sides
   // by this fraction of its width. Negative: no envelope (the model extrapolates freely).
