@@ -25,6 +25,8 @@ DEMO_OPTIONS = [
      "let the fit try the coolant memory (demo --coolant-memory): stop 27's default"),
     ("--coolant-soak", "--coolant-soak", True,
      "a coolant's own gains keep the off gains' soaked response (demo --coolant-soak)"),
+    ("--coolant-visit", "--coolant-visit", False,
+     "when the campaign measures its coolant sessions: after-seasons, first or both (demo --coolant-visit)"),
     ("--no-coolant-rest", "--no-coolant-rest", True,
      "calibrate without the campaign's stop under coolant (demo --no-coolant-rest), for comparison"),
     ("--ambient-hours", "--ambient-hours", False,

@@ -97,7 +97,7 @@ void Setup(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--motion-heat", opts->demo.motion_heat,
                   "The axis's lagged feed as one more key of the thermal slope (the motion-heat input): auto (kept "
-                  "by the fit's cross-validation), on, off (the default: the seed's keys only; bench/results/zoo.md compares)")
+                  "by the fit's cross-validation; the default), on, off (the seed's keys only; bench/results/zoo.md compares)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
   cmd->add_option("--motion-lag-grid-s", opts->demo.motion_lag_grid_s,
@@ -105,13 +105,22 @@ void Setup(CLI::App& app) {
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--warmup-per-test", opts->demo.min_warmup_per_test,
-                  "Study: the dry warm-up's next test waits for this many times the last test's duration of machining")
-      ->check(CLI::Range(0.0, 10.0));
+                  "The campaign's dry warm-up: each test waits for this many times the last test's duration of "
+                  "machining (0: only for the nut's step)")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
   cmd->add_option("--coolant-prewarm-h", opts->demo.coolant_prewarm_h,
-                  "Coolant sessions of the campaign: one per value, the flood starting after that many hours of dry "
-                  "machining (0: over the cold machine; default 0)")
+                  "Study: coolant sessions of the campaign, one per value, the flood starting after that many hours of "
+                  "dry machining (0: over the cold machine; default 0)")
       ->delimiter(',')
       ->check(CLI::Range(0.0, 12.0));
+  cmd->add_option_function<std::string>(
+         "--coolant-visit",
+         [opts](const std::string& v) { opts->demo.coolant_visit = *trueaxis::sim::ParseCoolantVisit(v); },
+         std::string("When the campaign measures its coolant sessions: both (the first visit, right after the dry "
+                     "warm-ups, and again after the other-season days), first, after-seasons; default ") +
+             trueaxis::sim::CoolantVisitName(trueaxis::sim::CampaignOptions{}.coolant_visit))
+      ->check(CLI::IsMember({"after-seasons", "first", "both"}));
   cmd->add_option("--keys", opts->demo.keys,
                   "Key sensors: seed (the axis's nut and bearing, seed 000's key points), auto (chosen from every "
                   "sensor by the fit's cross-validation, as `trueaxis fit`)")

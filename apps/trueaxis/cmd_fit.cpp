@@ -55,7 +55,7 @@ struct FitCliOptions {
   double max_key_correlation = 0.98;
   double secondary_key_ridge = model::FitOptions{}.secondary_key_ridge;
   std::string key_offsets = "auto";
-  std::string motion_heat = "off";
+  std::string motion_heat = "auto";
   std::vector<double> motion_lag_grid_s = model::FitOptions{}.motion_lag_grid_s;
   bool reuse_sources = false;
   bool full = false;
@@ -262,7 +262,7 @@ void Setup(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--motion-heat", opts->motion_heat,
                   "The axis's feed, lagged, as one more key of the thermal slope (needs the manifest's temperature "
-                  "log with <axis>_travel_mm): auto (kept by cross-validation), on, off (the default; bench/results/zoo.md)")
+                  "log with <axis>_travel_mm): auto (kept by cross-validation; without travel columns not tried), on, off (the seed's keys only)")
       ->capture_default_str();
   cmd->add_option("--motion-lag-grid-s", opts->motion_lag_grid_s,
                   "Lag τ values (s) tried for the motion-heat input, by the same cross-validation")

@@ -27,6 +27,8 @@ struct Options {
   std::vector<int> ambient_days = {60, 150};
   std::vector<double> ambient_hours = trueaxis::sim::CampaignOptions{}.ambient_hours;
   std::vector<double> coolant_prewarm_h = trueaxis::sim::CampaignOptions{}.coolant_prewarm_h;
+  std::string coolant_visit = trueaxis::sim::CoolantVisitName(trueaxis::sim::CampaignOptions{}.coolant_visit);
+  double warmup_per_test = trueaxis::sim::CampaignOptions{}.min_warmup_per_test;
   bool no_coolant = false;
   bool material_compensation = false;
   bool quiet = false;
@@ -49,6 +51,8 @@ void Run(const Options& o) {
   c.ambient_hours = o.ambient_hours;
   c.coolant_session = !o.no_coolant;
   c.coolant_prewarm_h = o.coolant_prewarm_h;
+  c.coolant_visit = *trueaxis::sim::ParseCoolantVisit(o.coolant_visit);
+  c.min_warmup_per_test = o.warmup_per_test;
   if (!o.quiet) c.progress = [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
   std::string why;
   if (!c.IsValid(&why)) throw trueaxis::InputError("command line", why);
@@ -96,7 +100,16 @@ void Setup(CLI::App& app) {
       ->delimiter(',')
       ->capture_default_str()
       ->check(CLI::Range(0.0, 12.0));
-  cmd->add_flag("--no-coolant", opts->no_coolant, "Skip the coolant session");
+  cmd->add_option("--coolant-visit", opts->coolant_visit,
+                  "When the coolant sessions are measured: both (right after the dry warm-ups and again after the "
+                  "other-season days), first, after-seasons")
+      ->check(CLI::IsMember({"after-seasons", "first", "both"}))
+      ->capture_default_str();
+  cmd->add_option("--warmup-per-test", opts->warmup_per_test,
+                  "The dry warm-up: each test waits for this many times the last test's duration of machining")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  cmd->add_flag("--no-coolant", opts->no_coolant, "Skip the coolant sessions");
   cmd->add_flag("--material-compensation", opts->material_compensation, "Laser material compensation on (CTE 11.5)");
   cmd->add_flag("--quiet", opts->quiet, "No progress on stderr");
   cmd->callback([opts] { Run(*opts); });

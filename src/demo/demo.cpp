@@ -552,6 +552,7 @@ DemoResult RunDemo(const DemoOptions& o) {
   }
   c.min_warmup_per_test = o.min_warmup_per_test;
   if (!o.coolant_prewarm_h.empty()) c.coolant_prewarm_h = o.coolant_prewarm_h;
+  c.coolant_visit = o.coolant_visit;
   c.progress = [&](const std::string& line) { progress("[campaign] " + line); };
   progress(fmt::format("[demo] 1/4 calibration campaign on {} (axes {}) → {}", md.name, fmt::join(axes, ","), c.out_dir));
   const auto t_campaign = Clock::now();

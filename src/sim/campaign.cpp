@@ -56,6 +56,22 @@ bool CampaignOptions::IsValid(std::string* why) const {
   return true;
 }
 
+std::optional<CampaignOptions::CoolantVisit> ParseCoolantVisit(std::string_view name) {
+  using V = CampaignOptions::CoolantVisit;
+  for (V v : {V::kAfterSeasons, V::kFirstVisit, V::kBoth})
+    if (name == CoolantVisitName(v)) return v;
+  return std::nullopt;
+}
+
+const char* CoolantVisitName(CampaignOptions::CoolantVisit visit) {
+  switch (visit) {
+    case CampaignOptions::CoolantVisit::kAfterSeasons: return "after-seasons";
+    case CampaignOptions::CoolantVisit::kFirstVisit: return "first";
+    case CampaignOptions::CoolantVisit::kBoth: return "both";
+  }
+  return "both";
+}
+
 std::string CampaignSummary::BriefReport() const {
   std::map<std::string, int> by_state;
   for (const auto& f : files) ++by_state[f.state];
@@ -152,6 +168,7 @@ class Campaign {
     std::filesystem::create_directories(o_.out_dir);
     for (std::size_t k = 0; k < axes_.size(); ++k) ColdAndWarm(axes_[k], static_cast<int>(k));
     int last_day = static_cast<int>(axes_.size()) - 1;
+    if (o_.coolant_visit != CampaignOptions::CoolantVisit::kAfterSeasons) last_day = CoolantSessions(last_day);
     for (int offset : o_.ambient_day_offsets) {
       for (double hour : o_.ambient_hours) {
         // An hour the day's earlier measurements ran past falls on the next day (GoTo): said, the
@@ -168,14 +185,7 @@ class Campaign {
       }
       last_day = std::max(last_day, offset);
     }
-    if (o_.coolant_session && o_.max_coolant_measurements > 0) {
-      int day = last_day;
-      for (double prewarm_h : o_.coolant_prewarm_h) {
-        ++coolant_session_;
-        for (std::size_t a : axes_) CoolantSession(a, ++day, prewarm_h);
-      }
-      coolant_session_ = 0;
-    }
+    if (o_.coolant_visit != CampaignOptions::CoolantVisit::kFirstVisit) CoolantSessions(last_day);
     WriteTextFile((std::filesystem::path(o_.out_dir) / "temperature_log.csv").string(), log_);
     WriteManifest();
     summary_.machine_time_s = vm_.TimeS();
@@ -258,7 +268,7 @@ class Campaign {
     const double nut = MeanColumn(m, NutSensor(axis));
     if (state == "cold" || !cold_nut_.count(axis_name)) cold_nut_[axis_name] = nut;
     f.nut_rise_c = nut - cold_nut_[axis_name];
-    f.coolant_session = coolant_session_;
+    f.coolant_session = in_coolant_session_ ? coolant_session_ : 0;
     m.SetMeta("nut_rise_c", Fixed(f.nut_rise_c, 3));
     measure::WriteMeasurementCsv(m, (std::filesystem::path(o_.out_dir) / file).string());
     std::map<std::string, double> means;
@@ -370,6 +380,19 @@ class Campaign {
                            o_.cooldown_measurements, o_.cooldown_step_c, o_.max_cooldown_hours));
   }
 
+  // Every coolant session, each axis on its own day after `last_day`; returns the last day used.
+  int CoolantSessions(int last_day) {
+    if (!o_.coolant_session || o_.max_coolant_measurements <= 0) return last_day;
+    int day = last_day;
+    in_coolant_session_ = true;
+    for (double prewarm_h : o_.coolant_prewarm_h) {
+      ++coolant_session_;
+      for (std::size_t a : axes_) CoolantSession(a, ++day, prewarm_h);
+    }
+    in_coolant_session_ = false;
+    return day;
+  }
+
   // Flood on (after `prewarm_h` of dry warm-up machining), a test at once, a warm-up under the
   // coolant, then the stop under it.
   void CoolantSession(std::size_t axis, int day, double prewarm_h) {
@@ -446,7 +469,8 @@ class Campaign {
   std::string log_;
   std::map<std::string, int> sequence_, file_count_;
   std::map<std::string, double> cold_nut_;
-  int coolant_session_ = 0;  // the session being measured (CampaignFile::coolant_session)
+  int coolant_session_ = 0;  // the session being measured (CampaignFile::coolant_session), counted over the campaign
+  bool in_coolant_session_ = false;
   std::vector<std::map<std::string, double>> means_;
   CampaignSummary summary_;
 };

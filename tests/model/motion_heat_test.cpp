@@ -238,8 +238,11 @@ TEST(MotionHeatFit, NotKeptWithoutMotionInTheDataNorTriedWithoutTravel) {
   const auto no_log = FitCompositeModel(MotionStates(6, kMotionGain, 900, false), o);
   EXPECT_FALSE(no_log.model.axes[0].HasMotionHeat());
   EXPECT_THAT(no_log.summary.axes[0].motion_reason, HasSubstr("no travelled path of axis X"));
-  // Off (the default): not tried, and said.
-  const auto off = FitCompositeModel(MotionStates(6, kMotionGain, 900, true), testing::TimedFitOptions());
+  // Off: not tried, and said (auto is the default, FitOptions::motion_heat).
+  EXPECT_EQ(FitOptions{}.motion_heat, FitOptions::MotionHeat::kAuto);
+  auto off_options = testing::TimedFitOptions();
+  off_options.motion_heat = FitOptions::MotionHeat::kOff;
+  const auto off = FitCompositeModel(MotionStates(6, kMotionGain, 900, true), off_options);
   EXPECT_FALSE(off.model.axes[0].HasMotionHeat());
   EXPECT_THAT(off.summary.axes[0].motion_reason, HasSubstr("off in the options"));
 }

@@ -34,8 +34,8 @@ std::vector<FitState> Campaign(std::uint64_t seed, const std::string& dir, bool 
   o.max_warm_measurements = 6;
   if (other_path) {
     o.nut_step_c = 0.8;
-    o.warmup_feed_low_mm_min = 2500;
-    o.warmup_feed_high_mm_min = 3500;
+    o.warmup_feed_low_mm_min = 1000;  // a gentler warm-up: another day's path
+    o.warmup_feed_high_mm_min = 1500;
     o.ambient_day_offsets = {30, 110};
   }
   fs::remove_all(dir);

@@ -170,6 +170,7 @@ TEST(Campaign, CoolantSessionsAfterDryMachiningStartOverAWarmMachine) {
   auto c = ShortCampaign(dir, 4);
   c.max_coolant_measurements = 3;
   c.coolant_prewarm_h = {0, 1};
+  c.coolant_visit = CampaignOptions::CoolantVisit::kAfterSeasons;  // one visit: two sessions
   const auto summary = RunCampaign(testing::TestMachine(), c);
   std::map<int, std::vector<const CampaignFile*>> by_session;
   for (const auto& f : summary.files) {
@@ -204,6 +205,57 @@ TEST(Campaign, CoolantSessionsAfterDryMachiningStartOverAWarmMachine) {
   EXPECT_FALSE(c.IsValid(&why));
   EXPECT_NE(why.find("coolant_prewarm_h"), std::string::npos) << why;
   fs::remove_all(dir);
+}
+
+// coolant_visit: the coolant sessions after the other-season days (the default), on the days
+// right after the dry warm-ups, or both (then numbered on through the campaign).
+TEST(Campaign, CoolantSessionsInTheFirstVisitAfterTheSeasonsOrBoth) {
+  using V = CampaignOptions::CoolantVisit;
+  for (const V visit : {V::kAfterSeasons, V::kFirstVisit, V::kBoth}) {
+    const auto dir = TempDir("campaign_coolant_visit_" + std::to_string(static_cast<int>(visit)));
+    auto c = ShortCampaign(dir, 5);
+    c.coolant_visit = visit;
+    const auto summary = RunCampaign(testing::TestMachine(), c);
+    std::string last_warm, first_ambient, last_ambient;
+    std::map<int, std::pair<std::string, std::string>> sessions;  // session → first, last start date
+    for (const auto& f : summary.files) {
+      if (f.state == "warm" || f.state == "cooldown") last_warm = std::max(last_warm, f.start_date);
+      if (f.state == "ambient") {
+        if (first_ambient.empty()) first_ambient = f.start_date;
+        last_ambient = f.start_date;
+      }
+      if (f.state == "coolant" || f.state == "coolant_rest") {
+        auto& [first, last] = sessions[f.coolant_session];
+        if (first.empty()) first = f.start_date;
+        last = f.start_date;
+      } else {
+        EXPECT_EQ(f.coolant_session, 0) << f.file;
+      }
+    }
+    ASSERT_FALSE(first_ambient.empty() || last_warm.empty());
+    ASSERT_EQ(sessions.size(), visit == V::kBoth ? 2u : 1u);
+    const auto& [first1, last1] = sessions.begin()->second;
+    EXPECT_GT(first1, last_warm);
+    if (visit == V::kAfterSeasons) {
+      EXPECT_GT(first1, last_ambient);
+    } else {
+      EXPECT_LT(last1, first_ambient) << "the first session belongs to the first visit";
+      EXPECT_LE(first1.substr(0, 10), "2026-03-09");  // within days of the cold state (TestMachine starts 2026-03-02)
+    }
+    if (visit == V::kBoth) EXPECT_GT(sessions.rbegin()->second.first, last_ambient);
+    // The log stays in time order either way.
+    const std::string log = ReadTextFile((dir / "temperature_log.csv").string());
+    std::istringstream lines(log);
+    std::string line;
+    std::getline(lines, line);
+    double prev = -1;
+    while (std::getline(lines, line)) {
+      const double t = std::stod(line.substr(0, line.find(',')));
+      ASSERT_GE(t, prev) << line;
+      prev = t;
+    }
+    fs::remove_all(dir);
+  }
 }
 
 // The hour of the day of a measurement's "date" metadata (YYYY-MM-DDTHH:MM:SS).
@@ -377,10 +429,11 @@ TEST(Campaign, CliRunsAndRejectsBadMachineFile) {
   EXPECT_EQ(RunCli("sim campaign --machine " + tiny.string() + " --out " + (dir / "out4").string(), &err), 2);
   EXPECT_NE(err.find("do not fit the travel"), std::string::npos) << err;
 
-  // --max-coolant reaches the campaign: that many coolant warm-up tests (the nut of this small axis
-  // rises in fine steps), and a count of 0 is refused.
+  // --max-coolant reaches the campaign: that many coolant warm-up tests per session (the nut of this
+  // small axis rises in fine steps; --coolant-visit first: one session), and a count of 0 is refused.
   EXPECT_EQ(RunCli("sim campaign --quiet --machine " + machine.string() + " --out " + (dir / "out6").string() +
-                       " --axes Y --runs 2 --warm-runs 2 --spacing-mm 200 --max-warm 1 --cooldown 0 --ambient-days 5 --max-coolant 3",
+                       " --axes Y --runs 2 --warm-runs 2 --spacing-mm 200 --max-warm 1 --cooldown 0 --ambient-days 5 --max-coolant 3"
+                       " --coolant-visit first",
                    &err),
             0)
       << err;
@@ -388,6 +441,11 @@ TEST(Campaign, CliRunsAndRejectsBadMachineFile) {
   int coolant_tests = 0;
   for (const auto& e : manifest6["measurements"]) coolant_tests += e["state"] == "coolant";
   EXPECT_EQ(coolant_tests, 3);
+  EXPECT_EQ(RunCli("sim campaign --machine " + machine.string() + " --out " + (dir / "out8").string() +
+                       " --coolant-visit never",
+                   &err),
+            2);
+  EXPECT_NE(err.find("--coolant-visit"), std::string::npos) << err;
   EXPECT_EQ(RunCli("sim campaign --machine " + machine.string() + " --out " + (dir / "out7").string() + " --max-coolant 0", &err), 2);
   EXPECT_NE(err.find("--max-coolant"), std::string::npos) << err;
   EXPECT_EQ(RunCli("sim campaign --machine " + machine.string() + " --out " + (dir / "out3").string() + " --axes Q", &err), 2);

@@ -21,6 +21,7 @@
 #include "trueaxis/model/fit_options.hpp"
 #include "trueaxis/runtime/compensator_options.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
+#include "trueaxis/sim/campaign.hpp"
 
 namespace trueaxis::demo {
 
@@ -62,11 +63,13 @@ struct DemoOptions {
   // Each key's own pivot (model::FitOptions::key_offsets): "auto", "on" or "off" (the seed's one Px).
   std::string key_offsets = "auto";
   // The motion-heat input (model::FitOptions::motion_heat): "auto", "on" or "off" (the default).
-  std::string motion_heat = "off";
-  double min_warmup_per_test = 0;  // sim::CampaignOptions::min_warmup_per_test (study option)
+  std::string motion_heat = "auto";
+  double min_warmup_per_test = sim::CampaignOptions{}.min_warmup_per_test;  // sim::CampaignOptions::min_warmup_per_test
   // Hours of dry machining before each coolant session (sim::CampaignOptions::coolant_prewarm_h);
   // empty: the campaign's default.
   std::vector<double> coolant_prewarm_h;
+  // When the campaign measures its coolant sessions (sim::CampaignOptions::coolant_visit).
+  sim::CampaignOptions::CoolantVisit coolant_visit = sim::CampaignOptions{}.coolant_visit;
   std::vector<double> motion_lag_grid_s = model::FitOptions{}.motion_lag_grid_s;  // its τ values tried
   // The key sensors: "seed" = the axis's nut and bearing (seed 000's key points) when it has both;
   // "auto" = chosen from every sensor by the fit's cross-validation, as `trueaxis fit` does.

@@ -87,12 +87,13 @@ struct FitOptions {
   // {} or {0}: never (the seed's form).
   std::vector<double> motion_lag_grid_s = {600, 900, 1200, 1800, 2400, 3600, 5400};
   // auto: kept by the CV rule above; on: the best τ of the grid kept whatever the CV says (when
-  // every state has the travel); off: not tried. Off by default: on the machine zoo (seeds 1–3) and
-  // 48 drawn machines `auto` kept 910 of 951 rows under the must line against 911 without it, the
-  // same 672 at the goal, the sum of A_on −0.5 % — the campaign's CV did not tell the axes it helped
-  // on the working day from those it hurt (bench/results/zoo.md). Opt in with auto.
+  // every state has the travel); off: not tried. Auto by default since stop 34, with the campaign
+  // that identifies it (sim::CampaignOptions: warm-up machining between tests, min_warmup_per_test
+  // 0.5, and coolant sessions in both visits): machine zoo seeds 1–5 647 of 650 rows under the must
+  // line against 629, 48 drawn machines 530 of 540 against 532, sum of A_on −5 %
+  // (bench/results/zoo.md). On the older campaign the CV could not rank it (910 against 911 of 930).
   enum class MotionHeat { kAuto, kOn, kOff };
-  MotionHeat motion_heat = MotionHeat::kOff;
+  MotionHeat motion_heat = MotionHeat::kAuto;
   // Coolant gains: with keys + 1 states or more a coolant gets its own gains; when true, only if
   // they predict a held-out coolant state better than the off gains × one factor (off by default:
   // on the machine zoo both forms extrapolate badly from 4 states of one session, and the factor

@@ -8,6 +8,8 @@
 // (docs/campaign.md).
 #include <cstdint>
 #include <functional>
+#include <optional>
+#include <string_view>
 #include <string>
 #include <vector>
 
@@ -30,8 +32,11 @@ struct CampaignOptions {
                                           // the rise still to come (extrapolated from the warm-up curve),
                                           // whichever is larger: the tests cover the whole rise
   // The dry warm-up's next test waits for at least this many times the last test's duration of
-  // machining (as well as the nut step): 0 = none. Study option (bench/results/zoo.md).
-  double min_warmup_per_test = 0;
+  // machining (as well as the nut step): 0 = none. A long axis's test takes 30 min; without it the
+  // warm-up is mostly laser moves and the fit never sees the nut far above the screw after hours
+  // of machining, as a working day does — the data the motion-heat input is identified from
+  // (bench/results/zoo.md: 0.5 with coolant_visit kBoth and the fit's motion heat auto).
+  double min_warmup_per_test = 0.5;
   int max_warm_measurements = 16;      // the last one is kept for saturation
   double max_warmup_hours = 5;            // give up waiting for saturation after this
   double saturation_window_min = 30;      // saturated when the nut rose less than
@@ -59,12 +64,22 @@ struct CampaignOptions {
   // warm machine shows the fit the sensors drawn to the coolant while the screw still holds the
   // dry heat, as on a working day whose flood follows hours of dry machining.
   std::vector<double> coolant_prewarm_h = {0};
+  // When the coolant sessions are measured: after the other-season days, on the days right after
+  // the dry warm-ups (the first visit: the season of the cold state and of a working day soon
+  // after), or both (the default: the sessions repeated in the two seasons, so a coolant's own
+  // gains are fitted on twice the states and on two rooms; bench/results/zoo.md).
+  enum class CoolantVisit { kAfterSeasons, kFirstVisit, kBoth };
+  CoolantVisit coolant_visit = CoolantVisit::kBoth;
   bool coolant_rest = true;  // after the coolant warm-up: the axes stop under coolant, cooldown measurements ("coolant_rest")
   double log_interval_s = 30;
   std::function<void(const std::string&)> progress;  // one line per event (stderr in the CLI)
 
   bool IsValid(std::string* why) const;
 };
+
+// "after-seasons", "first", "both" (the CLI's --coolant-visit) and back; nullopt for another name.
+std::optional<CampaignOptions::CoolantVisit> ParseCoolantVisit(std::string_view name);
+const char* CoolantVisitName(CampaignOptions::CoolantVisit visit);
 
 struct CampaignFile {
   std::string file;       // relative to out_dir
