@@ -129,6 +129,9 @@ for row in rows:
 ok = [r for r in rows if r[1] != "-"]
 failed = len(rows) - len(ok)
 worst_row = max(ok, key=lambda r: r[6]) if ok else None
+worse = [r for r in ok if r[4] >= r[3]]  # compensation on no better than off: said, never averaged away
 print(f"\n{len(ok)} rows: {sum(1 for r in ok if r[7])} under the must line, {sum(1 for r in ok if r[6] <= 1)} at the goal (score <= 1)" +
       (f"; worst score {worst_row[6]:.2f} ({worst_row[0]} {worst_row[1]} {worst_row[2]})" if worst_row else "") +
+      f"; {len(worse)} made worse than uncompensated" +
+      "".join(f" ({r[0]} {r[1]} {r[2]}: {r[3]:.1f} -> {r[4]:.1f} um)" for r in worse) +
       (f"; {failed} demo(s) failed" if failed else ""))
