@@ -134,20 +134,78 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
                      fmt::format("axis {}'s model has a motion-heat input (the axis's feed lagged by {} s): give "
                                  "--temperature-log with the machine log that has {}_travel_mm over the file's time",
                                  axis->axis, FormatShortest(axis->motion_lag_s), LowerAscii(axis->axis)));
-  auto residual = model::PredictionResidual(*axis, m, *coolant, history.empty() ? nullptr : &history);
-  // As the compensator: the first fallback's Er(x), plus the mean of the averaged fallbacks'
-  // thermal + room parts (residual = measured − Er(x)₀ − mean(total_g − Er(x)_g)).
+  // As the compensator with a group of fallbacks: the first one's Er(x), plus the mean of the
+  // group's thermal + room parts (residual = measured − Er(x)₀ − mean(total_g − Er(x)_g)).
   const auto geometric_um = [&](const model::AxisModel& a, const measure::MeasurementPoint& pt) {
     return model::Predict(a, pt.target_mm, pt.direction, {{}, std::nan(""), *coolant, false}).geometric_um;
   };
-  for (std::size_t g = 1; g < averaged.size(); ++g) {
-    const auto other = model::PredictionResidual(*averaged[g], m, *coolant, history.empty() ? nullptr : &history);
-    for (std::size_t i = 0; i < residual.points.size(); ++i)
-      residual.points[i].deviation_um += other.points[i].deviation_um + geometric_um(*averaged[g], m.points[i]) -
-                                         geometric_um(*axis, m.points[i]);
+  const auto residual_of = [&](const std::vector<const model::AxisModel*>& group) {
+    auto r = model::PredictionResidual(*group[0], m, *coolant, history.empty() ? nullptr : &history);
+    for (std::size_t g = 1; g < group.size(); ++g) {
+      const auto other = model::PredictionResidual(*group[g], m, *coolant, history.empty() ? nullptr : &history);
+      for (std::size_t i = 0; i < r.points.size(); ++i)
+        r.points[i].deviation_um += other.points[i].deviation_um + geometric_um(*group[g], m.points[i]) -
+                                    geometric_um(*group[0], m.points[i]);
+    }
+    if (group.size() > 1)
+      for (auto& pt : r.points) pt.deviation_um /= static_cast<double>(group.size());
+    return r;
+  };
+  auto residual = residual_of(averaged.empty() ? std::vector<const model::AxisModel*>{axis} : averaged);
+  // A sensor of the model lost DURING the test (read at some points, not at others): from the
+  // first point it is missing, predicted as the compensator does from then on — with the fallbacks
+  // for it (without the compensator's hand-over from the model's last correction) — and said.
+  std::string partial_note;
+  {
+    std::vector<std::string> needed = axis->key_sensors;
+    if (!axis->ambient_sensor.empty()) needed.push_back(axis->ambient_sensor);
+    std::vector<std::size_t> lost_points;
+    std::vector<std::string> lost;
+    for (std::size_t i = 0; i < m.points.size(); ++i) {
+      bool point_lost = false;
+      for (const auto& s : needed) {
+        const auto idx = m.SensorIndex(s);
+        if (idx && !std::isfinite(m.points[i].temperatures_c[*idx])) {
+          point_lost = true;
+          if (std::find(lost.begin(), lost.end(), s) == lost.end()) lost.push_back(s);
+        }
+      }
+      if (point_lost) lost_points.push_back(i);
+    }
+    if (!lost_points.empty()) {
+      const auto read_where_lost = [&](const model::AxisModel& a) {
+        std::vector<std::string> s = a.key_sensors;
+        if (!a.ambient_sensor.empty()) s.push_back(a.ambient_sensor);
+        for (const auto& name : s) {
+          const auto idx = m.SensorIndex(name);
+          if (!idx) return false;
+          for (std::size_t i : lost_points)
+            if (!std::isfinite(m.points[i].temperatures_c[*idx])) return false;
+        }
+        return true;
+      };
+      std::vector<const model::AxisModel*> group;
+      for (const auto& f : axis->fallbacks)
+        if (read_where_lost(f)) {
+          group = FallbackGroup(*axis, f, read_where_lost);
+          break;
+        }
+      const std::string where = fmt::format("{} not read at {} of {} points (lost during the test, first at run {} {} "
+                                            "{} mm)",
+                                            fmt::join(lost, ", "), lost_points.size(), m.points.size(),
+                                            m.points[lost_points.front()].run,
+                                            DirectionSymbol(m.points[lost_points.front()].direction),
+                                            FormatShortest(m.points[lost_points.front()].target_mm));
+      if (group.empty()) {
+        partial_note = "warning: " + where + ": those points predicted without it (no fallback model reads them)";
+      } else {
+        const auto fallback = residual_of(group);
+        for (std::size_t i : lost_points) residual.points[i] = fallback.points[i];
+        partial_note = "note: " + where + ": those points predicted with " + DescribeFallbacks(group) +
+                       ", as the compensator does from then on (without its hand-over)";
+      }
+    }
   }
-  if (averaged.size() > 1)
-    for (auto& pt : residual.points) pt.deviation_um /= static_cast<double>(averaged.size());
   const auto before = analysis::Evaluate(m);
   const auto after = analysis::Evaluate(residual);
   double ss_m = 0, ss_r = 0;
@@ -158,6 +216,7 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
   std::cout << fmt::format("{}: axis {}, coolant {}, {} points\n", o.measurement, axis_name, CoolantStateName(*coolant),
                            m.points.size());
   if (!fallback_note.empty()) std::cout << "  note: " << fallback_note << "\n";
+  if (!partial_note.empty()) std::cout << "  " << partial_note << "\n";
   std::cout << fmt::format("  measured error        ISO 230-2 A {:>8.2f} µm   RMS {:>7.2f} µm\n", before.axis.A_um,
                            std::sqrt(ss_m / n));
   std::cout << fmt::format("  measured − predicted  ISO 230-2 A {:>8.2f} µm   RMS {:>7.2f} µm   (what would remain after "

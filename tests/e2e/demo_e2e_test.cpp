@@ -14,6 +14,7 @@
 #include <map>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -164,6 +165,87 @@ TEST_F(DemoE2E, DayFilesReplayAgainstTheDaysMachineLog) {
   std::stringstream text;
   text << std::ifstream(out).rdbuf();
   EXPECT_NE(text.str().find("measured − predicted"), std::string::npos) << text.str();
+}
+
+// A sensor lost DURING a test (the room sensor's cells empty from the middle of the file on):
+// predict takes those points from the fallback model, as the compensator does from then on, and
+// says so. Point for point: the points before the loss as with the intact file, those after as
+// with a file that never read the sensor.
+TEST_F(DemoE2E, PredictTakesPointsAfterASensorLossFromTheFallback) {
+  const fs::path day = fs::path(result_->out_dir) / "day";
+  const fs::path dir = fs::path(result_->out_dir) / "lost_mid_test";
+  fs::create_directories(dir);
+  std::ifstream in(day / "X_warm_off.csv");
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  std::size_t header = 0;
+  while (header < lines.size() && lines[header].rfind("#", 0) == 0) ++header;
+  ASSERT_LT(header, lines.size());
+  auto cells = [](const std::string& l) {
+    std::vector<std::string> c;
+    std::stringstream ss(l);
+    for (std::string x; std::getline(ss, x, ',');) c.push_back(x);
+    if (!l.empty() && l.back() == ',') c.push_back("");
+    return c;
+  };
+  const auto names = cells(lines[header]);
+  const auto col = std::find(names.begin(), names.end(), "t_ambient_c") - names.begin();
+  ASSERT_LT(static_cast<std::size_t>(col), names.size());
+  const std::size_t rows = lines.size() - header - 1, from = header + 1 + rows / 2;
+  auto write_blank = [&](const fs::path& p, std::size_t first_blank) {
+    std::ofstream out(p);
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      if (i <= header || i < first_blank || lines[i].empty()) {
+        out << lines[i] << "\n";
+        continue;
+      }
+      auto c = cells(lines[i]);
+      c[static_cast<std::size_t>(col)] = "";
+      for (std::size_t k = 0; k < c.size(); ++k) out << (k ? "," : "") << c[k];
+      out << "\n";
+    }
+  };
+  write_blank(dir / "half.csv", from);
+  write_blank(dir / "none.csv", header + 1);
+  auto predict = [&](const fs::path& file, const std::string& tag, std::string* text) {
+    const fs::path res = dir / (tag + "_res.csv"), out = dir / (tag + ".txt");
+    const std::string cmd = std::string(TRUEAXIS_CLI_PATH) + " predict --model " + result_->model_path +
+                            " --measurement " + file.string() + " --temperature-log " + (day / "machine_log.csv").string() +
+                            " --residual-out " + res.string() + " > " + out.string() + " 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(out).rdbuf();
+    std::stringstream t;
+    t << std::ifstream(out).rdbuf();
+    if (text) *text = t.str();
+    std::vector<double> dev;
+    std::ifstream r(res);
+    std::string l;
+    bool past_header = false;
+    while (std::getline(r, l)) {
+      if (l.empty() || l[0] == '#') continue;
+      if (!past_header) {
+        past_header = true;
+        continue;
+      }
+      dev.push_back(std::stod(cells(l)[3]));
+    }
+    return dev;
+  };
+  std::string text;
+  const auto intact = predict(day / "X_warm_off.csv", "intact", nullptr);
+  const auto half = predict(dir / "half.csv", "half", &text);
+  const auto none = predict(dir / "none.csv", "none", nullptr);
+  ASSERT_EQ(intact.size(), rows);
+  ASSERT_EQ(half.size(), rows);
+  ASSERT_EQ(none.size(), rows);
+  EXPECT_NE(text.find(fmt::format("ambient not read at {} of {} points", rows - rows / 2, rows)), std::string::npos) << text;
+  EXPECT_NE(text.find("fallback model"), std::string::npos) << text;
+  double differs = 0;
+  for (std::size_t i = 0; i < rows; ++i) {
+    if (i < rows / 2) EXPECT_NEAR(half[i], intact[i], 1e-6) << i;
+    else EXPECT_NEAR(half[i], none[i], 1e-6) << i;
+    differs = std::max(differs, std::fabs(none[i] - intact[i]));
+  }
+  EXPECT_GT(differs, 0.05) << "the fallback predicts differently, so the test tells the two apart";
 }
 
 // The coolant memory is opt-in (issue 10, bench/results/zoo.md): by default the flood coolant gets
