@@ -51,6 +51,8 @@ bool CampaignOptions::IsValid(std::string* why) const {
       return fail("ambient_hours must be in increasing order (the measurements of one day follow each other)");
   }
   if (!(log_interval_s > 0)) return fail("log_interval_s must be positive");
+  if (coolant_session && coolant_prewarm_h.empty())
+    return fail("coolant_prewarm_h must name at least one coolant session (0: over the cold machine)");
   for (double h : coolant_prewarm_h)
     if (!(h >= 0 && h <= 12)) return fail(fmt::format("coolant_prewarm_h: {} h is not in [0, 12]", h));
   return true;

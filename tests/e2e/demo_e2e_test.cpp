@@ -192,7 +192,7 @@ TEST_F(DemoE2E, PredictTakesPointsAfterASensorLossFromTheFallback) {
   const auto col = std::find(names.begin(), names.end(), "t_ambient_c") - names.begin();
   ASSERT_LT(static_cast<std::size_t>(col), names.size());
   const std::size_t rows = lines.size() - header - 1, from = header + 1 + rows / 2;
-  auto write_blank = [&](const fs::path& p, std::size_t first_blank) {
+  auto write_blank = [&](const fs::path& p, std::size_t first_blank, bool every_sensor = false) {
     std::ofstream out(p);
     for (std::size_t i = 0; i < lines.size(); ++i) {
       if (i <= header || i < first_blank || lines[i].empty()) {
@@ -201,6 +201,9 @@ TEST_F(DemoE2E, PredictTakesPointsAfterASensorLossFromTheFallback) {
       }
       auto c = cells(lines[i]);
       c[static_cast<std::size_t>(col)] = "";
+      if (every_sensor)
+        for (std::size_t k = 0; k < c.size() && k < names.size(); ++k)
+          if (names[k].rfind("t_", 0) == 0) c[k] = "";
       for (std::size_t k = 0; k < c.size(); ++k) out << (k ? "," : "") << c[k];
       out << "\n";
     }
@@ -246,6 +249,12 @@ TEST_F(DemoE2E, PredictTakesPointsAfterASensorLossFromTheFallback) {
     differs = std::max(differs, std::fabs(none[i] - intact[i]));
   }
   EXPECT_GT(differs, 0.05) << "the fallback predicts differently, so the test tells the two apart";
+  // Every sensor lost from the middle on: no fallback reads those points, and the warning says so.
+  write_blank(dir / "all_half.csv", from, true);
+  std::string all_text;
+  predict(dir / "all_half.csv", "all_half", &all_text);
+  EXPECT_NE(all_text.find("warning:"), std::string::npos) << all_text;
+  EXPECT_NE(all_text.find("predicted without it (no fallback model reads them)"), std::string::npos) << all_text;
 }
 
 // The coolant memory is opt-in (issue 10, bench/results/zoo.md): by default the flood coolant gets

@@ -204,6 +204,10 @@ TEST(Campaign, CoolantSessionsAfterDryMachiningStartOverAWarmMachine) {
   std::string why;
   EXPECT_FALSE(c.IsValid(&why));
   EXPECT_NE(why.find("coolant_prewarm_h"), std::string::npos) << why;
+  c.coolant_prewarm_h = {};  // no session at all would be a silent skip
+  why.clear();
+  EXPECT_FALSE(c.IsValid(&why));
+  EXPECT_NE(why.find("at least one"), std::string::npos) << why;
   fs::remove_all(dir);
 }
 
