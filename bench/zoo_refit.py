@@ -31,7 +31,13 @@ ap.add_argument("--fit-options", default="", help='options for `trueaxis fit`, e
 ap.add_argument("--keys", default="seed", choices=["seed", "auto"],
                 help="seed: the nut and bearing keys where the axis has them, as the demo fits; auto: the fit's choice")
 ap.add_argument("machines", nargs="*", help="machine names under --run (default: every one)")
-a = ap.parse_args()
+# "--fit-options --coolant-soak": the value starts with "--", which argparse would take for an option.
+argv = sys.argv[1:]
+for i in range(len(argv) - 1):
+    if argv[i] == "--fit-options":
+        argv[i:i + 2] = ["--fit-options=" + argv[i + 1]]
+        break
+a = ap.parse_args(argv)
 
 
 def run(args):
@@ -63,6 +69,11 @@ def iso(path):
 names = a.machines or sorted(os.path.basename(os.path.dirname(p)) for p in glob.glob(os.path.join(a.run, "*", "model.json")))
 if not names:
     sys.exit(f"{a.run}: no machine directories with a model.json (run bench/zoo_table.py --out {a.run} first)")
+if not os.access(a.trueaxis, os.X_OK):
+    sys.exit(f"{a.trueaxis}: no trueaxis binary there (build first, or give --trueaxis)")
+for name in names:
+    if not os.path.exists(os.path.join(a.run, name, "campaign", "manifest.json")):
+        sys.exit(f"{os.path.join(a.run, name)}: no campaign/manifest.json (not a machine of a bench/zoo_table.py run)")
 tmp = tempfile.mkdtemp(prefix="zoo_refit_")
 rows = []
 for name in names:
@@ -90,7 +101,8 @@ for name in names:
             off = on[:-len("_on.csv")] + "_off.csv"
             a_off, r_off = iso(off)
             a_run, _ = iso(on)
-            res_off = predicted_residual(model, off, log, os.path.join(tmp, "off.csv"))
+            off_res = os.path.join(tmp, "off.csv")
+            res_off = predicted_residual(model, off, log, off_res)
             res_run = predicted_residual(os.path.join(d, "model.json"), on, log, os.path.join(tmp, "run.csv"))
             res_new = predicted_residual(model, on, log, os.path.join(tmp, "new.csv"))
             if res_off is None or res_run is None or res_new is None:
@@ -104,7 +116,6 @@ for name in names:
             with open(rebuilt, "w") as out:
                 out.write("\n".join(head + [",".join(p) for p in pts]) + "\n")
             a_on, r_on = iso(rebuilt)
-            off_res = os.path.join(tmp, "off.csv")
             a_off_res, _ = iso(off_res)
             must = a_on <= max(0.2 * a_off, 2 * r_on) and a_on < a_off and r_on <= 2 * r_off + 2
             rows.append((name, axis, state, a_off, a_run, (a_on, r_on, a_on / max(0.1 * a_off, 1.3 * r_on), must, a_off_res)))
