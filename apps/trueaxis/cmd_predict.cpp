@@ -219,9 +219,15 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
   if (!partial_note.empty()) std::cout << "  " << partial_note << "\n";
   std::cout << fmt::format("  measured error        ISO 230-2 A {:>8.2f} µm   RMS {:>7.2f} µm\n", before.axis.A_um,
                            std::sqrt(ss_m / n));
-  std::cout << fmt::format("  measured − predicted  ISO 230-2 A {:>8.2f} µm   RMS {:>7.2f} µm   (what would remain after "
-                           "compensation)\n",
-                           after.axis.A_um, std::sqrt(ss_r / n));
+  // A test measured through the compensation: subtracting the prediction counts the model twice.
+  const bool compensated = measure::CompensationActive(m).value_or(false);
+  if (compensated)
+    std::cout << "  warning: measured with the compensation on ('# compensation: on'): its deviations already include "
+                 "a correction, so measured − predicted subtracts the model a second time\n";
+  std::cout << fmt::format("  measured − predicted  ISO 230-2 A {:>8.2f} µm   RMS {:>7.2f} µm   ({})\n", after.axis.A_um,
+                           std::sqrt(ss_r / n),
+                           compensated ? "not a remaining error: the file's own compensation is in it"
+                                       : "what would remain after compensation");
   // The room outside what the fit saw: the ρ term was extrapolated for those points (never silent).
   if (const auto amb = axis->ambient_sensor.empty() ? std::nullopt : m.SensorIndex(axis->ambient_sensor)) {
     std::size_t outside = 0;

@@ -9,7 +9,9 @@
 
 #include <fmt/format.h>
 
+#include "trueaxis/core/ascii_case.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/number_text.hpp"
 
 namespace trueaxis::measure {
 namespace {
@@ -20,6 +22,16 @@ std::optional<std::string> Measurement::Meta(const std::string& key) const {
   for (const auto& [k, v] : metadata)
     if (k == key) return v;
   return std::nullopt;
+}
+
+std::optional<bool> CompensationActive(const Measurement& m) {
+  const auto v = m.Meta("compensation");
+  if (!v) return std::nullopt;
+  const std::string s = LowerAscii(Trim(*v));
+  if (s == "on" || s == "yes" || s == "true") return true;
+  if (s == "off" || s == "no" || s == "false" || s == "none") return false;
+  throw InputError(m.source, 0, "compensation",
+                   fmt::format("'{}' is not a compensation state (expected on or off)", *v));
 }
 
 void Measurement::SetMeta(const std::string& key, const std::string& value) {

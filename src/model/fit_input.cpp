@@ -92,6 +92,13 @@ FitState MakeFitState(measure::Measurement m, const std::string& label_override,
                        fmt::format("unknown coolant state '{}' (expected off, flood, mist or air)", coolant));
     s.coolant = *c;
   }
+  // A test measured through the compensation already has a correction in its deviations: a
+  // model fitted on it would be the model's residual, not the machine's error.
+  if (measure::CompensationActive(m).value_or(false))
+    throw InputError(m.source, 0, "compensation",
+                     "measured with the compensation on: its deviations already include a correction, and a model "
+                     "fitted on them would not be the machine's error; fit tests measured with the compensation off "
+                     "(if this one was, its line should read '# compensation: off')");
   s.measurement = std::move(m);
   return s;
 }

@@ -165,6 +165,28 @@ TEST_F(DemoE2E, DayFilesReplayAgainstTheDaysMachineLog) {
   std::stringstream text;
   text << std::ifstream(out).rdbuf();
   EXPECT_NE(text.str().find("measured − predicted"), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("what would remain after compensation"), std::string::npos) << text.str();
+  EXPECT_EQ(text.str().find("compensation on"), std::string::npos) << text.str();
+  // The same test measured through the compensation: predict says the residual is not a remaining
+  // error (the model would be subtracted twice), and fit refuses it (exit 2, the field named).
+  const fs::path on = day / "X_warm_coolant_on.csv";
+  const std::string on_cmd = std::string(TRUEAXIS_CLI_PATH) + " predict --model " + result_->model_path +
+                             " --measurement " + on.string() + " --temperature-log " + (day / "machine_log.csv").string() +
+                             " > " + out.string() + " 2>&1";
+  ASSERT_EQ(std::system(on_cmd.c_str()), 0) << std::ifstream(out).rdbuf();
+  std::stringstream on_text;
+  on_text << std::ifstream(out).rdbuf();
+  EXPECT_NE(on_text.str().find("warning: measured with the compensation on"), std::string::npos) << on_text.str();
+  EXPECT_NE(on_text.str().find("not a remaining error"), std::string::npos) << on_text.str();
+  EXPECT_EQ(on_text.str().find("what would remain after compensation"), std::string::npos) << on_text.str();
+  const std::string fit_cmd = std::string(TRUEAXIS_CLI_PATH) + " fit --out " +
+                              (fs::path(result_->out_dir) / "refused.json").string() + " " + on.string() + " > " +
+                              out.string() + " 2>&1";
+  EXPECT_EQ(WEXITSTATUS(std::system(fit_cmd.c_str())), 2);
+  std::stringstream fit_text;
+  fit_text << std::ifstream(out).rdbuf();
+  EXPECT_NE(fit_text.str().find("field 'compensation'"), std::string::npos) << fit_text.str();
+  EXPECT_FALSE(fs::exists(fs::path(result_->out_dir) / "refused.json"));
 }
 
 // A sensor lost DURING a test (the room sensor's cells empty from the middle of the file on):

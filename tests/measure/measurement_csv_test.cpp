@@ -66,6 +66,24 @@ TEST(MeasurementCsv, RoundTripIsLossless) {
   EXPECT_EQ(FormatMeasurementCsv(again), FormatMeasurementCsv(m));
 }
 
+// '# compensation:' says whether the test ran through the compensation (fit refuses such a file,
+// predict warns): on / off in their spellings, absent = unknown, anything else an error naming it.
+TEST(MeasurementCsv, CompensationStateFromItsMetadataLine) {
+  auto with = [](const std::string& line) { return ParseMeasurementCsv(line + kGood, "f.csv"); };
+  EXPECT_EQ(CompensationActive(with("")), std::nullopt);
+  for (const char* on : {"on", "ON", " yes", "true "}) EXPECT_EQ(CompensationActive(with(std::string("# compensation: ") + on + "\n")), true) << on;
+  for (const char* off : {"off", "Off", "no", "false", "none"})
+    EXPECT_EQ(CompensationActive(with(std::string("# compensation: ") + off + "\n")), false) << off;
+  try {
+    CompensationActive(with("# compensation: partly\n"));
+    ADD_FAILURE() << "accepted 'partly'";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("f.csv"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("compensation"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("partly"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MeasurementCsv, MissingColumnNamesTheColumn) {
   EXPECT_EQ(ErrorOf("run,direction,target_mm\n1,+,0\n"),
             "f.csv:1: field 'deviation_um': required column is missing from the header");

@@ -476,6 +476,26 @@ TEST(FitInput, CampaignSequencesMakeUniqueLabelsAndCoolantNeedsAName) {
   }
   EXPECT_EQ(KindFromLabel("Cold"), StateKind::kCold);
   EXPECT_EQ(KindFromLabel("ambient-24"), StateKind::kAmbient);
+}
+
+// A test measured through the compensation (the demo's day files say '# compensation: on') has a
+// correction in its deviations: fitting on it is refused, naming the file and the field.
+TEST(FitInput, ATestMeasuredWithTheCompensationOnIsRefused) {
+  measure::Measurement m;
+  m.source = "X_warm_on.csv";
+  m.metadata = {{"axis", "X"}, {"state", "warm"}, {"coolant", "off"}, {"compensation", "on"}};
+  try {
+    MakeFitState(m);
+    FAIL() << "fitted a compensated test";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "compensation");
+    EXPECT_THAT(std::string(e.what()), HasSubstr("X_warm_on.csv"));
+    EXPECT_THAT(std::string(e.what()), HasSubstr("compensation off"));
+  }
+  m.metadata.back().second = "off";
+  EXPECT_EQ(MakeFitState(m).label, "warm");
+  m.metadata.pop_back();  // no such line (a laser file from elsewhere): taken as measured without
+  EXPECT_EQ(MakeFitState(m).label, "warm");
   EXPECT_EQ(KindFromLabel(""), StateKind::kUnknown);
 }
 

@@ -44,6 +44,13 @@ struct Measurement {
   std::vector<int> Runs() const;
 };
 
+// Whether the test ran with the machine's error compensation active, from its '# compensation:'
+// line: on / yes / true → true, off / no / false / none → false (case-insensitive), no such line →
+// nullopt (unknown: a laser file from elsewhere seldom says). Any other value throws InputError
+// naming the source and the field. Such a file's deviations already include a correction: fitting
+// a model on them, or subtracting a prediction from them, counts the model twice.
+std::optional<bool> CompensationActive(const Measurement& m);
+
 // Checks what an ISO 230-2 evaluation needs and throws InputError naming the
 // source, the line and the field otherwise: no points; fewer than 2 runs; a
 // duplicate (run, direction, target); a target measured in one direction only.
