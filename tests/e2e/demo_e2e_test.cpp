@@ -157,36 +157,33 @@ TEST_F(DemoE2E, DayFilesReplayAgainstTheDaysMachineLog) {
   const double t0 = std::stod(first.substr(0, first.find(','))), t1 = std::stod(last.substr(0, last.find(',')));
   EXPECT_GT(std::stod(*start), t0);  // within the day, not the campaign's or the file's own clock
   EXPECT_LT(std::stod(*start), t1);
+  // One trueaxis command line, its exit status and what it printed.
   const fs::path out = fs::path(result_->out_dir) / "replay.txt";
-  const std::string cmd = std::string(TRUEAXIS_CLI_PATH) + " predict --model " + result_->model_path + " --measurement " +
-                          file.string() + " --temperature-log " + (day / "machine_log.csv").string() + " > " +
-                          out.string() + " 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(out).rdbuf();
-  std::stringstream text;
-  text << std::ifstream(out).rdbuf();
-  EXPECT_NE(text.str().find("measured − predicted"), std::string::npos) << text.str();
-  EXPECT_NE(text.str().find("what would remain after compensation"), std::string::npos) << text.str();
-  EXPECT_EQ(text.str().find("compensation on"), std::string::npos) << text.str();
+  auto run = [&](const std::string& args) {
+    const int rc = std::system((std::string(TRUEAXIS_CLI_PATH) + " " + args + " > " + out.string() + " 2>&1").c_str());
+    std::stringstream text;
+    text << std::ifstream(out).rdbuf();
+    return std::make_pair(WEXITSTATUS(rc), text.str());
+  };
+  const std::string replay = " --temperature-log " + (day / "machine_log.csv").string();
+  const auto [rc, text] = run("predict --model " + result_->model_path + " --measurement " + file.string() + replay);
+  ASSERT_EQ(rc, 0) << text;
+  EXPECT_NE(text.find("measured − predicted"), std::string::npos) << text;
+  EXPECT_NE(text.find("what would remain after compensation"), std::string::npos) << text;
+  EXPECT_EQ(text.find("compensation on"), std::string::npos) << text;
   // The same test measured through the compensation: predict says the residual is not a remaining
   // error (the model would be subtracted twice), and fit refuses it (exit 2, the field named).
   const fs::path on = day / "X_warm_coolant_on.csv";
-  const std::string on_cmd = std::string(TRUEAXIS_CLI_PATH) + " predict --model " + result_->model_path +
-                             " --measurement " + on.string() + " --temperature-log " + (day / "machine_log.csv").string() +
-                             " > " + out.string() + " 2>&1";
-  ASSERT_EQ(std::system(on_cmd.c_str()), 0) << std::ifstream(out).rdbuf();
-  std::stringstream on_text;
-  on_text << std::ifstream(out).rdbuf();
-  EXPECT_NE(on_text.str().find("warning: measured with the compensation on"), std::string::npos) << on_text.str();
-  EXPECT_NE(on_text.str().find("not a remaining error"), std::string::npos) << on_text.str();
-  EXPECT_EQ(on_text.str().find("what would remain after compensation"), std::string::npos) << on_text.str();
-  const std::string fit_cmd = std::string(TRUEAXIS_CLI_PATH) + " fit --out " +
-                              (fs::path(result_->out_dir) / "refused.json").string() + " " + on.string() + " > " +
-                              out.string() + " 2>&1";
-  EXPECT_EQ(WEXITSTATUS(std::system(fit_cmd.c_str())), 2);
-  std::stringstream fit_text;
-  fit_text << std::ifstream(out).rdbuf();
-  EXPECT_NE(fit_text.str().find("field 'compensation'"), std::string::npos) << fit_text.str();
-  EXPECT_FALSE(fs::exists(fs::path(result_->out_dir) / "refused.json"));
+  const auto [on_rc, on_text] = run("predict --model " + result_->model_path + " --measurement " + on.string() + replay);
+  ASSERT_EQ(on_rc, 0) << on_text;
+  EXPECT_NE(on_text.find("warning: measured with the compensation on"), std::string::npos) << on_text;
+  EXPECT_NE(on_text.find("not a remaining error"), std::string::npos) << on_text;
+  EXPECT_EQ(on_text.find("what would remain after compensation"), std::string::npos) << on_text;
+  const fs::path refused = fs::path(result_->out_dir) / "refused.json";
+  const auto [fit_rc, fit_text] = run("fit --out " + refused.string() + " " + on.string());
+  EXPECT_EQ(fit_rc, 2) << fit_text;
+  EXPECT_NE(fit_text.find("field 'compensation'"), std::string::npos) << fit_text;
+  EXPECT_FALSE(fs::exists(refused));
 }
 
 // A sensor lost DURING a test (the room sensor's cells empty from the middle of the file on):
