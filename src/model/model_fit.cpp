@@ -1669,9 +1669,23 @@ FitResult FitCompositeModel(const std::vector<FitState>& states, const FitOption
   FitResult res;
   res.model.created_utc = options.created_utc;
   res.model.generator = "trueaxis 0.1.0 fit";
+  // One model is one machine's: files that name different machines are refused, not merged.
+  const FitState* named = nullptr;
   for (const auto& s : states) {
-    if (res.model.machine.empty())
-      if (auto mm = s.measurement.Meta("machine")) res.model.machine = *mm;
+    const auto mm = s.measurement.Meta("machine");
+    const std::string machine = mm ? std::string(Trim(*mm)) : std::string();
+    if (machine.empty()) continue;
+    if (!named) {
+      named = &s;
+      res.model.machine = machine;
+    } else if (machine != res.model.machine) {
+      throw InputError(s.path, 0, "machine",
+                       fmt::format("machine '{}', but {} is of '{}': one model is fitted per machine (fit each "
+                                   "machine's files on their own)",
+                                   machine, named->path, res.model.machine));
+    }
+  }
+  for (const auto& s : states) {
     res.model.sources.push_back({s.path, s.sha256, s.label.empty() ? std::string(StateKindName(s.kind)) : s.label,
                                  std::string(CoolantStateName(s.coolant)),
                                  s.axis.empty() ? options.default_axis : s.axis, s.temperature_log,

@@ -354,6 +354,29 @@ TEST(ModelFit, MissingAxisMetadataIsAnInputErrorUnlessDefaulted) {
   EXPECT_EQ(FitCompositeModel({MakeFitState(m)}, o).model.axes[0].axis, "Y");
 }
 
+// Files that name different machines are refused (one model per machine), naming the file and the
+// field; the same machine, or a file that names none, fits as before.
+TEST(ModelFit, FilesOfDifferentMachinesAreAnInputError) {
+  SyntheticMachine sm;
+  auto states = sm.MakeStates(sm.DefaultStates());
+  ASSERT_GE(states.size(), 3u);
+  for (auto& s : states) s.measurement.SetMeta("machine", "VMC-850");
+  states[2].measurement.metadata.erase(
+      std::remove_if(states[2].measurement.metadata.begin(), states[2].measurement.metadata.end(),
+                     [](const auto& kv) { return kv.first == "machine"; }),
+      states[2].measurement.metadata.end());
+  EXPECT_EQ(FitCompositeModel(states, {}).model.machine, "VMC-850");
+  states[1].measurement.SetMeta("machine", "HMC-1250");
+  try {
+    FitCompositeModel(states, {});
+    FAIL() << "merged two machines";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "machine");
+    EXPECT_THAT(std::string(e.what()), HasSubstr(states[1].path));
+    EXPECT_THAT(std::string(e.what()), HasSubstr("VMC-850"));
+  }
+}
+
 TEST(ModelFit, UnlabelledFilesTakeTheColdestAsColdAndSayWhy) {
   SyntheticMachine sm;
   auto states = sm.MakeStates(sm.DefaultStates());
