@@ -215,6 +215,10 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
   const double n = static_cast<double>(m.points.size());
   std::cout << fmt::format("{}: axis {}, coolant {}, {} points\n", o.measurement, axis_name, CoolantStateName(*coolant),
                            m.points.size());
+  // Another machine's test (a sister machine, a mix-up): predicted, but said.
+  const std::string file_machine(Trim(m.Meta("machine").value_or("")));
+  if (!file_machine.empty() && !model.machine.empty() && file_machine != model.machine)
+    std::cout << fmt::format("  warning: the file is of machine '{}', the model of '{}'\n", file_machine, model.machine);
   if (!fallback_note.empty()) std::cout << "  note: " << fallback_note << "\n";
   if (!partial_note.empty()) std::cout << "  " << partial_note << "\n";
   std::cout << fmt::format("  measured error        ISO 230-2 A {:>8.2f} µm   RMS {:>7.2f} µm\n", before.axis.A_um,

@@ -171,6 +171,18 @@ TEST_F(DemoE2E, DayFilesReplayAgainstTheDaysMachineLog) {
   EXPECT_NE(text.find("measured − predicted"), std::string::npos) << text;
   EXPECT_NE(text.find("what would remain after compensation"), std::string::npos) << text;
   EXPECT_EQ(text.find("compensation on"), std::string::npos) << text;
+  EXPECT_EQ(text.find("the file is of machine"), std::string::npos) << text;
+  // The same file said to be of another machine: predicted, with a warning that names both.
+  const fs::path other = fs::path(result_->out_dir) / "other_machine.csv";
+  {
+    std::ifstream in(file);
+    std::ofstream o(other);
+    for (std::string l; std::getline(in, l);) o << (l.rfind("# machine:", 0) == 0 ? "# machine: HMC-1250" : l) << "\n";
+  }
+  const auto [other_rc, other_text] = run("predict --model " + result_->model_path + " --measurement " + other.string() + replay);
+  ASSERT_EQ(other_rc, 0) << other_text;
+  EXPECT_NE(other_text.find("warning: the file is of machine 'HMC-1250', the model of 'VMC-850'"), std::string::npos)
+      << other_text;
   // The same test measured through the compensation: predict says the residual is not a remaining
   // error (the model would be subtracted twice), and fit refuses it (exit 2, the field named).
   const fs::path on = day / "X_warm_coolant_on.csv";
