@@ -135,3 +135,4 @@ print(f"\n{len(ok)} rows: {sum(1 for r in ok if r[7])} under the must line, {sum
       f"; {len(worse)} made worse than uncompensated" +
       "".join(f" ({r[0]} {r[1]} {r[2]}: {r[3]:.1f} -> {r[4]:.1f} um)" for r in worse) +
       (f"; {failed} demo(s) failed" if failed else ""))
+sys.exit(1 if failed else 0)  # a failed demo is not a table row: the run fails
