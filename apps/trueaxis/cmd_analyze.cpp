@@ -35,28 +35,6 @@ struct AnalyzeOptions {
   int trend_degree = 1;
 };
 
-// Line of a "# key: value" metadata line in the file, for error messages (0 if not found).
-int MetadataLine(const std::string& path, const std::string& key) {
-  try {
-    const auto text = ReadTextFile(path);
-    int line = 0;
-    std::size_t pos = 0;
-    while (pos <= text.size()) {
-      const auto nl = text.find('\n', pos);
-      auto l = Trim(std::string_view(text).substr(pos, nl == std::string::npos ? std::string::npos : nl - pos));
-      ++line;
-      if (!l.empty() && l.front() == '#') {
-        l = Trim(l.substr(1));
-        if (l.rfind(key, 0) == 0 && Trim(l.substr(key.size())).rfind(':', 0) == 0) return line;
-      }
-      if (nl == std::string::npos) break;
-      pos = nl + 1;
-    }
-  } catch (const InputError&) {
-  }
-  return 0;
-}
-
 // Lead from --lead-mm, else from a "lead_mm" metadata line, else 0 (unknown).
 double ResolveLead(const AnalyzeOptions& o, const measure::Measurement& m) {
   if (o.lead_mm) {
@@ -67,7 +45,7 @@ double ResolveLead(const AnalyzeOptions& o, const measure::Measurement& m) {
   if (auto meta = m.Meta("lead_mm")) {
     auto v = ParseDouble(*meta);
     if (!v || !std::isfinite(*v) || *v <= 0)
-      throw InputError(m.source, MetadataLine(m.source, "lead_mm"), "lead_mm", fmt::format("metadata value '{}' is not a positive screw lead in mm", *meta));
+      throw InputError(m.source, m.MetaLine("lead_mm"), "lead_mm", fmt::format("metadata value '{}' is not a positive screw lead in mm", *meta));
     return *v;
   }
   return 0;
@@ -79,7 +57,7 @@ double ResolveLead(const AnalyzeOptions& o, const measure::Measurement& m) {
 void RequireComparable(const measure::Measurement& before, const measure::Measurement& after) {
   const auto axis_b = before.Meta("axis"), axis_a = after.Meta("axis");
   if (axis_b && axis_a && *axis_b != *axis_a)
-    throw InputError(after.source, 0, "axis",
+    throw InputError(after.source, after.MetaLine("axis"), "axis",
                      fmt::format("axis {} cannot be compared with {} of {}", *axis_a, *axis_b, before.source));
   const auto tb = before.Targets(), ta = after.Targets();
   if (tb.empty() || ta.empty()) return;

@@ -79,7 +79,9 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
   std::string coolant_name = o.coolant;
   if (coolant_name.empty()) coolant_name = std::string(Trim(m.Meta("coolant").value_or("off")));
   const auto coolant = ParseCoolantState(coolant_name);
-  if (!coolant) throw InputError(o.measurement, 0, "coolant", fmt::format("unknown coolant state '{}'", coolant_name));
+  if (!coolant)
+    throw InputError(o.measurement, o.coolant.empty() ? m.MetaLine("coolant") : 0, o.coolant.empty() ? "coolant" : "--coolant",
+                     fmt::format("unknown coolant state '{}'", coolant_name));
   // A key sensor not in the file, or never read in it (a dead channel): the first fallback model
   // whose keys all are, as the compensator does when that sensor is lost; else refused.
   const auto read = [&](const std::string& k) {
@@ -123,7 +125,7 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
     const auto start = m.Meta("campaign_time_s");
     const auto start_s = start ? ParseDouble(Trim(*start)) : std::nullopt;
     if (!start_s || !std::isfinite(*start_s))
-      throw InputError(o.measurement, 0, "campaign_time_s",
+      throw InputError(o.measurement, m.MetaLine("campaign_time_s"), "campaign_time_s",
                        "--temperature-log needs the file's '# campaign_time_s:' line (its start on the log's clock)");
     history = model::TemperatureHistoryFromLog(o.temperature_log, m, *start_s);
   }

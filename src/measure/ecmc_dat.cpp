@@ -80,7 +80,7 @@ Measurement ParseEcmcDat(std::string_view text, const std::string& source) {
       // Real files glue the first comment to this key: "TEST_DATA=# Input data file ...".
       auto desc = value;
       while (!desc.empty() && desc.front() == '#') desc.remove_prefix(1);
-      if (!Trim(desc).empty()) m.SetMeta("description", std::string(Trim(desc)));
+      if (!Trim(desc).empty()) m.SetMeta("description", std::string(Trim(desc)), line_no);
       continue;
     }
     const auto bracket = key.find('[');
@@ -140,7 +140,7 @@ Measurement ParseEcmcDat(std::string_view text, const std::string& source) {
       if (key == "CYCLES") cycles = ScalarInt{*v, line_no};
       if (key == "POSITIONS") positions = ScalarInt{*v, line_no};
     }
-    m.SetMeta(Lower(key), std::string(value));
+    m.SetMeta(Lower(key), std::string(value), line_no);
   }
 
   if (targets.empty() && refs.empty())

@@ -30,11 +30,19 @@ std::optional<bool> CompensationActive(const Measurement& m) {
   const std::string s = LowerAscii(Trim(*v));
   if (s == "on" || s == "yes" || s == "true") return true;
   if (s == "off" || s == "no" || s == "false" || s == "none") return false;
-  throw InputError(m.source, 0, "compensation",
+  throw InputError(m.source, m.MetaLine("compensation"), "compensation",
                    fmt::format("'{}' is not a compensation state (expected on or off)", *v));
 }
 
-void Measurement::SetMeta(const std::string& key, const std::string& value) {
+int Measurement::MetaLine(const std::string& key) const {
+  if (!Meta(key)) return 0;
+  const auto it = metadata_lines.find(key);
+  return it == metadata_lines.end() ? 0 : it->second;
+}
+
+void Measurement::SetMeta(const std::string& key, const std::string& value, int line) {
+  if (line > 0) metadata_lines[key] = line;
+  else metadata_lines.erase(key);
   for (auto& [k, v] : metadata)
     if (k == key) {
       v = value;

@@ -37,7 +37,7 @@ Measurement ParseMeasurementCsv(std::string_view text, const std::string& source
     const std::string_view line = cursor.line();
     if (line.empty()) continue;
     if (line.front() == '#') {
-      if (auto kv = ParseMetadataComment(line); kv && !have_header) m.SetMeta(std::string(kv->first), std::string(kv->second));
+      if (auto kv = ParseMetadataComment(line); kv && !have_header) m.SetMeta(std::string(kv->first), std::string(kv->second), line_no);
       continue;  // other comments are free text
     }
     auto fields = SplitCsvFields(line);

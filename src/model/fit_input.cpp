@@ -75,27 +75,32 @@ FitState MakeFitState(measure::Measurement m, const std::string& label_override,
   s.axis = std::string(Trim(m.Meta("axis").value_or("")));
   std::string coolant = coolant_override;
   const char* field = "coolant";
-  if (coolant.empty()) coolant = std::string(Trim(m.Meta("coolant").value_or("")));
+  int field_line = 0;  // the file line the coolant came from (0: an option, or no line)
+  if (coolant.empty()) {
+    coolant = std::string(Trim(m.Meta("coolant").value_or("")));
+    field_line = m.MetaLine("coolant");
+  }
   if (coolant.empty()) {
     coolant = CoolantFromLabel(s.label);
     field = "state";
+    field_line = label_override.empty() ? m.MetaLine("state") : 0;
   }
   if (coolant.empty() && LowerAscii(s.label).rfind("coolant", 0) == 0)
-    throw InputError(m.source, 0, "coolant",
+    throw InputError(m.source, field_line, "coolant",
                      fmt::format("state '{}' is a coolant state but does not say which coolant; add '# coolant: flood' "
                                  "(or mist/air)",
                                  s.label));
   if (!coolant.empty()) {
     auto c = ParseCoolantState(LowerAscii(coolant));
     if (!c)
-      throw InputError(m.source, 0, field,
+      throw InputError(m.source, field_line, field,
                        fmt::format("unknown coolant state '{}' (expected off, flood, mist or air)", coolant));
     s.coolant = *c;
   }
   // A test measured through the compensation already has a correction in its deviations: a
   // model fitted on it would be the model's residual, not the machine's error.
   if (measure::CompensationActive(m).value_or(false))
-    throw InputError(m.source, 0, "compensation",
+    throw InputError(m.source, m.MetaLine("compensation"), "compensation",
                      "measured with the compensation on: its deviations already include a correction, and a model "
                      "fitted on them would not be the machine's error; fit tests measured with the compensation off "
                      "(if this one was, its line should read '# compensation: off')");

@@ -491,7 +491,7 @@ class AxisFitter {
       if (auto meta = cold_.Meta("reference_position_mm")) {
         auto v = ParseDouble(*meta);
         if (!v || !std::isfinite(*v))
-          throw InputError(cold_.source, 0, "reference_position_mm", fmt::format("'{}' is not a number", *meta));
+          throw InputError(cold_.source, cold_.MetaLine("reference_position_mm"), "reference_position_mm", fmt::format("'{}' is not a number", *meta));
         px = *v;
         px_source = "metadata of the cold file";
       }
@@ -710,7 +710,7 @@ class AxisFitter {
     } else if (auto cte = cold_.Meta("cte_um_per_m_c")) {
       auto v = ParseDouble(*cte);
       if (!v || !std::isfinite(*v))
-        throw InputError(cold_.source, 0, "cte_um_per_m_c", fmt::format("'{}' is not a number", *cte));
+        throw InputError(cold_.source, cold_.MetaLine("cte_um_per_m_c"), "cte_um_per_m_c", fmt::format("'{}' is not a number", *cte));
       rho = -*v / 1000.0;
       rho_source = fmt::format("−cte/1000 from the cold file's cte_um_per_m_c = {} (the screw grows away from Px)", *cte);
     } else {
@@ -1679,7 +1679,7 @@ FitResult FitCompositeModel(const std::vector<FitState>& states, const FitOption
       named = &s;
       res.model.machine = machine;
     } else if (machine != res.model.machine) {
-      throw InputError(s.path, 0, "machine",
+      throw InputError(s.path, s.measurement.MetaLine("machine"), "machine",
                        fmt::format("machine '{}', but {} is of '{}': one model is fitted per machine (fit each "
                                    "machine's files on their own)",
                                    machine, named->path, res.model.machine));

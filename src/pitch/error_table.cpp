@@ -77,8 +77,10 @@ PitchErrorTable TableFromMeasurement(const measure::Measurement& m, const TableF
   double lead = o.lead_mm;
   if (!(lead > 0)) {
     auto meta = m.Meta("lead_mm");
-    auto v = meta ? ParseDouble(*meta) : std::nullopt;
-    if (!v) throw InputError(source, 0, "lead_mm", "the screw lead is needed: give --lead-mm or a '# lead_mm:' line");
+    if (!meta) throw InputError(source, 0, "lead_mm", "the screw lead is needed: give --lead-mm or a '# lead_mm:' line");
+    auto v = ParseDouble(Trim(*meta));
+    if (!v || !std::isfinite(*v))
+      throw InputError(source, m.MetaLine("lead_mm"), "lead_mm", fmt::format("'{}' is not a number of mm", *meta));
     lead = *v;
   }
   const analysis::Evaluation ev = analysis::Evaluate(m);
@@ -95,7 +97,9 @@ PitchErrorTable TableFromMeasurement(const measure::Measurement& m, const TableF
   double ref = o.reference_mm;
   if (std::isnan(ref)) {
     auto meta = m.Meta("reference_mm");
-    auto v = meta ? ParseDouble(*meta) : std::nullopt;
+    auto v = meta ? ParseDouble(Trim(*meta)) : std::nullopt;
+    if (meta && (!v || !std::isfinite(*v)))
+      throw InputError(source, m.MetaLine("reference_mm"), "reference_mm", fmt::format("'{}' is not a position in mm", *meta));
     ref = v ? *v : xs.front();
   }
   t.reference_mm = ref;

@@ -81,7 +81,28 @@ TEST(MeasurementCsv, CompensationStateFromItsMetadataLine) {
     EXPECT_NE(std::string(e.what()).find("f.csv"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("compensation"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("partly"), std::string::npos) << e.what();
+    EXPECT_EQ(e.line(), 1) << e.what();  // the '# compensation:' line, before kGood's
   }
+}
+
+// Each metadata entry remembers the line it was read from, so a refusal of its value can name it;
+// entries set in code (the simulator's) have none, and setting a key again moves its line.
+TEST(MeasurementCsv, MetadataRemembersItsLine) {
+  auto m = ParseMeasurementCsv(std::string("# free text\n# state: warm\n") + kGood, "f.csv");
+  EXPECT_EQ(m.MetaLine("state"), 2);
+  EXPECT_EQ(m.MetaLine("axis"), 3);
+  EXPECT_EQ(m.MetaLine("machine"), 4);
+  EXPECT_EQ(m.MetaLine("date"), 0);  // absent
+  m.SetMeta("axis", "Y");
+  EXPECT_EQ(m.MetaLine("axis"), 0);
+  m.SetMeta("axis", "Z", 9);
+  EXPECT_EQ(m.MetaLine("axis"), 9);
+  m.metadata.clear();
+  EXPECT_EQ(m.MetaLine("state"), 0);  // no longer there
+  // A key given twice: the later line wins, like its value.
+  auto twice = ParseMeasurementCsv(std::string("# axis: Y\n") + kGood, "f.csv");
+  EXPECT_EQ(twice.Meta("axis"), "X");
+  EXPECT_EQ(twice.MetaLine("axis"), 2);
 }
 
 TEST(MeasurementCsv, MissingColumnNamesTheColumn) {

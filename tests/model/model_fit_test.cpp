@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <tuple>
 
 #include <gmock/gmock.h>
 #include <map>
@@ -13,6 +14,7 @@
 
 #include "synthetic_machine.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/measure/measurement_csv.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/model/polynomial_fit.hpp"
 
@@ -366,12 +368,13 @@ TEST(ModelFit, FilesOfDifferentMachinesAreAnInputError) {
                      [](const auto& kv) { return kv.first == "machine"; }),
       states[2].measurement.metadata.end());
   EXPECT_EQ(FitCompositeModel(states, {}).model.machine, "VMC-850");
-  states[1].measurement.SetMeta("machine", "HMC-1250");
+  states[1].measurement.SetMeta("machine", "HMC-1250", 7);  // as read from line 7 of a file
   try {
     FitCompositeModel(states, {});
     FAIL() << "merged two machines";
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "machine");
+    EXPECT_EQ(e.line(), 7);
     EXPECT_THAT(std::string(e.what()), HasSubstr(states[1].path));
     EXPECT_THAT(std::string(e.what()), HasSubstr("VMC-850"));
   }
@@ -496,6 +499,23 @@ TEST(FitInput, CampaignSequencesMakeUniqueLabelsAndCoolantNeedsAName) {
     FAIL();
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "coolant");
+    EXPECT_EQ(e.line(), 0);  // not read from a file
+  }
+  // Read from a file, the refusal names the line of the value it refuses.
+  const std::string rows = "run,direction,target_mm,deviation_um\n1,+,0,1\n1,-,0,1\n";
+  for (const auto& [text, field, line] :
+       {std::tuple<std::string, std::string, int>{"# axis: X\n# state: warm\n# coolant: lava\n", "coolant", 3},
+        {"# state: coolant-lava\n# axis: X\n", "coolant", 1},
+        {"# axis: X\n# state: coolant\n", "coolant", 2},
+        {"# axis: X\n# coolant: off\n# compensation: on\n", "compensation", 3}}) {
+    try {
+      MakeFitState(measure::ParseMeasurementCsv(text + rows, "t.csv"));
+      ADD_FAILURE() << "accepted " << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), field) << text;
+      EXPECT_EQ(e.line(), line) << text;
+      EXPECT_THAT(std::string(e.what()), HasSubstr("t.csv:" + std::to_string(line) + ":")) << text;
+    }
   }
   EXPECT_EQ(KindFromLabel("Cold"), StateKind::kCold);
   EXPECT_EQ(KindFromLabel("ambient-24"), StateKind::kAmbient);

@@ -107,6 +107,32 @@ TEST(PitchTableFromMeasurement, RefusesACoarseRunThatWouldAlias) {
   }
 }
 
+// A metadata value that is not a number is refused naming its line (it was taken as "no lead" and
+// as "no reference" before); a missing lead still asks for --lead-mm.
+TEST(PitchTableFromMeasurement, RefusesBadLeadOrReferenceMetadataNamingTheLine) {
+  auto m = SyntheticRun(1, 20, 5);
+  m.SetMeta("lead_mm", "five", 3);
+  try {
+    TableFromMeasurement(m, {});
+    FAIL() << "took 'five' as a lead";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "synthetic.csv:3: field 'lead_mm': 'five' is not a number of mm");
+  }
+  m.SetMeta("lead_mm", "5", 3);
+  m.SetMeta("reference_mm", "0,5.0", 4);
+  try {
+    TableFromMeasurement(m, {});
+    FAIL() << "ignored a bad reference";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 4);
+    EXPECT_EQ(e.field(), "reference_mm");
+  }
+  m.SetMeta("reference_mm", "0");
+  EXPECT_EQ(TableFromMeasurement(m, {}).reference_mm, 0);
+  std::erase_if(m.metadata, [](const auto& kv) { return kv.first == "lead_mm"; });
+  EXPECT_THROW(TableFromMeasurement(m, {}), InputError);
+}
+
 TEST(PitchExport, RefusesMoreThanTheControllerTakesAndNamesTheSpacingThatFits) {
   const PitchErrorTable t = Linear(400, 5);  // 2 m axis, 5 mm lead
   exporter::ResampleOptions o;

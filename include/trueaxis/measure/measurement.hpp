@@ -5,6 +5,7 @@
 //
 // Sign convention (docs/sign-convention.md): deviation_um is the measured
 // actual position minus the target position, in micrometres.
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -28,13 +29,19 @@ struct Measurement {
   std::string source;  // file path or other origin, used in error messages
   // "# key: value" metadata in file order (axis, machine, date, operator, cte_um_per_m_c, ...).
   std::vector<std::pair<std::string, std::string>> metadata;
+  // The file line each metadata key was read from (absent or 0: not from a line, e.g. set by the
+  // simulator). Kept by SetMeta; read with MetaLine for error messages. Keyed by name, so it stays
+  // right when `metadata` is reordered or edited.
+  std::map<std::string, int> metadata_lines;
   std::vector<std::string> sensor_names;  // "nut" for column t_nut_c
   bool has_time = false;
   std::vector<MeasurementPoint> points;
 
   // Metadata lookup by key (case-sensitive); nullopt when absent.
   std::optional<std::string> Meta(const std::string& key) const;
-  void SetMeta(const std::string& key, const std::string& value);
+  // The file line of a metadata entry, for error messages; 0 when absent or not read from a line.
+  int MetaLine(const std::string& key) const;
+  void SetMeta(const std::string& key, const std::string& value, int line = 0);
   // Index of a sensor in sensor_names, or nullopt.
   std::optional<std::size_t> SensorIndex(const std::string& name) const;
 
