@@ -114,6 +114,7 @@ namespace {
 struct TemperatureLog {
   std::vector<std::string> sensors;
   std::vector<double> time_s;
+  std::vector<int> line;                  // per row: its line in the file, for error messages
   std::vector<std::vector<double>> rows;  // parallel to sensors
   std::vector<CoolantState> coolant;      // per row; empty when the log has no coolant column
   std::map<std::string, std::vector<double>> travel_mm;  // per axis (lower case): <axis>_travel_mm
@@ -194,6 +195,7 @@ TemperatureLog ReadTemperatureLog(const std::string& path) {
       log.coolant.push_back(*c);
     }
     log.time_s.push_back(*t);
+    log.line.push_back(line);
     log.rows.push_back(std::move(vals));
   }
   if (columns == 0) throw InputError(path, cursor.number(), "", "no header line: the temperature log is empty");
@@ -245,11 +247,11 @@ void CheckLogBelongsTo(const TemperatureLog& log, const std::string& log_path, c
   double step_s = 0;
   for (std::size_t r = 1; r < log.time_s.size(); ++r) step_s = std::max(step_s, log.time_s[r] - log.time_s[r - 1]);
   if (start_s > log.time_s.back() + 2 * step_s + 1)
-    throw InputError(log_path, 0, "time_s",
+    throw InputError(log_path, log.line.back(), "time_s",
                      fmt::format("the log ends at {} s, before {} starts at {} s (campaign_time_s): a truncated log "
                                  "or another campaign's", log.time_s.back(), m.source, start_s));
   if (start_s < log.time_s.front() - 2 * step_s - 1)
-    throw InputError(log_path, 0, "time_s",
+    throw InputError(log_path, log.line.front(), "time_s",
                      fmt::format("the log starts at {} s, after {} starts at {} s: another campaign's log?",
                                  log.time_s.front(), m.source, start_s));
   if (m.points.empty()) return;
@@ -264,7 +266,7 @@ void CheckLogBelongsTo(const TemperatureLog& log, const std::string& log_path, c
     const double logged = log.rows[nearest][static_cast<std::size_t>(it - log.sensors.begin())];
     const double measured = m.points.front().temperatures_c.at(k);
     if (std::isfinite(logged) && std::isfinite(measured) && std::abs(logged - measured) > kToleranceC)
-      throw InputError(log_path, 0, "t_" + m.sensor_names[k] + "_c",
+      throw InputError(log_path, log.line[nearest], "t_" + m.sensor_names[k] + "_c",
                        fmt::format("reads {:.2f} °C at {} s, but {} starts at {:.2f} °C: the log belongs to another "
                                    "campaign", logged, log.time_s[nearest], m.source, measured));
   }

@@ -116,6 +116,15 @@ TEST(SimCampaignLog, CutRowsAndAnotherCampaignsLogAreRefused) {
     ADD_FAILURE() << "another campaign's log was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("another campaign"), std::string::npos) << e.what();
+    // It names the log's row nearest the measurement's start: that line's time_s is within a step.
+    std::istringstream lines(ReadAll(root / "B/temperature_log.csv"));
+    std::string l, header;
+    int n = 0;
+    while (std::getline(lines, l) && ++n < e.line())
+      if (header.empty() && !l.empty() && l[0] != '#') header = l;
+    ASSERT_GT(e.line(), 1) << e.what();
+    ASSERT_EQ(header.rfind("time_s,", 0), 0u) << header;
+    EXPECT_NEAR(std::stod(l.substr(0, l.find(','))), start, 120) << l;
   }
   // A row cut to 5 fields.
   std::string log = ReadAll(root / "A/temperature_log.csv");
