@@ -8,6 +8,7 @@
 
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/fiveaxis/axis_identification.hpp"
 #include "trueaxis/fiveaxis/experiment.hpp"
@@ -33,15 +34,19 @@ void AddPathOptions(CLI::App* cmd, PathOptions* o) {
 
 ToolPath LoadPath(const PathOptions& o, const FiveAxisMachine& m) {
   if (o.path.empty() == o.program.empty()) throw InputError("command line", 0, "--path", "give either --path or --program");
+  // 0 = not given (a CSV with a feed column, a G-code program); anything else must be a real feed.
+  if (o.feed != 0)
+    if (auto why = ImplausibleFeedMmPerMin(o.feed)) throw InputError("command line", 0, "--feed", *why);
   if (!o.program.empty()) return ReadProgramFile(o.program, m, o.feed);
-  if (o.feed <= 0) throw InputError("command line", 0, "--feed", "a test path needs --feed (mm/min)");
+  if (o.feed == 0) throw InputError("command line", 0, "--feed", "a test path needs --feed (mm/min)");
   ToolPath p = MakeTestPath(o.path, Kinematics(m.kinematics), o.feed);
-  CheckRotaryRanges(p, m, o.path);
+  p.feed_field = "--feed";
+  CheckAxisRanges(p, m, o.path);
   return p;
 }
 
 TrackingErrorModel LoadOrIdentify(const std::string& model_path, const FiveAxisMachine& m) {
-  if (!model_path.empty()) return ModelFromJson(ReadTextFile(model_path), model_path);
+  if (!model_path.empty()) return ModelFromJson(ReadTextFile(model_path), model_path, m.axis_names());
   return IdentifyTrackingModel(m, AxisTestOptions{}, VirtualMachineRunner(m));
 }
 
@@ -189,6 +194,8 @@ void Setup(CLI::App& app) {
       eo.correction_iterations = *iterations;
       eo.correction_filter_s = *filter_ms * 1e-3;
       if (*iterations < 1 || *filter_ms < 0) throw InputError("command line", 0, "--iterations", "passes >= 1, filter >= 0");
+      for (double feed : *feeds)
+        if (auto why = ImplausibleFeedMmPerMin(feed)) throw InputError("command line", 0, "--feeds", *why);
       const FiveAxisMachine base = ReadFiveAxisMachineFile(*machine);
       std::string md = "| machine | path | feed (mm/min) | kf | no FF rms / max (µm) | FF rms / max (µm) | FF + corr. rms / max (µm) | rms reduction vs FF | max reduction vs FF |\n|---|---|---|---|---|---|---|---|---|\n";
       double worst = INFINITY;
@@ -198,7 +205,8 @@ void Setup(CLI::App& app) {
         const TrackingErrorModel model = IdentifyTrackingModel(m, AxisTestOptions{}, VirtualMachineRunner(m));
         for (const std::string& name : TestPathNames())
           for (double feed : *feeds) {
-            const ToolPath path = MakeTestPath(name, Kinematics(m.kinematics), feed);
+            ToolPath path = MakeTestPath(name, Kinematics(m.kinematics), feed);
+            path.feed_field = "--feeds";
             const Experiment x = RunExperiment(m, model, path, eo);
             const double red = ReductionPercent(x.with_ff.contour.rms_um, x.corrected.contour.rms_um);
             const std::string row = fmt::format(

@@ -38,4 +38,12 @@ std::optional<std::string> ImplausibleTimeS(double v) {
   return fmt::format("{} s is beyond ±{:g} s", v, kMaxPlausibleTimeS);
 }
 
+std::optional<std::string> ImplausibleFeedMmPerMin(double v) {
+  if (!std::isfinite(v)) return "not a finite feed";
+  if (v <= 0) return fmt::format("{} mm/min: a feed must be positive", v);
+  if (v <= kMaxPlausibleFeedMmPerMin) return std::nullopt;
+  return fmt::format("{} mm/min is beyond {:g} mm/min (wrong unit: µm/min instead of mm/min?)", v,
+                     kMaxPlausibleFeedMmPerMin);
+}
+
 }  // namespace trueaxis

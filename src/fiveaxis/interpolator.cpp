@@ -5,6 +5,10 @@
 #include <cmath>
 #include <numbers>
 
+#include <fmt/format.h>
+
+#include "trueaxis/core/input_error.hpp"
+
 namespace trueaxis::fiveaxis {
 namespace {
 
@@ -24,6 +28,31 @@ std::vector<double> MovingAverage(const std::vector<double>& x, int n) {
 double CornerDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   if (a.norm() < 1e-9 || b.norm() < 1e-9) return 0;
   return AxisAngleRad(a, b) * 180.0 / std::numbers::pi;
+}
+
+// The budget of servo periods is exceeded at vertex `at` (the piece from
+// there needs `piece_samples` more after `used`): an InputError naming the
+// program line (or the option that set a generated path's feed), the move and
+// what would fit.
+[[noreturn]] void ThrowOverBudget(const ToolPath& path, std::size_t at, double used, double piece_samples, double rate_hz) {
+  const PathVertex& v = path.vertices[at];
+  const double needed_s = (used + piece_samples) / rate_hz;
+  const double budget_s = static_cast<double>(kMaxServoSamples) / rate_hz;
+  std::string move;
+  if (v.move == MoveKind::kInverseTime) move = fmt::format("an inverse-time block of {:g} s", v.duration_s);
+  else if (v.move == MoveKind::kRapid) move = "a rapid (G0) move";
+  else move = fmt::format("a move at {:g} mm/min", v.feed_mm_per_min);
+  const std::string limit = fmt::format(
+      "the simulation holds at most {} servo periods ({:g} s at {:g} Hz) but the path needs {:.4g} s", kMaxServoSamples,
+      budget_s, rate_hz, needed_s);
+  if (v.source_line > 0) {
+    throw InputError(path.name, v.source_line, v.move == MoveKind::kRapid ? "G0" : path.feed_field,
+                     fmt::format("{} runs past the limit here: {}; raise the feed or split the program", move, limit));
+  }
+  const double fitting_feed = v.feed_mm_per_min * needed_s / budget_s;
+  throw InputError("command line", 0, path.feed_field,
+                   fmt::format("{} at {:g} mm/min: {}; a feed of about {:.3g} mm/min or more fits", path.name,
+                               v.feed_mm_per_min, limit, fitting_feed));
 }
 
 }  // namespace
@@ -95,14 +124,28 @@ Trajectory Interpolate(const ToolPath& path, const FiveAxisMachine& m, double se
       // Rate of nominal time per real time: 1 while moving, shaped by the filters.
       double steps = total / t.dt_s;
       if (std::abs(steps - std::round(steps)) < 1e-6) steps = std::max(1.0, std::round(steps));
-      std::vector<double> rate(static_cast<std::size_t>(std::ceil(steps)), 1.0);
-      rate.back() = steps - std::floor(steps) > 1e-12 ? steps - std::floor(steps) : 1.0;
+      double accel_samples = 1, jerk_samples = 1;
       if (v[k].move != MoveKind::kInverseTime) {
         const double accel_time = speed[k] / m.interpolator.path_accel_mm_per_s2;
         const double jerk_time = m.interpolator.path_accel_mm_per_s2 / m.interpolator.path_jerk_mm_per_s3;
-        rate = MovingAverage(rate, std::max(1, static_cast<int>(std::lround(accel_time / t.dt_s))));
-        rate = MovingAverage(rate, std::max(1, static_cast<int>(std::lround(jerk_time / t.dt_s))));
+        accel_samples = std::max(1.0, std::round(accel_time / t.dt_s));
+        jerk_samples = std::max(1.0, std::round(jerk_time / t.dt_s));
       }
+      // Bound the work before allocating: this piece, the rest before it and the final rest.
+      const double piece_samples = std::ceil(steps) + accel_samples + jerk_samples - 2;
+      const double used = static_cast<double>(t.joints.size());
+      if (!(used + piece_samples + settle <= static_cast<double>(kMaxServoSamples))) {
+        // Name the vertex whose move crosses the limit.
+        std::size_t at = k;
+        double before = used;
+        while (at + 1 < end && before + duration[at] / t.dt_s <= static_cast<double>(kMaxServoSamples))
+          before += duration[at++] / t.dt_s;
+        ThrowOverBudget(path, at, used, piece_samples + settle, m.servo_rate_hz);
+      }
+      std::vector<double> rate(static_cast<std::size_t>(std::ceil(steps)), 1.0);
+      rate.back() = steps - std::floor(steps) > 1e-12 ? steps - std::floor(steps) : 1.0;
+      rate = MovingAverage(rate, static_cast<int>(accel_samples));
+      rate = MovingAverage(rate, static_cast<int>(jerk_samples));
       double tau = 0;
       std::size_t seg = k;
       double seg_start = 0;

@@ -108,6 +108,13 @@ FiveAxisMachine ParseFiveAxisMachineToml(const std::string& text, const std::str
     kr.Double("tilt_max_deg", m.tilt_max_deg, -360, 360);
     kr.Double("rot_min_deg", m.rot_min_deg, -1e6, 1e6);
     kr.Double("rot_max_deg", m.rot_max_deg, -1e6, 1e6);
+    for (int k = 0; k < 3; ++k) {
+      const std::string axis(1, static_cast<char>('x' + k));
+      kr.Double(axis + "_min_mm", m.travel_min_mm[k], -1e5, 1e5);
+      kr.Double(axis + "_max_mm", m.travel_max_mm[k], -1e5, 1e5);
+      if (m.travel_min_mm[k] >= m.travel_max_mm[k])
+        kr.Fail(axis + "_max_mm", kr.Node(axis + "_max_mm"), "must exceed " + axis + "_min_mm");
+    }
     if (m.tilt_min_deg >= m.tilt_max_deg) kr.Fail("tilt_max_deg", kr.Node("tilt_max_deg"), "must exceed tilt_min_deg");
     if (m.rot_min_deg >= m.rot_max_deg) kr.Fail("rot_max_deg", kr.Node("rot_max_deg"), "must exceed rot_min_deg");
     if (k.family == Family::kHeadBC && (k.pivot_mm.norm() > 0 || k.offset_mm.norm() > 0))

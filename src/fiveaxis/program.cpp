@@ -42,6 +42,7 @@ ToolPath ParseGcodeProgram(const std::string& text, const std::string& source, c
   const char tilt_letter = names[kTilt][0];
   ToolPath path;
   path.name = source;
+  path.feed_field = "F";
   PathVertex current;  // machine starts at the workpiece origin, rotaries at 0
   current.move = MoveKind::kStart;
   path.vertices.push_back(current);
@@ -111,7 +112,10 @@ ToolPath ParseGcodeProgram(const std::string& text, const std::string& source, c
     if (has_f) {
       block_f = words['F'];
       if (block_f <= 0) throw InputError(source, number, fmt::format("F{}", block_f), "feed must be positive");
-      if (!inverse_time) feed = block_f * scale;
+      if (!inverse_time) {
+        feed = block_f * scale;
+        if (auto why = ImplausibleFeedMmPerMin(feed)) throw InputError(source, number, fmt::format("F{}", block_f), *why);
+      }
     }
     bool moves = false;
     PathVertex next = current;
@@ -155,7 +159,7 @@ ToolPath ParseGcodeProgram(const std::string& text, const std::string& source, c
     current = next;
   }
   if (path.vertices.size() < 2) throw InputError(source, cursor.number(), "", "the program has no move after its start point");
-  CheckRotaryRanges(path, m, source);
+  CheckAxisRanges(path, m, source);
   return path;
 }
 
@@ -190,6 +194,7 @@ ToolPath ParseCsvProgram(const std::string& text, const std::string& source, con
       const bool angles = column.count(tilt_column) && column.count("c_deg");
       if (vector == angles)
         throw InputError(source, number, "header", "give the tool axis as i,j,k or the angles " + tilt_column + ",c_deg (one of them)");
+      path.feed_field = column.count("duration_s") ? "duration_s" : column.count("feed_mm_per_min") ? "feed_mm_per_min" : "--feed";
       continue;
     }
     if (fields.size() != header.size())
@@ -222,14 +227,18 @@ ToolPath ParseCsvProgram(const std::string& text, const std::string& source, con
       if (v.duration_s <= 0) throw InputError(source, number, "duration_s", "must be positive");
     } else {
       v.move = MoveKind::kFeed;
-      v.feed_mm_per_min = column.count("feed_mm_per_min") ? value("feed_mm_per_min") : default_feed;
-      if (v.feed_mm_per_min <= 0)
+      const bool has_column = column.count("feed_mm_per_min") > 0;
+      v.feed_mm_per_min = has_column ? value("feed_mm_per_min") : default_feed;
+      if (!has_column && v.feed_mm_per_min == 0)
         throw InputError(source, number, "feed_mm_per_min", "missing feed: add a feed_mm_per_min column or give --feed");
+      if (auto why = ImplausibleFeedMmPerMin(v.feed_mm_per_min))
+        throw InputError(has_column ? source : "command line", has_column ? number : 0,
+                         has_column ? "feed_mm_per_min" : "--feed", *why);
     }
     path.vertices.push_back(v);
   }
   if (path.vertices.size() < 2) throw InputError(source, cursor.number(), "", "a tool path needs at least two points");
-  CheckRotaryRanges(path, m, source);
+  CheckAxisRanges(path, m, source);
   return path;
 }
 

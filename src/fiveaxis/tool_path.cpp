@@ -88,8 +88,9 @@ ToolPath MakeTestPath(const std::string& name, const Kinematics& kin, double fee
   throw InputError("command line", 0, "--path", fmt::format("'{}' is not cone, s-shape or inclined-circle", name));
 }
 
-void CheckRotaryRanges(const ToolPath& path, const FiveAxisMachine& m, const std::string& source) {
+void CheckAxisRanges(const ToolPath& path, const FiveAxisMachine& m, const std::string& source) {
   const auto names = m.axis_names();
+  const Kinematics kin(m.kinematics);
   for (std::size_t i = 0; i < path.vertices.size(); ++i) {
     const PathVertex& v = path.vertices[i];
     const int line = v.source_line;
@@ -102,6 +103,14 @@ void CheckRotaryRanges(const ToolPath& path, const FiveAxisMachine& m, const std
       throw InputError(source, line, names[kRot],
                        fmt::format("{} = {:.4f} deg is outside the machine's range {} … {} deg{}", names[kRot],
                                    v.rot_deg, m.rot_min_deg, m.rot_max_deg, where));
+    const AxisVector joints = kin.Inverse(v.tip_mm, v.tilt_deg, v.rot_deg);
+    for (int k = 0; k < 3; ++k)
+      if (!(joints[k] >= m.travel_min_mm[k] && joints[k] <= m.travel_max_mm[k]))
+        throw InputError(source, line, names[k],
+                         fmt::format("the tip ({:g}, {:g}, {:g}) mm needs {} = {:.4f} mm, outside the machine's travel "
+                                     "{:g} … {:g} mm{}",
+                                     v.tip_mm.x(), v.tip_mm.y(), v.tip_mm.z(), names[k], joints[k],
+                                     m.travel_min_mm[k], m.travel_max_mm[k], where));
   }
 }
 

@@ -6,11 +6,16 @@
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/json_text.hpp"
 
 namespace trueaxis::fiveaxis {
+namespace {
+constexpr const char* kModelFormat = "trueaxis five-axis tracking-error model (seed 004)";
+}  // namespace
 
 ModelCoefficients AxisErrorModel::At(double kf) const {
   ModelCoefficients c;
@@ -147,7 +152,7 @@ FeedForwardChoice ChooseFeedForward(const TrackingErrorModel& model, const std::
 
 std::string ModelToJson(const TrackingErrorModel& model, const std::array<std::string, kAxisCount>& names) {
   nlohmann::ordered_json j;
-  j["format"] = "trueaxis five-axis tracking-error model (seed 004)";
+  j["format"] = kModelFormat;
   j["derivative_window_s"] = model.derivative_window_s;
   j["with_extensions"] = model.with_extensions;
   j["terms"] = "v, a, j, 10 Laguerre filters of a, 8 of tanh(v / friction_band), pole 10 ms";
@@ -159,26 +164,93 @@ std::string ModelToJson(const TrackingErrorModel& model, const std::array<std::s
   return j.dump(2) + "\n";
 }
 
-TrackingErrorModel ModelFromJson(const std::string& text, const std::string& source) {
-  TrackingErrorModel model;
-  try {
-    const auto j = nlohmann::json::parse(text);
-    model.derivative_window_s = j.at("derivative_window_s").get<double>();
-    model.with_extensions = j.value("with_extensions", true);
-    const auto& axes = j.at("axes");
-    if (!axes.is_array() || axes.size() != kAxisCount) throw InputError(source, 0, "axes", "needs five axes");
-    int a = 0;
-    for (const auto& ax : axes) {
-      model.axes[a].without_ff = ax.at("without_ff").get<ModelCoefficients>();
-      model.axes[a].full_ff = ax.at("full_ff").get<ModelCoefficients>();
-      model.axes[a].fit_rms = ax.value("fit_rms", 0.0);
-      model.axes[a].friction_band = ax.at("friction_band").get<double>();
-      if (!(model.axes[a].friction_band > 0)) throw InputError(source, 0, "friction_band", "must be positive");
-      model.axes[a].signal_rms = ax.value("test_rms", 0.0);
-      ++a;
+namespace {
+
+// Largest |coefficient| a model may hold. Identified values are tiny (c_v =
+// (1 − kf)/Kp ≤ 10 s for Kp ≥ 0.1/s; the friction terms are mm); anything
+// near this would predict metres of tracking error.
+constexpr double kMaxPlausibleCoefficient = 1e3;
+// Savitzky–Golay window of v, a, j: identify writes 0.01 s.
+constexpr double kMaxDerivativeWindowS = 1.0;
+
+// Reads one field of the model file, refusing what is missing or of the wrong type.
+class ModelReader {
+ public:
+  explicit ModelReader(const std::string& source) : source_(source) {}
+  [[noreturn]] void Fail(const std::string& field, const std::string& message) const {
+    throw InputError(source_, 0, field, message);
+  }
+  const nlohmann::json& At(const nlohmann::json& j, const std::string& path, const std::string& key) const {
+    const std::string field = path.empty() ? key : path + "." + key;
+    if (!j.is_object() || !j.contains(key)) Fail(field, "required field is missing");
+    return j.at(key);
+  }
+  double Number(const nlohmann::json& j, const std::string& path, const std::string& key) const {
+    const nlohmann::json& v = At(j, path, key);
+    if (!v.is_number()) Fail(path.empty() ? key : path + "." + key, "expected a number");
+    return v.get<double>();
+  }
+  ModelCoefficients Coefficients(const nlohmann::json& j, const std::string& path, const std::string& key) const {
+    const std::string field = path + "." + key;
+    const nlohmann::json& v = At(j, path, key);
+    if (!v.is_array() || v.size() != kModelTerms)
+      Fail(field, fmt::format("expected an array of {} numbers (v, a, j, {} lag and {} friction terms), got {}",
+                              kModelTerms, kLagTerms, kFrictionTerms, v.is_array() ? std::to_string(v.size()) : "no array"));
+    ModelCoefficients c{};
+    for (int i = 0; i < kModelTerms; ++i) {
+      const std::string item = fmt::format("{}[{}]", field, i);
+      if (!v[i].is_number()) Fail(item, "expected a number");
+      c[i] = v[i].get<double>();
+      if (!std::isfinite(c[i]) || std::abs(c[i]) > kMaxPlausibleCoefficient)
+        Fail(item, fmt::format("{:g} is not a plausible tracking-error coefficient (|c| ≤ {:g})", c[i],
+                               kMaxPlausibleCoefficient));
     }
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(source, 0, "", fmt::format("not a five-axis tracking-error model: {}", e.what()));
+    return c;
+  }
+
+ private:
+  const std::string& source_;
+};
+
+}  // namespace
+
+TrackingErrorModel ModelFromJson(const std::string& text, const std::string& source,
+                                 const std::array<std::string, kAxisCount>& machine_axes) {
+  const nlohmann::json j = ParseJsonOrThrow(text, source);
+  const ModelReader r(source);
+  if (!j.is_object()) r.Fail("", "not a five-axis tracking-error model (expected a JSON object)");
+  const nlohmann::json& format = r.At(j, "", "format");
+  if (!format.is_string() || format.get<std::string>() != kModelFormat)
+    r.Fail("format", fmt::format("expected \"{}\" (a model written by `fiveaxis identify`)", kModelFormat));
+  TrackingErrorModel model;
+  model.derivative_window_s = r.Number(j, "", "derivative_window_s");
+  if (!(model.derivative_window_s > 0 && model.derivative_window_s <= kMaxDerivativeWindowS))
+    r.Fail("derivative_window_s", fmt::format("{:g} s is outside 0 … {:g} s (identify writes 0.01 s)",
+                                              model.derivative_window_s, kMaxDerivativeWindowS));
+  if (j.contains("with_extensions")) {
+    if (!j["with_extensions"].is_boolean()) r.Fail("with_extensions", "expected true or false");
+    model.with_extensions = j["with_extensions"].get<bool>();
+  }
+  const nlohmann::json& axes = r.At(j, "", "axes");
+  if (!axes.is_array() || axes.size() != kAxisCount)
+    r.Fail("axes", fmt::format("needs five axes ({})", fmt::join(machine_axes, " ")));
+  for (int a = 0; a < kAxisCount; ++a) {
+    const nlohmann::json& ax = axes[a];
+    const std::string path = fmt::format("axes[{}]", a);
+    const nlohmann::json& name = r.At(ax, path, "axis");
+    if (!name.is_string() || name.get<std::string>() != machine_axes[a])
+      r.Fail(path + ".axis", fmt::format("'{}' where the machine's axis {} is {} (axes in the order {}); was the model "
+                                         "identified on another machine?",
+                                         name.is_string() ? name.get<std::string>() : name.dump(), a + 1, machine_axes[a],
+                                         fmt::join(machine_axes, " ")));
+    AxisErrorModel& m = model.axes[a];
+    m.without_ff = r.Coefficients(ax, path, "without_ff");
+    m.full_ff = r.Coefficients(ax, path, "full_ff");
+    m.friction_band = r.Number(ax, path, "friction_band");
+    if (!(m.friction_band > 0) || !std::isfinite(m.friction_band))
+      r.Fail(path + ".friction_band", "must be a positive number (mm/s or deg/s)");
+    m.fit_rms = ax.contains("fit_rms") ? r.Number(ax, path, "fit_rms") : 0.0;
+    m.signal_rms = ax.contains("test_rms") ? r.Number(ax, path, "test_rms") : 0.0;
   }
   return model;
 }

@@ -2,10 +2,13 @@
 // feed-forward coefficient, the nearest-point search (sharp corners, singular
 // orientations), the interpolator, the drive, and the whole experiment.
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include "trueaxis/core/input_error.hpp"
 #include "trueaxis/fiveaxis/axis_identification.hpp"
 #include "trueaxis/fiveaxis/command_correction.hpp"
 #include "trueaxis/fiveaxis/contour_error.hpp"
@@ -167,6 +170,64 @@ TEST(FiveAxisInterpolator, FollowsThePathAtTheFeedWithRampsAndStops) {
   const double duration = t.joints.size() * dt;
   EXPECT_GT(duration, 80 / (1000.0 / 60));
   EXPECT_LT(duration, 80 / (1000.0 / 60) + 4 * 0.05 + 0.2);
+}
+
+// Work grows as 1/feed: a path needing more than kMaxServoSamples servo
+// periods is refused before it is allocated, naming the line and its field.
+TEST(FiveAxisInterpolator, RefusesAPathBeyondTheServoBudgetWithTheLine) {
+  const FiveAxisMachine m = Machine("table_ac.toml");
+  auto expect_refused = [&](const ToolPath& p, const std::string& source, int line, const std::string& field) {
+    try {
+      Interpolate(p, m);
+      FAIL() << "no error";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.source(), source) << e.what();
+      EXPECT_EQ(e.line(), line) << e.what();
+      EXPECT_EQ(e.field(), field) << e.what();
+    }
+  };
+  expect_refused(ParseGcodeProgram("G1 X10 Y0 Z0 A0 C0 F4000\nG1 X20\nG1 X100 F0.001\nM30\n", "slow.nc", m), "slow.nc", 3,
+                 "F");
+  expect_refused(ParseCsvProgram("x_mm,y_mm,z_mm,a_deg,c_deg,feed_mm_per_min\n0,0,0,0,0,0\n90,0,0,0,0,0.00001\n", "slow.csv",
+                                 m, 0),
+                 "slow.csv", 3, "feed_mm_per_min");
+  ToolPath cone = MakeTestPath("cone", Kinematics(m.kinematics), 0.00001);
+  cone.feed_field = "--feed";
+  expect_refused(cone, "command line", 0, "--feed");
+  // Within the budget: 90 mm at 12 mm/min is 450 s (900 000 periods at 2000 Hz).
+  const ToolPath slow_but_fits = ParseGcodeProgram("G1 X0 Y0 Z0 A0 C0 F4000\nG1 X90 F12\n", "ok.nc", m);
+  EXPECT_NO_THROW(Interpolate(slow_but_fits, m));
+}
+
+// The model reader names the field of a broken model instead of leaking
+// nlohmann's text or letting a 1e308 coefficient corrupt the generated program.
+TEST(FiveAxisModelFile, RefusesBrokenModelsNamingTheField) {
+  const auto names = AxisNames(Family::kTableAC);
+  const nlohmann::json good = nlohmann::json::parse(ModelToJson(TrackingErrorModel{}, names));
+  EXPECT_NO_THROW(ModelFromJson(good.dump(), "m.json", names));
+  auto expect_field = [&](const std::function<void(nlohmann::json&)>& change, const std::string& field) {
+    nlohmann::json j = good;
+    change(j);
+    try {
+      ModelFromJson(j.dump(), "m.json", names);
+      FAIL() << "no error for " << field;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.source(), "m.json");
+      EXPECT_EQ(e.field(), field) << e.what();
+      EXPECT_EQ(std::string(e.what()).find("json.exception"), std::string::npos) << e.what();
+    }
+  };
+  expect_field([](auto& j) { j["axes"][0]["without_ff"].erase(20); }, "axes[0].without_ff");  // 20 of 21
+  expect_field([](auto& j) { j["axes"][0]["without_ff"][0] = 1e308; }, "axes[0].without_ff[0]");
+  expect_field([](auto& j) { j["axes"][2]["full_ff"][3] = "x"; }, "axes[2].full_ff[3]");
+  expect_field([](auto& j) { j["axes"][1]["axis"] = "X"; }, "axes[1].axis");  // X twice
+  expect_field([](auto& j) { j["derivative_window_s"] = -1; }, "derivative_window_s");
+  expect_field([](auto& j) { j["derivative_window_s"] = 0; }, "derivative_window_s");
+  expect_field([](auto& j) { j.erase("derivative_window_s"); }, "derivative_window_s");
+  expect_field([](auto& j) { j["format"] = "x"; }, "format");
+  expect_field([](auto& j) { j["axes"][4].erase("friction_band"); }, "axes[4].friction_band");
+  // A model of an A/C table does not fit a B/C head.
+  EXPECT_THROW(ModelFromJson(good.dump(), "m.json", AxisNames(Family::kHeadBC)), InputError);
 }
 
 TEST(FiveAxisDrive, SettlesWithoutSteadyErrorAndCountsSaturation) {

@@ -1,4 +1,6 @@
 // Programs and machine files: what is accepted, and bad input refused with file, line and word.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "support/cli_runner.hpp"
@@ -70,6 +72,30 @@ TEST(FiveAxisProgram, CsvWithToolAxisOrAngles) {
   ExpectError([&] { ParseCsvProgram("x_mm,y_mm,z_mm,b_deg,c_deg\n0,0,0,0,0\n", "p.csv", m, 500); }, 1, "b_deg");
 }
 
+TEST(FiveAxisProgram, RefusesNonFiniteAndAbsurdFeeds) {
+  const auto m = TableAC();
+  ExpectError([&] { ParseGcodeProgram("G0 X0\nG1 X5 F2000000000\n", "p.nc", m); }, 2, "F2");  // µm/min?
+  ExpectError([&] { ParseCsvProgram("x_mm,y_mm,z_mm,a_deg,c_deg,feed_mm_per_min\n0,0,0,0,0,1\n1,0,0,0,0,0\n", "p.csv", m, 0); },
+              3, "feed_mm_per_min");
+  ExpectError([&] { ParseCsvProgram("x_mm,y_mm,z_mm,a_deg,c_deg\n0,0,0,0,0\n1,0,0,0,0\n", "p.csv", m, std::nan("")); }, 0,
+              "--feed");
+  // Slow is not absurd: 0.1 mm/min reads (the interpolator bounds the work).
+  EXPECT_NO_THROW(ParseGcodeProgram("G0 X0\nG1 X5 F0.1\n", "p.nc", m));
+}
+
+TEST(FiveAxisProgram, RefusesLinearPositionsOutsideTheTravel) {
+  const auto m = ParseFiveAxisMachineToml(
+      "[machine]\nfamily = \"table_ac\"\n[kinematics]\nx_min_mm = -400\nx_max_mm = 400\n", "m.toml");
+  EXPECT_NO_THROW(ParseCsvProgram("x_mm,y_mm,z_mm,a_deg,c_deg\n0,0,0,0,0\n390,0,0,0,0\n", "p.csv", m, 500));
+  ExpectError([&] { ParseCsvProgram("x_mm,y_mm,z_mm,a_deg,c_deg\n0,0,0,0,0\n100000,0,0,0,0\n", "p.csv", m, 500); }, 3,
+              "X");
+  ExpectError([&] { ParseGcodeProgram("G0 X0\nG1 X10 F100\nG1 X-401\n", "p.nc", m); }, 3, "X");
+  // The travel is of the joints: C = 90 turns program X into machine Y, which has no limit here.
+  EXPECT_NO_THROW(ParseGcodeProgram("G0 X0\nG1 X10 F100\nG1 C90\nG1 X-401\n", "p.nc", m));
+  ExpectError([] { ParseFiveAxisMachineToml("[machine]\nfamily = \"table_ac\"\n[kinematics]\nz_min_mm = 5\nz_max_mm = 5\n", "m.toml"); },
+              5, "z_max_mm");
+}
+
 TEST(FiveAxisProgram, WrittenProgramReadsBackTheSame) {
   const auto m = TableAC();
   const Kinematics kin(m.kinematics);
@@ -115,6 +141,25 @@ TEST(FiveAxisCli, BadProgramExitsWithCode2AndTheLine) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("bad_program.nc:3"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("W3"), std::string::npos) << r.output;
+}
+
+// The sweep's A2: F0.001 exhausted memory (std::bad_alloc, exit 1); now a
+// clean exit 2 naming the line, before anything large is allocated.
+TEST(FiveAxisCli, SlowFeedIsRefusedWithTheLineInsteadOfExhaustingMemory) {
+  const std::string slow = ::testing::TempDir() + "slow_feed.nc";
+  FILE* f = fopen(slow.c_str(), "w");
+  fputs("G1 X10 Y0 Z0 A0 C0 F4000\nG1 X100 F0.001\nM30\n", f);
+  fclose(f);
+  const std::string machine = " --machine " + std::string(TRUEAXIS_SOURCE_DIR) + "/examples/fiveaxis/table_ac.toml";
+  auto r = trueaxis::testing::RunCli("fiveaxis simulate" + machine + " --program " + slow);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("slow_feed.nc:2: field 'F'"), std::string::npos) << r.output;
+  r = trueaxis::testing::RunCli("fiveaxis simulate" + machine + " --path cone --feed 0.00001");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("field '--feed'"), std::string::npos) << r.output;
+  r = trueaxis::testing::RunCli("fiveaxis simulate" + machine + " --path cone --feed nan");  // was a 4.3 µm answer, exit 0
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("field '--feed': not a finite feed"), std::string::npos) << r.output;
 }
 
 }  // namespace

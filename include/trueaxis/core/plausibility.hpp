@@ -11,6 +11,8 @@
 //   position      |x| ≤ 100 000 mm    (100 m: longer than any machine axis)
 //   deviation     |e| ≤ 10 000 µm     (10 mm: no laser run of a working axis is that far off)
 //   time          |t| ≤ 1e10 s        (since the start of a test or a campaign)
+//   feed          0 < f ≤ 1e6 mm/min  (16.7 m/s: above any machine's rapid; slow feeds are
+//                                      legitimate — bound the work they cause instead)
 #include <optional>
 #include <string>
 
@@ -21,10 +23,12 @@ inline constexpr double kMaxPlausibleTemperatureC = 150;
 inline constexpr double kMaxPlausiblePositionMm = 100000;
 inline constexpr double kMaxPlausibleDeviationUm = 10000;
 inline constexpr double kMaxPlausibleTimeS = 1e10;
+inline constexpr double kMaxPlausibleFeedMmPerMin = 1e6;
 
 std::optional<std::string> ImplausibleTemperatureC(double value_c);
 std::optional<std::string> ImplausiblePositionMm(double value_mm);
 std::optional<std::string> ImplausibleDeviationUm(double value_um);
 std::optional<std::string> ImplausibleTimeS(double value_s);
+std::optional<std::string> ImplausibleFeedMmPerMin(double value_mm_per_min);
 
 }  // namespace trueaxis

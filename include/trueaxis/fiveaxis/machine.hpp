@@ -51,6 +51,8 @@ struct FiveAxisMachine {
   KinematicsParams kinematics;
   double tilt_min_deg = -120, tilt_max_deg = 120;
   double rot_min_deg = -1e6, rot_max_deg = 1e6;  // C: continuous unless limited
+  // Travel of the linear joints X, Y, Z (machine coordinates, mm): the plausibility bound unless the file says.
+  Eigen::Vector3d travel_min_mm = Eigen::Vector3d::Constant(-1e5), travel_max_mm = Eigen::Vector3d::Constant(1e5);
   double servo_rate_hz = 2000;
   InterpolatorLimits interpolator;
   std::array<DriveParams, kAxisCount> drives;

@@ -23,6 +23,9 @@ struct PathVertex {
 
 struct ToolPath {
   std::string name;
+  // Where the feeds come from, for errors: the word or column of a program
+  // ("F", "feed_mm_per_min", "duration_s") or the option of a generated path ("--feed").
+  std::string feed_field = "feed";
   std::vector<PathVertex> vertices;  // vertices[0] is the start (MoveKind::kStart)
 };
 
@@ -33,8 +36,9 @@ struct ToolPath {
 std::vector<std::string> TestPathNames();
 ToolPath MakeTestPath(const std::string& name, const Kinematics& kin, double feed_mm_per_min);
 
-// Refuses rotary values outside the machine's ranges: InputError naming the
-// source line (or the vertex index for generated paths).
-void CheckRotaryRanges(const ToolPath& path, const FiveAxisMachine& m, const std::string& source);
+// Refuses rotary values outside the machine's ranges, and vertices whose
+// linear joints (inverse kinematics) lie outside its X/Y/Z travel: InputError
+// naming the source line (or the vertex index for generated paths).
+void CheckAxisRanges(const ToolPath& path, const FiveAxisMachine& m, const std::string& source);
 
 }  // namespace trueaxis::fiveaxis

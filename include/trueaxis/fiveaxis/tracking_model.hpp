@@ -77,7 +77,11 @@ struct FeedForwardChoice {
 FeedForwardChoice ChooseFeedForward(const TrackingErrorModel& model, const std::vector<AxisVector>& command, double dt_s);
 
 std::string ModelToJson(const TrackingErrorModel& model, const std::array<std::string, kAxisCount>& names);
-// InputError naming the source for a malformed model.
-TrackingErrorModel ModelFromJson(const std::string& text, const std::string& source);
+// InputError naming the source and the field for a malformed model: a missing
+// or non-numeric field, coefficients not 21 finite plausible numbers, a
+// derivative window outside 0 … 1 s, axis names other than the machine's
+// (machine_axes, in order — also catches a name given twice).
+TrackingErrorModel ModelFromJson(const std::string& text, const std::string& source,
+                                 const std::array<std::string, kAxisCount>& machine_axes);
 
 }  // namespace trueaxis::fiveaxis
