@@ -18,6 +18,7 @@
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/vision/camera_calibration.hpp"
 #include "trueaxis/vision/credibility.hpp"
+#include "trueaxis/vision/image_file.hpp"
 #include "trueaxis/runtime/cycle_step.hpp"
 #include "trueaxis/sim/machine_description.hpp"
 #include "trueaxis/vision/vision_day.hpp"
@@ -106,7 +107,7 @@ MarkerDescription ReadMarker(const std::string& path) {
 cv::Mat ReadImage(const std::string& path) {
   if (!fs::exists(path)) throw InputError(path, "no such image file");
   // Grey, keeping 16-bit depth (colour and alpha are converted by OpenCV).
-  cv::Mat img = cv::imread(path, cv::IMREAD_GRAYSCALE | cv::IMREAD_ANYDEPTH);
+  cv::Mat img = DecodeImageFile(path, cv::IMREAD_GRAYSCALE | cv::IMREAD_ANYDEPTH);
   if (img.empty()) throw InputError(path, "empty or unreadable image (not a PNG/JPEG/TIFF/BMP OpenCV can decode)");
   return img;
 }

@@ -13,6 +13,7 @@
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/toml_reader.hpp"
+#include "trueaxis/vision/image_file.hpp"
 
 namespace trueaxis::tooltherm {
 
@@ -162,7 +163,7 @@ cv::Mat ReadThermalImage(const std::string& path, double scale, double offset_c)
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext == ".csv" || ext == ".txt") return ReadCsvMatrix(path, scale, offset_c);
-  const cv::Mat raw = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
+  const cv::Mat raw = vision::DecodeImageFile(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
   if (raw.empty())
     throw InputError(path, "not an image OpenCV can read (expected a 16-bit single-channel PNG/TIFF or a CSV matrix)");
   if (raw.depth() != CV_16U && raw.depth() != CV_8U)

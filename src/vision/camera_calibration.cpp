@@ -1,6 +1,7 @@
 // Chessboard camera calibration (include/trueaxis/vision/camera_calibration.hpp).
 #include "trueaxis/vision/camera_calibration.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -21,8 +22,16 @@ CalibrationResult CalibrateCamera(const std::vector<std::pair<std::string, cv::M
   std::vector<std::vector<cv::Point2f>> corners_all;
   CalibrationResult out;
   cv::Size size;
+  // OpenCV's board search needs a few pixels per square (its adaptive threshold fails below that).
+  constexpr int kMinPixelsPerSquare = 4;
+  const cv::Size smallest((b.cols + 1) * kMinPixelsPerSquare, (b.rows + 1) * kMinPixelsPerSquare);
   for (const auto& [name, img] : images) {
     if (img.empty()) throw InputError(name, "empty image (unreadable or not an image file)");
+    if (std::min(img.cols, img.rows) < std::min(smallest.width, smallest.height) ||
+        std::max(img.cols, img.rows) < std::max(smallest.width, smallest.height))
+      throw InputError(name, 0, "image size",
+                       fmt::format("{}×{} px cannot hold a {}×{}-corner chessboard (at least {}×{} px)", img.cols,
+                                   img.rows, b.cols, b.rows, smallest.width, smallest.height));
     if (size.area() == 0) size = img.size();
     if (img.size() != size)
       throw InputError(name, 0, "image size", fmt::format("{}×{} px, but the first image is {}×{}", img.cols, img.rows, size.width, size.height));
@@ -31,8 +40,13 @@ CalibrationResult CalibrateCamera(const std::vector<std::pair<std::string, cv::M
     else if (img.channels() == 4) cv::cvtColor(img, gray, cv::COLOR_BGRA2GRAY);
     if (gray.depth() == CV_16U) gray.convertTo(gray, CV_8U, 255.0 / 65535.0);
     std::vector<cv::Point2f> corners;
-    const bool found = cv::findChessboardCorners(gray, cv::Size(b.cols, b.rows), corners,
-                                                 cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
+    bool found = false;
+    try {
+      found = cv::findChessboardCorners(gray, cv::Size(b.cols, b.rows), corners,
+                                        cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
+    } catch (const cv::Exception&) {
+      throw InputError(name, 0, "image", "OpenCV's chessboard search cannot run on this image (size or pixel format)");
+    }
     if (!found) {
       out.skipped.push_back(name + ": no " + std::to_string(b.cols) + "×" + std::to_string(b.rows) + " board found");
       continue;

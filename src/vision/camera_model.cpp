@@ -64,15 +64,20 @@ CameraModel ReadCameraFile(const std::string& path) {
   if (!fs.isOpened()) throw InputError(path, "not an OpenCV YAML/XML camera file");
   CameraModel c;
   cv::Mat k, d;
-  try {
-    fs["camera_matrix"] >> k;
-    fs["distortion_coefficients"] >> d;
-    fs["image_width"] >> c.width_px;
-    fs["image_height"] >> c.height_px;
-    if (!fs["rms_reprojection_px"].empty()) fs["rms_reprojection_px"] >> c.rms_reprojection_px;
-  } catch (const cv::Exception& e) {
-    throw InputError(path, 0, "", std::string(e.err));
-  }
+  // Each field read on its own, so a malformed one is named (OpenCV's own text is an assertion).
+  auto read = [&](const char* field, auto& out, const char* expected) {
+    try {
+      fs[field] >> out;
+    } catch (const cv::Exception&) {
+      throw InputError(path, 0, field, std::string("malformed: expected ") + expected);
+    }
+  };
+  constexpr const char* kMatrix = "an !!opencv-matrix with rows, cols, dt and rows × cols data values";
+  read("camera_matrix", k, kMatrix);
+  read("distortion_coefficients", d, kMatrix);
+  read("image_width", c.width_px, "a whole number of pixels");
+  read("image_height", c.height_px, "a whole number of pixels");
+  if (!fs["rms_reprojection_px"].empty()) read("rms_reprojection_px", c.rms_reprojection_px, "a number");
   if (k.rows != 3 || k.cols != 3) throw InputError(path, 0, "camera_matrix", "missing or not 3×3");
   if (d.total() != 4 && d.total() != 5 && d.total() != 8 && d.total() != 12 && d.total() != 14)
     throw InputError(path, 0, "distortion_coefficients", "missing or not 4/5/8 coefficients");

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "support/png_bomb.hpp"
 #include "trueaxis/core/input_error.hpp"
 
 namespace trueaxis::tooltherm {
@@ -148,6 +149,21 @@ TEST_F(ThermalImageFiles, BadImagesAreRefusedWithFileAndPlace) {
   ASSERT_TRUE(cv::imwrite(png8, eight));
   EXPECT_THROW(ReadThermalImage(png8, 1, 0), InputError);
   EXPECT_THROW(ReadThermalImage(ragged, 0, 0), InputError);  // scale 0
+}
+
+// The sweep's A3: a PNG header claiming 100000×100000 px let OpenCV's
+// assertion escape (exit 1, no file named).
+TEST_F(ThermalImageFiles, AnImageBombIsAnInputErrorNamingTheFile) {
+  const std::string bomb = (dir / "bomb.png").string();
+  trueaxis::testing::WritePngBomb(bomb);
+  try {
+    ReadThermalImage(bomb, 0.01, -273.15);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), bomb);
+    EXPECT_EQ(e.field(), "image");
+    EXPECT_EQ(std::string(e.what()).find("OpenCV("), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

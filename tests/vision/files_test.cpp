@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "support/cli_runner.hpp"
+#include "support/png_bomb.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/vision/camera_calibration.hpp"
 #include "vision_test_util.hpp"
@@ -63,6 +64,39 @@ TEST(CameraFile, RoundTripsAndNamesMissingFields) {
   EXPECT_THROW(ReadCameraFile((dir / "none.yml").string()), InputError);
 }
 
+// The sweep's A3: a matrix whose rows × cols disagree with its data, and a
+// file cut inside a matrix, leaked OpenCV's assertion text without a field.
+TEST(CameraFile, MalformedMatricesNameTheField) {
+  const fs::path dir = fs::temp_directory_path() / "trueaxis_vision_files_test";
+  fs::create_directories(dir);
+  const std::string head = "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n";
+  const std::string rows2 = head + "camera_matrix: !!opencv-matrix\n   rows: 2\n   cols: 3\n   dt: d\n"
+                                   "   data: [ 1454.5, 0., 319.5, 0., 1454.5, 239.5, 0., 0., 1. ]\n";
+  const std::string cut = head + "camera_matrix: !!opencv-matrix\n   rows: 3\n";
+  for (const std::string& text : {rows2, cut}) {
+    std::ofstream((dir / "m.yml").string()) << text;
+    try {
+      ReadCameraFile((dir / "m.yml").string());
+      FAIL() << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "camera_matrix") << e.what();
+      EXPECT_EQ(std::string(e.what()).find("OpenCV("), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).find("total()"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(CameraCalibration, AnImageTooSmallForTheBoardNamesTheImage) {
+  const std::vector<std::pair<std::string, cv::Mat>> images{{"1px.png", cv::Mat(1, 1, CV_8U, cv::Scalar(128))}};
+  try {
+    CalibrateCamera(images, ChessboardSpec{});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), "1px.png");
+    EXPECT_EQ(e.field(), "image size") << e.what();
+  }
+}
+
 TEST(CameraCalibration, RecoversTheVirtualCameraFromRenderedChessboards) {
   CameraModel truth = CameraModel::ForField(480, 360, 110, 250, -0.08);
   VirtualCamera cam(truth);
@@ -97,6 +131,13 @@ TEST(VisionCli, BadImagesExitWithCode2AndTheFileName) {
   r = trueaxis::testing::RunCli("vision measure " + (dir / "small.png").string() + common);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("120×100"), std::string::npos) << r.output;
+  // A header claiming 100000×100000 px: exit 2 naming the file, not OpenCV's assertion with exit 1.
+  trueaxis::testing::WritePngBomb((dir / "bomb.png").string());
+  for (const std::string& sub : {std::string("measure "), "reference --out " + (dir / "ref.toml").string() + " "}) {
+    r = trueaxis::testing::RunCli("vision " + sub + (dir / "bomb.png").string() + common);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("bomb.png: field 'image'"), std::string::npos) << r.output;
+  }
   r = trueaxis::testing::RunCli("vision run --hours 1 --interval-s 600 --disturb fog" + common);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--disturb"), std::string::npos) << r.output;
