@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 
 #include "trueaxis/analysis/decomposition.hpp"
+#include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/plausibility.hpp"
 
 namespace trueaxis::pitch {
 
@@ -44,6 +46,17 @@ std::vector<FollowingPoint> FollowingErrorVsFeed(const sim::MachineDescription& 
                                                  const sim::InterpolatorOptions& interpolator, std::uint64_t seed) {
   const double lo = table.position_mm.front();
   const double hi = std::min(table.position_mm.back(), lo + 300.0);
+  // Every feed is checked before anything runs: the work of one is ∝ its move's duration.
+  for (double feed : feeds) {
+    if (auto why = ImplausibleFeedMmPerMin(feed)) throw InputError("command line", 0, "--feeds", *why);
+    const double duration_s = (hi - lo) / (feed / 60);
+    if (duration_s > kMaxFollowingMoveS)
+      throw InputError("command line", 0, "--feeds",
+                       fmt::format("{:g} mm/min over the {:g} mm move takes {:.3g} s of simulated motion; the "
+                                   "following-error comparison simulates at most {:g} s per feed (a feed of at least "
+                                   "{:.3g} mm/min)",
+                                   feed, hi - lo, duration_s, kMaxFollowingMoveS, (hi - lo) * 60 / kMaxFollowingMoveS));
+  }
   std::vector<FollowingPoint> out;
   for (double feed : feeds) {
     FollowingPoint fp;
