@@ -1,5 +1,6 @@
 // trueaxis tool day|tv|render|offset — tool thermal error with heating /
 // steady / cooling sub-models (seed 001, second half; docs/tool-thermal.md).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +20,7 @@
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/tooltherm/tool_evaluation.hpp"
 #include "trueaxis/tooltherm/tool_report.hpp"
+#include "trueaxis/tooltherm/zone_temperature.hpp"
 
 namespace trueaxis::cli {
 namespace {
@@ -186,7 +188,7 @@ struct OffsetArgs {
   int tool = 1;
 };
 
-std::vector<ToolRecord> ReadTvSeries(const std::string& path) {
+std::vector<ToolRecord> ReadTvSeries(const std::string& path, std::vector<int>* lines) {
   const std::string text = ReadTextFile(path);
   LineCursor cur(text);
   std::vector<ToolRecord> rows;
@@ -203,12 +205,42 @@ std::vector<ToolRecord> ReadTvSeries(const std::string& path) {
     if (f.size() < 2) throw InputError(path, cur.number(), "tv_c", "missing");
     const auto t = ParseDouble(f[0]), v = ParseDouble(f[1]);
     if (!t) throw InputError(path, cur.number(), "time_s", fmt::format("'{}' is not a number", f[0]));
-    if (!v || *v < -50 || *v > 600) throw InputError(path, cur.number(), "tv_c", fmt::format("'{}' is not a temperature in [-50, 600] C", f[1]));
+    if (!v || !PlausibleToolTemperatureC(*v))
+      throw InputError(path, cur.number(), "tv_c",
+                       fmt::format("'{}' is not a temperature in [{:g}, {:g}] C", f[1], kToolTemperatureMinC, kToolTemperatureMaxC));
     if (!rows.empty() && !(*t > rows.back().time_s)) throw InputError(path, cur.number(), "time_s", "must increase");
     rows.push_back({*t, *v, 0, rows.empty(), {}});
+    lines->push_back(cur.number());
   }
   if (rows.empty()) throw InputError(path, "no samples");
   return rows;
+}
+
+// The series against the Tv the tool's models were trained on. Beyond the range the one curve
+// extrapolates (the interval sub-models hold their edge): a warning. Far beyond it — by more than
+// the range's own width and 10 °C — the series is not this tool's Tv (a series in kelvin, raw
+// counts, another tool's): refused, since the offset printed below would go to the machine.
+void CheckTvAgainstTraining(const ToolErrorModel& model, const std::vector<ToolRecord>& rows,
+                            const std::vector<int>& lines, const std::string& path) {
+  const auto range = model.TrainingTvRangeC();
+  if (!range) return;
+  const auto [lo, hi] = *range;
+  const double slack = std::max(10.0, hi - lo);
+  std::size_t outside = 0, first_outside = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const double tv = rows[i].tv_c;
+    if (tv < lo - slack || tv > hi + slack)
+      throw InputError(path, lines[i], "tv_c",
+                       fmt::format("Tv {:g} °C is far outside the {:.1f}…{:.1f} °C tool {}'s models were trained on "
+                                   "(a series in kelvin? subtract 273.15); no offset computed",
+                                   tv, lo, hi, model.tool));
+    if ((tv < lo || tv > hi) && outside++ == 0) first_outside = i;
+  }
+  if (outside > 0)
+    std::fprintf(stderr,
+                 "warning: %s: %zu of %zu Tv samples (the first on line %d, %.2f °C) are outside the %.1f…%.1f °C the "
+                 "models were trained on; the prediction extrapolates there\n",
+                 path.c_str(), outside, rows.size(), lines[first_outside], rows[first_outside].tv_c, lo, hi);
 }
 
 void RunOffset(const OffsetArgs& a) {
@@ -228,7 +260,9 @@ void RunOffset(const OffsetArgs& a) {
   } catch (const std::invalid_argument& e) {
     throw InputError("command line", 0, "--model", e.what());
   }
-  const auto rows = ReadTvSeries(a.series);
+  std::vector<int> lines;
+  const auto rows = ReadTvSeries(a.series, &lines);
+  CheckTvAgainstTraining(model, rows, lines, a.series);
   ToolErrorPredictor p(model, kind);
   double e = 0;
   for (const auto& r : rows) e = p.Push(r.time_s, r.tv_c, r.restart);

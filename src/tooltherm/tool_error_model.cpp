@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/tooltherm/zone_temperature.hpp"
 
 namespace trueaxis::tooltherm {
 namespace {
@@ -246,6 +247,9 @@ ToolErrorModel FitStructures(int tool, const std::vector<ToolRecord>& rows, doub
   const std::vector<double>&t = cols.time_s, &tv = cols.tv_c, &e = cols.error_um;
   const std::vector<bool>& restart = cols.restart;
   m.training = SeriesStatisticsOf(t, tv);
+  const auto [tv_lo, tv_hi] = std::minmax_element(tv.begin(), tv.end());
+  m.training_tv_from_c = *tv_lo;
+  m.training_tv_to_c = *tv_hi;
   m.one = FitLine(tv, e, t_std, nullptr);
 
   // Lag and two-body: τ on the grid, least squares for the rest.
@@ -411,6 +415,20 @@ ToolErrorModel FitToolErrorModel(int tool, const std::vector<ToolRecord>& rows, 
   return m;
 }
 
+std::optional<std::pair<double, double>> ToolErrorModel::TrainingTvRangeC() const {
+  if (std::isfinite(training_tv_from_c) && std::isfinite(training_tv_to_c))
+    return std::pair{training_tv_from_c, training_tv_to_c};
+  constexpr double kUnset = 1e8;  // IntervalTerm's defaults (±1e9) mean "no range given"
+  std::optional<std::pair<double, double>> range;
+  for (std::size_t k = 0; k < interval.size(); ++k) {
+    const IntervalTerm& it = interval[k];
+    if (!interval_fitted[k] || !(std::abs(it.tv_from_c) < kUnset && std::abs(it.tv_to_c) < kUnset)) continue;
+    range = range ? std::pair{std::min(range->first, it.tv_from_c), std::max(range->second, it.tv_to_c)}
+                  : std::pair{it.tv_from_c, it.tv_to_c};
+  }
+  return range;
+}
+
 nlohmann::json ToolErrorModel::ToJson() const {
   auto term = [](const LinearTerm& l) { return nlohmann::json{{"intercept_um", l.intercept_um}, {"per_c_um", l.per_c_um}}; };
   nlohmann::json iv = nlohmann::json::array();
@@ -426,7 +444,7 @@ nlohmann::json ToolErrorModel::ToJson() const {
     j["held_out"] = {{"rows", interval[k].cv_rows}, {"rms_um", interval[k].cv_rms_um}, {"one_rms_um", interval[k].cv_one_rms_um}};
     iv.push_back(j);
   }
-  return {{"tool", tool},
+  nlohmann::json out = {{"tool", tool},
           {"standard_temp_c", standard_temp_c},
           {"one", term(one)},
           {"intervals", iv},
@@ -445,6 +463,9 @@ nlohmann::json ToolErrorModel::ToJson() const {
             {"zones", cv_rms_um[5]}}},
           {"zones", {{"intercept_um", zone_intercept_um}, {"um_per_c", zone_um_per_c}}},
           {"training", {{"rows", training_rows}, {"sample_s", training.sample_s}, {"noise_c", training.noise_c}}}};
+  if (std::isfinite(training_tv_from_c) && std::isfinite(training_tv_to_c))
+    out["training"]["tv_range_c"] = {training_tv_from_c, training_tv_to_c};
+  return out;
 }
 
 ToolErrorModel ToolErrorModel::FromJson(const nlohmann::json& j, const std::string& source) {
@@ -531,6 +552,15 @@ ToolErrorModel ToolErrorModel::FromJson(const nlohmann::json& j, const std::stri
     m.training_rows = j.at("training").value("rows", 0);
     m.training.sample_s = j.at("training").value("sample_s", 0.0);
     m.training.noise_c = j.at("training").value("noise_c", 0.0);
+    if (j.at("training").contains("tv_range_c")) {
+      const auto& r = j.at("training").at("tv_range_c");
+      if (!r.is_array() || r.size() != 2 || !r[0].is_number() || !r[1].is_number() ||
+          !(r[0].get<double>() <= r[1].get<double>()) || !PlausibleToolTemperatureC(r[0].get<double>()) ||
+          !PlausibleToolTemperatureC(r[1].get<double>()))
+        throw InputError(source, 0, "training.tv_range_c", "must be [from, to] tool temperatures in °C with from <= to");
+      m.training_tv_from_c = r[0].get<double>();
+      m.training_tv_to_c = r[1].get<double>();
+    }
   }
   return m;
 }

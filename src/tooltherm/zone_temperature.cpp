@@ -60,6 +60,10 @@ std::string ZoneToml(const std::vector<PixelZone>& zones) {
   return s;
 }
 
+bool PlausibleToolTemperatureC(double value_c) {
+  return value_c >= kToolTemperatureMinC && value_c <= kToolTemperatureMaxC;
+}
+
 std::vector<double> ZoneMeansC(const cv::Mat& image_c, const ZoneFile& zf, const std::string& image_source) {
   if (image_c.channels() != 1 || (image_c.depth() != CV_32F && image_c.depth() != CV_64F))
     throw std::invalid_argument("ZoneMeansC: image must be one channel of float or double");
@@ -82,6 +86,11 @@ std::vector<double> ZoneMeansC(const cv::Mat& image_c, const ZoneFile& zf, const
         if (!std::isfinite(v))
           throw InputError(image_source, 0, fmt::format("pixel ({}, {})", r, c),
                            "is not a number, inside zone '" + z.name + "'");
+        if (!PlausibleToolTemperatureC(v))
+          throw InputError(image_source, 0, fmt::format("pixel ({}, {})", r, c),
+                           fmt::format("{:g} °C inside zone '{}' is not a tool temperature ({:g}…{:g} °C): check "
+                                       "--scale and --offset (raw counts? kelvin: --offset -273.15)",
+                                       v, z.name, kToolTemperatureMinC, kToolTemperatureMaxC));
         sum += v;
       }
     means.push_back(sum / ((z.row_to - z.row_from + 1.0) * (z.col_to - z.col_from + 1.0)));
@@ -157,8 +166,9 @@ cv::Mat ReadCsvMatrix(const std::string& path, double scale, double offset_c) {
 }  // namespace
 
 cv::Mat ReadThermalImage(const std::string& path, double scale, double offset_c) {
-  if (!(std::isfinite(scale) && scale != 0 && std::isfinite(offset_c)))
-    throw InputError(path, 0, "scale", "the scale must be a non-zero number and the offset finite");
+  if (!(std::isfinite(scale) && scale > 0))
+    throw InputError(path, 0, "--scale", fmt::format("{:g}: the scale must be a positive number (°C per count)", scale));
+  if (!std::isfinite(offset_c)) throw InputError(path, 0, "--offset", "the offset must be a finite number of °C");
   if (!std::filesystem::is_regular_file(path)) throw InputError(path, "no such file");
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -31,6 +31,9 @@
 // data (interval_classifier.hpp) by the training fit of the interval model.
 // Pure: rows in, model out; JSON to store it with the tool.
 #include <array>
+#include <limits>
+#include <optional>
+#include <utility>
 #include <span>
 #include <string>
 #include <vector>
@@ -102,6 +105,14 @@ struct ToolErrorModel {
   std::array<double, kToolModelKinds.size()> cv_rms_um{};          // by ToolModelKind (0 where not evaluated)
   SeriesStatistics training;  // sample interval and Tv noise of the training data
   int training_rows = 0;
+  // The lowest and highest Tv of the training data (JSON training.tv_range_c; NaN in files written
+  // before it was stored).
+  double training_tv_from_c = std::numeric_limits<double>::quiet_NaN();
+  double training_tv_to_c = std::numeric_limits<double>::quiet_NaN();
+
+  // The Tv range the model was trained on (°C): training_tv_from/to_c, else (older files) the
+  // union of its fitted intervals' ranges; nullopt when neither is known.
+  std::optional<std::pair<double, double>> TrainingTvRangeC() const;
 
   nlohmann::json ToJson() const;
   static ToolErrorModel FromJson(const nlohmann::json& j, const std::string& source);

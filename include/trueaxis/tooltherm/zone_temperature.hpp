@@ -20,6 +20,13 @@
 
 namespace trueaxis::tooltherm {
 
+// The temperatures a tool's surface can show (°C): a hot tool just out of the cut reaches a few
+// hundred °C, so the shop-floor bound of core/plausibility.hpp (150 °C) is too tight here. A value
+// outside is a wrong --scale/--offset (raw counts, kelvin) or a broken file, never a reading.
+inline constexpr double kToolTemperatureMinC = -50;
+inline constexpr double kToolTemperatureMaxC = 600;
+bool PlausibleToolTemperatureC(double value_c);
+
 struct PixelZone {
   std::string name;
   int row_from = 0, row_to = 0, col_from = 0, col_to = 0;  // inclusive
@@ -39,8 +46,10 @@ ZoneFile ReadZoneFile(const std::string& path);
 std::string ZoneToml(const std::vector<PixelZone>& zones);
 
 // Tr of every zone: the mean of its pixels (image in °C, CV_32F or CV_64F).
-// A zone outside the image, or holding a non-finite pixel, is an InputError naming the
-// zone file's line and field (`image_source` names the image).
+// A zone outside the image is an InputError naming the zone file's line and field; a pixel in a
+// zone that is not a tool temperature (PlausibleToolTemperatureC: NaN, 1e308, −29 952 °C from a
+// negative scale, 302 °C of kelvin read as °C is let through — Tv's range check catches that) is
+// one naming the image and the pixel.
 std::vector<double> ZoneMeansC(const cv::Mat& image_c, const ZoneFile& zones, const std::string& image_source);
 
 // Tv = Σ Tr·Sr / Σ Sr (std::invalid_argument on size mismatch, empty or non-positive areas).
