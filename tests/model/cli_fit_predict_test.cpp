@@ -312,6 +312,38 @@ TEST_F(CliFit, BadInputsExitWithFileLineField) {
   EXPECT_FALSE(fs::exists(P("x.json")));
 }
 
+// The cold file's CTE and Px metadata: 1e308 gave ρ = −1e305 and residuals of inf (exit 0), 1e6 mm a
+// Px a kilometre away; refused with the file's line. A negative CTE (Invar can have one, a sign
+// error more likely) gives ρ > 0 with a warning.
+TEST_F(CliFit, AbsurdCteOrReferenceMetadataIsRefusedANegativeCteWarned) {
+  std::string without_ambient;  // the room constant: ρ comes from the CTE
+  for (const auto& f : files_)
+    if (f.find("ambient") == std::string::npos) without_ambient += " " + f;
+  auto cold = measure::ReadMeasurementCsv(files_[0]);
+  const auto with_meta = [&](const std::string& key, const std::string& value) {
+    auto m = cold;
+    m.SetMeta(key, value);
+    measure::WriteMeasurementCsv(m, files_[0]);
+    return measure::ReadMeasurementCsv(files_[0]).MetaLine(key);
+  };
+  int line = with_meta("cte_um_per_m_c", "1e308");
+  auto r = Cli("fit --out " + P("m.json") + without_ambient);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr(fmt::format("{}:{}: field 'cte_um_per_m_c': 1e+308 µm/m/°C is beyond", files_[0], line)));
+  EXPECT_FALSE(fs::exists(P("m.json")));
+  line = with_meta("reference_position_mm", "1e6");
+  r = Cli("fit --out " + P("m.json") + without_ambient);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr(fmt::format("{}:{}: field 'reference_position_mm': 1000000 mm is beyond", files_[0], line)));
+  cold = measure::ReadMeasurementCsv(files_[0]);
+  std::erase_if(cold.metadata, [](const auto& kv) { return kv.first == "reference_position_mm"; });
+  line = with_meta("cte_um_per_m_c", "-11.5");
+  r = Cli("fit --out " + P("m.json") + without_ambient);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, HasSubstr(fmt::format("{} line {}: cte_um_per_m_c -11.5 µm/m/°C is negative", files_[0], line)));
+  EXPECT_NEAR(ReadModelFile(P("m.json")).axes[0].rho_um_per_mm_per_c, 0.0115, 1e-12);
+}
+
 // Without a key sensor's temperature, predict takes the model's fallbacks fitted without it whose
 // keys are all given (as the compensator does when that sensor is lost), says so, and gives the mean
 // of their predictions.
