@@ -127,7 +127,7 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
     if (!start_s || !std::isfinite(*start_s))
       throw InputError(o.measurement, m.MetaLine("campaign_time_s"), "campaign_time_s",
                        "--temperature-log needs the file's '# campaign_time_s:' line (its start on the log's clock)");
-    history = model::TemperatureHistoryFromLog(o.temperature_log, m, *start_s);
+    history = model::TemperatureHistoryFromLog(o.temperature_log, m, *start_s, axis->key_sensors);
   }
   // The motion-heat input needs the axis's travelled path before and during the file (the log's
   // <axis>_travel_mm): without it the model cannot give its thermal part, and says so.

@@ -344,6 +344,22 @@ TEST_F(CliFit, AbsurdCteOrReferenceMetadataIsRefusedANegativeCteWarned) {
   EXPECT_NEAR(ReadModelFile(P("m.json")).axes[0].rho_um_per_mm_per_c, 0.0115, 1e-12);
 }
 
+// predict --temperature-log with a log that lacks the model's key sensor: the lag went without its
+// history (A 5.5 → 28.7 µm on a campaign's day), silently; refused naming the log and the column.
+TEST_F(CliFit, PredictRefusesATemperatureLogWithoutTheKeySensorsColumn) {
+  ASSERT_EQ(Cli("fit --out " + P("m.json") + AllFiles()).code, 0);
+  const std::string key = ReadModelFile(P("m.json")).axes[0].key_sensors.at(0);
+  auto day = measure::ReadMeasurementCsv(files_[2]);
+  day.SetMeta("campaign_time_s", "1000");
+  measure::WriteMeasurementCsv(day, P("day.csv"));
+  std::string log = "time_s,t_other_c\n";
+  for (int t = 0; t <= 5000; t += 60) log += fmt::format("{},20\n", t);
+  WriteTextFile(P("log.csv"), log);
+  auto r = Cli("predict --model " + P("m.json") + " --measurement " + P("day.csv") + " --temperature-log " + P("log.csv"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr(P("log.csv") + ":1: field 't_" + key + "_c': the log has no column"));
+}
+
 // Without a key sensor's temperature, predict takes the model's fallbacks fitted without it whose
 // keys are all given (as the compensator does when that sensor is lost), says so, and gives the mean
 // of their predictions.
