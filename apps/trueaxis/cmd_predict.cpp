@@ -287,8 +287,16 @@ void RunPredict(const PredictOptions& o) {
       throw InputError("command line", 0, "--temp",
                        fmt::format("'{}' is not a key sensor of axis {} (key sensors: {})", name, o.axis,
                                    axis->key_sensors.empty() ? std::string("none") : fmt::format("{}", fmt::join(axis->key_sensors, ", "))));
-    given[name] = *v;
+    if (!given.emplace(name, *v).second)
+      throw InputError("command line", 0, "--temp", fmt::format("sensor '{}' given twice", name));
   }
+  // The room given twice (--ambient-c and --temp <ambient sensor>=…) with two values: which one
+  // is meant is not ours to guess.
+  if (const auto room = given.find(axis->ambient_sensor);
+      room != given.end() && !std::isnan(o.ambient_c) && room->second != o.ambient_c)
+    throw InputError("command line", 0, "--ambient-c",
+                     fmt::format("{} °C, but --temp {}={} gives the ambient sensor another value; give it once",
+                                 FormatShortest(o.ambient_c), room->first, FormatShortest(room->second)));
   std::vector<double> key_temps;
   const bool use_thermal = !o.geometric_only;
   // A key sensor of the model not given: the first fallback model (fitted without it) whose keys

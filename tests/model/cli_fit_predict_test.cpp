@@ -344,6 +344,21 @@ TEST_F(CliFit, AbsurdCteOrReferenceMetadataIsRefusedANegativeCteWarned) {
   EXPECT_NEAR(ReadModelFile(P("m.json")).axes[0].rho_um_per_mm_per_c, 0.0115, 1e-12);
 }
 
+// predict --temp: a sensor given twice took the last value, and --temp <room>=30 with --ambient-c 20
+// took 20, silently.
+TEST_F(CliFit, PredictRefusesATemperatureGivenTwice) {
+  ASSERT_EQ(Cli("fit --out " + P("m.json") + AllFiles()).code, 0);
+  const std::string at = "predict --model " + P("m.json") + " --axis X --position-mm 400 --direction + ";
+  auto r = Cli(at + "--temp nut=26,bearing=23,nut=30 --ambient-c 20");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("command line: field '--temp': sensor 'nut' given twice"));
+  r = Cli(at + "--temp nut=26,bearing=23,ambient=30 --ambient-c 20");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("field '--ambient-c': 20 °C, but --temp ambient=30"));
+  r = Cli(at + "--temp nut=26,bearing=23,ambient=20 --ambient-c 20");  // the same value twice: no conflict
+  EXPECT_EQ(r.code, 0) << r.out;
+}
+
 // predict --temperature-log with a log that lacks the model's key sensor: the lag went without its
 // history (A 5.5 → 28.7 µm on a campaign's day), silently; refused naming the log and the column.
 TEST_F(CliFit, PredictRefusesATemperatureLogWithoutTheKeySensorsColumn) {
