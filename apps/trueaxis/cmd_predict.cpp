@@ -127,7 +127,7 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
     if (!start_s || !std::isfinite(*start_s))
       throw InputError(o.measurement, m.MetaLine("campaign_time_s"), "campaign_time_s",
                        "--temperature-log needs the file's '# campaign_time_s:' line (its start on the log's clock)");
-    history = model::TemperatureHistoryFromLog(o.temperature_log, m, *start_s);
+    history = model::TemperatureHistoryFromLog(o.temperature_log, m, *start_s, axis->key_sensors);
   }
   // The motion-heat input needs the axis's travelled path before and during the file (the log's
   // <axis>_travel_mm): without it the model cannot give its thermal part, and says so.
@@ -287,8 +287,16 @@ void RunPredict(const PredictOptions& o) {
       throw InputError("command line", 0, "--temp",
                        fmt::format("'{}' is not a key sensor of axis {} (key sensors: {})", name, o.axis,
                                    axis->key_sensors.empty() ? std::string("none") : fmt::format("{}", fmt::join(axis->key_sensors, ", "))));
-    given[name] = *v;
+    if (!given.emplace(name, *v).second)
+      throw InputError("command line", 0, "--temp", fmt::format("sensor '{}' given twice", name));
   }
+  // The room given twice (--ambient-c and --temp <ambient sensor>=…) with two values: which one
+  // is meant is not ours to guess.
+  if (const auto room = given.find(axis->ambient_sensor);
+      room != given.end() && !std::isnan(o.ambient_c) && room->second != o.ambient_c)
+    throw InputError("command line", 0, "--ambient-c",
+                     fmt::format("{} °C, but --temp {}={} gives the ambient sensor another value; give it once",
+                                 FormatShortest(o.ambient_c), room->first, FormatShortest(room->second)));
   std::vector<double> key_temps;
   const bool use_thermal = !o.geometric_only;
   // A key sensor of the model not given: the first fallback model (fitted without it) whose keys

@@ -46,4 +46,26 @@ std::optional<std::string> ImplausibleFeedMmPerMin(double v) {
                      kMaxPlausibleFeedMmPerMin);
 }
 
+std::optional<std::string> ImplausibleExpansionUmPerMmPerC(double v) {
+  if (!std::isfinite(v)) return "not a finite expansion";
+  if (std::abs(v) <= kMaxPlausibleExpansionUmPerMmPerC) return std::nullopt;
+  return fmt::format("{} µm/mm/°C is beyond ±{} µm/mm/°C (steel is about 0.0115; wrong unit: µm/m/°C instead of "
+                     "µm/mm/°C?)", v, kMaxPlausibleExpansionUmPerMmPerC);
+}
+
+std::optional<std::string> ImplausibleCteUmPerMC(double v) {
+  if (!std::isfinite(v)) return "not a finite expansion coefficient";
+  if (std::abs(v) <= kMaxPlausibleCteUmPerMC) return std::nullopt;
+  return fmt::format("{} µm/m/°C is beyond ±{} µm/m/°C (steel is about 11.5; wrong unit: nm/m/°C?)", v,
+                     kMaxPlausibleCteUmPerMC);
+}
+
+std::optional<std::string> UnusualCteUmPerMC(double v) {
+  if (v >= 0 && v <= kMaxUsualCteUmPerMC) return std::nullopt;
+  if (v < 0)
+    return fmt::format("{} µm/m/°C is negative: the screw shrinks as it warms ({}steel is about +11.5): check the "
+                       "sign", v, v >= kMinUsualCteUmPerMC ? "Invar or carbon fibre can; " : "");
+  return fmt::format("{} µm/m/°C is unusual for a screw (above {} µm/m/°C; steel is about 11.5)", v, kMaxUsualCteUmPerMC);
+}
+
 }  // namespace trueaxis

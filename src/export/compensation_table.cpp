@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/plausibility.hpp"
 
 namespace trueaxis::exporter {
 
@@ -40,16 +41,24 @@ void ValidateTable(const CompensationTable& table, const std::string& source) {
                      fmt::format("column sizes differ: {} positions, {} forward, {} reverse values", n,
                                  table.forward_um.size(), table.reverse_um.size()));
   for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(table.position_mm[i]))
-      throw InputError(source, 0, fmt::format("position_mm[{}]", i), "is not a finite number");
-    if (!std::isfinite(table.forward_um[i]) || !std::isfinite(table.reverse_um[i]))
-      throw InputError(source, 0, fmt::format("forward_um[{}]", i), "correction is not a finite number");
+    // A value no controller table holds (1e308, a lost unit) is refused, not written: a writer
+    // would print it as ±inf or a 300-digit number into the controller's file.
+    if (auto why = ImplausiblePositionMm(table.position_mm[i]))
+      throw InputError(source, 0, fmt::format("position_mm[{}]", i), *why);
+    if (auto why = ImplausibleDeviationUm(table.forward_um[i]))
+      throw InputError(source, 0, fmt::format("forward_um[{}]", i), fmt::format("correction at {} mm: {}", table.position_mm[i], *why));
+    if (auto why = ImplausibleDeviationUm(table.reverse_um[i]))
+      throw InputError(source, 0, fmt::format("reverse_um[{}]", i), fmt::format("correction at {} mm: {}", table.position_mm[i], *why));
     if (i > 0 && !(table.position_mm[i] > table.position_mm[i - 1]))
       throw InputError(source, 0, fmt::format("position_mm[{}]", i),
                        fmt::format("positions must be strictly ascending ({} mm follows {} mm)",
                                    table.position_mm[i], table.position_mm[i - 1]));
   }
-  if (!std::isfinite(table.backlash_um)) throw InputError(source, 0, "backlash_um", "is not a finite number");
+  if (auto why = ImplausibleDeviationUm(table.backlash_um)) throw InputError(source, 0, "backlash_um", *why);
+  if (!std::isfinite(table.thermal_tan_beta_um_per_mm))
+    throw InputError(source, 0, "thermal_tan_beta_um_per_mm", "is not a finite number");
+  if (auto why = ImplausiblePositionMm(table.thermal_reference_mm))
+    throw InputError(source, 0, "thermal_reference_mm", *why);
 }
 
 }  // namespace trueaxis::exporter

@@ -118,6 +118,7 @@ struct TemperatureLog {
   std::vector<std::vector<double>> rows;  // parallel to sensors
   std::vector<CoolantState> coolant;      // per row; empty when the log has no coolant column
   std::map<std::string, std::vector<double>> travel_mm;  // per axis (lower case): <axis>_travel_mm
+  int header_line = 0;
 };
 
 // Every row must have the header's field count, a time after the previous
@@ -138,8 +139,13 @@ TemperatureLog ReadTemperatureLog(const std::string& path) {
     if (row.empty() || row[0] == '#') continue;
     const auto cells = SplitCsvFields(row);
     if (columns == 0) {  // header
+      log.header_line = line;
       for (std::size_t c = 0; c < cells.size(); ++c) {
         const std::string h(cells[c]);
+        // A column twice would leave which one is read to the reader (the second one's values won).
+        for (std::size_t before = 0; before < c; ++before)
+          if (!h.empty() && cells[before] == cells[c])
+            throw InputError(path, line, h, fmt::format("column given twice (columns {} and {})", before + 1, c + 1));
         if (h == "time_s") time_col = static_cast<int>(c);
         if (h == "coolant") coolant_col = static_cast<int>(c);
         const std::string travel_suffix = "_travel_mm";
@@ -248,7 +254,7 @@ void CheckLogBelongsTo(const TemperatureLog& log, const std::string& log_path, c
   for (std::size_t r = 1; r < log.time_s.size(); ++r) step_s = std::max(step_s, log.time_s[r] - log.time_s[r - 1]);
   if (start_s > log.time_s.back() + 2 * step_s + 1)
     throw InputError(log_path, log.line.back(), "time_s",
-                     fmt::format("the log ends at {} s, before {} starts at {} s (campaign_time_s): a truncated log "
+                     fmt::format("the log ends at {} s, before {} starts at {} s on the log's clock: a truncated log "
                                  "or another campaign's", log.time_s.back(), m.source, start_s));
   if (start_s < log.time_s.front() - 2 * step_s - 1)
     throw InputError(log_path, log.line.front(), "time_s",
@@ -272,11 +278,51 @@ void CheckLogBelongsTo(const TemperatureLog& log, const std::string& log_path, c
   }
 }
 
+// A manifest that says what it is must be a campaign manifest this build reads (docs/campaign.md);
+// one without "format" (the hand-written {"files": [...]} form) is taken as it is.
+void CheckManifestFormat(const nlohmann::json& doc, const std::string& manifest_path) {
+  constexpr const char* kFormat = "trueaxis-sim-campaign";
+  constexpr int kVersion = 1;
+  if (doc.contains("format") && !(doc["format"].is_string() && doc["format"].get<std::string>() == kFormat))
+    throw InputError(manifest_path, 0, "format",
+                     fmt::format("{} is not \"{}\" (a campaign manifest, docs/campaign.md)", doc["format"].dump(), kFormat));
+  if (doc.contains("version") && !(doc["version"].is_number() && doc["version"].get<double>() == kVersion))
+    throw InputError(manifest_path, 0, "version",
+                     fmt::format("{} is not supported (this build reads version {})", doc["version"].dump(), kVersion));
+}
+
+// A manifest entry's axis and coolant are facts about the measurement: where the file's own
+// metadata says otherwise, one of the two is wrong and the fit would build a bogus axis or use
+// another coolant's states; refused, naming the manifest entry. A bad value is the manifest's.
+void CheckEntryAgreesWithFile(const std::string& manifest_path, const std::string& where, const std::string& axis,
+                              const std::string& coolant, const measure::Measurement& m) {
+  const auto file_says = [&](const char* key) { return std::string(Trim(m.Meta(key).value_or(""))); };
+  if (!axis.empty() && !file_says("axis").empty() && LowerAscii(std::string(Trim(axis))) != LowerAscii(file_says("axis")))
+    throw InputError(manifest_path, 0, where + ".axis",
+                     fmt::format("'{}', but {} line {} says '# axis: {}'", axis, m.source, m.MetaLine("axis"),
+                                 file_says("axis")));
+  if (coolant.empty()) return;
+  const auto state = ParseCoolantState(LowerAscii(coolant));  // as MakeFitState reads it
+  if (!state)
+    throw InputError(manifest_path, 0, where + ".coolant",
+                     fmt::format("unknown coolant state '{}' (expected off, flood, mist or air)", coolant));
+  const auto file_state = ParseCoolantState(LowerAscii(file_says("coolant")));
+  if (file_state && *file_state != *state)
+    throw InputError(manifest_path, 0, where + ".coolant",
+                     fmt::format("'{}', but {} line {} says '# coolant: {}'", coolant, m.source, m.MetaLine("coolant"),
+                                 file_says("coolant")));
+}
+
 }  // namespace
 
 TemperatureHistory TemperatureHistoryFromLog(const std::string& log_path, const measure::Measurement& m,
-                                             double start_time_s) {
+                                             double start_time_s, const std::vector<std::string>& required_sensors) {
   const TemperatureLog log = ReadTemperatureLog(log_path);
+  for (const auto& name : required_sensors)
+    if (std::find(log.sensors.begin(), log.sensors.end(), name) == log.sensors.end())
+      throw InputError(log_path, log.header_line, fmt::format("t_{}_c", name),
+                       fmt::format("the log has no column for the model's key sensor '{}': its history before {} "
+                                   "would be missing and the lag would start from nothing", name, m.source));
   CheckLogBelongsTo(log, log_path, m, start_time_s);
   return HistoryBefore(log, m, start_time_s);
 }
@@ -312,6 +358,7 @@ std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, c
           break;
         }
     }
+    if (doc.is_object()) CheckManifestFormat(doc, manifest_path);
     if (!list || !list->is_array())
       throw InputError(manifest_path, 0, "files", "expected an array of measurement files under \"files\"");
     if (list->empty()) throw InputError(manifest_path, 0, list_name, "lists no measurement files");
@@ -355,12 +402,18 @@ std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, c
       auto m = measure::ParseMeasurementCsv(bytes, p.string());
       std::string label = str("state");
       if (label.empty()) label = str("label");
-      FitState s = MakeFitState(std::move(m), label, str("coolant"), Sha256Hex(bytes));
-      if (const std::string axis = str("axis"); !axis.empty()) s.axis = axis;
+      const std::string coolant = str("coolant");
+      const std::string axis = str("axis");
+      CheckEntryAgreesWithFile(manifest_path, where, axis, coolant, m);
+      FitState s = MakeFitState(std::move(m), label, coolant, Sha256Hex(bytes));
+      if (!axis.empty()) s.axis = axis;
       if (log && e.is_object() && e.contains("start_time_s")) {
         if (!e["start_time_s"].is_number())
           throw InputError(manifest_path, 0, where + ".start_time_s", "expected a number of seconds");
         s.start_time_s = e["start_time_s"].get<double>();
+        // As predict --temperature-log: another campaign's log, one cut short or a start outside it
+        // would give the lag a wrong or no history, silently.
+        CheckLogBelongsTo(*log, log_path, s.measurement, s.start_time_s);
         s.history = HistoryBefore(*log, s.measurement, s.start_time_s);
         s.temperature_log = log_path;
         s.temperature_log_sha256 = log_sha;
@@ -417,6 +470,7 @@ std::vector<FitState> LoadPreviousSources(const CompositeModel& previous, const 
           throw InputError(src.temperature_log, 0, "sha256", "the temperature log changed since the previous fit");
         it = logs.emplace(src.temperature_log, ReadTemperatureLog(src.temperature_log)).first;
       }
+      CheckLogBelongsTo(it->second, src.temperature_log, s.measurement, src.start_time_s);
       s.history = HistoryBefore(it->second, s.measurement, src.start_time_s);
       s.temperature_log = src.temperature_log;
       s.temperature_log_sha256 = src.temperature_log_sha256;

@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "trueaxis/core/plausibility.hpp"
+
 namespace trueaxis::model {
 
 bool FitOptions::IsValid(std::string* why) const {
@@ -17,6 +19,8 @@ bool FitOptions::IsValid(std::string* why) const {
   if (!(auto_table_cv_ratio > 0)) return fail("auto_table_cv_ratio must be > 0");
   if (!(auto_table_run_margin >= 0 && auto_table_run_margin < 1)) return fail("auto_table_run_margin must be in [0, 1)");
   if (std::isinf(reference_position_mm)) return fail("reference_position_mm must be finite (or NaN for automatic)");
+  if (!std::isnan(reference_position_mm))
+    if (auto implausible = ImplausiblePositionMm(reference_position_mm)) return fail("reference_position_mm: " + *implausible);
   if (max_key_sensors < 0 || max_key_sensors > 8)
     return fail(fmt::format("max_key_sensors {} must be within 0 … 8", max_key_sensors));
   if (!(min_cv_improvement >= 0 && min_cv_improvement < 1))
@@ -28,6 +32,9 @@ bool FitOptions::IsValid(std::string* why) const {
   if (max_fallback_models < 1 || max_fallback_models > static_cast<int>(AxisModel::kMaxFallbacks))
     return fail(fmt::format("max_fallback_models {} must be within 1 … {}", max_fallback_models, AxisModel::kMaxFallbacks));
   if (std::isinf(rho_um_per_mm_per_c)) return fail("rho_um_per_mm_per_c must be finite (or NaN for automatic)");
+  if (!std::isnan(rho_um_per_mm_per_c))
+    if (auto implausible = ImplausibleExpansionUmPerMmPerC(rho_um_per_mm_per_c))
+      return fail("rho_um_per_mm_per_c: " + *implausible);
   if (!(min_ambient_range_c > 0)) return fail("min_ambient_range_c must be > 0");
   for (double tau : key_lag_grid_s)
     if (!(tau >= 0) || !std::isfinite(tau)) return fail("key_lag_grid_s values must be finite seconds >= 0");

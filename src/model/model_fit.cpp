@@ -17,6 +17,7 @@
 #include "trueaxis/core/ascii_case.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/plausibility.hpp"
 
 namespace trueaxis::model {
 namespace {
@@ -482,16 +483,27 @@ class AxisFitter {
     return "";
   }
 
+  // A number of the cold file's metadata (`# key: value`), refused with its file line when it is not
+  // a number or not plausible (core/plausibility.hpp); nullopt when the file has no such line.
+  std::optional<double> ColdMetaNumber(const char* key, std::optional<std::string> (*implausible)(double)) const {
+    const auto meta = cold_.Meta(key);
+    if (!meta) return std::nullopt;
+    const auto v = ParseDouble(*meta);
+    if (!v || !std::isfinite(*v))
+      throw InputError(cold_.source, cold_.MetaLine(key), key, fmt::format("'{}' is not a number", *meta));
+    if (auto why = implausible(*v)) throw InputError(cold_.source, cold_.MetaLine(key), key, *why);
+    return v;
+  }
+
   void PrepareThermal(AxisFitSummary& sum) {
     const std::string amb = AmbientSensorName();
+    // Checked whether or not ρ comes from it: an absurd CTE is a broken file either way.
+    const auto cte = ColdMetaNumber("cte_um_per_m_c", ImplausibleCteUmPerMC);
     // Reference point from option or metadata first (needed even for a geometric-only model's ρ term).
     double px = o_.reference_position_mm;
     std::string px_source = "option";
     if (std::isnan(px)) {
-      if (auto meta = cold_.Meta("reference_position_mm")) {
-        auto v = ParseDouble(*meta);
-        if (!v || !std::isfinite(*v))
-          throw InputError(cold_.source, cold_.MetaLine("reference_position_mm"), "reference_position_mm", fmt::format("'{}' is not a number", *meta));
+      if (auto v = ColdMetaNumber("reference_position_mm", ImplausiblePositionMm)) {
         px = *v;
         px_source = "metadata of the cold file";
       }
@@ -707,12 +719,13 @@ class AxisFitter {
     } else if (amb_hi - amb_lo >= o_.min_ambient_range_c && off_states.size() >= 2) {
       fit_rho = true;
       rho_source = fmt::format("fitted (room temperature varied by {:.2f} °C over the states)", amb_hi - amb_lo);
-    } else if (auto cte = cold_.Meta("cte_um_per_m_c")) {
-      auto v = ParseDouble(*cte);
-      if (!v || !std::isfinite(*v))
-        throw InputError(cold_.source, cold_.MetaLine("cte_um_per_m_c"), "cte_um_per_m_c", fmt::format("'{}' is not a number", *cte));
-      rho = -*v / 1000.0;
-      rho_source = fmt::format("−cte/1000 from the cold file's cte_um_per_m_c = {} (the screw grows away from Px)", *cte);
+    } else if (cte) {
+      rho = -*cte / 1000.0;
+      rho_source = fmt::format("−cte/1000 from the cold file's cte_um_per_m_c = {} (the screw grows away from Px)",
+                               *cold_.Meta("cte_um_per_m_c"));  // as written
+      if (auto unusual = UnusualCteUmPerMC(*cte))
+        Warn(fmt::format("{} line {}: cte_um_per_m_c {}; ρ = {} µm/mm/°C taken from it", cold_.source,
+                         cold_.MetaLine("cte_um_per_m_c"), *unusual, FormatShortest(rho)));
     } else {
       rho_source = "not determined (room temperature constant within the states, no cte metadata): ρ = 0";
       Warn(fmt::format("ρ could not be determined: the room temperature varied by only {:.2f} °C and the cold file "

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/json_text.hpp"
+#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/text_file.hpp"
 
 namespace trueaxis::model {
@@ -95,6 +97,15 @@ class Reader {
     }
     return out;
   }
+  // A value no machine's model holds (core/plausibility.hpp: kelvin, 1e308, a lost unit), refused
+  // with its path: Predict would turn it into ±inf or a 300-digit correction.
+  void Plausible(const std::string& path, const std::optional<std::string>& why) const {
+    if (why) Fail(path, *why);
+  }
+  void AllPlausible(const std::string& path, const std::vector<double>& values,
+                    std::optional<std::string> (*check)(double)) const {
+    for (std::size_t i = 0; i < values.size(); ++i) Plausible(fmt::format("{}[{}]", path, i), check(values[i]));
+  }
   static std::string Join(const std::string& path, const char* key) {
     return path.empty() ? std::string(key) : path + "." + key;
   }
@@ -103,20 +114,36 @@ class Reader {
   std::string source_;
 };
 
+// Half the travel a polynomial Er(x) was fitted on: below a micrometre u = (x − c)/h overflows.
+constexpr double kMinHalfSpanMm = 1e-3;
+constexpr int kSpanSamples = 64;  // points over u in [−1, 1] at which a polynomial's Er is checked
+
 GeometricError GeometricFromJson(const Reader& r, const json& j, const std::string& path) {
   GeometricError g;
   const std::string kind = r.String(j, path, "kind");
   if (kind == "polynomial") {
     g.kind = GeometricError::Kind::kPolynomial;
     g.center_mm = r.Number(j, path, "center_mm");
+    r.Plausible(Reader::Join(path, "center_mm"), ImplausiblePositionMm(g.center_mm));
     g.half_span_mm = r.Number(j, path, "half_span_mm");
-    if (!(g.half_span_mm > 0)) r.Fail(Reader::Join(path, "half_span_mm"), "must be > 0");
+    if (!(g.half_span_mm >= kMinHalfSpanMm))
+      r.Fail(Reader::Join(path, "half_span_mm"), fmt::format("{} mm: must be at least {} mm (half the travel the "
+                                                             "polynomial was fitted on)", g.half_span_mm, kMinHalfSpanMm));
+    r.Plausible(Reader::Join(path, "half_span_mm"), ImplausiblePositionMm(g.half_span_mm));
     g.coefficients_um = r.Numbers(j, path, "coefficients_um");
     if (g.coefficients_um.empty()) r.Fail(Reader::Join(path, "coefficients_um"), "needs at least one coefficient");
+    // Over the span it was fitted on (u in [−1, 1]) Er(x) is a positioning error like a measured one.
+    for (int i = 0; i <= kSpanSamples; ++i) {
+      const double x = g.center_mm + (-1.0 + 2.0 * i / kSpanSamples) * g.half_span_mm;
+      if (auto why = ImplausibleDeviationUm(g.Evaluate(x)))
+        r.Fail(Reader::Join(path, "coefficients_um"), fmt::format("give Er({:g} mm), within the fitted span: {}", x, *why));
+    }
   } else if (kind == "table") {
     g.kind = GeometricError::Kind::kTable;
     g.table_position_mm = r.Numbers(j, path, "position_mm");
     g.table_error_um = r.Numbers(j, path, "error_um");
+    r.AllPlausible(Reader::Join(path, "position_mm"), g.table_position_mm, ImplausiblePositionMm);
+    r.AllPlausible(Reader::Join(path, "error_um"), g.table_error_um, ImplausibleDeviationUm);
     if (g.table_position_mm.size() != g.table_error_um.size())
       r.Fail(Reader::Join(path, "error_um"), "must have as many entries as position_mm");
     if (g.table_position_mm.empty()) r.Fail(Reader::Join(path, "position_mm"), "needs at least one point");
@@ -130,7 +157,7 @@ GeometricError GeometricFromJson(const Reader& r, const json& j, const std::stri
 }
 
 DirectionModel DirectionFromJson(const Reader& r, const json& j, const std::string& path, std::size_t n_keys,
-                                 std::vector<KeyShifts>& shifts) {
+                                 std::size_t n_sensor_keys, std::vector<KeyShifts>& shifts) {
   DirectionModel d;
   d.geometric = GeometricFromJson(r, r.Get(j, path, "geometric"), Reader::Join(path, "geometric"));
   if (j.contains("thermal")) {
@@ -149,6 +176,8 @@ DirectionModel DirectionFromJson(const Reader& r, const json& j, const std::stri
         r.Fail(Reader::Join(ep, "k_um_per_mm_per_c"),
                fmt::format("has {} gains but the axis needs {} (one per key sensor, and one more with motion_heat)",
                            g.k_um_per_mm_per_c.size(), n_keys));
+      for (std::size_t k = 0; k < n_sensor_keys; ++k)  // the motion gain (per m/min) after them is not per °C
+        r.Plausible(fmt::format("{}.k_um_per_mm_per_c[{}]", ep, k), ImplausibleExpansionUmPerMmPerC(g.k_um_per_mm_per_c[k]));
       g.offset_um_per_mm = r.NumberOr(t[i], ep, "offset_um_per_mm", 0);
       if (t[i].contains("offset_um_per_c")) {
         KeyShifts ks;
@@ -157,7 +186,9 @@ DirectionModel DirectionFromJson(const Reader& r, const json& j, const std::stri
           r.Fail(Reader::Join(ep, "offset_um_per_c"),
                  fmt::format("has {} offsets but the axis needs {} (one per key sensor, and one more with motion_heat)",
                              ks.offset_um_per_c.size(), n_keys));
+        r.AllPlausible(Reader::Join(ep, "offset_um_per_c"), ks.offset_um_per_c, ImplausibleDeviationUm);
         ks.ambient_offset_um_per_c = r.NumberOr(t[i], ep, "ambient_offset_um_per_c", 0);
+        r.Plausible(Reader::Join(ep, "ambient_offset_um_per_c"), ImplausibleDeviationUm(ks.ambient_offset_um_per_c));
         shifts.resize(i + 1);
         shifts[i] = std::move(ks);
       }
@@ -188,8 +219,18 @@ DirectionModel DirectionFromJson(const Reader& r, const json& j, const std::stri
           g.key_rise_range_c.push_back({lo, hi});
         }
       }
+      for (const auto& earlier : d.thermal)
+        if (earlier.coolant == g.coolant)
+          r.Fail(Reader::Join(ep, "coolant"), fmt::format("coolant '{}' has gains twice", coolant));
       d.thermal.push_back(std::move(g));
     }
+    // A coolant state without its own gains uses the `off` entry (GainsFor): without one it would
+    // take another coolant's gains, e.g. predict a dry machine with the flood gains.
+    const bool has_off = std::any_of(d.thermal.begin(), d.thermal.end(),
+                                     [](const ThermalGains& g) { return g.coolant == CoolantState::kOff; });
+    if (!d.thermal.empty() && !has_off)
+      r.Fail(tpath, "has no \"off\" entry: a coolant state without its own gains would use another coolant's gains "
+                    "(the fitter always writes the off gains first)");
   }
   return d;
 }
@@ -265,11 +306,15 @@ nlohmann::json ModelToJson(const CompositeModel& model) {
 }
 
 namespace {
+// A key's τ while it falls, as a multiple of its τ while it rises: beyond this the key would freeze.
+constexpr double kMaxLagFallFactor = 1000;
+
 // One axis object (also a fallback's, `nested` then: no fallbacks of its own).
 AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bool nested) {
   AxisModel a;
   a.axis = r.String(ja, p, "axis");
   a.reference_position_mm = r.Number(ja, p, "reference_position_mm");
+  r.Plausible(Reader::Join(p, "reference_position_mm"), ImplausiblePositionMm(a.reference_position_mm));
   if (ja.contains("key_sensors")) {
     const json& ks = ja["key_sensors"];
     if (!ks.is_array()) r.Fail(Reader::Join(p, "key_sensors"), "expected an array of names");
@@ -281,6 +326,7 @@ AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bo
   a.baseline_temp_c = ja.contains("baseline_temp_c") ? r.Numbers(ja, p, "baseline_temp_c") : std::vector<double>{};
   if (a.baseline_temp_c.size() != a.key_sensors.size())
     r.Fail(Reader::Join(p, "baseline_temp_c"), "needs one temperature per key sensor");
+  r.AllPlausible(Reader::Join(p, "baseline_temp_c"), a.baseline_temp_c, ImplausibleTemperatureC);
   if (ja.contains("key_fitted_range_c")) {
     const json& fr = ja["key_fitted_range_c"];
     const std::string where = Reader::Join(p, "key_fitted_range_c");
@@ -289,6 +335,7 @@ AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bo
       if (!e.is_array() || e.size() != 2 || !e[0].is_number() || !e[1].is_number() || e[0].get<double>() > e[1].get<double>())
         r.Fail(where, "each entry is [low °C, high °C] with low <= high");
       a.key_fitted_range_c.push_back({e[0].get<double>(), e[1].get<double>()});
+      for (double t : a.key_fitted_range_c.back()) r.Plausible(where, ImplausibleTemperatureC(t));
     }
   }
   if (ja.contains("key_loss_s")) {
@@ -302,6 +349,7 @@ AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bo
       if (v.size() != a.key_sensors.size()) r.Fail(Reader::Join(lp, name.c_str()), "needs one time constant per key sensor");
       for (double t : v)
         if (!(t >= 0) || !std::isfinite(t)) r.Fail(Reader::Join(lp, name.c_str()), "must be finite seconds >= 0");
+      r.AllPlausible(Reader::Join(lp, name.c_str()), v, ImplausibleTimeS);
       a.key_loss_s[static_cast<std::size_t>(*c)] = std::move(v);
     }
   }
@@ -312,20 +360,27 @@ AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bo
     for (std::size_t k = 0; k < a.key_lag_s.size(); ++k)
       if (!(a.key_lag_s[k] >= 0) || !std::isfinite(a.key_lag_s[k]))
         r.Fail(fmt::format("{}.key_lag_s[{}]", p, k), "must be a finite number of seconds >= 0");
+    r.AllPlausible(Reader::Join(p, "key_lag_s"), a.key_lag_s, ImplausibleTimeS);
   }
   a.key_lag_fall_factor = r.NumberOr(ja, p, "key_lag_fall_factor", 1);
-  if (!(a.key_lag_fall_factor >= 1) || !std::isfinite(a.key_lag_fall_factor))
-    r.Fail(Reader::Join(p, "key_lag_fall_factor"), "must be a finite factor >= 1 (1: one τ both ways)");
+  if (!(a.key_lag_fall_factor >= 1) || !(a.key_lag_fall_factor <= kMaxLagFallFactor))
+    r.Fail(Reader::Join(p, "key_lag_fall_factor"),
+           fmt::format("must be a factor from 1 to {} (1: one τ both ways; the fitter tries 1 … 8)", kMaxLagFallFactor));
   if (ja.contains("motion_heat")) {
     const std::string mp = Reader::Join(p, "motion_heat");
     const json& mh = ja["motion_heat"];
     if (!mh.is_object()) r.Fail(mp, "expected an object {\"tau_s\": seconds}");
     a.motion_lag_s = r.Number(mh, mp, "tau_s");
     if (!(a.motion_lag_s > 0) || !std::isfinite(a.motion_lag_s)) r.Fail(Reader::Join(mp, "tau_s"), "must be finite seconds > 0");
+    r.Plausible(Reader::Join(mp, "tau_s"), ImplausibleTimeS(a.motion_lag_s));
   }
   a.rho_um_per_mm_per_c = r.NumberOr(ja, p, "rho_um_per_mm_per_c", 0);
+  r.Plausible(Reader::Join(p, "rho_um_per_mm_per_c"), ImplausibleExpansionUmPerMmPerC(a.rho_um_per_mm_per_c));
   a.ambient_sensor = r.StringOr(ja, p, "ambient_sensor", "");
-  if (!a.ambient_sensor.empty()) a.ambient_baseline_c = r.Number(ja, p, "ambient_baseline_c");
+  if (!a.ambient_sensor.empty()) {
+    a.ambient_baseline_c = r.Number(ja, p, "ambient_baseline_c");
+    r.Plausible(Reader::Join(p, "ambient_baseline_c"), ImplausibleTemperatureC(a.ambient_baseline_c));
+  }
   if (ja.contains("ambient_fitted_range_c")) {
     const std::string where = Reader::Join(p, "ambient_fitted_range_c");
     if (a.ambient_sensor.empty()) r.Fail(where, "needs ambient_sensor");
@@ -333,6 +388,7 @@ AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bo
     if (range.size() != 2 || !std::isfinite(range[0]) || !std::isfinite(range[1]) || range[0] > range[1])
       r.Fail(where, "expected [low °C, high °C] with low <= high");
     a.ambient_fitted_range_c = {range[0], range[1]};
+    r.AllPlausible(where, range, ImplausibleTemperatureC);
   }
   const std::string rise = r.StringOr(ja, p, "key_temperature_rise", "from_baseline");
   if (rise == "above_ambient") {
@@ -344,9 +400,9 @@ AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bo
            fmt::format("'{}' is not \"from_baseline\" or \"above_ambient\"", rise));
   }
   a.directions[0] = DirectionFromJson(r, r.Get(ja, p, "forward"), Reader::Join(p, "forward"), a.GainCount(),
-                                      a.key_shifts[0]);
+                                      a.key_sensors.size(), a.key_shifts[0]);
   a.directions[1] = DirectionFromJson(r, r.Get(ja, p, "reverse"), Reader::Join(p, "reverse"), a.GainCount(),
-                                      a.key_shifts[1]);
+                                      a.key_sensors.size(), a.key_shifts[1]);
   if (ja.contains("replaces")) {
     if (!nested) r.Fail(Reader::Join(p, "replaces"), "only a fallback model replaces a sensor");
     a.replaces = r.String(ja, p, "replaces");

@@ -312,6 +312,69 @@ TEST_F(CliFit, BadInputsExitWithFileLineField) {
   EXPECT_FALSE(fs::exists(P("x.json")));
 }
 
+// The cold file's CTE and Px metadata: 1e308 gave ρ = −1e305 and residuals of inf (exit 0), 1e6 mm a
+// Px a kilometre away; refused with the file's line. A negative CTE (Invar can have one, a sign
+// error more likely) gives ρ > 0 with a warning.
+TEST_F(CliFit, AbsurdCteOrReferenceMetadataIsRefusedANegativeCteWarned) {
+  std::string without_ambient;  // the room constant: ρ comes from the CTE
+  for (const auto& f : files_)
+    if (f.find("ambient") == std::string::npos) without_ambient += " " + f;
+  auto cold = measure::ReadMeasurementCsv(files_[0]);
+  const auto with_meta = [&](const std::string& key, const std::string& value) {
+    auto m = cold;
+    m.SetMeta(key, value);
+    measure::WriteMeasurementCsv(m, files_[0]);
+    return measure::ReadMeasurementCsv(files_[0]).MetaLine(key);
+  };
+  int line = with_meta("cte_um_per_m_c", "1e308");
+  auto r = Cli("fit --out " + P("m.json") + without_ambient);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr(fmt::format("{}:{}: field 'cte_um_per_m_c': 1e+308 µm/m/°C is beyond", files_[0], line)));
+  EXPECT_FALSE(fs::exists(P("m.json")));
+  line = with_meta("reference_position_mm", "1e6");
+  r = Cli("fit --out " + P("m.json") + without_ambient);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr(fmt::format("{}:{}: field 'reference_position_mm': 1000000 mm is beyond", files_[0], line)));
+  cold = measure::ReadMeasurementCsv(files_[0]);
+  std::erase_if(cold.metadata, [](const auto& kv) { return kv.first == "reference_position_mm"; });
+  line = with_meta("cte_um_per_m_c", "-11.5");
+  r = Cli("fit --out " + P("m.json") + without_ambient);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, HasSubstr(fmt::format("{} line {}: cte_um_per_m_c -11.5 µm/m/°C is negative", files_[0], line)));
+  EXPECT_NEAR(ReadModelFile(P("m.json")).axes[0].rho_um_per_mm_per_c, 0.0115, 1e-12);
+}
+
+// predict --temp: a sensor given twice took the last value, and --temp <room>=30 with --ambient-c 20
+// took 20, silently.
+TEST_F(CliFit, PredictRefusesATemperatureGivenTwice) {
+  ASSERT_EQ(Cli("fit --out " + P("m.json") + AllFiles()).code, 0);
+  const std::string at = "predict --model " + P("m.json") + " --axis X --position-mm 400 --direction + ";
+  auto r = Cli(at + "--temp nut=26,bearing=23,nut=30 --ambient-c 20");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("command line: field '--temp': sensor 'nut' given twice"));
+  r = Cli(at + "--temp nut=26,bearing=23,ambient=30 --ambient-c 20");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("field '--ambient-c': 20 °C, but --temp ambient=30"));
+  r = Cli(at + "--temp nut=26,bearing=23,ambient=20 --ambient-c 20");  // the same value twice: no conflict
+  EXPECT_EQ(r.code, 0) << r.out;
+}
+
+// predict --temperature-log with a log that lacks the model's key sensor: the lag went without its
+// history (A 5.5 → 28.7 µm on a campaign's day), silently; refused naming the log and the column.
+TEST_F(CliFit, PredictRefusesATemperatureLogWithoutTheKeySensorsColumn) {
+  ASSERT_EQ(Cli("fit --out " + P("m.json") + AllFiles()).code, 0);
+  const std::string key = ReadModelFile(P("m.json")).axes[0].key_sensors.at(0);
+  auto day = measure::ReadMeasurementCsv(files_[2]);
+  day.SetMeta("campaign_time_s", "1000");
+  measure::WriteMeasurementCsv(day, P("day.csv"));
+  std::string log = "time_s,t_other_c\n";
+  for (int t = 0; t <= 5000; t += 60) log += fmt::format("{},20\n", t);
+  WriteTextFile(P("log.csv"), log);
+  auto r = Cli("predict --model " + P("m.json") + " --measurement " + P("day.csv") + " --temperature-log " + P("log.csv"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr(P("log.csv") + ":1: field 't_" + key + "_c': the log has no column"));
+}
+
 // Without a key sensor's temperature, predict takes the model's fallbacks fitted without it whose
 // keys are all given (as the compensator does when that sensor is lost), says so, and gives the mean
 // of their predictions.

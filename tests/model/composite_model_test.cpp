@@ -213,5 +213,85 @@ TEST(ModelJson, BadFallbacksAreRefusedByPath) {
   expect_error(j, "axes[0].replaces", "only a fallback model");
 }
 
+// A value no machine's model holds is refused with its JSON path, not turned by Predict into a ±inf
+// or 1e308 correction that predict prints and export writes into a controller file.
+TEST(ModelJson, ImplausibleValuesAreRefusedByPath) {
+  CompositeModel m;
+  m.axes = {ExampleAxis()};
+  const auto refused = [](const nlohmann::json& j, const std::string& field, const std::string& why) {
+    try {
+      ModelFromJson(j, "m.json");
+      ADD_FAILURE() << "accepted: " << field;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.source(), "m.json");
+      EXPECT_EQ(e.field(), field);
+      EXPECT_NE(e.message().find(why), std::string::npos) << e.what();
+    }
+  };
+  const auto good = ModelToJson(m);
+  auto j = good;
+  j["axes"][0]["reverse"]["geometric"]["error_um"][1] = 1e308;
+  refused(j, "axes[0].reverse.geometric.error_um[1]", "beyond ±10000 µm");
+  j = good;
+  j["axes"][0]["reverse"]["geometric"]["position_mm"][2] = 1e6;
+  refused(j, "axes[0].reverse.geometric.position_mm[2]", "beyond ±100000 mm");
+  j = good;
+  j["axes"][0]["forward"]["geometric"]["half_span_mm"] = 1e-300;
+  refused(j, "axes[0].forward.geometric.half_span_mm", "at least 0.001 mm");
+  j = good;
+  j["axes"][0]["forward"]["geometric"]["coefficients_um"][2] = 1e6;  // Er(x) of a metre within the span
+  refused(j, "axes[0].forward.geometric.coefficients_um", "beyond ±10000 µm");
+  j = good;
+  j["axes"][0]["rho_um_per_mm_per_c"] = 1e308;
+  refused(j, "axes[0].rho_um_per_mm_per_c", "beyond ±1 µm/mm/°C");
+  j = good;
+  j["axes"][0]["forward"]["thermal"][1]["k_um_per_mm_per_c"][1] = -5.0;
+  refused(j, "axes[0].forward.thermal[1].k_um_per_mm_per_c[1]", "beyond ±1 µm/mm/°C");
+  j = good;
+  j["axes"][0]["ambient_baseline_c"] = 1e308;
+  refused(j, "axes[0].ambient_baseline_c", "outside the plausible");
+  j = good;
+  j["axes"][0]["baseline_temp_c"][1] = 293.15;
+  refused(j, "axes[0].baseline_temp_c[1]", "looks like kelvin");
+  j = good;
+  j["axes"][0]["reference_position_mm"] = 1e6;
+  refused(j, "axes[0].reference_position_mm", "beyond ±100000 mm");
+  j = good;
+  j["axes"][0]["key_lag_s"] = {1e308, 300.0};
+  refused(j, "axes[0].key_lag_s[0]", "beyond ±1e+10 s");
+  // The limits are wide: a negative ρ (Invar), a 20 m axis, a 5 mm error are read.
+  j = good;
+  j["axes"][0]["rho_um_per_mm_per_c"] = 0.002;
+  j["axes"][0]["reference_position_mm"] = 20000;
+  j["axes"][0]["reverse"]["geometric"]["error_um"][1] = -5000;
+  EXPECT_NO_THROW(ModelFromJson(j, "m.json"));
+}
+
+// A model whose gains have no `off` entry predicted a dry machine with the flood gains, silently.
+TEST(ModelJson, GainsWithoutAnOffEntryOrACoolantTwiceAreRefused) {
+  CompositeModel m;
+  m.axes = {ExampleAxis()};
+  auto j = ModelToJson(m);
+  j["axes"][0]["forward"]["thermal"].erase(0);  // only flood remains
+  try {
+    ModelFromJson(j, "m.json");
+    ADD_FAILURE() << "a model without off gains was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "axes[0].forward.thermal");
+    EXPECT_NE(e.message().find("no \"off\" entry"), std::string::npos) << e.what();
+  }
+  j = ModelToJson(m);
+  j["axes"][0]["forward"]["thermal"][1]["coolant"] = "off";
+  try {
+    ModelFromJson(j, "m.json");
+    ADD_FAILURE() << "off gains given twice were read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "axes[0].forward.thermal[1].coolant");
+  }
+  j = ModelToJson(m);
+  j["axes"][0]["forward"]["thermal"] = nlohmann::json::array();  // no thermal part: geometric only
+  EXPECT_NO_THROW(ModelFromJson(j, "m.json"));
+}
+
 }  // namespace
 }  // namespace trueaxis::model

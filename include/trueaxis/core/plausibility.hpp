@@ -13,6 +13,8 @@
 //   time          |t| ≤ 1e10 s        (since the start of a test or a campaign)
 //   feed          0 < f ≤ 1e6 mm/min  (16.7 m/s: above any machine's rapid; slow feeds are
 //                                      legitimate — bound the work they cause instead)
+//   expansion     |ρ|, |k| ≤ 1 µm/mm/°C (1000 µm/m/°C: ~90× steel; a thermal gain or ρ of a model)
+//   screw CTE     |cte| ≤ 1000 µm/m/°C  (refused beyond; outside −5 … 50, e.g. negative, only unusual)
 #include <optional>
 #include <string>
 
@@ -24,11 +26,22 @@ inline constexpr double kMaxPlausiblePositionMm = 100000;
 inline constexpr double kMaxPlausibleDeviationUm = 10000;
 inline constexpr double kMaxPlausibleTimeS = 1e10;
 inline constexpr double kMaxPlausibleFeedMmPerMin = 1e6;
+inline constexpr double kMaxPlausibleExpansionUmPerMmPerC = 1;
+inline constexpr double kMaxPlausibleCteUmPerMC = 1000;
+inline constexpr double kMinUsualCteUmPerMC = -5;  // Invar, carbon fibre: near 0 or slightly negative
+inline constexpr double kMaxUsualCteUmPerMC = 50;
 
 std::optional<std::string> ImplausibleTemperatureC(double value_c);
 std::optional<std::string> ImplausiblePositionMm(double value_mm);
 std::optional<std::string> ImplausibleDeviationUm(double value_um);
 std::optional<std::string> ImplausibleTimeS(double value_s);
 std::optional<std::string> ImplausibleFeedMmPerMin(double value_mm_per_min);
+// A thermal expansion per mm of lever and °C (the model's ρ and key gains k).
+std::optional<std::string> ImplausibleExpansionUmPerMmPerC(double value);
+// A screw's coefficient of thermal expansion: refused when not finite or beyond ±1000 µm/m/°C.
+std::optional<std::string> ImplausibleCteUmPerMC(double value);
+// A plausible CTE no common screw has (negative, or above 50 µm/m/°C): the text of a warning
+// (−5 … 0: Invar, carbon fibre; below: a sign error more likely).
+std::optional<std::string> UnusualCteUmPerMC(double value);
 
 }  // namespace trueaxis

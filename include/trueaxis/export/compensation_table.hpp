@@ -57,7 +57,10 @@ double AppliedCorrectionUm(const CompensationTable& table, double position_mm, D
 
 // Structural checks every reader and writer relies on; throws
 // InputError(source, line 0, field, why): empty table, column sizes differ,
-// non-finite values, positions not strictly ascending (field "position_mm[i]").
+// non-finite or implausible values (positions beyond ±100 m, corrections or
+// backlash beyond ±10 000 µm: core/plausibility.hpp), positions not strictly
+// ascending (field "position_mm[i]"). Writers call it first, so such a value
+// is refused rather than written into a controller file.
 void ValidateTable(const CompensationTable& table, const std::string& source);
 
 }  // namespace trueaxis::exporter

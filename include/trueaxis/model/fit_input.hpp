@@ -67,9 +67,13 @@ void RejectDuplicateStates(const std::vector<FitState>& states);
 
 // The history of `m` from a campaign temperature log (docs/campaign.md: time_s on the campaign
 // clock + t_<sensor>_c columns): the rows of the kWindowS before `start_time_s`, mapped onto m's
-// sensors. InputError(log, line, column) for a bad number.
+// sensors. InputError(log, line, column) for a bad number, a column given twice, a log that does not
+// belong to m (it ends before or starts after m's start, or reads other temperatures at the start;
+// the fit's manifest logs are checked the same way), or one without a column of `required_sensors`
+// (the model's key sensors).
 TemperatureHistory TemperatureHistoryFromLog(const std::string& log_path, const measure::Measurement& m,
-                                             double start_time_s);
+                                             double start_time_s,
+                                             const std::vector<std::string>& required_sensors = {});
 
 // Kind and coolant from a label ("cold", "coolant:flood", ...). InputError-free:
 // an unknown coolant name in a label is reported by the caller.
