@@ -18,6 +18,7 @@
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/export/csv_table.hpp"
 #include "trueaxis/export/fanuc_table.hpp"
@@ -230,6 +231,8 @@ void RunExport(const ExportArgs& a) {
     Bad("--model", "give exactly one of --model (with --axis), --thermal-model (with --channel, --axis, --range), "
                    "--measurement or --pitch-file");
   if (!a.channel.empty() && a.thermal_model_path.empty()) Bad("--channel", "applies to --thermal-model only");
+  const std::vector<std::string> inputs = {a.model_path, a.measurement_path, a.pitch_path, a.thermal_model_path};
+  RefuseOutputOverInput(a.out, inputs, "--out");
   const ValueSign sign = SignOf(a, f);
   const ResampleOptions ro = ResampleOf(a, f);
 
@@ -350,6 +353,7 @@ void RunExport(const ExportArgs& a) {
         states.push_back({"COLD", "as measured", rr.table, true});
       }
       const auto files = WriteHeidenhainSet(states, rr.table.axis, out.filename().string(), sign, kCli);
+      for (const auto& file : files) RefuseOutputOverInput((out.parent_path() / file.file_name).string(), inputs, "--out");
       for (const auto& file : files) {
         const auto path = (out.parent_path() / file.file_name).string();
         WriteTextFile(path, file.text);

@@ -13,6 +13,7 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/store/history_db.hpp"
 #include "trueaxis/store/history_export.hpp"
 #include "trueaxis/store/time_text.hpp"
@@ -141,6 +142,7 @@ void RunExport(const HistoryOptions& o) {
   if (o.layout != "long" && o.layout != "wide")
     throw InputError("command line", 0, "--layout", fmt::format("'{}' is not long or wide", o.layout));
   req.wide = o.layout == "wide";
+  trueaxis::RefuseOutputOverInput(o.out, {o.db}, "--out");
   HistoryDb db(o.db, HistoryDb::Mode::kReadOnly);
   const ExportResult result = o.format == "csv" ? ExportCsv(db, table, req, o.out) : ExportXlsx(db, req, o.out);
   fmt::print("exported {} to {}\n", result.BriefReport(), o.out);

@@ -14,6 +14,7 @@
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/signal/conversions.hpp"
 #include "trueaxis/signal/offline_filter.hpp"
@@ -47,6 +48,8 @@ void RunFilter(FilterCmd& o) {
   for (const auto& g : SplitList(o.groups, ';')) o.options.neighbour_groups.push_back(SplitList(g, ','));
   std::string why;
   if (!o.options.IsValid(&why)) throw InputError("command line", 0, "options", why);
+  trueaxis::RefuseOutputOverInput(o.out, {o.in, o.calibration, o.db}, "--out");
+  trueaxis::RefuseOutputOverInput(o.db, {o.in, o.calibration}, "--db");
   const ReadingsTable table = ReadReadingsCsv(o.in, SplitList(o.channels, ','));
   for (const auto& g : o.options.neighbour_groups)
     for (const auto& name : g)

@@ -294,5 +294,15 @@ TEST_F(ExportCli, CorruptTableOnReadNamesTheLine) {
   EXPECT_NE(r.out.find("c.txt:2: field 'triplet'"), std::string::npos) << r.out;
 }
 
+TEST_F(ExportCli, RefusesAnOutputThatIsAnInput) {
+  fs::copy_file(kModel, Path("m.json"));
+  const std::string model = ReadTextFile(Path("m.json"));
+  const auto r = Cli("export --model " + Path("m.json") + " --axis X --format csv --temp nut=30 --temp bearing=26 --out " +
+                     Path("m.json"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("command line: field '--out': '" + Path("m.json") + "' is the input file"), std::string::npos) << r.out;
+  EXPECT_EQ(ReadTextFile(Path("m.json")), model);
+}
+
 }  // namespace
 }  // namespace trueaxis::exporter

@@ -187,5 +187,15 @@ TEST_F(CalibrateCli, BadInputsExitTwoWithClearMessage) {
   EXPECT_NE(r.output.find("missing.csv"), std::string::npos) << r.output;
 }
 
+TEST_F(CalibrateCli, RefusesAnOutputThatIsTheSession) {
+  const std::string session = (dir_ / "s.csv").string();
+  WriteTextFile(session, "ref,a\n20,20\n30,30\n40,40\n");
+  const auto r = testing::RunCli("calibrate --session " + session + " --reference ref --out " + session);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("field '--out'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("s.csv"), std::string::npos) << r.output;
+  EXPECT_EQ(ReadTextFile(session), "ref,a\n20,20\n30,30\n40,40\n");
+}
+
 }  // namespace
 }  // namespace trueaxis::signal

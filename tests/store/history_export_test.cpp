@@ -225,5 +225,21 @@ TEST_F(HistoryExportTest, CliBadInputsExitTwoAndChangeNothing) {
   EXPECT_EQ(ReadFileBytes(db_path_), before);
 }
 
+TEST_F(HistoryExportTest, CliRefusesAnOutputThatIsTheDatabase) {
+  const std::string before = ReadFileBytes(db_path_);
+  for (const char* format : {"csv", "xlsx"}) {
+    const auto r = testing::RunCli(std::string("history export --db ") + db_path_ + " --format " + format + " --out " + db_path_);
+    EXPECT_EQ(r.exit_code, 2) << format << ": " << r.output;
+    EXPECT_NE(r.output.find("field '--out'"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("is the input file"), std::string::npos) << r.output;
+    EXPECT_EQ(ReadFileBytes(db_path_), before) << format;
+  }
+  // The same file by another spelling (./dir/../h.db) is the same file.
+  const std::string other_spelling = (dir_ / "." / ".." / dir_.filename() / "h.db").string();
+  auto r = testing::RunCli("history export --db " + db_path_ + " --format csv --out " + other_spelling);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(ReadFileBytes(db_path_), before);
+}
+
 }  // namespace
 }  // namespace trueaxis::store
