@@ -15,6 +15,7 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/output_path.hpp"
+#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/signal/conversions.hpp"
 #include "trueaxis/signal/offline_filter.hpp"
@@ -57,19 +58,24 @@ void RunFilter(FilterCmd& o) {
         throw InputError("command line", 0, "--groups", fmt::format("'{}' is not a channel of {}", name, o.in));
   CalibrationSet cal;
   if (!o.calibration.empty()) cal = ReadCalibrationFile(o.calibration);
+  // Parse --start-time before any work, so a bad one stores nothing.
+  double offset_s = 0;
+  if (!o.db.empty() && !o.start_time.empty()) {
+    auto t = trueaxis::store::ParseTimeText(o.start_time);
+    if (!t) throw InputError("command line", 0, "--start-time", fmt::format("'{}' is not a time", o.start_time));
+    if (auto bad = trueaxis::ImplausibleTimeS(*t)) throw InputError("command line", 0, "--start-time", *bad);
+    offset_s = *t - table.time_s.front();
+  }
   const OfflineFilterResult result = RunMonitorOffline(table, o.options, o.calibration.empty() ? nullptr : &cal);
+  for (const auto& name : result.calibration_without_channel)
+    fmt::print(stderr, "warning: {}: sensor '{}' is no channel of {}: its calibration is not applied\n", o.calibration,
+               name, o.in);
   fmt::print("{} rows, {} channels from {}\n{}", table.time_s.size(), table.channels.size(), o.in, result.FullReport());
   if (!o.out.empty()) {
     trueaxis::WriteTextFile(o.out, FormatOfflineFilterCsv(table, result));
     fmt::print("filtered values and statuses written to {}\n", o.out);
   }
   if (!o.db.empty()) {
-    double offset_s = 0;
-    if (!o.start_time.empty()) {
-      auto t = trueaxis::store::ParseTimeText(o.start_time);
-      if (!t) throw InputError("command line", 0, "--start-time", fmt::format("'{}' is not a time", o.start_time));
-      offset_s = *t - table.time_s.front();
-    }
     trueaxis::store::HistoryWriterOptions wo;
     wo.queue_capacity = 1 << 16;
     trueaxis::store::HistoryWriter writer(o.db, wo);

@@ -153,8 +153,8 @@ CalibrationSession ParseCalibrationSessionCsv(std::string_view text, const std::
     auto fields = SplitCsvFields(line);
     if (!have_header) {
       have_header = true;
+      RefuseEmptyHeaderField(fields, source, line_no);
       for (auto f : fields) {
-        if (f.empty()) throw InputError(source, line_no, "header", "empty column name");
         if (f == "time_s" || f == "time") {
           column_to_sensor.push_back(-1);
           continue;

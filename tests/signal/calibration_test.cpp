@@ -166,6 +166,17 @@ TEST(CalibrationSession, RefusesAStuckSensorOrAStuckReferenceNamingTheColumn) {
   EXPECT_NE(one_plateau.FullReport().find("reference span 0.10 °C"), std::string::npos) << one_plateau.FullReport();
 }
 
+TEST(CalibrationSession, EmptyColumnNameNamesLineAndHeader) {
+  try {
+    ParseCalibrationSessionCsv("# block\nref,,a\n20,20,20\n", "s.csv");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(e.field(), "header");
+    EXPECT_NE(e.message().find("column 2 of 3 has no name"), std::string::npos) << e.message();
+  }
+}
+
 TEST(CalibrationJson, RejectsForeignOrBrokenFiles) {
   EXPECT_THROW(CalibrationSetFromJson("{", "c.json"), InputError);
   EXPECT_THROW(CalibrationSetFromJson(R"({"format":"other"})", "c.json"), InputError);
