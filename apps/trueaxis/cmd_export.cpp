@@ -200,6 +200,11 @@ void RunRead(const ExportArgs& a) {
       break;
     }
   }
+  // A CSV's "# axis:" and a .COM's axis column name the logical axis: one that is not --axis is another
+  // axis's table. (A SINUMERIK file names the machine axis, X1, which --axis need not spell.)
+  if ((f == TableFormat::kCsv || f == TableFormat::kHeidenhain) && !a.axis.empty() && !t.axis.empty() &&
+      Upper(t.axis) != Upper(a.axis))
+    throw InputError(a.read, 0, "axis", fmt::format("the table is for axis {}, not the --axis {} given", t.axis, a.axis));
   if (t.axis.empty()) t.axis = a.axis.empty() ? "?" : a.axis;
   fmt::print("{}", PrintTable(t));
 }
