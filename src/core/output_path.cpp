@@ -34,4 +34,15 @@ void RefuseOutputOverInput(const std::string& out_path, const std::vector<std::s
                                    out_path, input));
 }
 
+void RefuseUnwritableOutputFile(const std::string& out_path, const std::string& option) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(out_path, ec))
+    throw InputError("command line", 0, option, fmt::format("'{}' is a directory; give the file to write", out_path));
+  const fs::path parent = fs::path(out_path).parent_path();
+  if (!parent.empty() && !fs::is_directory(parent, ec))
+    throw InputError("command line", 0, option,
+                     fmt::format("'{}': the folder '{}' does not exist", out_path, parent.string()));
+}
+
 }  // namespace trueaxis

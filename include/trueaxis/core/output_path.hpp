@@ -17,4 +17,8 @@ bool IsSameFile(const std::string& a, const std::string& b);
 void RefuseOutputOverInput(const std::string& out_path, const std::vector<std::string>& input_paths,
                            const std::string& option);
 
+// Throws InputError("command line", 0, <option>, ...) when `out_path` names an existing directory or
+// lies in a folder that does not exist, before any work (it failed at the final rename, exit 1).
+void RefuseUnwritableOutputFile(const std::string& out_path, const std::string& option);
+
 }  // namespace trueaxis
