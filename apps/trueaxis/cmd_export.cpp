@@ -19,6 +19,7 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/output_path.hpp"
+#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/export/csv_table.hpp"
 #include "trueaxis/export/fanuc_table.hpp"
@@ -114,6 +115,8 @@ ResampleOptions ResampleOf(const ExportArgs& a, TableFormat f) {
     auto lo = colon == std::string::npos ? std::nullopt : ParseDouble(a.range.substr(0, colon));
     auto hi = colon == std::string::npos ? std::nullopt : ParseDouble(a.range.substr(colon + 1));
     if (!lo || !hi) Bad("--range", fmt::format("'{}' is not MIN:MAX in mm", a.range));
+    for (double end : {*lo, *hi})
+      if (auto why = ImplausiblePositionMm(end)) Bad("--range", fmt::format("'{}': {}", a.range, *why));
     o.range_min_mm = *lo;
     o.range_max_mm = *hi;
   }
@@ -149,6 +152,22 @@ ResampleOptions ResampleOf(const ExportArgs& a, TableFormat f) {
   std::string why;
   if (!o.IsValid(&why)) Bad(why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
   return o;
+}
+
+// An option whose "not given" value is NaN or 0 must not take that value when given: `--spacing nan`,
+// `--count 0` or `--max-feed -1` silently became the default. Refused, naming the option.
+void RefuseGivenValuesThatMeanDefault(const CLI::App& cmd, const ExportArgs& a) {
+  const auto given = [&](const char* name) { return cmd.count(name) > 0; };
+  for (const auto& [name, value] : {std::pair{"--start", a.start}, std::pair{"--reference-mm", a.reference_mm}})
+    if (given(name))
+      if (auto why = ImplausiblePositionMm(value)) Bad(name, *why);
+  if (given("--spacing") && !(std::isfinite(a.spacing) && a.spacing > 0))
+    Bad("--spacing", fmt::format("{} is not a positive number of mm", a.spacing));
+  if (given("--count") && a.count < 2) Bad("--count", fmt::format("{}: a table needs at least 2 points", a.count));
+  if (given("--max-points") && a.max_points < 2)
+    Bad("--max-points", fmt::format("{}: a table needs at least 2 points", a.max_points));
+  if (given("--max-feed") && !(std::isfinite(a.fanuc.max_feed_mm_per_min) && a.fanuc.max_feed_mm_per_min > 0))
+    Bad("--max-feed", fmt::format("{} is not a positive feed in mm/min", a.fanuc.max_feed_mm_per_min));
 }
 
 std::string Upper(std::string s) {
@@ -414,7 +433,8 @@ void Setup(CLI::App& app) {
   cmd->add_option("--fanuc-axes", a->fanuc.axes_sharing_pool,
                   "axes sharing the point numbers: each gets its own block by default (default 4)");
   cmd->add_option("--max-feed", a->fanuc.max_feed_mm_per_min, "fanuc: max feedrate mm/min; interval >= feed/7500");
-  cmd->callback([a] {
+  cmd->callback([a, cmd] {
+    RefuseGivenValuesThatMeanDefault(*cmd, *a);
     if (!a->read.empty()) RunRead(*a);
     else RunExport(*a);
   });

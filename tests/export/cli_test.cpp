@@ -362,5 +362,30 @@ TEST_F(ExportCli, SinumerikIndexOutOfRangeIsNamedAtItsLine) {
       << r.out;
 }
 
+// Given as nan, 0 or negative, these options read as "not given" and silently took the default.
+TEST_F(ExportCli, OptionsThatWouldReadAsTheDefaultAreRefused) {
+  const std::string m = "export --model " + kModel + " --axis X --temp nut=30 --temp bearing=26 ";
+  const std::string out = " --out " + Path("bad");
+  const std::pair<std::string, std::string> cases[] = {
+      {m + "--format csv --spacing nan" + out, "field '--spacing'"},
+      {m + "--format csv --start nan" + out, "field '--start'"},
+      {m + "--format csv --reference-mm nan" + out, "field '--reference-mm'"},
+      {m + "--format csv --count 0" + out, "field '--count'"},
+      {m + "--format csv --max-points 0" + out, "field '--max-points'"},
+      {m + "--format csv --max-points -1" + out, "field '--max-points'"},
+      {m + "--format fanuc --max-feed -1" + out, "field '--max-feed'"},
+      {m + "--format fanuc --max-feed nan" + out, "field '--max-feed'"},
+      {m + "--format fanuc --max-feed 0" + out, "field '--max-feed'"},
+      {m + "--format csv --range nan:10" + out, "field '--range'"},
+      {m + "--format csv --range 0:1e9" + out, "field '--range'"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const auto r = Cli(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find(expected), std::string::npos) << args << "\n" << r.out;
+    EXPECT_FALSE(fs::exists(Path("bad"))) << args;
+  }
+}
+
 }  // namespace
 }  // namespace trueaxis::exporter
