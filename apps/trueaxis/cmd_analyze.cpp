@@ -17,6 +17,7 @@
 #include "trueaxis/analysis/evaluation_json.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/measure/measurement_file.hpp"
 
@@ -77,6 +78,7 @@ void RunAnalyze(const AnalyzeOptions& o) {
   eo.standard = o.standard;
   std::string why;
   if (!eo.IsValid(&why)) throw InputError("--standard", 0, "standard", why);
+  RefuseOutputOverInput(o.report, {o.file, o.compare}, "--report");
 
   const auto before = measure::ReadMeasurementFile(o.file);
   const auto ev = analysis::Evaluate(before, eo);

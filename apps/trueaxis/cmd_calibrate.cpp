@@ -8,6 +8,7 @@
 
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/signal/calibration.hpp"
 #include "trueaxis/store/history_db.hpp"
 
@@ -27,6 +28,7 @@ void RunCalibrate(const CalibrateOptions& o) {
   options.min_span_c = o.min_span_c;
   std::string why;
   if (!options.IsValid(&why)) throw trueaxis::InputError("command line", 0, "--min-span-c", why);
+  trueaxis::RefuseOutputOverInput(o.out, {o.session, o.db}, "--out");
   const CalibrationSession session = ReadCalibrationSessionCsv(o.session);
   const CalibrationSet set = CalibrateSession(session, o.reference, options);
   // Open the database before writing anything, so a bad --db leaves no half result.

@@ -18,6 +18,8 @@
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/output_path.hpp"
+#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/export/csv_table.hpp"
 #include "trueaxis/export/fanuc_table.hpp"
@@ -113,6 +115,8 @@ ResampleOptions ResampleOf(const ExportArgs& a, TableFormat f) {
     auto lo = colon == std::string::npos ? std::nullopt : ParseDouble(a.range.substr(0, colon));
     auto hi = colon == std::string::npos ? std::nullopt : ParseDouble(a.range.substr(colon + 1));
     if (!lo || !hi) Bad("--range", fmt::format("'{}' is not MIN:MAX in mm", a.range));
+    for (double end : {*lo, *hi})
+      if (auto why = ImplausiblePositionMm(end)) Bad("--range", fmt::format("'{}': {}", a.range, *why));
     o.range_min_mm = *lo;
     o.range_max_mm = *hi;
   }
@@ -148,6 +152,22 @@ ResampleOptions ResampleOf(const ExportArgs& a, TableFormat f) {
   std::string why;
   if (!o.IsValid(&why)) Bad(why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
   return o;
+}
+
+// An option whose "not given" value is NaN or 0 must not take that value when given: `--spacing nan`,
+// `--count 0` or `--max-feed -1` silently became the default. Refused, naming the option.
+void RefuseGivenValuesThatMeanDefault(const CLI::App& cmd, const ExportArgs& a) {
+  const auto given = [&](const char* name) { return cmd.count(name) > 0; };
+  for (const auto& [name, value] : {std::pair{"--start", a.start}, std::pair{"--reference-mm", a.reference_mm}})
+    if (given(name))
+      if (auto why = ImplausiblePositionMm(value)) Bad(name, *why);
+  if (given("--spacing") && !(std::isfinite(a.spacing) && a.spacing > 0))
+    Bad("--spacing", fmt::format("{} is not a positive number of mm", a.spacing));
+  if (given("--count") && a.count < 2) Bad("--count", fmt::format("{}: a table needs at least 2 points", a.count));
+  if (given("--max-points") && a.max_points < 2)
+    Bad("--max-points", fmt::format("{}: a table needs at least 2 points", a.max_points));
+  if (given("--max-feed") && !(std::isfinite(a.fanuc.max_feed_mm_per_min) && a.fanuc.max_feed_mm_per_min > 0))
+    Bad("--max-feed", fmt::format("{} is not a positive feed in mm/min", a.fanuc.max_feed_mm_per_min));
 }
 
 std::string Upper(std::string s) {
@@ -199,6 +219,11 @@ void RunRead(const ExportArgs& a) {
       break;
     }
   }
+  // A CSV's "# axis:" and a .COM's axis column name the logical axis: one that is not --axis is another
+  // axis's table. (A SINUMERIK file names the machine axis, X1, which --axis need not spell.)
+  if ((f == TableFormat::kCsv || f == TableFormat::kHeidenhain) && !a.axis.empty() && !t.axis.empty() &&
+      Upper(t.axis) != Upper(a.axis))
+    throw InputError(a.read, 0, "axis", fmt::format("the table is for axis {}, not the --axis {} given", t.axis, a.axis));
   if (t.axis.empty()) t.axis = a.axis.empty() ? "?" : a.axis;
   fmt::print("{}", PrintTable(t));
 }
@@ -230,6 +255,8 @@ void RunExport(const ExportArgs& a) {
     Bad("--model", "give exactly one of --model (with --axis), --thermal-model (with --channel, --axis, --range), "
                    "--measurement or --pitch-file");
   if (!a.channel.empty() && a.thermal_model_path.empty()) Bad("--channel", "applies to --thermal-model only");
+  const std::vector<std::string> inputs = {a.model_path, a.measurement_path, a.pitch_path, a.thermal_model_path};
+  RefuseOutputOverInput(a.out, inputs, "--out");
   const ValueSign sign = SignOf(a, f);
   const ResampleOptions ro = ResampleOf(a, f);
 
@@ -350,6 +377,7 @@ void RunExport(const ExportArgs& a) {
         states.push_back({"COLD", "as measured", rr.table, true});
       }
       const auto files = WriteHeidenhainSet(states, rr.table.axis, out.filename().string(), sign, kCli);
+      for (const auto& file : files) RefuseOutputOverInput((out.parent_path() / file.file_name).string(), inputs, "--out");
       for (const auto& file : files) {
         const auto path = (out.parent_path() / file.file_name).string();
         WriteTextFile(path, file.text);
@@ -405,7 +433,8 @@ void Setup(CLI::App& app) {
   cmd->add_option("--fanuc-axes", a->fanuc.axes_sharing_pool,
                   "axes sharing the point numbers: each gets its own block by default (default 4)");
   cmd->add_option("--max-feed", a->fanuc.max_feed_mm_per_min, "fanuc: max feedrate mm/min; interval >= feed/7500");
-  cmd->callback([a] {
+  cmd->callback([a, cmd] {
+    RefuseGivenValuesThatMeanDefault(*cmd, *a);
     if (!a->read.empty()) RunRead(*a);
     else RunExport(*a);
   });

@@ -19,6 +19,7 @@
 
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/model/fit_report.hpp"
 #include "trueaxis/model/model_fit.hpp"
@@ -181,6 +182,19 @@ void RunFit(const FitCliOptions& o) {
         throw InputError("command line", 0, "--redundant",
                          fmt::format("'{}' is not a sensor of the measurement files (no t_{}_c column)", name, name));
     }
+  // Neither output may be written over a file this fit reads (a measurement, the manifest, its
+  // temperature log), nor over the other output. --previous may be --out: it is read in full above
+  // and the new revision records its sha256 as parent (docs/model-file.md).
+  std::vector<std::string> read_paths = o.inputs;
+  read_paths.push_back(o.manifest);
+  for (const auto& st : states) {
+    read_paths.push_back(st.path);
+    read_paths.push_back(st.temperature_log);
+  }
+  RefuseOutputOverInput(o.out, read_paths, "--out");
+  read_paths.push_back(o.previous);
+  read_paths.push_back(o.out);
+  RefuseOutputOverInput(o.report, read_paths, "--report");
   fo.created_utc = UtcNow();  // the clock is read here, at the edge, not by the fit
   auto result = model::FitCompositeModel(states, fo);
   auto& m = result.model;

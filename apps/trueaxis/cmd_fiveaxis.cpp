@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "command.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/text_file.hpp"
@@ -75,6 +76,7 @@ void Setup(CLI::App& app) {
     cmd->add_option("--machine", *machine, "five-axis machine TOML")->required();
     cmd->add_option("--out,-o", *out, "model JSON to write")->required();
     cmd->callback([machine, out] {
+      RefuseOutputOverInput(*out, {*machine}, "--out");
       const FiveAxisMachine m = ReadFiveAxisMachineFile(*machine);
       const TrackingErrorModel model = IdentifyTrackingModel(m, AxisTestOptions{}, VirtualMachineRunner(m));
       const auto names = m.axis_names();
@@ -102,6 +104,7 @@ void Setup(CLI::App& app) {
     cmd->add_option("--reference", *reference, "judge against this program's path (e.g. the original of a corrected program)");
     cmd->add_option("--csv", *csv, "write time, commanded and actual joints, contour error per servo period");
     cmd->callback([o, kf, aff, reference, csv] {
+      RefuseOutputOverInput(*csv, {o->machine, o->program, *reference}, "--csv");
       if (*kf < 0 || *kf > 1.5 || *aff < 0 || *aff > 1.5)
         throw InputError("command line", 0, "--kf", "feed-forward coefficients must lie in 0 … 1.5");
       const FiveAxisMachine m = ReadFiveAxisMachineFile(o->machine);
@@ -150,6 +153,8 @@ void Setup(CLI::App& app) {
     cmd->add_option("--report", *report, "HTML report to write");
     cmd->add_option("--block-samples", *block, "servo periods per block of the corrected program")->capture_default_str();
     cmd->callback([o, model_path, out, report, block, iterations] {
+      RefuseOutputOverInput(*out, {o->machine, o->program, *model_path}, "--out");
+      RefuseOutputOverInput(*report, {o->machine, o->program, *model_path, *out}, "--report");
       const FiveAxisMachine m = ReadFiveAxisMachineFile(o->machine);
       const ToolPath path = LoadPath(*o, m);
       const TrackingErrorModel model = LoadOrIdentify(*model_path, m);

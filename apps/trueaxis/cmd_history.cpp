@@ -13,6 +13,7 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/store/history_db.hpp"
 #include "trueaxis/store/history_export.hpp"
 #include "trueaxis/store/time_text.hpp"
@@ -86,6 +87,14 @@ void RunQuery(const HistoryOptions& o) {
   const ExportRequest req = MakeRequest(o, table);
   HistoryDb db(o.db, HistoryDb::Mode::kReadOnly);
   std::size_t n = 0;
+  // The CSV header goes out with the first row (or at the end when there is none), so a database that
+  // turns out damaged on its first page prints no header before its error.
+  std::string header;
+  bool header_printed = false;
+  auto print_header = [&] {
+    if (!header_printed) fmt::print("{}", header);
+    header_printed = true;
+  };
   auto more = [&] { return o.limit == 0 || n < o.limit; };
   // Stops a row walk once --limit rows are printed (no need to scan the rest of a big database).
   struct LimitReached {};
@@ -95,42 +104,47 @@ void RunQuery(const HistoryOptions& o) {
   try {
   switch (table) {
     case HistoryTable::kTemperature:
-      fmt::print("time_s,time_utc,channel,raw_c,filtered_c,status\n");
+      header = "time_s,time_utc,channel,raw_c,filtered_c,status\n";
       db.ForEachTemperature(req.range, req.channels, [&](const TemperatureRow& r) {
         stop_if_done();
         ++n;
+        print_header();
         fmt::print("{},{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), trueaxis::CsvField(r.channel), Num(r.raw_c),
                    Num(r.filtered_c), trueaxis::CsvField(r.status));
       });
       break;
     case HistoryTable::kCompensation:
-      fmt::print("time_s,time_utc,axis,position_mm,correction_um,state\n");
+      header = "time_s,time_utc,axis,position_mm,correction_um,state\n";
       db.ForEachCompensation(req.range, req.axes, [&](const CompensationRow& r) {
         stop_if_done();
         ++n;
+        print_header();
         fmt::print("{},{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), trueaxis::CsvField(r.axis), Num(r.position_mm),
                    Num(r.correction_um), trueaxis::CsvField(r.state));
       });
       break;
     case HistoryTable::kAlarm:
-      fmt::print("time_s,time_utc,severity,source,message\n");
+      header = "time_s,time_utc,severity,source,message\n";
       for (const auto& r : db.QueryAlarms(req.range)) {
         if (!more()) break;
         ++n;
+        print_header();
         fmt::print("{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), trueaxis::CsvField(r.severity), trueaxis::CsvField(r.source), trueaxis::CsvField(r.message));
       }
       break;
     case HistoryTable::kModelChange:
-      fmt::print("time_s,time_utc,sha256,revision,note\n");
+      header = "time_s,time_utc,sha256,revision,note\n";
       for (const auto& r : db.QueryModelChanges(req.range)) {
         if (!more()) break;
         ++n;
+        print_header();
         fmt::print("{},{},{},{},{}\n", Num(r.time_s), FormatUtc(r.time_s), trueaxis::CsvField(r.sha256), trueaxis::CsvField(r.revision), trueaxis::CsvField(r.note));
       }
       break;
   }
   } catch (const LimitReached&) {
   }
+  print_header();
 }
 
 void RunExport(const HistoryOptions& o) {
@@ -141,6 +155,8 @@ void RunExport(const HistoryOptions& o) {
   if (o.layout != "long" && o.layout != "wide")
     throw InputError("command line", 0, "--layout", fmt::format("'{}' is not long or wide", o.layout));
   req.wide = o.layout == "wide";
+  trueaxis::RefuseOutputOverInput(o.out, {o.db}, "--out");
+  trueaxis::RefuseUnwritableOutputFile(o.out, "--out");
   HistoryDb db(o.db, HistoryDb::Mode::kReadOnly);
   const ExportResult result = o.format == "csv" ? ExportCsv(db, table, req, o.out) : ExportXlsx(db, req, o.out);
   fmt::print("exported {} to {}\n", result.BriefReport(), o.out);

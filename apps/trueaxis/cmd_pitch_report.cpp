@@ -7,6 +7,7 @@
 
 #include "command.hpp"
 #include "pitch_command.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/measure/measurement_file.hpp"
 #include "trueaxis/pitch/error_file.hpp"
@@ -23,6 +24,7 @@ struct Options {
 };
 
 void Run(const Options& o) {
+  RefuseOutputOverInput(o.out, {o.before, o.after, o.pitch_file, o.machine}, "--out");
   const auto before = measure::ReadMeasurementFile(o.before);
   const auto after = measure::ReadMeasurementFile(o.after);
   const auto table = pitch::ReadPitchErrorFile(o.pitch_file);

@@ -10,6 +10,7 @@
 #include "pitch_command.hpp"
 #include "trueaxis/analysis/decomposition.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/measure/measurement_file.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/pitch/error_file.hpp"
@@ -29,6 +30,7 @@ struct Options {
 void Run(const Options& o) {
   if (o.measurement.empty() == o.model.empty())
     throw InputError("command line", 0, "--measurement", "give exactly one of --measurement or --model (with --axis)");
+  RefuseOutputOverInput(o.out, {o.measurement, o.model}, "--out");
   pitch::PitchErrorTable table;
   if (!o.measurement.empty()) {
     const auto m = measure::ReadMeasurementFile(o.measurement);

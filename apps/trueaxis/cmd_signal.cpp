@@ -14,6 +14,8 @@
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/output_path.hpp"
+#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/signal/conversions.hpp"
 #include "trueaxis/signal/offline_filter.hpp"
@@ -47,6 +49,8 @@ void RunFilter(FilterCmd& o) {
   for (const auto& g : SplitList(o.groups, ';')) o.options.neighbour_groups.push_back(SplitList(g, ','));
   std::string why;
   if (!o.options.IsValid(&why)) throw InputError("command line", 0, "options", why);
+  trueaxis::RefuseOutputOverInput(o.out, {o.in, o.calibration, o.db}, "--out");
+  trueaxis::RefuseOutputOverInput(o.db, {o.in, o.calibration}, "--db");
   const ReadingsTable table = ReadReadingsCsv(o.in, SplitList(o.channels, ','));
   for (const auto& g : o.options.neighbour_groups)
     for (const auto& name : g)
@@ -54,19 +58,24 @@ void RunFilter(FilterCmd& o) {
         throw InputError("command line", 0, "--groups", fmt::format("'{}' is not a channel of {}", name, o.in));
   CalibrationSet cal;
   if (!o.calibration.empty()) cal = ReadCalibrationFile(o.calibration);
+  // Parse --start-time before any work, so a bad one stores nothing.
+  double offset_s = 0;
+  if (!o.db.empty() && !o.start_time.empty()) {
+    auto t = trueaxis::store::ParseTimeText(o.start_time);
+    if (!t) throw InputError("command line", 0, "--start-time", fmt::format("'{}' is not a time", o.start_time));
+    if (auto bad = trueaxis::ImplausibleTimeS(*t)) throw InputError("command line", 0, "--start-time", *bad);
+    offset_s = *t - table.time_s.front();
+  }
   const OfflineFilterResult result = RunMonitorOffline(table, o.options, o.calibration.empty() ? nullptr : &cal);
+  for (const auto& name : result.calibration_without_channel)
+    fmt::print(stderr, "warning: {}: sensor '{}' is no channel of {}: its calibration is not applied\n", o.calibration,
+               name, o.in);
   fmt::print("{} rows, {} channels from {}\n{}", table.time_s.size(), table.channels.size(), o.in, result.FullReport());
   if (!o.out.empty()) {
     trueaxis::WriteTextFile(o.out, FormatOfflineFilterCsv(table, result));
     fmt::print("filtered values and statuses written to {}\n", o.out);
   }
   if (!o.db.empty()) {
-    double offset_s = 0;
-    if (!o.start_time.empty()) {
-      auto t = trueaxis::store::ParseTimeText(o.start_time);
-      if (!t) throw InputError("command line", 0, "--start-time", fmt::format("'{}' is not a time", o.start_time));
-      offset_s = *t - table.time_s.front();
-    }
     trueaxis::store::HistoryWriterOptions wo;
     wo.queue_capacity = 1 << 16;
     trueaxis::store::HistoryWriter writer(o.db, wo);

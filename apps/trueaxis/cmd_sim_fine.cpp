@@ -10,6 +10,7 @@
 #include "command.hpp"
 #include "pitch_command.hpp"
 #include "sim_command.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/analysis/evaluation.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
@@ -27,6 +28,7 @@ struct Options {
 };
 
 void Run(const Options& o) {
+  RefuseOutputOverInput(o.out, {o.machine, o.pitch_file}, "--out");
   const auto machine = sim::ReadMachineFile(o.machine);
   const std::size_t axis = cli::MachineAxis(machine, o.machine, o.axis);
   pitch::FineSessionOptions so;

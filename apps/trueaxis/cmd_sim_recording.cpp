@@ -7,6 +7,7 @@
 
 #include "command.hpp"
 #include "sim_command.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/sim/machine_description.hpp"
 #include "trueaxis/sim/thermal_recording.hpp"
@@ -23,6 +24,7 @@ struct Options {
 };
 
 void Run(const Options& o) {
+  RefuseOutputOverInput(o.out, {o.machine}, "--out");
   std::string why;
   if (!o.recording.IsValid(&why)) throw InputError("command line", 0, "", why);
   sim::VirtualMachine vm(sim::ReadMachineFile(o.machine), o.seed);

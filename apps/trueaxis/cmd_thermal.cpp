@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "command.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
@@ -219,6 +220,7 @@ void Setup(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("-o,--out", *out, "model JSON to write")->required();
     cmd->callback([o, kind, out, blocks] {
+      RefuseOutputOverInput(*out, o->series, "--out");
       SeriesCleaningReport rep;
       ThermalSeries s = LoadSeries(*o, &rep);
       ThermalFitOptions fo = MakeFitOptions(*o, ParseKind(*kind, "--model"));
@@ -249,6 +251,7 @@ void Setup(CLI::App& app) {
     cmd->add_option("-o,--out", *out, "CSV to write (default: stdout)");
     cmd->add_option("--max-gap-samples", *gap, "interior gaps up to this many rows are interpolated")->capture_default_str();
     cmd->callback([model_path, series, out, gap] {
+      RefuseOutputOverInput(*out, {*model_path, *series}, "--out");
       auto model = ReadThermalModelFile(*model_path);
       SeriesCleaningOptions co;
       co.max_interpolated_gap_samples = *gap;
@@ -335,6 +338,10 @@ void Setup(CLI::App& app) {
     cmd->add_option("--report", *report, "write an HTML report (plots of measured vs predicted, residuals, sensors)");
     cmd->add_option("--markdown", *markdown, "write the metrics table as Markdown");
     cmd->callback([o, models, train, validate, last, rows, hours, experiments, report, markdown] {
+      RefuseOutputOverInput(*report, o->series, "--report");
+      std::vector<std::string> read_or_written = o->series;
+      read_or_written.push_back(*report);
+      RefuseOutputOverInput(*markdown, read_or_written, "--markdown");
       SeriesCleaningReport rep;
       ThermalSeries s = LoadSeries(*o, &rep);
       EvaluationOptions eo;

@@ -12,6 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "command.hpp"
+#include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
@@ -238,6 +239,7 @@ void Setup(CLI::App& app) {
     cmd->add_option("--square-mm", *square, "square size")->capture_default_str();
     cmd->add_option("--out", *out, "camera YAML to write")->required();
     cmd->callback([images, out, board, square] {
+      RefuseOutputOverInput(*out, *images, "--out");
       ChessboardSpec spec;
       spec.square_mm = *square;
       if (std::sscanf(board->c_str(), "%dx%d", &spec.cols, &spec.rows) != 2)
@@ -260,6 +262,9 @@ void Setup(CLI::App& app) {
     AddImageArgs(cmd, a.get(), "images taken at the standard temperature");
     cmd->add_option("--out", *out, "marker TOML to write, with [reference] k1, k2")->required();
     cmd->callback([a, out] {
+      std::vector<std::string> images_and_camera = a->images;
+      images_and_camera.push_back(a->camera);
+      RefuseOutputOverInput(*out, images_and_camera, "--out");
       const auto* images = &a->images;
       MarkerDescription m = ReadMarker(a->marker);
       const CameraModel cam = ReadCameraFile(a->camera);
@@ -300,6 +305,11 @@ void Setup(CLI::App& app) {
     cmd->add_option("--report", *report, "write an HTML report");
     cmd->add_option("--alarm-out", *alarm, "write the stop rule's state as JSON (feed_hold, message) for a CNC bridge");
     cmd->callback([=] {
+      std::vector<std::string> inputs = a->images;
+      inputs.insert(inputs.end(), {a->marker, a->camera, *truth_path});
+      RefuseOutputOverInput(*csv, inputs, "--csv");
+      RefuseOutputOverInput(*report, inputs, "--report");
+      RefuseOutputOverInput(*alarm, inputs, "--alarm-out");
       const auto* images = &a->images;
       const MarkerDescription m = ReadMarker(a->marker);
       const CameraModel cam = ReadCameraFile(a->camera);

@@ -1,5 +1,8 @@
 #include "trueaxis/core/text_lines.hpp"
 
+#include <fmt/format.h>
+
+#include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
 
 namespace trueaxis {
@@ -91,6 +94,14 @@ std::optional<std::pair<std::string_view, std::string_view>> ParseMetadataCommen
   const auto colon = body.find(':');
   if (colon == std::string_view::npos || colon == 0) return std::nullopt;
   return std::make_pair(Trim(body.substr(0, colon)), Trim(body.substr(colon + 1)));
+}
+
+void RefuseEmptyHeaderField(const std::vector<std::string_view>& header, const std::string& source, int line) {
+  for (std::size_t c = 0; c < header.size(); ++c)
+    if (header[c].empty())
+      throw InputError(source, line, "header",
+                       fmt::format("column {} of {} has no name (an empty field: ',,' or a comma at the end?)", c + 1,
+                                   header.size()));
 }
 
 }  // namespace trueaxis

@@ -1,6 +1,7 @@
 #include "trueaxis/export/csv_table.hpp"
 
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include <fmt/format.h>
@@ -37,6 +38,9 @@ CompensationTable ReadCsvTable(std::string_view text, const std::string& source)
   bool header_seen = false;
   int line_no = 0;
   std::string mode = "bidirectional";
+  std::optional<ValueSign> commented_sign;  // "# sign:", which must agree with the header
+  int sign_line = 0;
+  std::vector<int> point_lines;
   LineCursor cursor(text);
   while (cursor.Next()) {
     line_no = cursor.number();
@@ -48,7 +52,12 @@ CompensationTable ReadCsvTable(std::string_view text, const std::string& source)
       const std::string key(Trim(line.substr(1, colon - 1)));
       const std::string_view value = Trim(line.substr(colon + 1));
       if (key == "axis") t.axis = std::string(value);
-      else if (key == "mode") {
+      else if (key == "sign") {
+        if (value != "correction" && value != "error")
+          throw InputError(source, line_no, "sign", fmt::format("'{}' is neither correction nor error", value));
+        commented_sign = value == "correction" ? ValueSign::kCorrection : ValueSign::kError;
+        sign_line = line_no;
+      } else if (key == "mode") {
         if (value != "bidirectional" && value != "unidirectional")
           throw InputError(source, line_no, "mode", fmt::format("'{}' is neither bidirectional nor unidirectional", value));
         mode = std::string(value);
@@ -67,6 +76,11 @@ CompensationTable ReadCsvTable(std::string_view text, const std::string& source)
                          fmt::format("expected 'position_mm,forward_correction_um,reverse_correction_um' "
                                      "(or the _error_um form), found '{}'", line));
       header_seen = true;
+      if (commented_sign && *commented_sign != *sign)
+        throw InputError(source, line_no, "header",
+                         fmt::format("the header gives {} values but line {} says '# sign: {}'",
+                                     *sign == ValueSign::kCorrection ? "correction" : "error", sign_line,
+                                     *commented_sign == ValueSign::kCorrection ? "correction" : "error"));
       continue;
     }
     std::vector<std::string_view> f;
@@ -90,13 +104,14 @@ CompensationTable ReadCsvTable(std::string_view text, const std::string& source)
                        fmt::format("positions must be strictly ascending ({} follows {})", v[0], t.position_mm.back()));
     const double k = SignFactor(*sign);
     t.position_mm.push_back(v[0]);
+    point_lines.push_back(line_no);
     t.forward_um.push_back(k * v[1]);
     t.reverse_um.push_back(k * v[2]);
   }
   if (!header_seen) throw InputError(source, 0, "header", "no column header line found");
   t.bidirectional = mode == "bidirectional";
   if (t.bidirectional) t.backlash_um = 0;
-  ValidateTable(t, source);
+  ValidateReadTable(t, source, point_lines);
   if (!t.bidirectional)
     for (std::size_t i = 0; i < t.size(); ++i)
       if (t.forward_um[i] != t.reverse_um[i])

@@ -215,6 +215,7 @@ CompensationTable ReadFanucPitchTape(std::string_view text, int axis_number, dou
   if (!(detection_unit_um > 0)) throw InputError(source, 0, "--detection-unit-um", "must be > 0");
   std::map<int, long long> params;
   std::map<int, long long> pitch;
+  std::map<int, int> pitch_line;
   // Integers of at most 9 digits (the regexes bound the digit count), so no overflow.
   auto integer = [&](const std::string& digits, int line, const std::string& field) {
     auto v = ParseInt(digits);
@@ -240,6 +241,7 @@ CompensationTable ReadFanucPitchTape(std::string_view text, int axis_number, dou
       const int n = static_cast<int>(integer(m[1], line_no, "N")) - 10000;
       if (pitch.count(n)) throw InputError(source, line_no, fmt::format("N{}", m[1].str()), "pitch point given twice");
       pitch[n] = integer(m[2], line_no, fmt::format("N{}", m[1].str()));
+      pitch_line[n] = line_no;
     } else if (std::regex_match(line, m, kAxisParam)) {
       const int number = static_cast<int>(integer(m[1], line_no, "N"));
       const std::string values = m[2];
@@ -299,7 +301,14 @@ CompensationTable ReadFanucPitchTape(std::string_view text, int axis_number, dou
     t.bidirectional = false;
     t.backlash_um = params.count(1851) ? static_cast<double>(params[1851]) * detection_unit_um : 0.0;
   }
-  ValidateTable(t, source);
+  // A point's value is the sum of the increments from the reference out to it: blame the line of the
+  // last increment added (the forward block's; the reference point has none).
+  std::vector<int> point_lines;
+  for (int n = nmin - 1; n <= nmax; ++n) {
+    const int last_increment = n > nref ? n : n + 1;  // below the reference the sum runs downwards
+    point_lines.push_back(n == nref ? 0 : pitch_line.count(last_increment) ? pitch_line.at(last_increment) : 0);
+  }
+  ValidateReadTable(t, source, point_lines);
   return t;
 }
 

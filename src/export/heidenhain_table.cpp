@@ -114,6 +114,7 @@ CompensationTable ReadHeidenhainCom(std::string_view text, ValueSign sign, const
   t.axis = cols[2].name;
   const double k = SignFactor(sign);
   int expected_nr = 0;
+  std::vector<int> point_lines;
   for (const auto& [line_no, line] : body) {
     auto nr = ParseInt(Field(line, cols[0]));
     if (!nr || *nr != expected_nr)
@@ -131,13 +132,14 @@ CompensationTable ReadHeidenhainCom(std::string_view text, ValueSign sign, const
       throw InputError(source, line_no, "AXISPOS",
                        fmt::format("compensation points must ascend ({} follows {})", v[0], t.position_mm.back()));
     t.position_mm.push_back(v[0]);
+    point_lines.push_back(line_no);
     const double f = k * v[1] * 1000.0;
     t.forward_um.push_back(f);
     t.reverse_um.push_back(f + k * v[2] * 1000.0);
   }
   if (t.size() > static_cast<std::size_t>(kHeidenhainMaxPoints))
     throw InputError(source, 0, "NR", fmt::format("{} entries exceed {}", t.size(), kHeidenhainMaxPoints));
-  ValidateTable(t, source);
+  ValidateReadTable(t, source, point_lines);
   return t;
 }
 

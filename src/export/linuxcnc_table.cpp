@@ -73,6 +73,7 @@ CompensationTable ReadLinuxCncCompFile(std::string_view text, int comp_file_type
     throw InputError(source, 0, "COMP_FILE_TYPE", "must be 0 or 1");
   CompensationTable t;
   int line_no = 0;
+  std::vector<int> point_lines;
   LineCursor cursor(text);
   while (cursor.Next()) {
     line_no = cursor.number();
@@ -108,6 +109,7 @@ CompensationTable ReadLinuxCncCompFile(std::string_view text, int comp_file_type
       r = v[0] - v[2];
     }
     t.position_mm.push_back(v[0]);
+    point_lines.push_back(line_no);
     t.forward_um.push_back(f * 1000.0);
     t.reverse_um.push_back(r * 1000.0);
   }
@@ -115,7 +117,7 @@ CompensationTable ReadLinuxCncCompFile(std::string_view text, int comp_file_type
   if (t.size() > static_cast<std::size_t>(kLinuxCncMaxPoints))
     throw InputError(source, 0, "triplet",
                      fmt::format("{} points exceed LinuxCNC's limit of {} per joint", t.size(), kLinuxCncMaxPoints));
-  ValidateTable(t, source);
+  ValidateReadTable(t, source, point_lines);
   return t;
 }
 

@@ -86,6 +86,7 @@ CompensationTable ReadSinumerikEec(std::string_view text, const std::string& sou
   static const std::regex kParam(R"(\$AA_ENC_COMP_(STEP|MIN|MAX|IS_MODULO)\[\s*(\d+)\s*,\s*([A-Z][A-Z0-9_]*)\s*\]\s*=\s*(\S+))");
   static const std::regex kData(R"(\$(MA_BACKLASH|SA_TEMP_COMP_ABS_VALUE|SA_TEMP_COMP_SLOPE|SA_TEMP_COMP_REF_POSITION)\[[^\]]*\]\s*=\s*([-+0-9.eE]+))");
   std::map<long long, double> values;
+  std::map<long long, int> value_line;
   std::map<std::string, double> params;
   std::map<std::string, double> data;
   std::optional<std::string> axis;
@@ -131,6 +132,7 @@ CompensationTable ReadSinumerikEec(std::string_view text, const std::string& sou
       const long long idx = *idx_opt;
       if (values.count(idx)) throw InputError(source, line_no, "$AA_ENC_COMP", fmt::format("point {} given twice", idx));
       values[idx] = number(m[4], line_no, "$AA_ENC_COMP");
+      value_line[idx] = line_no;
     } else {
       throw InputError(source, line_no, "line", fmt::format("not a LEC assignment: '{}'", line));
     }
@@ -148,15 +150,23 @@ CompensationTable ReadSinumerikEec(std::string_view text, const std::string& sou
   const long long n = std::llround(n_real);
   if (std::abs(n_real - static_cast<double>(n)) > 1e-6)
     throw InputError(source, 0, "$AA_ENC_COMP_STEP", "(MAX − MIN) is not a whole number of steps");
-  if (static_cast<long long>(values.size()) != n || values.begin()->first != 0 || values.rbegin()->first != n - 1)
+  // An index outside 0…n−1 is named at its line first (with the right count it is the only fault:
+  // "give 1201 points but the file holds 1201 values" said nothing).
+  for (const auto& [idx, line] : value_line)
+    if (idx >= n)
+      throw InputError(source, line, "$AA_ENC_COMP",
+                       fmt::format("point index {} is outside 0…{} (MIN/MAX/STEP give {} points)", idx, n - 1, n));
+  if (static_cast<long long>(values.size()) != n)
     throw InputError(source, 0, "$AA_ENC_COMP",
-                     fmt::format("MIN/MAX/STEP give {} points but the file holds {} values (indices must be 0…{})", n,
+                     fmt::format("MIN/MAX/STEP give {} points but the file holds {} values (indices 0…{})", n,
                                  values.size(), n - 1));
   CompensationTable t;
   t.axis = axis.value_or("");
   t.bidirectional = false;
   const double abs_um = data.count("SA_TEMP_COMP_ABS_VALUE") ? data["SA_TEMP_COMP_ABS_VALUE"] * 1000.0 : 0.0;
+  std::vector<int> point_lines;
   for (long long i = 0; i < n; ++i) {
+    point_lines.push_back(value_line[i]);
     t.position_mm.push_back(lo + step * static_cast<double>(i));
     const double c = -values[i] * 1000.0 - abs_um;
     t.forward_um.push_back(c);
@@ -165,7 +175,7 @@ CompensationTable ReadSinumerikEec(std::string_view text, const std::string& sou
   t.backlash_um = data.count("MA_BACKLASH") ? data["MA_BACKLASH"] * 1000.0 : 0.0;
   if (data.count("SA_TEMP_COMP_SLOPE")) t.thermal_tan_beta_um_per_mm = -data["SA_TEMP_COMP_SLOPE"] * 1000.0;
   if (data.count("SA_TEMP_COMP_REF_POSITION")) t.thermal_reference_mm = data["SA_TEMP_COMP_REF_POSITION"];
-  ValidateTable(t, source);
+  ValidateReadTable(t, source, point_lines);
   return t;
 }
 

@@ -27,9 +27,10 @@ bool CalibrationOptions::IsValid(std::string* why) const {
 }
 
 std::string CalibrationFit::BriefReport() const {
-  return fmt::format("gain {:.5f}{} offset {:+.3f} °C from {} points over {:.2f} °C; residual rms {:.3f} °C, "
+  return fmt::format("gain {:.5f}{} offset {:+.3f} °C from {} points, reference span {:.2f} °C; residual rms {:.3f} °C, "
                      "max {:.3f} °C (before: max {:.3f} °C)",
-                     calibration.gain, gain_fitted ? "" : " (not fitted: span too small)", calibration.offset_c,
+                     calibration.gain, gain_fitted ? "" : " (not fitted: reference span too small)",
+                     calibration.offset_c,
                      points, reference_span_c, rms_residual_c, max_abs_residual_c, max_abs_error_before_c);
 }
 
@@ -93,6 +94,40 @@ std::string CalibrationSet::FullReport() const {
 
 namespace {
 
+// max − min of the sensor and of the reference over the rows where both were read.
+std::pair<double, double> SpansOverSharedRows(const std::vector<double>& sensor_c, const std::vector<double>& reference_c) {
+  double smin = INFINITY, smax = -INFINITY, rmin = INFINITY, rmax = -INFINITY;
+  for (std::size_t i = 0; i < sensor_c.size() && i < reference_c.size(); ++i) {
+    if (!std::isfinite(sensor_c[i]) || !std::isfinite(reference_c[i])) continue;
+    smin = std::min(smin, sensor_c[i]);
+    smax = std::max(smax, sensor_c[i]);
+    rmin = std::min(rmin, reference_c[i]);
+    rmax = std::max(rmax, reference_c[i]);
+  }
+  if (smin > smax) return {0.0, 0.0};
+  return {smax - smin, rmax - rmin};
+}
+
+// In a session every sensor sits at the reference's temperature, so their spans agree (a gain in
+// [min_gain, max_gain]). One that stays put while the other moves by min_span_c or more was not at the
+// other's temperature — stuck, unplugged, out of the block — and an offset-only fit of it would be
+// meaningless (a constant sensor against a reference over 23 °C gave offset +13 °C, residual 6 °C).
+// Refused, naming the column that did not move.
+void RefuseSpanMismatch(const CalibrationSession& session, const std::string& sensor, const std::vector<double>& sensor_c,
+                        const std::string& reference, const std::vector<double>& reference_c,
+                        const CalibrationOptions& options) {
+  const auto [sensor_span, reference_span] = SpansOverSharedRows(sensor_c, reference_c);
+  const double larger = std::max(sensor_span, reference_span);
+  if (larger < options.min_span_c || std::min(sensor_span, reference_span) >= 0.5 * larger) return;
+  const bool sensor_still = sensor_span < reference_span;
+  throw InputError(session.source, 0, sensor_still ? sensor : reference,
+                   fmt::format("cannot calibrate '{}': {} '{}' spans {:.2f} °C while {} '{}' spans {:.2f} °C over the "
+                               "same rows; a stuck or disconnected sensor, or one not at the other's temperature",
+                               sensor, sensor_still ? "sensor" : "reference", sensor_still ? sensor : reference,
+                               sensor_still ? sensor_span : reference_span, sensor_still ? "reference" : "sensor",
+                               sensor_still ? reference : sensor, sensor_still ? reference_span : sensor_span));
+}
+
 // Header names may carry the measurement-CSV style "t_<name>_c".
 std::string SensorNameFromHeader(std::string_view h) {
   std::string name(h);
@@ -118,8 +153,8 @@ CalibrationSession ParseCalibrationSessionCsv(std::string_view text, const std::
     auto fields = SplitCsvFields(line);
     if (!have_header) {
       have_header = true;
+      RefuseEmptyHeaderField(fields, source, line_no);
       for (auto f : fields) {
-        if (f.empty()) throw InputError(source, line_no, "header", "empty column name");
         if (f == "time_s" || f == "time") {
           column_to_sensor.push_back(-1);
           continue;
@@ -178,6 +213,7 @@ CalibrationSet CalibrateSession(const CalibrationSession& session, const std::st
   set.session = session.source;
   for (std::size_t i = 0; i < session.sensors.size(); ++i) {
     if (session.sensors[i] == reference) continue;
+    RefuseSpanMismatch(session, session.sensors[i], session.readings_c[i], reference, ref, options);
     try {
       set.sensors[session.sensors[i]] = FitCalibration(session.readings_c[i], ref, options);
     } catch (const std::invalid_argument& e) {

@@ -7,6 +7,7 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/text_file.hpp"
 
@@ -32,6 +33,7 @@ ReadingsTable ParseReadingsCsv(std::string_view text, const std::string& source,
     auto fields = SplitCsvFields(line);
     if (!have_header) {
       have_header = true;
+      RefuseEmptyHeaderField(fields, source, line_no);
       for (std::size_t c = 0; c < fields.size(); ++c) {
         const std::string name(fields[c]);
         if (name == "time_s") {
@@ -57,6 +59,7 @@ ReadingsTable ParseReadingsCsv(std::string_view text, const std::string& source,
       throw InputError(source, line_no, "", fmt::format("{} fields, the header has {}", fields.size(), column_to_channel.size()));
     auto time = ParseDouble(fields[static_cast<std::size_t>(time_col)]);
     if (!time || !std::isfinite(*time)) throw InputError(source, line_no, "time_s", "not a number");
+    if (auto why = ImplausibleTimeS(*time)) throw InputError(source, line_no, "time_s", *why);
     if (*time < previous_time)
       throw InputError(source, line_no, "time_s", fmt::format("{} goes back in time (previous row {})", *time, previous_time));
     previous_time = *time;
@@ -85,9 +88,9 @@ ReadingsTable ReadReadingsCsv(const std::string& path, const std::vector<std::st
 OfflineFilterResult RunMonitorOffline(const ReadingsTable& table, const MonitorOptions& options,
                                       const CalibrationSet* calibration) {
   TemperatureMonitor mon(table.channels, options);
-  if (calibration) mon.SetCalibration(*calibration);
-  const std::size_t n = table.time_s.size(), channels = table.channels.size();
   OfflineFilterResult out;
+  if (calibration) out.calibration_without_channel = mon.SetCalibration(*calibration);
+  const std::size_t n = table.time_s.size(), channels = table.channels.size();
   out.channels = table.channels;
   out.filtered_c.assign(channels, std::vector<double>(n));
   out.status.assign(channels, std::vector<ChannelStatus>(n));

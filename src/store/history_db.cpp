@@ -143,6 +143,12 @@ HistoryDb::~HistoryDb() {
 }
 
 void HistoryDb::Fail(const std::string& what) const {
+  // A damaged file (pages overwritten, cut short) shows only when its pages are read: that is bad input
+  // (the user's file), not a program failure.
+  const int code = db_ ? (sqlite3_errcode(db_) & 0xff) : SQLITE_OK;
+  if (code == SQLITE_CORRUPT || code == SQLITE_NOTADB)
+    throw InputError(path_, fmt::format("the history database is damaged ({}: {}){}", what, sqlite3_errmsg(db_),
+                                        read_only_ ? "; the file was not modified" : ""));
   throw std::runtime_error(fmt::format("{}: {}: {}", path_, what, db_ ? sqlite3_errmsg(db_) : "no connection"));
 }
 

@@ -63,9 +63,9 @@ ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& so
     if (!have_header) {
       have_header = true;
       std::set<std::string> seen;
+      RefuseEmptyHeaderField(fields, source, line_no);
       for (auto f : fields) {
         std::string name(f);
-        if (name.empty()) throw InputError(source, line_no, "(empty)", "empty column name in the header");
         if (!seen.insert(name).second) throw InputError(source, line_no, name, "column given twice");
         Column col{Kind::kTime, name};
         if (name == "time_s") {

@@ -1,6 +1,8 @@
 // `trueaxis analyze` end to end: real files, JSON contract, report, and every
 // bad input of issue 2 (exit code 2, message naming file, line and field).
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include <gtest/gtest.h>
 
@@ -205,3 +207,16 @@ TEST(AnalyzeCliCompare, UnrelatedTestsAreRefused) {
   EXPECT_NE(r.err.find("field 'target_mm'"), std::string::npos) << r.err;
 }
 }  // namespace
+
+// `analyze run.csv --report run.csv` replaced the laser run with HTML (exit 0).
+TEST(AnalyzeCli, ReportOverTheMeasurementIsRefused) {
+  std::ifstream in(kExample);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string run = WriteTemp("analyze_over.csv", text);
+  const auto r = RunCli("analyze " + Q(run) + " --report " + Q(run));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("command line: field '--report': '" + run + "' is the input file"), std::string::npos) << r.err;
+  std::ifstream back(run);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(back)), std::istreambuf_iterator<char>()), text);
+  std::filesystem::remove(run);
+}

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <regex>
 #include <string>
 
 #include <fmt/format.h>
@@ -292,6 +293,98 @@ TEST_F(ExportCli, CorruptTableOnReadNamesTheLine) {
   const auto r = Cli("export --read " + Path("c.txt") + " --format linuxcnc");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("c.txt:2: field 'triplet'"), std::string::npos) << r.out;
+}
+
+TEST_F(ExportCli, RefusesAnOutputThatIsAnInput) {
+  fs::copy_file(kModel, Path("m.json"));
+  const std::string model = ReadTextFile(Path("m.json"));
+  const auto r = Cli("export --model " + Path("m.json") + " --axis X --format csv --temp nut=30 --temp bearing=26 --out " +
+                     Path("m.json"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("command line: field '--out': '" + Path("m.json") + "' is the input file"), std::string::npos) << r.out;
+  EXPECT_EQ(ReadTextFile(Path("m.json")), model);
+}
+
+// A table read back must be one a controller can take: the readers refused nothing but syntax
+// (a FANUC P99999 read as a 100 mm correction, a LinuxCNC file in µm, "# sign: sideways", one point).
+TEST_F(ExportCli, ReadRefusesImplausibleTablesNamingFileLineAndField) {
+  const std::string csv_head = "# axis: X\n# sign: correction\nposition_mm,forward_correction_um,reverse_correction_um\n";
+  WriteTextFile(Path("huge.csv"), csv_head + "0,1,1\n50,1e308,2\n100,3,3\n");
+  WriteTextFile(Path("sideways.csv"), "# sign: sideways\n" + csv_head.substr(csv_head.find("position_mm")) + "0,1,1\n50,2,2\n");
+  WriteTextFile(Path("other_axis.csv"), "# axis: Y\nposition_mm,forward_correction_um,reverse_correction_um\n0,1,1\n50,2,2\n");
+  WriteTextFile(Path("one.lin"), "0 0.001 0.002\n");
+  WriteTextFile(Path("um.lin"), "0 0 0\n100 119.07 118.5\n200 3 3\n");  // µm where LinuxCNC wants mm
+  const std::pair<std::string, std::string> cases[] = {
+      {"--read " + Path("huge.csv") + " --format csv --axis X", "huge.csv:5: field 'forward_um'"},
+      {"--read " + Path("sideways.csv") + " --format csv", "sideways.csv:1: field 'sign'"},
+      {"--read " + Path("other_axis.csv") + " --format csv --axis X", "other_axis.csv: field 'axis': the table is for axis Y"},
+      {"--read " + Path("one.lin") + " --format linuxcnc", "one.lin:1: field 'position_mm'"},
+      {"--read " + Path("um.lin") + " --format linuxcnc", "um.lin:2: field 'forward_um'"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const auto r = Cli("export " + args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find(expected), std::string::npos) << args << "\n" << r.out;
+  }
+  // A FANUC tape with one pitch point edited to P99999 (99.999 mm at 1 µm units).
+  const std::string base = "export --model " + kModel + " --axis X --spacing 20 --temp nut=30 --temp bearing=26 ";
+  ASSERT_EQ(Cli(base + "--format fanuc --out " + Path("x.tape")).code, 0);
+  std::string tape = ReadTextFile(Path("x.tape"));
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(tape, m, std::regex(R"(\nN1\d{4}P(-?\d+)\n)")));
+  const std::size_t at = static_cast<std::size_t>(m.position(1));
+  const int line = static_cast<int>(std::count(tape.begin(), tape.begin() + static_cast<long>(at), '\n')) + 1;
+  tape.replace(at, static_cast<std::size_t>(m.length(1)), "99999");
+  WriteTextFile(Path("huge.tape"), tape);
+  auto r = Cli("export --read " + Path("huge.tape") + " --format fanuc");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find(fmt::format("huge.tape:{}: field", line)), std::string::npos) << r.out;
+  // The tables the writers make still read back (EveryFormatWritesAndReadsBack covers each format).
+  r = Cli("export --read " + Path("x.tape") + " --format fanuc");
+  EXPECT_EQ(r.code, 0) << r.out;
+}
+
+// Index 999999 among the right number of values: "MIN/MAX/STEP give 1201 points but the file holds 1201
+// values", no line. Now the index is named at its line.
+TEST_F(ExportCli, SinumerikIndexOutOfRangeIsNamedAtItsLine) {
+  const std::string base = "export --model " + kModel + " --axis X --spacing 20 --temp nut=30 --temp bearing=26 ";
+  ASSERT_EQ(Cli(base + "--format sinumerik --out " + Path("X_EEC.INI")).code, 0);
+  std::string text = ReadTextFile(Path("X_EEC.INI"));
+  const std::size_t at = text.find("$AA_ENC_COMP[0,3,");
+  ASSERT_NE(at, std::string::npos) << text;
+  const int line = static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n')) + 1;
+  text.replace(at, std::string("$AA_ENC_COMP[0,3,").size(), "$AA_ENC_COMP[0,999999,");
+  WriteTextFile(Path("IDX_EEC.INI"), text);
+  const auto r = Cli("export --read " + Path("IDX_EEC.INI") + " --format sinumerik");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find(fmt::format("IDX_EEC.INI:{}: field '$AA_ENC_COMP': point index 999999 is outside", line)),
+            std::string::npos)
+      << r.out;
+}
+
+// Given as nan, 0 or negative, these options read as "not given" and silently took the default.
+TEST_F(ExportCli, OptionsThatWouldReadAsTheDefaultAreRefused) {
+  const std::string m = "export --model " + kModel + " --axis X --temp nut=30 --temp bearing=26 ";
+  const std::string out = " --out " + Path("bad");
+  const std::pair<std::string, std::string> cases[] = {
+      {m + "--format csv --spacing nan" + out, "field '--spacing'"},
+      {m + "--format csv --start nan" + out, "field '--start'"},
+      {m + "--format csv --reference-mm nan" + out, "field '--reference-mm'"},
+      {m + "--format csv --count 0" + out, "field '--count'"},
+      {m + "--format csv --max-points 0" + out, "field '--max-points'"},
+      {m + "--format csv --max-points -1" + out, "field '--max-points'"},
+      {m + "--format fanuc --max-feed -1" + out, "field '--max-feed'"},
+      {m + "--format fanuc --max-feed nan" + out, "field '--max-feed'"},
+      {m + "--format fanuc --max-feed 0" + out, "field '--max-feed'"},
+      {m + "--format csv --range nan:10" + out, "field '--range'"},
+      {m + "--format csv --range 0:1e9" + out, "field '--range'"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const auto r = Cli(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find(expected), std::string::npos) << args << "\n" << r.out;
+    EXPECT_FALSE(fs::exists(Path("bad"))) << args;
+  }
 }
 
 }  // namespace

@@ -198,6 +198,30 @@ TEST_F(CliFit, PredictMeasurementReportsHeldOutResidual) {
   EXPECT_THAT(r.out, HasSubstr("t_nut_c"));
 }
 
+// `fit … --out <a measurement>` replaced the raw laser file by model JSON (exit 0). --previous may be
+// --out: it is read in full first, and the new revision records it as parent (docs/model-file.md).
+TEST_F(CliFit, RefusesAnOutputOverAnInputButMayReplaceThePreviousRevision) {
+  const std::string measurement = ReadTextFile(files_[0]);
+  auto r = Cli("fit --out " + files_[0] + AllFiles());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("command line: field '--out': '" + files_[0] + "' is the input file"));
+  EXPECT_EQ(ReadTextFile(files_[0]), measurement);
+  r = Cli("fit --out " + P("m.json") + " --report " + files_[1] + AllFiles());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("field '--report'"));
+  EXPECT_FALSE(fs::exists(P("m.json")));
+  r = Cli("fit --out " + P("m.json") + " --report " + P("m.json") + AllFiles());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("field '--report'"));
+  ASSERT_EQ(Cli("fit --out " + P("m.json") + AllFiles()).code, 0);
+  const std::string first_sha = Sha256OfFile(P("m.json"));
+  r = Cli("fit --out " + P("m.json") + " --previous " + P("m.json") + AllFiles());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto m2 = ReadModelFile(P("m.json"));
+  EXPECT_EQ(m2.revision, 2);
+  EXPECT_EQ(m2.parent_sha256, first_sha);
+}
+
 TEST_F(CliFit, RefitRecordsRevisionParentAndLineage) {
   ASSERT_EQ(Cli("fit --out " + P("m1.json") + AllFiles()).code, 0);
   auto r2 = Cli("fit --out " + P("m2.json") + " --previous " + P("m1.json") + AllFiles());

@@ -22,6 +22,18 @@ fs::path Scratch(const std::string& name) {
   return d;
 }
 
+TEST(PitchCli, TableRefusesAnOutputThatIsItsMeasurement) {
+  const fs::path d = Scratch("over");
+  const std::string run = (d / "fine.csv").string();
+  fs::copy_file(std::string(TRUEAXIS_SOURCE_DIR) + "/examples/measurements/x_axis_cold.csv", run);
+  const auto size = fs::file_size(run);
+  const auto r = RunCli("pitch table --measurement " + run + " --out " + run);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("command line: field '--out': '" + run + "' is the input file"), std::string::npos) << r.output;
+  EXPECT_EQ(fs::file_size(run), size);
+  fs::remove_all(d);
+}
+
 TEST(PitchCli, CalibrateTableRunReportExport) {
   const fs::path d = Scratch("flow");
   const std::string before = (d / "Z_fine.csv").string(), table = (d / "Z.pitch.csv").string(),

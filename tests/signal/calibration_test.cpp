@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <random>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "support/cli_runner.hpp"
@@ -133,6 +134,49 @@ TEST(CalibrationSession, BadInputNamesFileLineAndField) {
   }
 }
 
+// A column that stays put while its partner moves over min_span_c or more was not at the partner's
+// temperature: an offset-only "calibration" of it was written (offset +13 °C, residual rms 6 °C, exit 0).
+TEST(CalibrationSession, RefusesAStuckSensorOrAStuckReferenceNamingTheColumn) {
+  std::string stuck_sensor = "ref,x_nut,x_bearing\n", stuck_reference = "ref,x_nut,x_bearing\n";
+  for (int i = 0; i <= 20; ++i) {
+    const double t = 20.0 + i;
+    stuck_sensor += fmt::format("{},20.0,{}\n", t, t + 0.1);
+    stuck_reference += fmt::format("22.5,{},{}\n", t, t + 0.1);
+  }
+  try {
+    CalibrateSession(ParseCalibrationSessionCsv(stuck_sensor, "s.csv"), "ref");
+    FAIL() << "a stuck sensor was calibrated";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), "s.csv");
+    EXPECT_EQ(e.field(), "x_nut");
+    EXPECT_NE(e.message().find("sensor 'x_nut' spans 0.00 °C while reference 'ref' spans 20.00 °C"), std::string::npos)
+        << e.message();
+  }
+  try {
+    CalibrateSession(ParseCalibrationSessionCsv(stuck_reference, "s.csv"), "ref");
+    FAIL() << "a stuck reference was used";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "ref");
+    EXPECT_NE(e.message().find("reference 'ref' spans 0.00 °C"), std::string::npos) << e.message();
+  }
+  // One temperature for all (a block at one plateau): offset only, as before, and said consistently.
+  const auto one_plateau = CalibrateSession(ParseCalibrationSessionCsv("ref,a\n20,20.4\n20.1,20.5\n20.05,20.45\n", "s.csv"), "ref");
+  EXPECT_FALSE(one_plateau.sensors.at("a").gain_fitted);
+  EXPECT_NE(one_plateau.FullReport().find("(not fitted: reference span too small)"), std::string::npos);
+  EXPECT_NE(one_plateau.FullReport().find("reference span 0.10 °C"), std::string::npos) << one_plateau.FullReport();
+}
+
+TEST(CalibrationSession, EmptyColumnNameNamesLineAndHeader) {
+  try {
+    ParseCalibrationSessionCsv("# block\nref,,a\n20,20,20\n", "s.csv");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(e.field(), "header");
+    EXPECT_NE(e.message().find("column 2 of 3 has no name"), std::string::npos) << e.message();
+  }
+}
+
 TEST(CalibrationJson, RejectsForeignOrBrokenFiles) {
   EXPECT_THROW(CalibrationSetFromJson("{", "c.json"), InputError);
   EXPECT_THROW(CalibrationSetFromJson(R"({"format":"other"})", "c.json"), InputError);
@@ -185,6 +229,16 @@ TEST_F(CalibrateCli, BadInputsExitTwoWithClearMessage) {
                       (dir_ / "cal.json").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("missing.csv"), std::string::npos) << r.output;
+}
+
+TEST_F(CalibrateCli, RefusesAnOutputThatIsTheSession) {
+  const std::string session = (dir_ / "s.csv").string();
+  WriteTextFile(session, "ref,a\n20,20\n30,30\n40,40\n");
+  const auto r = testing::RunCli("calibrate --session " + session + " --reference ref --out " + session);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("field '--out'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("s.csv"), std::string::npos) << r.output;
+  EXPECT_EQ(ReadTextFile(session), "ref,a\n20,20\n30,30\n40,40\n");
 }
 
 }  // namespace

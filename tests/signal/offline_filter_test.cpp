@@ -39,6 +39,46 @@ TEST(ReadingsCsv, ParsesSelectsAndRejectsBadInput) {
   EXPECT_THROW(ParseReadingsCsv("time_s,a\n", "r.csv"), InputError);
 }
 
+// docs/formats.md bounds every time to ±1e10 s, and a column needs a name (`calibrate` refuses the same).
+TEST(ReadingsCsv, RefusesAnImplausibleTimeAndAnUnnamedColumn) {
+  try {
+    ParseReadingsCsv("time_s,a\n0,20\n7.2e12,20\n", "r.csv", {});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(e.field(), "time_s");
+    EXPECT_NE(e.message().find("beyond"), std::string::npos) << e.message();
+  }
+  try {
+    ParseReadingsCsv("time_s,a,\n0,20,21\n", "r.csv", {});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 1);
+    EXPECT_EQ(e.field(), "header");
+  }
+}
+
+TEST(SignalCli, RefusesAHugeStartTimeAndWarnsOfAnUnmatchedCalibration) {
+  const auto dir = std::filesystem::temp_directory_path() / ("trueaxis_sigcli2_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string in = (dir / "r.csv").string(), db = (dir / "y.db").string(), cal = (dir / "cal.json").string();
+  WriteTextFile(in, "time_s,a,b\n0,20,21\n1,20.1,21.1\n2,20.2,21.2\n");
+  auto r = testing::RunCli("signal filter --in " + in + " --db " + db + " --start-time 1e300");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("field '--start-time'"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(db));
+  WriteTextFile(cal, R"({"format":"trueaxis-calibration","version":1,"reference":"ref","session":"s.csv",)"
+                     R"("sensors":{"nope":{"gain":1.0,"offset_c":0.5,"points":3}}})");
+  r = testing::RunCli("signal filter --in " + in + " --calibration " + cal);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: " + cal + ": sensor 'nope' is no channel of " + in), std::string::npos) << r.output;
+  r = testing::RunCli("signal filter --in " + in + " --out " + in);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("field '--out'"), std::string::npos) << r.output;
+  EXPECT_EQ(ReadTextFile(in), "time_s,a,b\n0,20,21\n1,20.1,21.1\n2,20.2,21.2\n");
+  std::filesystem::remove_all(dir);
+}
+
 // Real data nobody here produced (FL_THERMAL, 46 h, 16 temperatures at 15 s):
 // a healthy recording must not be called faulty, and the filter must not
 // distort it (its sensors are already smooth).

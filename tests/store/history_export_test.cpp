@@ -225,5 +225,52 @@ TEST_F(HistoryExportTest, CliBadInputsExitTwoAndChangeNothing) {
   EXPECT_EQ(ReadFileBytes(db_path_), before);
 }
 
+TEST_F(HistoryExportTest, CliRefusesAnOutputThatIsTheDatabaseOrADirectory) {
+  const std::string before = ReadFileBytes(db_path_);
+  for (const char* format : {"csv", "xlsx"}) {
+    const auto r = testing::RunCli(std::string("history export --db ") + db_path_ + " --format " + format + " --out " + db_path_);
+    EXPECT_EQ(r.exit_code, 2) << format << ": " << r.output;
+    EXPECT_NE(r.output.find("field '--out'"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("is the input file"), std::string::npos) << r.output;
+    EXPECT_EQ(ReadFileBytes(db_path_), before) << format;
+  }
+  // The same file by another spelling (./dir/../h.db) is the same file.
+  const std::string other_spelling = (dir_ / "." / ".." / dir_.filename() / "h.db").string();
+  auto r = testing::RunCli("history export --db " + db_path_ + " --format csv --out " + other_spelling);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(ReadFileBytes(db_path_), before);
+  r = testing::RunCli("history export --db " + db_path_ + " --format xlsx --out " + dir_.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("field '--out'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("is a directory"), std::string::npos) << r.output;
+}
+
+// A database whose data pages are overwritten passes the header checks and fails on the first table read:
+// that is a damaged input file (exit 2, the file named), and `query` prints no CSV header before the error.
+TEST_F(HistoryExportTest, CliDamagedDatabaseExitsTwoNamingTheFile) {
+  const std::string damaged = Path("damaged.db");
+  {
+    HistoryWriter w(damaged);
+    for (int i = 0; i < 3000; ++i) w.PushTemperature(1795334400.0 + i, "x_nut", 22 + 0.001 * i, 22, "ok");
+  }
+  std::string bytes = ReadFileBytes(damaged);
+  ASSERT_GT(bytes.size(), 8u * 4096u);
+  std::uint32_t state = 12345;
+  for (std::size_t i = 2 * 4096; i < bytes.size(); ++i) {  // pages 3…: table data, not the header or schema
+    state = state * 1103515245u + 12345u;
+    bytes[i] = static_cast<char>(state >> 24);
+  }
+  WriteTextFile(damaged, bytes);
+  for (const std::string& cmd : std::vector<std::string>{"history info --db ", "history query --db ",
+                                                         "history export --format csv --out " + Path("x.csv") + " --db "}) {
+    const auto r = testing::RunCli(cmd + damaged);
+    EXPECT_EQ(r.exit_code, 2) << cmd << r.output;
+    EXPECT_NE(r.output.find("damaged.db"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("the history database is damaged"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("time_s,time_utc"), std::string::npos) << r.output;
+  }
+  EXPECT_EQ(ReadFileBytes(damaged), bytes);
+}
+
 }  // namespace
 }  // namespace trueaxis::store

@@ -40,6 +40,11 @@ std::vector<std::string_view> SplitCsvFields(std::string_view line);
 // The inverse of SplitCsvFields for every writer (history export, `history query`).
 std::string CsvField(std::string_view field);
 
+// Throws InputError(source, line, "header", ...) when a field of a CSV header row is empty (",," or a
+// trailing comma): a column without a name cannot be told apart or written back (`_c,_status`). Every
+// reader of a header of named columns (calibration session, readings, thermal series) refuses it alike.
+void RefuseEmptyHeaderField(const std::vector<std::string_view>& header, const std::string& source, int line);
+
 // The CSV text in trueaxis's canonical dialect: a file whose header is
 // separated by ';' (a German or Chinese locale's Excel export) has its ';'
 // turned into ',' and its decimal commas into points, comment lines untouched.

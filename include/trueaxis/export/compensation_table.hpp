@@ -63,4 +63,10 @@ double AppliedCorrectionUm(const CompensationTable& table, double position_mm, D
 // is refused rather than written into a controller file.
 void ValidateTable(const CompensationTable& table, const std::string& source);
 
+// What every table reader (`export --read`) checks on top of ValidateTable, since a controller file may
+// come from anywhere: at least 2 points (every writer needs 2), positions within ±100 000 mm and
+// corrections and backlash within ±10 000 µm (core/plausibility.hpp) — a LinuxCNC file holding µm
+// instead of mm, a FANUC point P99999 — naming the line of the point (`point_lines[i]`, 0 when unknown).
+void ValidateReadTable(const CompensationTable& table, const std::string& source, const std::vector<int>& point_lines);
+
 }  // namespace trueaxis::exporter

@@ -44,6 +44,7 @@ struct OfflineFilterResult {
   std::vector<std::vector<double>> filtered_c;                 // [channel][row]
   std::vector<std::vector<ChannelStatus>> status;              // [channel][row]
   std::vector<ChannelSummary> summary;                         // [channel]
+  std::vector<std::string> calibration_without_channel;        // calibrated sensors no column matched (not applied)
   std::string FullReport() const;
 };
 
