@@ -6,7 +6,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
+
+#include <unistd.h>
 
 #include "trueaxis/core/input_error.hpp"
 
@@ -87,17 +90,65 @@ std::string ReadFileBytes(const std::string& path) {
 
 std::string ReadTextFile(const std::string& path) { return DecodeText(ReadFileBytes(path), path); }
 
+namespace {
+
+// Where the finished file goes: the path, or a symlink's target; nullopt for a device, FIFO or
+// socket (written through, not replaced).
+std::optional<std::filesystem::path> ReplaceTarget(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);  // follows symlinks
+  if (!fs::exists(st)) return fs::path(path);        // a new file
+  if (fs::is_directory(st)) throw InputError(path, "is a directory, expected a file name to write");
+  if (!fs::is_regular_file(st)) return std::nullopt;
+  const fs::path real = fs::canonical(path, ec);
+  return ec ? fs::path(path) : real;
+}
+
+}  // namespace
+
+std::string TemporaryPathFor(const std::string& path) {
+  const auto target = ReplaceTarget(path);
+  if (target) return target->string() + ".tmp";
+  return (std::filesystem::temp_directory_path() /
+          ("trueaxis_" + std::to_string(::getpid()) + "_" + std::filesystem::path(path).filename().string() + ".tmp"))
+      .string();
+}
+
+void CommitTemporaryFile(const std::string& tmp, const std::string& path) {
+  std::error_code ec;
+  const auto target = ReplaceTarget(path);
+  if (!target) {
+    {
+      std::ifstream in(tmp, std::ios::binary);
+      std::ofstream out(path, std::ios::binary);
+      if (!in || !out) {
+        std::filesystem::remove(tmp, ec);
+        throw InputError(path, std::string("cannot write: ") + std::strerror(errno));
+      }
+      out << in.rdbuf();
+      out.flush();
+    }
+    std::filesystem::remove(tmp, ec);
+    return;
+  }
+  std::filesystem::rename(tmp, *target, ec);
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw InputError(path, "cannot replace file: " + ec.message());
+  }
+}
+
 void WriteTextFile(const std::string& path, std::string_view content) {
-  const std::string tmp = path + ".tmp";
+  const std::string tmp = TemporaryPathFor(path);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw InputError(path, std::string("cannot write: ") + std::strerror(errno));
     out.write(content.data(), static_cast<std::streamsize>(content.size()));
     if (!out) throw InputError(path, "write failed");
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw InputError(path, "cannot replace file: " + ec.message());
+  CommitTemporaryFile(tmp, path);
 }
 
 }  // namespace trueaxis

@@ -16,6 +16,7 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/core/text_file.hpp"
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/store/time_text.hpp"
 
@@ -50,10 +51,10 @@ namespace {
 
 std::string Num(double v) { return std::isfinite(v) ? FormatShortest(v) : ""; }
 
-// Writes to "<path>.tmp" and renames on success.
+// Fills TemporaryPathFor(path) and commits it on success (core/text_file.hpp).
 class AtomicOutput {
  public:
-  explicit AtomicOutput(std::string path) : path_(std::move(path)), tmp_(path_ + ".tmp") {
+  explicit AtomicOutput(std::string path) : path_(std::move(path)), tmp_(TemporaryPathFor(path_)) {
     out_.open(tmp_, std::ios::binary | std::ios::trunc);
     if (!out_) throw InputError(path_, "cannot create the export file (directory missing or not writable?)");
   }
@@ -68,10 +69,8 @@ class AtomicOutput {
   void Commit() {
     out_.close();
     if (!out_) throw std::runtime_error(path_ + ": write failed (disk full?)");
-    std::error_code ec;
-    std::filesystem::rename(tmp_, path_, ec);
-    if (ec) throw std::runtime_error(path_ + ": cannot rename the finished export: " + ec.message());
-    committed_ = true;
+    committed_ = true;  // CommitTemporaryFile removes tmp_ whether it succeeds or not
+    CommitTemporaryFile(tmp_, path_);
   }
 
  private:
@@ -233,7 +232,7 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
   db.QueryCompensation(TimeRange{1, 0}, request.axes);
 
   ExportResult result;
-  const std::string tmp = out_path + ".tmp";
+  const std::string tmp = TemporaryPathFor(out_path);
   {
     // libxlsxwriter creates the file only when the workbook closes, after the whole export, and
     // then prints its own raw error: check that the file can be created before any work.
@@ -348,9 +347,7 @@ ExportResult ExportXlsx(const HistoryDb& db, const ExportRequest& request, const
     std::filesystem::remove(tmp, ec);
     throw;
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, out_path, ec);
-  if (ec) throw std::runtime_error(out_path + ": cannot rename the finished workbook: " + ec.message());
+  CommitTemporaryFile(tmp, out_path);
   return result;
 }
 
