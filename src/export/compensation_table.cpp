@@ -62,12 +62,10 @@ void ValidateTable(const CompensationTable& table, const std::string& source) {
 }
 
 void ValidateReadTable(const CompensationTable& table, const std::string& source, const std::vector<int>& point_lines) {
-  ValidateTable(table, source);
   const auto line_of = [&](std::size_t i) { return i < point_lines.size() ? point_lines[i] : 0; };
-  if (table.size() < 2)
-    throw InputError(source, line_of(0), "position_mm",
-                     "the table has a single point; a compensation table needs at least 2 (as every writer does)");
-  for (std::size_t i = 0; i < table.size(); ++i) {
+  // The implausible values first, each at its line (ValidateTable below names only the index).
+  const std::size_t n = std::min({table.position_mm.size(), table.forward_um.size(), table.reverse_um.size()});
+  for (std::size_t i = 0; i < n; ++i) {
     if (auto why = ImplausiblePositionMm(table.position_mm[i]))
       throw InputError(source, line_of(i), "position_mm", *why);
     for (const auto* column : {&table.forward_um, &table.reverse_um})
@@ -75,7 +73,10 @@ void ValidateReadTable(const CompensationTable& table, const std::string& source
         throw InputError(source, line_of(i), column == &table.forward_um ? "forward_um" : "reverse_um",
                          fmt::format("correction at {} mm: {}", table.position_mm[i], *why));
   }
-  if (auto why = ImplausibleDeviationUm(table.backlash_um)) throw InputError(source, 0, "backlash_um", *why);
+  ValidateTable(table, source);
+  if (table.size() < 2)
+    throw InputError(source, line_of(0), "position_mm",
+                     "the table has a single point; a compensation table needs at least 2 (as every writer does)");
 }
 
 }  // namespace trueaxis::exporter
