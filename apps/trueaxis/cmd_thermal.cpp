@@ -12,6 +12,7 @@
 #include "command.hpp"
 #include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/thermal/lagged_inputs.hpp"
@@ -263,6 +264,16 @@ void Setup(CLI::App& app) {
       ThermalSeries cleaned = ConcatenateExperiments(parts, &rep.warnings);
       for (const auto& w : rep.warnings) fmt::print(stderr, "warning: {}\n", w);
       Eigen::MatrixXd pred = PredictSeries(*model, cleaned);
+      // A prediction no machine's thermal error reaches (a damaged coefficient, a model of other
+      // units) is refused, not written as a compensation value.
+      for (Eigen::Index r = 0; r < pred.rows(); ++r)
+        for (Eigen::Index c = 0; c < pred.cols(); ++c)
+          if (auto why = ImplausibleDeviationUm(pred(r, c)))
+            throw InputError(*model_path, 0, "channels",
+                             fmt::format("the model predicts {:g} µm for channel {} at line {} of {}: {}; the model file "
+                                         "is damaged or of other units",
+                                         pred(r, c), model->Channels()[static_cast<std::size_t>(c)],
+                                         cleaned.LineOf(r), *series, *why));
       std::vector<ThermalInterval> iv = model->ClassifyRows(WithLaggedInputs(cleaned, model->InputSensors()));
       std::string text = cleaned.has_time ? "time_s" : "row";
       if (cleaned.has_position) text += ",position_mm";

@@ -1,5 +1,7 @@
 #include "trueaxis/thermal/linear_model.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <limits>
 
@@ -89,6 +91,8 @@ LinearThermalModel LinearThermalModel::FromJson(const nlohmann::json& doc, const
       for (std::size_t s = 0; s < sensors.size(); ++s)
         if (sensors[s] == names[k]) idx = static_cast<int>(s);
       if (idx < 0) f.Fail(f.Index(f.Join(p, "sensors"), k), "'" + names[k] + "' is not in the model's sensors list");
+      if (std::find(ch.inputs.begin(), ch.inputs.end(), idx) != ch.inputs.end())
+        f.Fail(f.Index(f.Join(p, "sensors"), k), "'" + names[k] + "' is listed twice");
       ch.inputs.push_back(idx);
     }
     channels.push_back(std::move(ch));

@@ -1,5 +1,7 @@
 #include "trueaxis/thermal/thermal_model.hpp"
 
+#include <set>
+
 #include <fmt/format.h>
 
 #include "json_fields.hpp"
@@ -61,7 +63,9 @@ Eigen::MatrixXd PredictSeries(const ThermalErrorModel& model, const ThermalSerie
   return out;
 }
 
-std::unique_ptr<ThermalErrorModel> ThermalModelFromJson(const nlohmann::json& doc, const std::string& source) {
+namespace {
+
+std::unique_ptr<ThermalErrorModel> ModelOfKind(const nlohmann::json& doc, const std::string& source) {
   detail::JsonFields f(source);
   const std::string kind = f.String(doc, "", "kind");
   if (kind == "linear") return std::make_unique<LinearThermalModel>(LinearThermalModel::FromJson(doc, source, ""));
@@ -71,10 +75,36 @@ std::unique_ptr<ThermalErrorModel> ThermalModelFromJson(const nlohmann::json& do
   f.Fail("kind", "'" + kind + "' is not a thermal model kind (linear, pso_bp, hysteresis)");
 }
 
+// A name listed twice: the prediction CSV would get two columns of one name, and an input sensor
+// twice feeds one reading into two coefficients meant for two sensors.
+void RefuseRepeatedNames(const std::vector<std::string>& names, const std::string& field, const detail::JsonFields& f) {
+  std::set<std::string> seen;
+  for (const auto& n : names)
+    if (!seen.insert(n).second) f.Fail(field, fmt::format("'{}' is listed twice", n));
+}
+
+}  // namespace
+
+std::unique_ptr<ThermalErrorModel> ThermalModelFromJson(const nlohmann::json& doc, const std::string& source) {
+  auto model = ModelOfKind(doc, source);
+  const detail::JsonFields f(source);
+  RefuseRepeatedNames(model->Channels(), "channels", f);
+  RefuseRepeatedNames(model->InputSensors(), "sensors", f);
+  return model;
+}
+
 std::unique_ptr<ThermalErrorModel> ReadThermalModelFile(const std::string& path) {
   const std::string text = ReadTextFile(path);
   const nlohmann::json doc = ParseJsonOrThrow(text, path);
-  if (doc.contains("model") && doc["model"].is_object()) return ThermalModelFromJson(doc["model"], path);
+  if (doc.contains("model") && doc["model"].is_object()) {
+    // The wrapper WriteThermalModelFile writes: another program's file, or a newer format, is refused.
+    const detail::JsonFields f(path);
+    if (doc.contains("format") && doc["format"] != "trueaxis-thermal-model")
+      f.Fail("format", fmt::format("{} is not a trueaxis thermal model (expected \"trueaxis-thermal-model\")", doc["format"].dump()));
+    if (doc.contains("version") && doc["version"] != 1)
+      f.Fail("version", fmt::format("{}: this trueaxis reads version 1", doc["version"].dump()));
+    return ThermalModelFromJson(doc["model"], path);
+  }
   return ThermalModelFromJson(doc, path);
 }
 

@@ -100,6 +100,14 @@ TEST(ThermalCli, BadInputsExitTwoNamingFileLineAndField) {
   ExpectBadInput("thermal predict --model " + dir + "/broken.json --series " + good, {"broken.json", "not valid JSON"});
   Write(dir + "/neg.json", R"({"model": {"kind": "linear", "ridge_lambda": -1, "sensors": [], "channels": []}})");
   ExpectBadInput("thermal predict --model " + dir + "/neg.json --series " + good, {"neg.json", "ridge_lambda"});
+  // A damaged coefficient: predictions no machine's error reaches are refused, not written.
+  const std::string m1 = ReadTextFile(dir + "/m1.json");
+  const auto at = m1.find("\"intercept_um\": ");
+  ASSERT_NE(at, std::string::npos) << m1;
+  Write(dir + "/huge.json", m1.substr(0, at) + "\"intercept_um\": 1e308, \"old\": " + m1.substr(at + 16));
+  ExpectBadInput("thermal predict --model " + dir + "/huge.json --series " + good + " -o " + dir + "/ph.csv",
+                 {"huge.json", "field 'channels'", "damaged"});
+  EXPECT_FALSE(std::filesystem::exists(dir + "/ph.csv"));
 }
 
 }  // namespace

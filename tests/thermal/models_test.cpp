@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "trueaxis/core/text_file.hpp"
+
 #include "test_util.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/thermal/hysteresis_model.hpp"
@@ -316,6 +318,35 @@ TEST(ModelJson, BadModelFilesNameTheField) {
                 {"sensors", {"a"}},
                 {"channels", {{{"name", "x"}, {"sensors", {"a"}}, {"k_um_per_c", {1.0, 2.0}}, {"intercept_um", 0}}}}},
                "channels[0].k_um_per_c");
+  // A name listed twice: two prediction columns of one name, or one reading fed to two coefficients.
+  const nlohmann::json ch = {{"name", "x"}, {"sensors", {"a"}}, {"k_um_per_c", {1.0}}, {"intercept_um", 0}};
+  expect_field({{"kind", "linear"}, {"ridge_lambda", 0}, {"sensors", {"a"}}, {"channels", {ch, ch}}}, "channels");
+  expect_field({{"kind", "linear"},
+                {"ridge_lambda", 0},
+                {"sensors", {"a", "b"}},
+                {"channels", {{{"name", "x"}, {"sensors", {"a", "a"}}, {"k_um_per_c", {1.0, 2.0}}, {"intercept_um", 0}}}}},
+               "channels[0].sensors[1]");
+}
+
+// The file's wrapper (WriteThermalModelFile): another format or a newer version is refused by field.
+TEST(ModelJson, AnotherFormatOrVersionIsRefused) {
+  const std::string dir = testing::TempDir("json_format");
+  const nlohmann::json model = {{"kind", "linear"},
+                                {"ridge_lambda", 0},
+                                {"sensors", {"a"}},
+                                {"channels", {{{"name", "x"}, {"sensors", {"a"}}, {"k_um_per_c", {1.0}}, {"intercept_um", 0}}}}};
+  const auto field_of = [&](const nlohmann::json& doc) -> std::string {
+    WriteTextFile(dir + "/m.json", doc.dump());
+    try {
+      ReadThermalModelFile(dir + "/m.json");
+    } catch (const InputError& e) {
+      return e.field();
+    }
+    return "";
+  };
+  EXPECT_EQ(field_of({{"format", "trueaxis-thermal-model"}, {"version", 1}, {"model", model}}), "");
+  EXPECT_EQ(field_of({{"format", "x"}, {"version", 1}, {"model", model}}), "format");
+  EXPECT_EQ(field_of({{"format", "trueaxis-thermal-model"}, {"version", 2}, {"model", model}}), "version");
 }
 
 TEST(PredictSeries, RefusesASeriesWithoutTheModelsSensor) {
