@@ -4,7 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -108,6 +112,31 @@ std::string HistorySummary::BriefReport() const {
   return out;
 }
 
+namespace {
+
+// What the file's first 100 bytes (the SQLite header, sqlite.org/fileformat.html) say against the
+// file itself, checked before SQLite opens it: SQLite, even read-only, may leave -wal/-shm files
+// beside a file it then finds damaged, next to a message that the file was not modified.
+std::optional<std::string> SqliteHeaderProblem(const std::string& path, std::uintmax_t file_size) {
+  unsigned char h[100] = {};
+  std::ifstream in(path, std::ios::binary);
+  in.read(reinterpret_cast<char*>(h), sizeof h);
+  if (in.gcount() < 100 || std::memcmp(h, "SQLite format 3", 16) != 0)
+    return std::string("not a trueaxis history database (no SQLite header)");
+  const auto be32 = [&](int at) {
+    return (std::uint32_t{h[at]} << 24) | (std::uint32_t{h[at + 1]} << 16) | (std::uint32_t{h[at + 2]} << 8) | h[at + 3];
+  };
+  const std::uint32_t page_size = h[16] == 0 && h[17] == 1 ? 65536u : (std::uint32_t{h[16]} << 8) | h[17];
+  const std::uint32_t pages = be32(28);
+  // The in-header size is valid when non-zero and the change counter matches version-valid-for.
+  if (pages > 0 && be32(24) == be32(92) && std::uintmax_t{pages} * page_size > file_size)
+    return fmt::format("the history database is damaged: cut short (its header says {} pages of {} bytes, the file "
+                       "holds {} bytes)", pages, page_size, file_size);
+  return std::nullopt;
+}
+
+}  // namespace
+
 HistoryDb::HistoryDb(const std::string& path, Mode mode) : path_(path), read_only_(mode == Mode::kReadOnly) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -115,6 +144,9 @@ HistoryDb::HistoryDb(const std::string& path, Mode mode) : path_(path), read_onl
   if (exists && fs::is_directory(path, ec)) throw InputError(path, "is a directory, not a history database");
   if (!exists && read_only_) throw InputError(path, "no such history database");
   const bool fresh = !exists || fs::file_size(path, ec) == 0;
+  if (read_only_ && !fresh)
+    if (auto why = SqliteHeaderProblem(path, fs::file_size(path, ec)))
+      throw InputError(path, *why + "; the file was not modified");
   int flags = read_only_ ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE;
   if (!exists && !read_only_) flags |= SQLITE_OPEN_CREATE;
   const int rc = sqlite3_open_v2(path.c_str(), &db_, flags | SQLITE_OPEN_NOMUTEX, nullptr);

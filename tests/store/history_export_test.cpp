@@ -272,5 +272,24 @@ TEST_F(HistoryExportTest, CliDamagedDatabaseExitsTwoNamingTheFile) {
   EXPECT_EQ(ReadFileBytes(damaged), bytes);
 }
 
+// A database cut short (a copy interrupted) is refused from its header before SQLite opens it, so
+// no -wal/-shm files appear beside a file the message says was not modified.
+TEST_F(HistoryExportTest, CliDatabaseCutShortIsRefusedWithoutSideFiles) {
+  const std::string cut = Path("cut.db");
+  {
+    HistoryWriter w(cut);
+    for (int i = 0; i < 3000; ++i) w.PushTemperature(1795334400.0 + i, "x_nut", 22 + 0.001 * i, 22, "ok");
+  }
+  const std::string bytes = ReadFileBytes(cut);
+  ASSERT_GT(bytes.size(), 8u * 4096u);
+  WriteTextFile(cut, bytes.substr(0, bytes.size() / 2));
+  const auto r = testing::RunCli("history info --db " + cut);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("cut.db: the history database is damaged: cut short"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(cut + "-wal"));
+  EXPECT_FALSE(fs::exists(cut + "-shm"));
+  EXPECT_EQ(ReadFileBytes(cut), bytes.substr(0, bytes.size() / 2));
+}
+
 }  // namespace
 }  // namespace trueaxis::store
