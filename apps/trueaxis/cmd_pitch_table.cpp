@@ -10,6 +10,7 @@
 #include "pitch_command.hpp"
 #include "trueaxis/analysis/decomposition.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/output_path.hpp"
 #include "trueaxis/measure/measurement_file.hpp"
 #include "trueaxis/model/model_json.hpp"
@@ -77,7 +78,12 @@ void Setup(CLI::App& app) {
       ->capture_default_str()->check(CLI::Range(1, 64));
   cmd->add_option("--harmonics", o->harmonics, "lead harmonics tried by the decomposition")->capture_default_str()->check(CLI::Range(0, 8));
   cmd->add_option("--out", o->out, "pitch error file to write")->required();
-  cmd->callback([o] { Run(*o); });
+  cmd->callback([o, cmd] {
+    // Not given is NaN (the run's reference): a given `--reference-mm nan` must not read as that.
+    if (cmd->count("--reference-mm") > 0)
+      if (auto why = ImplausiblePositionMm(o->reference_mm)) throw InputError("command line", 0, "--reference-mm", *why);
+    Run(*o);
+  });
 }
 
 cli::CommandRegistrar reg("pitch_table", Setup);

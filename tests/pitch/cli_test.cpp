@@ -40,6 +40,11 @@ TEST(PitchCli, CalibrateTableRunReportExport) {
                     after = (d / "Z_on.csv").string(), html = (d / "r.html").string();
   auto r = RunCli("sim fine --machine " + kMachine + " --axis Z --runs 2 --out " + before);
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // A given --reference-mm that is no position is refused, not read as "not given".
+  r = RunCli("pitch table --measurement " + before + " --reference-mm nan --out " + table);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("field '--reference-mm'"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(table));
   r = RunCli("pitch table --measurement " + before + " --out " + table);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("periodic: h1 (5 mm)"), std::string::npos) << r.output;  // resolved at lead/4
