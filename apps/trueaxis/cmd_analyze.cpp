@@ -81,6 +81,10 @@ void RunAnalyze(const AnalyzeOptions& o) {
   RefuseOutputOverInput(o.report, {o.file, o.compare}, "--report");
 
   const auto before = measure::ReadMeasurementFile(o.file);
+  const auto warn_units = [](const measure::Measurement& m) {
+    if (auto why = measure::DeviationUnitWarning(m)) fmt::print(stderr, "warning: {}: {}\n", m.source, *why);
+  };
+  warn_units(before);
   const auto ev = analysis::Evaluate(before, eo);
 
   std::unique_ptr<measure::Measurement> after_m;
@@ -88,6 +92,7 @@ void RunAnalyze(const AnalyzeOptions& o) {
   if (!o.compare.empty()) {
     after_m = std::make_unique<measure::Measurement>(measure::ReadMeasurementFile(o.compare));
     RequireComparable(before, *after_m);
+    warn_units(*after_m);
     after_ev = analysis::Evaluate(*after_m, eo);
   }
 

@@ -40,6 +40,21 @@ int Measurement::MetaLine(const std::string& key) const {
   return it == metadata_lines.end() ? 0 : it->second;
 }
 
+std::optional<std::string> DeviationUnitWarning(const Measurement& m) {
+  constexpr double kTruestUm = 0.05, kMinSpanMm = 10;
+  if (m.points.empty()) return std::nullopt;
+  double largest_um = 0, lo_mm = m.points.front().target_mm, hi_mm = lo_mm;
+  for (const auto& p : m.points) {
+    if (std::isfinite(p.deviation_um)) largest_um = std::max(largest_um, std::abs(p.deviation_um));
+    lo_mm = std::min(lo_mm, p.target_mm);
+    hi_mm = std::max(hi_mm, p.target_mm);
+  }
+  if (largest_um >= kTruestUm || hi_mm - lo_mm < kMinSpanMm) return std::nullopt;
+  return fmt::format("every deviation is under {} µm (largest {:g} µm) over {:g} mm of travel: no axis is that "
+                     "true; are the deviations in mm rather than µm?",
+                     kTruestUm, largest_um, hi_mm - lo_mm);
+}
+
 void Measurement::SetMeta(const std::string& key, const std::string& value, int line) {
   if (line > 0) metadata_lines[key] = line;
   else metadata_lines.erase(key);

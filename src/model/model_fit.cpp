@@ -290,6 +290,8 @@ class AxisFitter {
     sum.axis = axis_name_;
     model_.axis = axis_name_;
     PickCold(sum);
+    for (const auto* s : all_)
+      if (auto why = measure::DeviationUnitWarning(s->measurement)) Warn(fmt::format("{}: {}", s->path, *why));
     FitGeometric(sum);
     PrepareThermal(sum);
     ComputeStateStats(sum);

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iterator>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "support/shared_data.hpp"
@@ -102,6 +103,25 @@ TEST(AnalyzeCli, TextTableDecompositionCompareAndReport) {
   const auto unrelated = RunCli("analyze " + Q(kFatSat) + " --compare " + Q(kMcu));
   EXPECT_EQ(unrelated.exit_code, 2);
   EXPECT_NE(unrelated.err.find("not a before/after of the same test"), std::string::npos) << unrelated.err;
+}
+
+// Deviations in mm under a deviation_um header read as a perfect axis: analyze says so (stderr),
+// and still evaluates; the same run in µm gets no such warning.
+TEST(AnalyzeCli, DeviationsThatLookLikeMillimetresAreWarnedAbout) {
+  const auto run_with = [&](double scale) {
+    std::string csv = "# axis: X\n" + std::string(kGoodHeader);
+    for (int run = 1; run <= 2; ++run)
+      for (int t = 0; t <= 400; t += 50)
+        for (const char* dir : {"+", "-"})
+          csv += fmt::format("{},{},{},{}\n", run, dir, t, scale * (0.02 * t + run));  // up to 10 µm
+    return RunCli("analyze " + Q(WriteTemp(scale < 1 ? "in_mm.csv" : "in_um.csv", csv)));
+  };
+  const auto um = run_with(1), mm = run_with(0.001);
+  EXPECT_EQ(um.exit_code, 0) << um.err;
+  EXPECT_EQ(um.err.find("warning"), std::string::npos) << um.err;
+  EXPECT_EQ(mm.exit_code, 0) << mm.err;
+  EXPECT_NE(mm.err.find("in_mm.csv: every deviation is under 0.05 µm (largest 0.01 µm) over 400 mm"), std::string::npos)
+      << mm.err;
 }
 
 TEST(AnalyzeCli, LeadFromMetadataAndBadLead) {

@@ -380,6 +380,22 @@ TEST(ModelFit, FilesOfDifferentMachinesAreAnInputError) {
   }
 }
 
+// A state whose deviations were written in mm under a deviation_um header is named in a warning
+// (its errors read as a perfect axis); the same states in µm give none.
+TEST(ModelFit, DeviationsThatLookLikeMillimetresAreWarnedAbout) {
+  SyntheticMachine sm;
+  auto states = sm.MakeStates(sm.DefaultStates());
+  const auto about_mm = [](const FitResult& r) {
+    return std::count_if(r.summary.warnings.begin(), r.summary.warnings.end(),
+                         [](const std::string& w) { return w.find("in mm rather than µm") != std::string::npos; });
+  };
+  EXPECT_EQ(about_mm(FitCompositeModel(states, {})), 0);
+  for (auto& p : states[0].measurement.points) p.deviation_um *= 1e-4;
+  const auto res = FitCompositeModel(states, {});
+  EXPECT_EQ(about_mm(res), 1);
+  EXPECT_THAT(res.summary.warnings, ::testing::Contains(HasSubstr(states[0].path + ": every deviation is under")));
+}
+
 TEST(ModelFit, UnlabelledFilesTakeTheColdestAsColdAndSayWhy) {
   SyntheticMachine sm;
   auto states = sm.MakeStates(sm.DefaultStates());

@@ -58,6 +58,11 @@ struct Measurement {
 // a model on them, or subtracting a prediction from them, counts the model twice.
 std::optional<bool> CompensationActive(const Measurement& m);
 
+// A warning when the deviations look like another unit than µm: every |deviation| under 0.05 µm
+// over a run longer than 10 mm — no working axis is that true; deviations in mm (or a file
+// labelled nm holding mm) read that way. nullopt otherwise. The text names the largest value.
+std::optional<std::string> DeviationUnitWarning(const Measurement& m);
+
 // Checks what an ISO 230-2 evaluation needs and throws InputError naming the
 // source, the line and the field otherwise: no points; fewer than 2 runs; a
 // duplicate (run, direction, target); a target measured in one direction only.
