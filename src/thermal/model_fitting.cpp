@@ -369,8 +369,17 @@ ThermalEvaluation EvaluateThermalModels(const ThermalSeries& cleaned, SeriesClea
   ev.cleaning = std::move(cleaning);
   ev.blocks = SpeedBlocks(cleaned);
   ChooseSplit(cleaned, o, &ev);
+  // Name the option that made the split: the block options only when no other split replaced them.
+  const char* split_option = !o.validate_rows.empty()          ? "--validate-rows"
+                             : !o.validate_hours.empty()       ? "--validate-hours"
+                             : !o.validate_experiments.empty() ? "--validate-experiments"
+                             : o.validate_last_fraction > 0    ? "--validate-last"
+                                                               : "--train-blocks";
   for (const auto& f : ev.folds)
-    if (f.train_rows.size() < 3) throw InputError("command line", 0, "--train-blocks", f.name + ": fewer than 3 training rows");
+    if (f.train_rows.size() < 3)
+      throw InputError("command line", 0, split_option,
+                       fmt::format("{}: fewer than 3 training rows ({} of {} rows left to train on)", f.name,
+                                   f.train_rows.size(), cleaned.Rows()));
   const Eigen::Index n = cleaned.Rows(), channels = cleaned.errors_um.cols();
   const bool pooled = ev.folds.size() > 1;
   ev.baseline_train = ResidualMetrics(cleaned, Eigen::MatrixXd(), ev.train_rows);

@@ -89,6 +89,9 @@ TEST(ThermalCli, BadInputsExitTwoNamingFileLineAndField) {
   // Options and models.
   const std::string good = WriteFixture(dir);
   ExpectBadInput("thermal evaluate --series " + good + " --train-blocks 0-9", {"--train-blocks", "blocks 0..3"});
+  // Validating on every row leaves nothing to train on: the option that did it is named.
+  ExpectBadInput("thermal evaluate --series " + good + " --validate-rows 0-1919",
+                 {"field '--validate-rows'", "fewer than 3 training rows (0 of 1920"});
   ExpectBadInput("thermal fit --series " + good + " --model magic -o " + dir + "/x.json", {"--model", "magic"});
   ExpectBadInput("thermal fit --series " + good + " --select psychic -o " + dir + "/x.json", {"--select"});
   ExpectBadInput("thermal fit --series " + good + " --channels nope -o " + dir + "/x.json", {"'nope'", "no such error channel"});
