@@ -50,6 +50,7 @@ void RunProbe(const ProbeOptions& o) {
   std::string why;
   if (!ep.IsValid(&why)) throw InputError("command line", why);
   if (o.count < 1) throw InputError("command line", 0, "--count", "must be >= 1");
+  cli::CheckSecondsOption(o.interval_s, "--interval-s", "back to back");
 
   // Learn the axis count from the window header, then read as the runtime does.
   std::vector<std::string> names = o.axes;

@@ -43,7 +43,8 @@ extern "C" void RunCommandOnStopSignal(int) { g_stop.store(true); }
 
 struct Options {
   std::string config;
-  double duration_s = -1;  // <0: from the config
+  double duration_s = 0;
+  bool duration_given = false;  // else the config's
   double status_interval_s = 5;
   bool quiet = false;
   cli::WebCliOptions web;
@@ -96,8 +97,10 @@ class CsvLog {
 };
 
 void Run(const Options& o) {
+  if (o.duration_given) cli::CheckSecondsOption(o.duration_s, "--duration-s", "until SIGINT/SIGTERM");
+  cli::CheckSecondsOption(o.status_interval_s, "--status-s", "every 50 ms");
   runtime::RunConfig c = runtime::ReadRunConfig(o.config);
-  if (o.duration_s >= 0) c.duration_s = o.duration_s;
+  if (o.duration_given) c.duration_s = o.duration_s;
   station::Machine m = station::OpenMachine(c);  // + the temperature pipeline ([signal], on by default)
   for (const auto& w : m.warnings) fmt::print(stderr, "warning: {}\n", w);
   // The coolant state the compensator sees can be forced from the web page.
@@ -240,7 +243,9 @@ void Setup(CLI::App& app) {
   auto opts = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("run", "Run the real-time compensator against a configured machine (virtual or MODBUS TCP)");
   cmd->add_option("--config", opts->config, "Run configuration (TOML, docs/runtime.md)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--duration-s", opts->duration_s, "Stop after this many seconds (default: the config's, else until SIGINT/SIGTERM)");
+  cmd->add_option("--duration-s", opts->duration_s,
+                  "Stop after this many seconds (0: until SIGINT/SIGTERM; default: the config's duration_s)")
+      ->each([opts](const std::string&) { opts->duration_given = true; });
   cmd->add_option("--status-s", opts->status_interval_s, "Status line interval on stderr")->capture_default_str();
   cmd->add_flag("--quiet", opts->quiet, "No progress on stderr");
   cli::AddWebOptions(cmd, opts->web, "--web");

@@ -64,7 +64,8 @@ void RunServer(const ServerOptions& o) {
   g_stop.store(false);
   std::signal(SIGINT, OnServerStop);
   std::signal(SIGTERM, OnServerStop);
-  if (o.duration_s < 0) throw InputError("command line", 0, "--duration-s", "must be >= 0 (0 = until stopped)");
+  cli::CheckSecondsOption(o.duration_s, "--duration-s", "until stopped");
+  cli::CheckSecondsOption(o.status_interval_s, "--status-interval-s", "none");
   server::ShopConfig config = server::ReadShopConfig(o.config);  // InputError: file, line, field
   if (o.http_port >= 0) config.http_port = o.http_port;
   std::unique_ptr<store::HistoryWriter> history;

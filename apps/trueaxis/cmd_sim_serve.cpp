@@ -93,8 +93,8 @@ void RunServe(const ServeOptions& o) {
   std::signal(SIGTERM, OnStopSignal);
   if (!(o.time_scale > 0 && o.time_scale <= 100000))
     throw InputError("command line", 0, "--time-scale", "must be in (0, 100000]");
-  if (o.duration_s < 0) throw InputError("command line", 0, "--duration-s", "must be >= 0 (0 = until stopped)");
-  if (o.status_interval_s < 0) throw InputError("command line", 0, "--status-interval-s", "must be >= 0 (0 = none)");
+  cli::CheckSecondsOption(o.duration_s, "--duration-s", "until stopped");
+  cli::CheckSecondsOption(o.status_interval_s, "--status-interval-s", "none");
   if (o.program != "idle" && o.program != "reciprocate")
     throw InputError("command line", 0, "--program", "'" + o.program + "' is not one of idle, reciprocate");
   if (!(o.duty > 0 && o.duty <= 1)) throw InputError("command line", 0, "--duty", "must be in (0, 1]");

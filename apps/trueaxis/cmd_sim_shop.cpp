@@ -38,7 +38,8 @@ void RunShop(ShopOptions o) {
   g_stop.store(false);
   std::signal(SIGINT, OnShopStop);
   std::signal(SIGTERM, OnShopStop);
-  if (o.duration_s < 0) throw InputError("command line", 0, "--duration-s", "must be >= 0 (0 = until stopped)");
+  cli::CheckSecondsOption(o.duration_s, "--duration-s", "until stopped");
+  cli::CheckSecondsOption(o.status_interval_s, "--status-interval-s", "none");
   if (!o.write_shop.empty() && o.model.empty())
     throw InputError("command line", 0, "--model", "required with --write-shop: the model file every machine starts with");
   server::VirtualShop shop(o.shop);  // InputError on a bad description or option

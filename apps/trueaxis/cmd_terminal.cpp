@@ -129,8 +129,8 @@ void RunTerminal(const TerminalCliOptions& o) {
   g_stop_requested.store(false);
   std::signal(SIGINT, OnTerminalStopSignal);
   std::signal(SIGTERM, OnTerminalStopSignal);
-  if (o.duration_s < 0) throw InputError("command line", 0, "--duration-s", "must be >= 0 (0 = until stopped)");
-  if (o.status_interval_s < 0) throw InputError("command line", 0, "--status-interval-s", "must be >= 0 (0 = none)");
+  cli::CheckSecondsOption(o.duration_s, "--duration-s", "until stopped");
+  cli::CheckSecondsOption(o.status_interval_s, "--status-interval-s", "none");
   terminal::TerminalConfig cfg = terminal::ReadTerminalConfig(o.config);
   if (o.port > 0) cfg.server.port = o.port;
   if (!o.bind.empty()) cfg.server.bind_address = o.bind;

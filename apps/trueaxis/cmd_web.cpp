@@ -34,6 +34,7 @@ struct Options {
 };
 
 void Run(const Options& o) {
+  cli::CheckSecondsOption(o.duration_s, "--duration-s", "until SIGINT/SIGTERM");
   if (o.machines < 1 || o.machines > 100000) throw InputError("--machines", 0, "machines", "must be 1 to 100000");
   if (!(o.period_s >= 0.05)) throw InputError("--period-s", 0, "period", "must be at least 0.05 s");
   web::SyntheticShop shop(static_cast<std::size_t>(o.machines));

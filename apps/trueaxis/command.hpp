@@ -8,11 +8,15 @@
 //     ... cmd->callback([opts] { return RunAnalyze(*opts); });  // returns exit code via throw CLI::RuntimeError
 //   }
 //   static trueaxis::cli::CommandRegistrar reg("analyze", Setup);
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "trueaxis/core/input_error.hpp"
 
 namespace trueaxis::cli {
 
@@ -33,5 +37,15 @@ struct CommandRegistrar {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitBadInput = 2;   // InputError: file/line/field named on stderr
 inline constexpr int kExitFailure = 1;    // anything else
+
+// A number of seconds given on the command line (--duration-s, --status-interval-s, …): a
+// finite value >= 0, else InputError("command line", 0, option, …) — exit 2. A negative or NaN
+// --duration-s meant "run forever" in some commands and "stop at once" in others. What 0
+// means stays the command's own (`zero_means`, said in the message: "until stopped", "none").
+inline void CheckSecondsOption(double seconds, const std::string& option, const std::string& zero_means) {
+  if (!std::isfinite(seconds) || seconds < 0)
+    throw InputError("command line", 0, option,
+                     fmt::format("'{}' is not a number of seconds >= 0 (0 = {})", seconds, zero_means));
+}
 
 }  // namespace trueaxis::cli

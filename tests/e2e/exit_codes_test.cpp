@@ -3,7 +3,12 @@
 // cannot be created (raw library text and exit 1 before); --help is success.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "support/cli_runner.hpp"
 
@@ -31,6 +36,37 @@ TEST(ExitCodes, UncreatableOutputPathsExitTwoNamingThePath) {
   EXPECT_EQ(campaign.exit_code, 2) << campaign.output;
   EXPECT_NE(campaign.output.find("error: /proc/trueaxis-no/such"), std::string::npos) << campaign.output;
   EXPECT_EQ(campaign.output.find("filesystem error"), std::string::npos) << campaign.output;
+}
+
+// A negative or NaN --duration-s made `run` and `web` run forever and `server`, `sim serve`,
+// `terminal` stop at once with exit 0; every run-length option now refuses NaN, inf and negatives
+// naming the option (checked before anything is opened, so these commands return at once).
+TEST(ExitCodes, RunLengthOptionsRefuseNanInfAndNegative) {
+  const std::string src = TRUEAXIS_SOURCE_DIR;
+  const std::string run = "run --config " + src + "/examples/run/virtual.toml";
+  const std::string missing_users = ::testing::TempDir() + "trueaxis_no_users_" + std::to_string(::getpid()) + ".db";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {run + " --duration-s -1", "--duration-s"},
+      {run + " --duration-s nan", "--duration-s"},
+      {run + " --duration-s inf", "--duration-s"},
+      {run + " --status-s nan", "--status-s"},
+      {"web --listen 127.0.0.1:1 --users " + missing_users + " --duration-s -1", "--duration-s"},
+      {"web --listen 127.0.0.1:1 --users " + missing_users + " --duration-s nan", "--duration-s"},
+      {"server --config " + src + "/examples/run/virtual.toml --duration-s nan", "--duration-s"},
+      {"server --config " + src + "/examples/run/virtual.toml --status-interval-s -1", "--status-interval-s"},
+      {"terminal --config " + src + "/examples/terminal/terminal.toml --duration-s nan", "--duration-s"},
+      {"sim serve --machine " + src + "/examples/machines/vmc850.toml --duration-s nan", "--duration-s"},
+      {"sim shop --duration-s nan", "--duration-s"},
+      {"sim shop --status-interval-s inf", "--status-interval-s"},
+      {"modbus probe --interval-s -1", "--interval-s"},
+  };
+  for (const auto& [args, option] : cases) {
+    const auto r = RunCli(args);
+    EXPECT_EQ(r.exit_code, 2) << "trueaxis " << args << "\n" << r.output;
+    EXPECT_NE(r.output.find("error: command line: field '" + option + "': "), std::string::npos)
+        << "trueaxis " << args << "\n" << r.output;
+  }
+  EXPECT_FALSE(std::filesystem::exists(missing_users));
 }
 
 }  // namespace
