@@ -107,7 +107,7 @@ void Run(const Options& o) {
   web::CoolantOverrideLink link(*m.link);
   auto comp = runtime::Compensator::ForHardware(c.compensator, link, *m.source, c.axes);
   // InputError (exit 2) on a model that does not fit the machine.
-  const station::PublishedModel first_model = station::PublishModelFile(*comp, c);
+  const station::PublishedModel first_model = station::PublishModelFile(*comp, c, m.name);
   const std::string& first_revision = first_model.revision;
   std::error_code ec;
   auto model_mtime = fs::last_write_time(c.model_file, ec);
@@ -200,7 +200,7 @@ void Run(const Options& o) {
         if (!ec && t != model_mtime) {
           model_mtime = t;
           try {
-            const station::PublishedModel next = station::PublishModelFile(*comp, c);
+            const station::PublishedModel next = station::PublishModelFile(*comp, c, m.name);
             const std::string& revision = next.revision;
             if (web_backend)
               web_backend->OnModelPublished(next, model::Sha256OfFile(c.model_file), "reloaded " + c.model_file,

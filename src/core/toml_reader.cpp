@@ -118,6 +118,14 @@ void TomlTableReader::Strings(std::string_view key, std::vector<std::string>& ou
   }
 }
 
+void TomlTableReader::UniqueStrings(std::string_view key, std::vector<std::string>& out, std::string_view what) {
+  Strings(key, out);
+  const toml::array* a = table_.get(key) ? table_.get(key)->as_array() : nullptr;
+  for (std::size_t i = 0; a && i < out.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (out[j] == out[i]) Fail(key, a->get(i), fmt::format("{} '{}' is listed twice", what, out[i]));
+}
+
 void TomlTableReader::Doubles(std::string_view key, std::vector<double>& out, double lo, double hi) {
   const toml::node* n = Node(key);
   if (!n) return;

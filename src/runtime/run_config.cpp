@@ -4,6 +4,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include <arpa/inet.h>
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -21,7 +23,8 @@ std::string Resolve(const std::string& base_dir, const std::string& p) {
 
 }  // namespace
 
-void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptions& o, std::vector<AxisInterface>& axes) {
+void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptions& o, std::vector<AxisInterface>& axes,
+                           std::vector<int>* axis_lines) {
   // A CNC snapshot is stale after 3 loop periods, at least 0.25 s, unless [link] stale_after_s says.
   o.link_stale_after_s = std::max(o.link_stale_after_s, 3 * period_s);
   if (const toml::table* t = r.Table("limits")) {
@@ -86,6 +89,7 @@ void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptio
       for (const auto& prev : axes)
         if (prev.axis == a.axis) m.Fail("name", at.get("name"), fmt::format("axis '{}' is configured twice", a.axis));
       axes.push_back(a);
+      if (axis_lines) axis_lines->push_back(m.Line(at.get("name")));
     }
   }
 }
@@ -114,18 +118,29 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
     const int coolant = m.Choice("coolant", {"off", "flood", "mist", "air"});
     if (coolant >= 0) v.coolant = static_cast<CoolantState>(coolant);
     auto& b = c.modbus;
+    m.String("name", b.machine_name);
     m.String("host", b.host);
     m.Int("port", b.port, 1, 65535);
     m.Int("cnc_unit_id", b.cnc_unit_id, 0, 247);
     m.Int("first_rtd_unit_id", b.first_rtd_unit_id, 0, 247);
-    m.Strings("axes", b.axis_names);
-    m.Strings("channels", b.channel_names);
+    m.UniqueStrings("axes", b.axis_names, "axis");
+    m.UniqueStrings("channels", b.channel_names, "channel");
     m.Double("response_timeout_s", b.response_timeout_s, 0.001, 10);
     m.RejectUnknown();
+    for (const char* key : {"file", "name", "host", "axes", "channels", "cnc_unit_id", "first_rtd_unit_id"})
+      c.lines[std::string("machine.") + key] = m.Line(mt->get(key));
     if (c.machine == MachineKind::kVirtual && v.machine_file.empty())
       m.Fail("file", nullptr, "missing (required for kind = \"virtual\"): the machine TOML");
-    if (c.machine == MachineKind::kModbus && b.axis_names.empty())
-      m.Fail("axes", nullptr, "must list at least one axis");
+    if (c.machine == MachineKind::kVirtual && mt->contains("name"))
+      m.Fail("name", mt->get("name"), "only for kind = \"modbus\": a virtual machine is named by its machine file");
+    if (c.machine == MachineKind::kModbus) {
+      if (b.axis_names.empty()) m.Fail("axes", nullptr, "must list at least one axis");
+      // A dotted quad that is no IPv4 address (999.1.1.1) is a typo, not a host name to look up.
+      in_addr addr{};
+      if (!b.host.empty() && b.host.find_first_not_of("0123456789.") == std::string::npos &&
+          inet_pton(AF_INET, b.host.c_str(), &addr) != 1)
+        m.Fail("host", mt->get("host"), fmt::format("'{}' is not an IPv4 address", b.host));
+    }
   }
 
   const toml::table* mo = r.Table("model");
@@ -134,6 +149,7 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
     TomlTableReader m(*mo, source, "model");
     m.String("file", c.model_file, true);
     c.model_file = Resolve(base, c.model_file);
+    c.lines["model.file"] = m.Line(mo->get("file"));
     m.Bool("reload", c.model_reload);
     if (const toml::table* tc = m.Table("thermal_channels")) {
       TomlTableReader t(*tc, source, "model.thermal_channels");
@@ -159,12 +175,15 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
   }
   if (c.temperature_period_s < c.period_s) c.temperature_period_s = c.period_s;  // a long period with the default
 
-  ReadCompensatorTables(r, c.period_s, c.compensator, c.axes);
+  std::vector<int> axis_lines;
+  ReadCompensatorTables(r, c.period_s, c.compensator, c.axes, &axis_lines);
+  for (std::size_t i = 0; i < axis_lines.size(); ++i) c.lines[fmt::format("axis[{}].name", i)] = axis_lines[i];
   auto& o = c.compensator;
   if (const toml::table* t = r.Table("signal")) {
     TomlTableReader m(*t, source, "signal");
     m.Bool("enabled", c.signal_processing);
     if (m.String("calibration", c.calibration_file)) c.calibration_file = Resolve(base, c.calibration_file);
+    c.lines["signal.calibration"] = m.Line(t->get("calibration"));
     if (const toml::node* g = m.Node("groups")) {
       const char* form = "an array of groups of redundant channels, e.g. [[\"y_nut\", \"y_nut_b\"]]";
       const toml::array* groups = g->as_array();
@@ -205,11 +224,22 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
       if (m.String(key, *path)) *path = Resolve(base, *path);
     m.String("machine_id", c.web.machine_id);
     m.RejectUnknown();
+    for (const char* key : {"listen", "users", "cert", "key", "machine_id"})
+      if (t->contains(key)) c.lines[std::string("web.") + key] = m.Line(t->get(key));
   }
   r.RejectUnknown();
   std::string why;
   if (!o.IsValid(&why)) throw InputError(source, why);
   return c;
+}
+
+void RunConfig::RequireFile(const std::string& key, const std::string& path) const {
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (st.type() == std::filesystem::file_type::not_found)
+    throw InputError(source, LineOf(key), key, fmt::format("'{}' does not exist", path));
+  if (st.type() == std::filesystem::file_type::directory)
+    throw InputError(source, LineOf(key), key, fmt::format("'{}' is a folder, not a file", path));
 }
 
 RunConfig ReadRunConfig(const std::string& path) { return ParseRunConfig(ReadTextFile(path), path); }

@@ -49,7 +49,9 @@ namespace {
 
 void OpenVirtual(const runtime::RunConfig& c, Machine& m) {
   const auto& v = c.virtual_machine;
+  c.RequireFile("machine.file", v.machine_file);
   m.vm = OpenVirtualMachine(v);
+  m.name = m.vm->description().name;
   sim::VirtualMachine* vm = m.vm.get();
   const double scale = v.time_scale;
   m.advance = [vm, scale](double dt) { vm->Advance(dt * scale); };
@@ -63,7 +65,19 @@ void OpenModbus(const runtime::RunConfig& c, Machine& m) {
   const auto& b = c.modbus;
   if (b.channel_names.empty())
     throw InputError(c.source, 0, "machine.channels", "kind = \"modbus\" needs the RTD channel names in module order");
+  // The PMC window and the RTD modules share one terminal: their unit ids must differ and stay
+  // within MODBUS's 247 (the RTD modules hold 7 channels each, unit ids from first_rtd_unit_id).
+  const std::vector<int> rtd_units = drivers::RtdModuleUnitIds(b.first_rtd_unit_id, b.channel_names.size());
+  if (rtd_units.back() > 247)
+    throw InputError(c.source, c.LineOf("machine.first_rtd_unit_id"), "machine.first_rtd_unit_id",
+                     fmt::format("{} channels need {} RTD modules: unit ids {}..{} go beyond 247", b.channel_names.size(),
+                                 rtd_units.size(), rtd_units.front(), rtd_units.back()));
+  if (std::find(rtd_units.begin(), rtd_units.end(), b.cnc_unit_id) != rtd_units.end())
+    throw InputError(c.source, c.LineOf("machine.cnc_unit_id"), "machine.cnc_unit_id",
+                     fmt::format("{} is also an RTD module's unit id ({}..{} from first_rtd_unit_id)", b.cnc_unit_id,
+                                 rtd_units.front(), rtd_units.back()));
   m.modbus = MakeModbusClients(b, c.source);
+  m.name = b.machine_name;
   // The hardware lifecycle: configure (options), activate (connect; a terminal not reachable yet is
   // a warning — its Read/Write fail and retry on their own).
   std::string why;
@@ -99,6 +113,7 @@ void AttachTemperaturePipeline(const runtime::RunConfig& c, Machine& m) {
                          fmt::format("'{}' is not a temperature channel of the machine ({})", name, fmt::join(channels, ", ")));
   m.monitored = std::make_unique<signal::MonitoredTemperatureSource>(*m.source, mo, std::move(clock));
   if (!c.calibration_file.empty()) {
+    c.RequireFile("signal.calibration", c.calibration_file);
     for (const auto& name : m.monitored->monitor().SetCalibration(signal::ReadCalibrationFile(c.calibration_file)))
       m.warnings.push_back(fmt::format("calibration for '{}' matches no channel of the machine", name));
   }
@@ -111,10 +126,18 @@ Machine OpenMachine(const runtime::RunConfig& c) {
   Machine m;
   if (c.machine == runtime::MachineKind::kVirtual) OpenVirtual(c, m);
   else OpenModbus(c, m);
-  for (const auto& a : c.axes) {
+  for (std::size_t k = 0; k < c.axes.size(); ++k) {
+    const auto& a = c.axes[k];
     bool found = false;
-    for (std::size_t i = 0; i < m.link->AxisCount(); ++i) found = found || m.link->AxisName(i) == a.axis;
-    if (!found) throw InputError(c.source, 0, "axis.name", fmt::format("the machine has no axis '{}'", a.axis));
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < m.link->AxisCount(); ++i) {
+      names.push_back(m.link->AxisName(i));
+      found = found || names.back() == a.axis;
+    }
+    const std::string key = fmt::format("axis[{}].name", k);
+    if (!found)
+      throw InputError(c.source, c.LineOf(key), key,
+                       fmt::format("the machine has no axis '{}' (its axes: {})", a.axis, fmt::join(names, ", ")));
   }
   if (c.signal_processing) AttachTemperaturePipeline(c, m);
   return m;

@@ -1,7 +1,14 @@
 #include "trueaxis/station/model_loading.hpp"
 
+#include <algorithm>
 #include <memory>
 #include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "trueaxis/core/ascii_case.hpp"
+#include "trueaxis/core/input_error.hpp"
 
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/thermal/thermal_axis_model.hpp"
@@ -16,9 +23,26 @@ void PublishTo(runtime::Compensator& comp, const PublishedModel& m, const std::s
     comp.PublishAxisModels(m.axis_models, label);
 }
 
-PublishedModel PublishModelFile(runtime::Compensator& comp, const runtime::RunConfig& c) {
+std::optional<std::string> ModelMachineMismatch(const model::CompositeModel& m, const std::string& machine_name,
+                                                const std::vector<std::string>& machine_axes) {
+  if (!m.machine.empty() && !machine_name.empty() && LowerAscii(m.machine) != LowerAscii(machine_name))
+    return fmt::format("the model was fitted on machine '{}', this is machine '{}': fit a model on this machine",
+                       m.machine, machine_name);
+  for (const auto& a : m.axes)
+    if (std::find(machine_axes.begin(), machine_axes.end(), a.axis) == machine_axes.end())
+      return fmt::format("the model has axis '{}', the machine{} has not (its axes: {})", a.axis,
+                         machine_name.empty() ? "" : " '" + machine_name + "'", fmt::join(machine_axes, ", "));
+  return std::nullopt;
+}
+
+PublishedModel PublishModelFile(runtime::Compensator& comp, const runtime::RunConfig& c, const std::string& machine_name) {
+  c.RequireFile("model.file", c.model_file);
   if (c.thermal_channels.empty()) {
     auto composite = std::make_shared<const model::CompositeModel>(model::ReadModelFile(c.model_file));
+    std::vector<std::string> axes;
+    for (const auto& a : comp.axes()) axes.push_back(a.axis);
+    if (auto why = ModelMachineMismatch(*composite, machine_name, axes))
+      throw InputError(c.source, c.LineOf("model.file"), "model.file", fmt::format("'{}': {}", c.model_file, *why));
     PublishedModel published{std::to_string(composite->revision), composite, {}};
     PublishTo(comp, published, c.model_file);
     return published;

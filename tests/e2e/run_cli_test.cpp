@@ -11,6 +11,8 @@
 #include <fstream>
 #include <sstream>
 #include <thread>
+#include <tuple>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -180,6 +182,48 @@ TEST(RunCli, BadConfigAndUnfittingModelAreInputErrors) {
   EXPECT_NE(Slurp(dir.path / "e3.txt").find("groups.toml:7: field 'signal.groups': 'x_nut_b' is not a temperature channel"),
             std::string::npos)
       << Slurp(dir.path / "e3.txt");
+}
+
+// Refused at start with the config's file, line and field (exit 2), before any loop runs: a model
+// fitted on another machine (ran silently before), an [[axis]] the machine lacks (no line before),
+// a missing machine file (only "cannot open" before), a PMC unit id that is an RTD module's.
+TEST(RunCli, ConfigErrorsFoundAfterReadingNameTheConfigLine) {
+  TempDir dir("trueaxis_run_lines");
+  const auto run = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir.path / name) << text;
+    const std::string cmd = kCli + " run --config " + (dir.path / name).string() + " --duration-s 1 2> " +
+                            (dir.path / "err.txt").string();
+    const int rc = RunShell(cmd);
+    return std::make_pair(rc, Slurp(dir.path / "err.txt"));
+  };
+  const std::string machine = "[machine]\nkind = \"virtual\"\nfile = \"" + kMachine + "\"\n";  // lines 1-3
+  WriteXModel(dir.path / "lathe.json");
+  {
+    model::CompositeModel m = model::ReadModelFile((dir.path / "lathe.json").string());
+    m.machine = "TC-620";
+    model::WriteModelFile(m, (dir.path / "lathe.json").string());
+  }
+  auto [rc, err] = run("lathe.toml", machine + "[model]\nfile = \"lathe.json\"\n");
+  EXPECT_EQ(rc, 2) << err;
+  EXPECT_NE(err.find("lathe.toml:5: field 'model.file': "), std::string::npos) << err;
+  EXPECT_NE(err.find("'TC-620'"), std::string::npos) << err;
+  EXPECT_NE(err.find("'VMC-850'"), std::string::npos) << err;
+
+  WriteXModel(dir.path / "model.json");
+  std::tie(rc, err) = run("axis.toml", machine + "[model]\nfile = \"model.json\"\n[[axis]]\nname = \"Q\"\n");
+  EXPECT_EQ(rc, 2) << err;
+  EXPECT_NE(err.find("axis.toml:7: field 'axis[0].name': the machine has no axis 'Q'"), std::string::npos) << err;
+
+  std::tie(rc, err) = run("nomachine.toml", "[machine]\nkind = \"virtual\"\nfile = \"nope.toml\"\n[model]\nfile = \"model.json\"\n");
+  EXPECT_EQ(rc, 2) << err;
+  EXPECT_NE(err.find("nomachine.toml:3: field 'machine.file': "), std::string::npos) << err;
+
+  std::tie(rc, err) = run("units.toml",
+                          "[machine]\nkind = \"modbus\"\nport = 1\ncnc_unit_id = 2\naxes = [\"X\"]\n"
+                          "channels = [\"x_nut\", \"x_bearing\", \"ambient\"]\n[model]\nfile = \"model.json\"\n");
+  EXPECT_EQ(rc, 2) << err;
+  EXPECT_NE(err.find("units.toml:4: field 'machine.cnc_unit_id': 2 is also an RTD module's unit id"), std::string::npos)
+      << err;
 }
 
 // A port unlikely to be taken (derived from the pid, so parallel test runs differ).

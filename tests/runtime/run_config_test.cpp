@@ -171,5 +171,25 @@ TEST(RunConfig, BadInputNamesLineAndField) {
   ExpectError(head + "[signal]\nenabled = false\ncalibration = \"c.json\"\n", 7, "signal.calibration", "enabled = true");
 }
 
+// Two axes "X" made one axis get two corrections and a repeated RTD channel exited 1 from deep in
+// the monitor; a dotted quad that is no address was tried as a host name at run time.
+TEST(RunConfig, ModbusNamesAreUniqueAndTheHostAnAddress) {
+  const std::string tail = "[model]\nfile = \"m.json\"\n";
+  ExpectError("[machine]\nkind = \"modbus\"\naxes = [\"X\",\n  \"X\", \"Z\"]\n" + tail, 4, "machine.axes",
+              "axis 'X' is listed twice");
+  ExpectError("[machine]\nkind = \"modbus\"\nchannels = [\"x_nut\", \"x_nut\"]\n" + tail, 3, "machine.channels",
+              "channel 'x_nut' is listed twice");
+  ExpectError("[machine]\nkind = \"modbus\"\nhost = \"999.1.1.1\"\n" + tail, 3, "machine.host", "not an IPv4 address");
+  ExpectError("[machine]\nkind = \"virtual\"\nfile = \"m.toml\"\nname = \"VMC-850\"\n" + tail, 4, "machine.name",
+              "only for kind = \"modbus\"");
+  // host names stay allowed (libmodbus looks them up); lines are kept for later checks
+  const RunConfig c = ParseRunConfig("[machine]\nkind = \"modbus\"\nhost = \"cnc-7.local\"\n" + tail +
+                                         "[[axis]]\nname = \"Y\"\n",
+                                     "run.toml");
+  EXPECT_EQ(c.modbus.host, "cnc-7.local");
+  EXPECT_EQ(c.LineOf("model.file"), 5);
+  EXPECT_EQ(c.LineOf("axis[0].name"), 7);
+}
+
 }  // namespace
 }  // namespace trueaxis::runtime

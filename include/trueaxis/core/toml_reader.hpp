@@ -38,6 +38,9 @@ class TomlTableReader {
   // A string that must be one of `choices`: its index, or -1 when absent.
   int Choice(std::string_view key, std::initializer_list<std::string_view> choices);
   void Strings(std::string_view key, std::vector<std::string>& out);
+  // Strings() of names that must differ (axes, channels): a repeated name fails at its element's
+  // line, saying "<what> 'X' is listed twice" (two axes "X" made one axis get two corrections).
+  void UniqueStrings(std::string_view key, std::vector<std::string>& out, std::string_view what);
   void Doubles(std::string_view key, std::vector<double>& out, double lo, double hi);
   const toml::table* Table(std::string_view key);       // nullptr when absent
   void RejectUnknown() const;

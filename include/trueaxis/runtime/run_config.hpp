@@ -30,6 +30,9 @@ struct VirtualMachineConfig {
 };
 
 struct ModbusConfig {
+  // The machine's name ([machine] name, optional): a model fitted on a machine of another name is
+  // refused (the virtual machine's name is its machine file's [machine] name).
+  std::string machine_name;
   std::string host = "127.0.0.1";
   int port = 1502;
   int cnc_unit_id = 1;          // the PMC window
@@ -75,12 +78,24 @@ struct RunConfig {
   std::string log_csv;          // CSV log of decimated cycles ("" = none)
   double record_interval_s = 1.0;  // how often a cycle is logged (alarm changes always are)
   WebConfig web;
+  // Where keys were given ("model.file", "machine.file", "axis[1].name", "web.listen", …), for the
+  // errors found after reading (a missing file, a model of another machine, an axis the machine lacks).
+  std::map<std::string, int> lines;
+  int LineOf(const std::string& key) const {
+    const auto it = lines.find(key);
+    return it == lines.end() ? 0 : it->second;
+  }
+  // A file named by `key` ("model.file", "machine.file") must exist and not be a folder, else
+  // InputError(source, its line, key, …) — the path alone did not say which setting named it.
+  void RequireFile(const std::string& key, const std::string& path) const;
 };
 
 // The compensator's own tables of a TOML table ([limits], [sensor_fault], [link], [channels],
 // [[axis]]: docs/runtime.md), read through `r`; shared by `run` and the shop file's machines
 // (docs/server.md). `period_s` is the cycle period (the CNC snapshot goes stale after 3 of them).
-void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptions& o, std::vector<AxisInterface>& axes);
+// `axis_lines` (optional) gets the line of each [[axis]] name, in the order of `axes`.
+void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptions& o, std::vector<AxisInterface>& axes,
+                           std::vector<int>* axis_lines = nullptr);
 
 RunConfig ParseRunConfig(const std::string& text, const std::string& source);
 RunConfig ReadRunConfig(const std::string& path);

@@ -45,6 +45,9 @@ struct Machine {
   hw::TemperatureSource* source = nullptr;  // what the compensator reads (the pipeline when on)
   std::function<void(double)> advance;     // in-process machine: moved on by the loop thread
   std::string description;
+  // The machine's name, which a model must have been fitted on: the virtual machine's (its machine
+  // file's [machine] name), a MODBUS machine's [machine] name; "" when the config names none.
+  std::string name;
   std::vector<std::string> warnings;       // e.g. terminal not reachable yet, calibration unmatched
 
   void Close();  // deactivates the hardware (hw lifecycle); the loop must be stopped

@@ -4,6 +4,7 @@
 // ridge, pso-bp, hysteresis) deployed on the axes [model] thermal_channels names, through
 // thermal::ThermalAxisModel. Used at start and on every reload (docs/runtime.md).
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,8 +28,17 @@ struct PublishedModel {
 // Hands `model` to the compensator (it binds it and ramps to it); throws as PublishModel does.
 void PublishTo(runtime::Compensator& compensator, const PublishedModel& model, const std::string& label);
 
-// Throws InputError naming the file (or the config for an axis/channel mismatch); the running
-// model stays in force when it throws.
-PublishedModel PublishModelFile(runtime::Compensator& compensator, const runtime::RunConfig& config);
+// Why `model` does not belong on the machine named `machine_name` with these axes — fitted on a
+// machine of another name (a lathe's model on a VMC compensated with the wrong curve, silently),
+// or naming an axis the machine lacks — or nullopt when it fits. A model or machine without a
+// name is not compared (docs/model-file.md: a file without `# machine:` is taken as the others').
+std::optional<std::string> ModelMachineMismatch(const model::CompositeModel& model, const std::string& machine_name,
+                                                const std::vector<std::string>& machine_axes);
+
+// Throws InputError naming the file (or the config — its [model] file line — for a model of
+// another machine or an axis/channel mismatch); the running model stays in force when it throws.
+// `machine_name`: station::Machine::name.
+PublishedModel PublishModelFile(runtime::Compensator& compensator, const runtime::RunConfig& config,
+                                const std::string& machine_name);
 
 }  // namespace trueaxis::station
