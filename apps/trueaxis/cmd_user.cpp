@@ -5,6 +5,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -68,12 +69,25 @@ web::Role RoleOrThrow(const std::string& s) {
   return *r;
 }
 
+// passwd, remove and list work on a users database that exists: opening a missing one created an
+// empty file, and `user list` of a mistyped path printed nothing and exited 0 — "no users".
+// Only `user add` creates the database (docs/web.md).
+void RequireUsersFile(const std::string& path) {
+  std::error_code ec;
+  const auto type = std::filesystem::status(path, ec).type();
+  if (type == std::filesystem::file_type::not_found)
+    throw InputError("command line", 0, "--users",
+                     "'" + path + "' does not exist (`trueaxis user add` creates a users database)");
+  if (type == std::filesystem::file_type::directory)
+    throw InputError("command line", 0, "--users", "'" + path + "' is a folder, not a users database");
+}
+
 void Setup(CLI::App& app) {
   auto o = std::make_shared<Options>();
   CLI::App* user = app.add_subcommand("user", "Users of the web front end (argon2id hashes; docs/web.md)");
   user->require_subcommand(1);
   auto users_option = [o](CLI::App* c) {
-    c->add_option("--users", o->users, "User and audit-log database (SQLite; created when missing)")->required();
+    c->add_option("--users", o->users, "User and audit-log database (SQLite; `user add` creates a missing one)")->required();
   };
 
   CLI::App* add = user->add_subcommand("add", "Add a user (password from --password-file or standard input)");
@@ -95,6 +109,7 @@ void Setup(CLI::App& app) {
   passwd->add_option("--name", o->name, "User name")->required();
   passwd->add_option("--password-file", o->password_file, "Read the password from the first line of this file");
   passwd->callback([o] {
+    RequireUsersFile(o->users);
     web::AccessDb db(o->users);
     db.SetPassword(o->name, ReadPassword(*o));
     db.Record({0, "", 0, "", "", "cli", "user_passwd", o->name, "", "ok"});
@@ -105,6 +120,7 @@ void Setup(CLI::App& app) {
   users_option(remove);
   remove->add_option("--name", o->name, "User name")->required();
   remove->callback([o] {
+    RequireUsersFile(o->users);
     web::AccessDb db(o->users);
     if (!db.RemoveUser(o->name)) throw InputError(o->users, 0, "name", "no user '" + o->name + "'");
     db.Record({0, "", 0, "", "", "cli", "user_remove", o->name, "", "ok"});
@@ -114,6 +130,7 @@ void Setup(CLI::App& app) {
   CLI::App* list = user->add_subcommand("list", "List the users and their roles");
   users_option(list);
   list->callback([o] {
+    RequireUsersFile(o->users);
     web::AccessDb db(o->users);
     for (const auto& u : db.Users()) fmt::print("{}\t{}\t{}\n", u.name, web::RoleName(u.role), u.created_utc);
   });

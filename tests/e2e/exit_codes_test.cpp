@@ -69,4 +69,17 @@ TEST(ExitCodes, RunLengthOptionsRefuseNanInfAndNegative) {
   EXPECT_FALSE(std::filesystem::exists(missing_users));
 }
 
+// `user list --users <typo>` created an empty database and exited 0 (a typo read as "no users");
+// the commands that read or change users refuse a missing database and create nothing.
+TEST(ExitCodes, UserCommandsOtherThanAddRefuseAMissingDatabase) {
+  const std::string missing = ::testing::TempDir() + "trueaxis_no_such_users_" + std::to_string(::getpid()) + ".db";
+  for (const std::string sub : {"list", "remove --name chief", "passwd --name chief --password-file /nonexistent"}) {
+    const auto r = RunCli("user " + sub + " --users " + missing);
+    EXPECT_EQ(r.exit_code, 2) << "user " << sub << "\n" << r.output;
+    EXPECT_NE(r.output.find("error: command line: field '--users': '" + missing + "' does not exist"), std::string::npos)
+        << "user " << sub << "\n" << r.output;
+    EXPECT_FALSE(std::filesystem::exists(missing)) << "user " << sub;
+  }
+}
+
 }  // namespace
