@@ -112,7 +112,7 @@ TerminalConfig ParseTerminalConfig(const std::string& text, const std::string& s
       g.options.unit_ids.clear();
       for (double id : ids) g.options.unit_ids.push_back(static_cast<int>(id));
     }
-    m.Strings("channels", g.options.channel_names);
+    m.UniqueStrings("channels", g.options.channel_names, "channel");
     ReadPoll(m, g.poll, *t);
     m.RejectUnknown();
     std::string why;
@@ -130,7 +130,7 @@ TerminalConfig ParseTerminalConfig(const std::string& text, const std::string& s
     m.Int("port", l.endpoint.port, 1, 65535);
     m.Double("response_timeout_s", l.endpoint.response_timeout_s, 1e-3, 10);
     m.Int("unit_id", l.unit_id, 0, 247);
-    m.Strings("axes", l.axis_names);
+    m.UniqueStrings("axes", l.axis_names, "axis");
     m.Double("stale_after_s", l.stale_after_s, 1e-3, 3600);
     m.RejectUnknown();
     if (c.cnc == CncKind::kModbus && !t->contains("host"))

@@ -119,5 +119,27 @@ TEST(TerminalConfigFile, ErrorsNameTheKey) {
   EXPECT_NE(error_of("[cnc]\nkind = \"none\"\n[serve]\nprot = 1\n").find("serve.prot"), std::string::npos);
 }
 
+// [cnc] axes = ["X", "X", "Z"] was accepted (one axis would get two corrections); a repeated name in
+// an [[rtd]] group was reported at line 1. Both now fail at the repeated element's line.
+TEST(TerminalConfigFile, RepeatedAxisOrChannelFailsAtItsLine) {
+  auto error_of = [](const std::string& toml) -> InputError {
+    try {
+      ParseTerminalConfig(toml, "t.toml");
+    } catch (const InputError& e) {
+      return e;
+    }
+    return InputError("accepted", "");
+  };
+  const InputError axes = error_of("[cnc]\nkind = \"modbus\"\nhost = \"127.0.0.1\"\naxes = [\"X\",\n  \"X\", \"Z\"]\n"
+                                   "[[rtd]]\nhost = \"h\"\nchannels = [\"a\"]\n");
+  EXPECT_EQ(axes.source(), "t.toml") << axes.what();
+  EXPECT_EQ(axes.line(), 5) << axes.what();
+  EXPECT_EQ(axes.field(), "cnc.axes") << axes.what();
+  const InputError channels = error_of("[cnc]\nkind = \"none\"\n[[rtd]]\nhost = \"h\"\nchannels = [\"a\", \"b\", \"a\"]\n");
+  EXPECT_EQ(channels.line(), 5) << channels.what();
+  EXPECT_EQ(channels.field(), "rtd[0].channels") << channels.what();
+  EXPECT_NE(std::string(channels.what()).find("channel 'a' is listed twice"), std::string::npos) << channels.what();
+}
+
 }  // namespace
 }  // namespace trueaxis::terminal
