@@ -12,6 +12,7 @@
 #include <csignal>
 #include <filesystem>
 #include <memory>
+#include <regex>
 #include <thread>
 
 #include <fmt/format.h>
@@ -40,7 +41,8 @@ struct ServerOptions {
   std::string config;
   double duration_s = 0;
   double status_interval_s = 5;
-  int http_port = -1;  // -1: the shop file's
+  int http_port = -1;  // the shop file's unless --http-port is given
+  bool http_port_given = false;
   bool quiet = false;
   cli::WebCliOptions web;  // the browser front end over the whole shop (docs/web.md)
 };
@@ -66,8 +68,19 @@ void RunServer(const ServerOptions& o) {
   std::signal(SIGTERM, OnServerStop);
   cli::CheckSecondsOption(o.duration_s, "--duration-s", "until stopped");
   cli::CheckSecondsOption(o.status_interval_s, "--status-interval-s", "none");
+  if (o.http_port_given && (o.http_port < 0 || o.http_port > 65535))
+    throw InputError("command line", 0, "--http-port", fmt::format("{} is out of range: 1 to 65535 (0: no API)", o.http_port));
   server::ShopConfig config = server::ReadShopConfig(o.config);  // InputError: file, line, field
-  if (o.http_port >= 0) config.http_port = o.http_port;
+  if (o.http_port_given) config.http_port = o.http_port;
+  // Another server on the port, or a bind address that is not this computer's: say which setting.
+  auto http_error = [&](const std::string& error) {
+    if (o.http_port_given) return InputError("command line", 0, "--http-port", error);
+    const bool bad_bind = !server::CanListen(config.http_bind, 0, nullptr);  // not even any port: the address
+    return InputError(config.source, bad_bind ? config.http_bind_line : config.http_port_line, bad_bind ? "http.bind" : "http.port",
+                      error);
+  };
+  if (std::string error; config.http_port > 0 && !server::CanListen(config.http_bind, config.http_port, &error))
+    throw http_error(error);  // before the history is opened: a refused server records nothing
   std::unique_ptr<store::HistoryWriter> history;
   if (!config.history.empty()) {
     const auto parent = std::filesystem::path(config.history).parent_path();
@@ -82,9 +95,16 @@ void RunServer(const ServerOptions& o) {
   if (config.http_port > 0) {
     api = std::make_unique<server::HttpApi>(shop, config.http_bind, config.http_port);
     std::string error;
-    if (!api->Start(&error)) {
-      fmt::print(stderr, "trueaxis server: {}:{}: {}\n", config.http_bind, config.http_port, error);
-      throw CLI::RuntimeError(cli::kExitFailure);
+    if (!api->Start(&error)) throw http_error(error);
+    if (!server::IsLoopbackAddress(config.http_bind)) {
+      const std::string warning = fmt::format(
+          "the HTTP control API (no authentication: it loads models and switches compensation) listens on {}:{}, not "
+          "on loopback: every computer that reaches this address can drive it ({}:{}: [http] bind)",
+          config.http_bind, api->port(), config.source, config.http_bind_line);
+      fmt::print(stderr, "warning: {}\n", warning);
+      if (history)
+        history->PushAlarm(std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(), "warning",
+                           "server", warning);
     }
   }
   std::unique_ptr<web::ShopBackend> web_backend;
@@ -149,14 +169,31 @@ void RunServer(const ServerOptions& o) {
 
 // ---- the CLI against a running server ----
 
+// --url: http://HOST[:PORT] (a bad URL is bad input, exit 2; a server that does not answer is not, exit 1).
+void CheckUrl(const std::string& url) {
+  static const std::regex form(R"(https?://([A-Za-z0-9._\-]+|\[[0-9A-Fa-f:.]+\])(:([0-9]{1,5}))?/?)");
+  std::smatch m;
+  if (!std::regex_match(url, m, form) || (m[3].matched && (std::stoi(m[3].str()) < 1 || std::stoi(m[3].str()) > 65535)))
+    throw InputError("command line", 0, "--url", "'" + url + "' is not a server URL such as http://127.0.0.1:8650");
+}
+
 httplib::Result Call(const std::string& url, const std::string& method, const std::string& path, const nlohmann::json& body) {
-  httplib::Client client(url);
-  client.set_connection_timeout(2);
-  client.set_read_timeout(5);
-  auto res = method == "GET" ? client.Get(path.c_str()) : client.Post(path.c_str(), body.dump(), "application/json");
+  CheckUrl(url);
+  std::unique_ptr<httplib::Client> client;
+  try {
+    client = std::make_unique<httplib::Client>(url);
+  } catch (const std::exception&) {  // a scheme this build does not speak (https without TLS support)
+    throw InputError("command line", 0, "--url", "'" + url + "': this scheme is not supported here (use http://)");
+  }
+  client->set_connection_timeout(2);
+  client->set_read_timeout(5);
+  auto res = method == "GET" ? client->Get(path.c_str()) : client->Post(path.c_str(), body.dump(), "application/json");
   if (!res) {
-    fmt::print(stderr, "trueaxis server: cannot reach {}: {}\n", url, httplib::to_string(res.error()));
-    throw CLI::RuntimeError(cli::kExitFailure);
+    const std::string why = res.error() == httplib::Error::Connection ? "no server answers there (is `trueaxis server` running "
+                                                                        "with its [http] port?)"
+                                                                      : httplib::to_string(res.error());
+    fmt::print(stderr, "trueaxis server: cannot reach {}: {}\n", url, why);
+    throw CLI::RuntimeError(cli::kExitFailure);  // not bad input: exit 1
   }
   return res;
 }
@@ -200,7 +237,8 @@ void Setup(CLI::App& app) {
   cmd->add_option("--config", o->config, "Shop file (TOML, docs/server.md)")->check(CLI::ExistingFile);
   cmd->add_option("--duration-s", o->duration_s, "Stop after this many seconds (0: until Ctrl-C / SIGTERM)")->capture_default_str();
   cmd->add_option("--status-interval-s", o->status_interval_s, "Seconds between status lines (0: none)")->capture_default_str();
-  cmd->add_option("--http-port", o->http_port, "HTTP control API port, overriding the shop file's [http] port (0: off)");
+  CLI::Option* http_port =
+      cmd->add_option("--http-port", o->http_port, "HTTP control API port 1..65535, overriding the shop file's [http] port (0: off)");
   cmd->add_flag("--quiet", o->quiet, "No status lines");
   cli::AddWebOptions(cmd, o->web, "--web");
   cmd->require_subcommand(0, 1);
@@ -234,9 +272,10 @@ void Setup(CLI::App& app) {
     PrintOrFail(Call(*url, "POST", "/api/machines/" + *machine + "/rollback", {{"user", *user}}));
   });
 
-  cmd->callback([o, cmd] {
+  cmd->callback([o, cmd, http_port] {
     if (!cmd->get_subcommands().empty()) return;  // status / model ran
     if (o->config.empty()) throw InputError("command line", 0, "--config", "missing (required): the shop file");
+    o->http_port_given = http_port->count() > 0;
     RunServer(*o);
   });
 }

@@ -27,6 +27,9 @@ int main(int argc, char** argv) {
   for (const auto& entry : registry) entry.setup(app);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::RuntimeError& e) {
+    // A command that failed after printing why (not a usage error): its own exit code.
+    return e.get_exit_code();
   } catch (const CLI::ParseError& e) {
     // CLI11 prints the message (or the help) itself; its own exit codes
     // (104–109 …) are folded into ours: help/version is success, any usage

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <chrono>
 #include <cerrno>
 #include <cmath>
@@ -168,6 +169,7 @@ struct Shop::Impl {
     return bound;
   }
 
+  // Before the change takes effect: a change whose audit line cannot be written is refused.
   void Audit(const ModelChange& c) {
     if (config.audit_log.empty()) return;
     nlohmann::json j = {{"time_unix_s", c.time_unix_s}, {"machine", c.machine}, {"action", c.action},
@@ -177,12 +179,20 @@ struct Shop::Impl {
                         {"new_revision", c.new_model.revision}};
     std::lock_guard<std::mutex> lock(audit_mu);
     FILE* f = std::fopen(config.audit_log.c_str(), "a");
-    if (!f) return;
-    const std::string line = j.dump() + "\n";
-    std::fwrite(line.data(), 1, line.size(), f);
-    std::fflush(f);
-    fsync(fileno(f));  // a model change is never lost, even across kill -9
-    std::fclose(f);
+    const int open_errno = errno;
+    bool ok = f != nullptr;
+    if (f) {
+      const std::string line = j.dump() + "\n";
+      ok = std::fwrite(line.data(), 1, line.size(), f) == line.size() && std::fflush(f) == 0;
+      ok = fsync(fileno(f)) == 0 && ok;  // a model change is never lost, even across kill -9
+      ok = std::fclose(f) == 0 && ok;
+    }
+    if (!ok) {
+      const std::string why = fmt::format("{}: cannot append the audit line ({}): the {} of '{}' is refused", config.audit_log,
+                                          std::strerror(f ? errno : open_errno), c.action, c.machine);
+      fmt::print(stderr, "trueaxis server: {}\n", why);
+      throw InputError(config.source, config.audit_log_line, "audit_log", why);
+    }
   }
 
   void RecordChange(MachineSlot& m, const ModelChange& c) {
@@ -191,7 +201,6 @@ struct Shop::Impl {
                                fmt::format("{} {} by {} from {}: rev {} ({}) -> rev {} ({})", m.cfg.name, c.action,
                                            c.user, c.from, c.old_model.revision, c.old_model.sha256.substr(0, 12),
                                            c.new_model.revision, c.new_model.sha256.substr(0, 12)));
-    Audit(c);
   }
 
   // ------------------------------------------------------------ status
@@ -635,6 +644,14 @@ struct Shop::Impl {
 
 Shop::Shop(ShopConfig config, store::HistoryWriter* history) : config_(std::move(config)), impl_(std::make_unique<Impl>(config_)) {
   impl_->history = history;
+  if (!config_.audit_log.empty()) {
+    // Every model change is appended here; a folder or an unwritable path would lose them.
+    FILE* f = std::fopen(config_.audit_log.c_str(), "a");
+    if (!f)
+      throw InputError(config_.source, config_.audit_log_line, "audit_log",
+                       fmt::format("{}: cannot open for append ({})", config_.audit_log, std::strerror(errno)));
+    std::fclose(f);
+  }
   const double unix0 = impl_->unix_offset_s;
   for (std::size_t i = 0; i < config_.machines.size(); ++i) {
     auto m = std::make_unique<MachineSlot>();
@@ -772,12 +789,26 @@ void Shop::ResetLatency() {
 ModelChange Shop::LoadModel(const std::string& machine, const std::string& model_file, const std::string& user,
                             const std::string& from) {
   MachineSlot& m = Find(impl_->machines, machine);
-  auto model = std::make_shared<const model::CompositeModel>(model::ReadModelFile(model_file));  // InputError
+  // The path comes from a client: a device or FIFO would never end, and a file that is not JSON must
+  // not have its first bytes quoted back (a parse error shows what it read).
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(model_file, ec))
+    throw InputError(model_file, 0, "file",
+                     std::filesystem::exists(model_file, ec) ? "not a regular file (a model is a JSON file)" : "no such file");
+  std::shared_ptr<const model::CompositeModel> model;
+  try {
+    model = std::make_shared<const model::CompositeModel>(model::ReadModelFile(model_file));  // InputError
+  } catch (const InputError& e) {
+    if (e.field().empty() && e.message().rfind("not valid JSON", 0) == 0)
+      throw InputError(model_file, 0, "file", "not a model file (not valid JSON)");
+    throw;
+  }
   const std::string sha = model::Sha256OfFile(model_file);
   std::lock_guard<std::mutex> lock(m.mu);
   ModelChange c{machine, user, from, UnixNowS(), m.models[m.current_model].info, {}, "load"};
   c.new_model = {model_file, sha, model->revision, m.models.size()};
   auto bound = impl_->Bind(m, model, model_file, ++m.bind_count);  // InputError: the running model stays
+  impl_->Audit(c);                                                   // InputError: the running model stays
   m.models.push_back({model, c.new_model});
   m.current_model = m.models.size() - 1;
   m.pending_bound = std::move(bound);
@@ -794,7 +825,9 @@ ModelChange Shop::Rollback(const std::string& machine, const std::string& user, 
     throw InputError("request", 0, "rollback", fmt::format("machine '{}' runs its first model: nothing to roll back to", machine));
   const ModelEntry& back = m.models[m.current_model - 1];
   ModelChange c{machine, user, from, UnixNowS(), m.models[m.current_model].info, back.info, "rollback"};
-  m.pending_bound = impl_->Bind(m, back.model, back.info.file, ++m.bind_count);
+  auto bound = impl_->Bind(m, back.model, back.info.file, ++m.bind_count);
+  impl_->Audit(c);  // InputError: the running model stays
+  m.pending_bound = std::move(bound);
   m.pending_info = back.info;
   --m.current_model;
   m.changes.push_back(c);

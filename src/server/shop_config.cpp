@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include <fmt/format.h>
@@ -40,7 +41,10 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
   TomlTableReader r(root, source, "");
   // A PostgreSQL URL is kept as written; a file name resolves against the shop file's folder.
   if (r.String("history", c.history) && !store::IsPostgresUrl(c.history)) c.history = Resolve(base, c.history);
-  if (r.String("audit_log", c.audit_log)) c.audit_log = Resolve(base, c.audit_log);
+  if (r.String("audit_log", c.audit_log)) {
+    c.audit_log = Resolve(base, c.audit_log);
+    c.audit_log_line = r.Line(r.Node("audit_log"));
+  }
   if (c.audit_log.empty() && !c.history.empty()) {
     if (store::IsPostgresUrl(c.history))
       throw InputError(source, 0, "audit_log", "required when the history is a PostgreSQL URL (a file for the model-change audit log)");
@@ -51,6 +55,8 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
     TomlTableReader m(*t, source, "http");
     m.String("bind", c.http_bind);
     m.Int("port", c.http_port, 0, 65535);
+    c.http_bind_line = m.Line(m.Node("bind"));
+    c.http_port_line = m.Line(m.Node("port"));
     m.RejectUnknown();
   }
   if (const toml::table* t = r.Table("mqtt")) {
@@ -76,6 +82,7 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
   const toml::array* arr = mn->as_array();
   if (!arr || !arr->is_array_of_tables()) r.Fail("machine", mn, "must be an array of tables ([[machine]])");
   std::set<std::string> names;
+  std::map<std::string, std::string> endpoints;  // host:port → the machine polling it
   for (std::size_t i = 0; i < arr->size(); ++i) {
     const toml::table& t = *(*arr)[i].as_table();
     TomlTableReader m(t, source, fmt::format("machine[{}]", i));
@@ -90,16 +97,26 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
     in_addr addr{};
     if (inet_pton(AF_INET, mc.host.c_str(), &addr) != 1) m.Fail("host", t.get("host"), "must be an IPv4 address");
     m.Int("port", mc.port, 1, 65535);
+    // Two compensators writing to one CNC would fight over its compensation registers.
+    if (const auto [it, added] = endpoints.emplace(fmt::format("{}:{}", mc.host, mc.port), mc.name); !added)
+      m.Fail("port", t.get("port") ? t.get("port") : t.get("host"),
+             fmt::format("terminal {} is already machine '{}': two machines cannot share one terminal", it->first, it->second));
     m.Int("pmc_unit_id", mc.pmc_unit_id, 0, 255);
     m.Int("first_rtd_unit_id", mc.first_rtd_unit_id, 0, 255);
     m.Strings("axes", mc.axes);
     if (mc.axes.empty() || mc.axes.size() > drivers::pmc::kMaxAxes)
       m.Fail("axes", t.get("axes"), fmt::format("must list 1..{} axes (the PMC window's order)", drivers::pmc::kMaxAxes));
+    for (std::size_t a = 0; a < mc.axes.size(); ++a)
+      if (std::find(mc.axes.begin(), mc.axes.begin() + static_cast<std::ptrdiff_t>(a), mc.axes[a]) != mc.axes.begin() + static_cast<std::ptrdiff_t>(a))
+        m.Fail("axes", t.get("axes"), fmt::format("axis '{}' is listed twice", mc.axes[a]));
     m.Strings("rtd_channels", mc.channels);
     if (m.String("model", mc.model_file, true)) mc.model_file = Resolve(base, mc.model_file);
     m.Double("period_s", mc.period_s, 1e-3, 60);
     m.Double("temperature_period_s", mc.temperature_period_s, 1e-3, 600);
-    if (mc.temperature_period_s < mc.period_s) mc.temperature_period_s = mc.period_s;
+    if (t.get("temperature_period_s") && mc.temperature_period_s < mc.period_s)
+      m.Fail("temperature_period_s", t.get("temperature_period_s"),
+             fmt::format("must be at least period_s ({} s): the temperatures are read within a poll cycle", mc.period_s));
+    if (mc.temperature_period_s < mc.period_s) mc.temperature_period_s = mc.period_s;  // the default, below a slow poll
     m.Double("response_timeout_s", mc.response_timeout_s, 1e-3, 10);
     m.Double("connect_timeout_s", mc.connect_timeout_s, 1e-3, 30);
     m.Double("min_backoff_s", mc.min_backoff_s, 1e-3, 60);

@@ -87,5 +87,24 @@ TEST(ShopConfig, ErrorsNameLineAndField) {
   ExpectError("history = \"x.db\"\n", 1, "machine");
 }
 
+// Sweep 2: two compensators on one terminal, temperatures read more often than the poll, an axis twice.
+TEST(ShopConfig, RefusesASharedTerminalAFastTemperaturePeriodAndAnAxisTwice) {
+  const std::string second = "\n[[machine]]\nname = \"mill-2\"\nhost = \"127.0.0.1\"\nport = 15001\naxes = [\"X\"]\nmodel = \"m.json\"\n";
+  ExpectError(std::string(kShop) + second, 22, "machine[1].port");
+  std::string other_port = std::string(kShop) + second;
+  other_port.replace(other_port.rfind("15001"), 5, "15002");
+  EXPECT_EQ(ParseShopConfig(other_port, "shop.toml").machines.size(), 2u);
+  std::string s = kShop;
+  s.replace(s.find("period_s = 0.1"), 14, "period_s = 0.1\ntemperature_period_s = 0.01");
+  ExpectError(s, 13, "machine[0].temperature_period_s");
+  s = kShop;
+  s.replace(s.find("axes = [\"X\", \"Y\"]"), 17, "axes = [\"X\", \"X\"]");
+  ExpectError(s, 9, "machine[0].axes");
+  // A slow poll with the default temperature period (1 s) is still accepted.
+  s = kShop;
+  s.replace(s.find("period_s = 0.1"), 14, "period_s = 2.0");
+  EXPECT_EQ(ParseShopConfig(s, "shop.toml").machines[0].temperature_period_s, 2.0);
+}
+
 }  // namespace
 }  // namespace trueaxis::server

@@ -12,7 +12,9 @@
 //   POST /api/machines/{name}/acknowledge    {"user": "..."}
 //   POST /api/machines/{name}/coolant        {"override": "flood"|null, "user": "..."}
 //   GET  /api/stats                          poll rate, latency, faults
-// Errors: 400/404 with {"error": "..."}; a model that does not fit: 422.
+// Errors: always {"error": "..."}: 400 bad or missing field, 404 unknown machine / axis / path,
+// 405 wrong method, 413 body over 64 KiB, 415 a POST that is not application/json, 403 a request
+// from another origin (a web page), 422 a model that does not fit or a field that is too long.
 #include <memory>
 #include <string>
 
@@ -25,6 +27,13 @@ namespace trueaxis::server {
 nlohmann::json ToJson(const MachineStatus& status);  // UNAVAILABLE values are JSON null
 nlohmann::json ToJson(const ModelChange& change);
 nlohmann::json ToJson(const ShopStats& stats);
+
+// 127.0.0.0/8, ::1 or "localhost": the control API has no authentication and warns on anything else.
+bool IsLoopbackAddress(const std::string& address);
+
+// Whether bind_address:port can be listened on now (SO_REUSEADDR only, as HttpApi): checked before
+// the shop opens its history, so a second server on a port in use records nothing.
+bool CanListen(const std::string& bind_address, int port, std::string* error);
 
 class HttpApi {
  public:

@@ -50,6 +50,9 @@ struct ShopConfig {
   double record_interval_s = 1.0;   // per machine: every channel and axis this often, alarms on change
   std::string http_bind = "127.0.0.1";
   int http_port = 0;                // 0: no HTTP control API
+  int audit_log_line = 0;           // where audit_log, [http] bind / port are in the shop file (0: not given)
+  int http_bind_line = 0;
+  int http_port_line = 0;
   MqttConfig mqtt;
   std::vector<MachineConfig> machines;
 };
