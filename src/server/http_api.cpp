@@ -175,6 +175,18 @@ struct HttpApi::Impl {
     return std::find(own.begin(), own.end(), origin) != own.end();
   }
 
+  // DNS rebinding: a page whose name the attacker points at 127.0.0.1 reaches this server as "the
+  // same origin", but its requests carry the attacker's name in Host. Only this computer's own names
+  // (and the bind address) are served; a wildcard bind (warned about) serves any. No Host (HTTP/1.0):
+  // served, as a browser always sends one.
+  bool OwnHost(std::string host) const {
+    if (host.empty() || bind == "0.0.0.0" || bind == "::") return true;
+    if (host.front() == '[') host = host.substr(1, host.find(']') == std::string::npos ? std::string::npos : host.find(']') - 1);
+    else if (const auto colon = host.rfind(':'); colon != std::string::npos) host = host.substr(0, colon);
+    for (auto& c : host) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return host == "127.0.0.1" || host == "localhost" || host == "::1" || host == bind;
+  }
+
   // Runs `fn` with the request body as JSON; bad input → 400/404/422 with the message.
   template <typename Fn>
   static void Guard(const httplib::Request& req, httplib::Response& res, Fn fn) {
@@ -234,6 +246,10 @@ struct HttpApi::Impl {
     // Before the body is read: another site's page (403) and a body that is not JSON (415; a
     // browser sends text/plain cross-site without asking first).
     http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+      if (const std::string host = req.get_header_value("Host"); !OwnHost(host)) {
+        Error(res, 403, "request: field 'Host': '" + host.substr(0, 200) + "' is not this server's name (DNS rebinding?)");
+        return httplib::Server::HandlerResponse::Handled;
+      }
       const std::string origin = req.get_header_value("Origin");
       if (!SameOrigin(origin)) {
         Error(res, 403, "request: field 'Origin': cross-origin request refused (Origin " + origin.substr(0, 200) + ")");
@@ -327,7 +343,10 @@ struct HttpApi::Impl {
     Post(R"(/api/machines/([^/]+)/coolant)", [this](const httplib::Request& req, httplib::Response& res) {
       Guard(req, res, [&](const nlohmann::json& body) {
         std::optional<CoolantState> c;
-        if (body.contains("override") && !body["override"].is_null()) {
+        // Required: a body without it cleared the override as if null had been sent.
+        if (!body.contains("override"))
+          throw InputError("request", 0, "override", "missing (required): off, flood, mist, air, or null to clear the override");
+        if (!body["override"].is_null()) {
           if (body["override"].is_string()) c = ParseCoolantState(body["override"].get<std::string>());
           if (!c) throw InputError("request", 0, "override", "must be off, flood, mist, air or null");
         }

@@ -132,6 +132,15 @@ TEST(ShopHttpApiGuard, CrossSiteAndNonJsonPostsAreRefused) {
              "application/json; charset=utf-8");
   EXPECT_EQ(StatusOf(r), 200) << r;
   EXPECT_FALSE(f.AxisYEnabled());
+  // DNS rebinding: the attacker's name in Host is refused, GETs included; this computer's names pass.
+  const std::string port = std::to_string(f.api->port());
+  r = Raw(f.api->port(), "GET /api/stats HTTP/1.1\r\nHost: evil.example:" + port + "\r\n\r\n");
+  EXPECT_EQ(StatusOf(r), 403) << r;
+  EXPECT_NE(BodyOf(r).find("field 'Host'"), std::string::npos) << r;
+  for (const std::string host : {"127.0.0.1:" + port, "localhost:" + port, "[::1]:" + port, std::string("LOCALHOST")}) {
+    r = Raw(f.api->port(), "GET /api/stats HTTP/1.1\r\nHost: " + host + "\r\n\r\n");
+    EXPECT_EQ(StatusOf(r), 200) << host << ": " << r;
+  }
   EXPECT_TRUE(IsLoopbackAddress("127.0.0.1"));
   EXPECT_TRUE(IsLoopbackAddress("127.1.2.3"));
   EXPECT_TRUE(IsLoopbackAddress("localhost"));
@@ -149,7 +158,7 @@ TEST(ShopHttpApiGuard, BodiesAndFieldsAreBoundedAndNeverEchoed) {
   EXPECT_LT(r.size(), 1000u);
   EXPECT_TRUE(nlohmann::json::parse(BodyOf(r)).contains("error"));
   // A body without its length would be read whole before any limit.
-  r = Raw(f.api->port(), "POST /api/machines/vm-0000/model HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+  r = Raw(f.api->port(), "POST /api/machines/vm-0000/model HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
                          "Transfer-Encoding: chunked\r\n\r\n5\r\n{\"a\":\r\n0\r\n\r\n");
   EXPECT_EQ(StatusOf(r), 411) << r;
   const std::string long_user = std::string(201, 'u');
@@ -226,16 +235,22 @@ TEST(ShopHttpApiGuard, ErrorsAreJsonNameTheFieldAndLeakNothing) {
   r = f.Post("/api/machines/vm-0000/coolant", R"({"override": 5, "user": "x"})");
   EXPECT_EQ(StatusOf(r), 400);
   EXPECT_NE(error_of(r).find("field 'override'"), std::string::npos) << r;
+  // Without "override" the override was cleared as if null had been sent: now it is required.
+  ASSERT_EQ(StatusOf(f.Post("/api/machines/vm-0000/coolant", R"({"override": "flood", "user": "x"})")), 200);
+  r = f.Post("/api/machines/vm-0000/coolant", R"({"user": "x"})");
+  EXPECT_EQ(StatusOf(r), 400) << r;
+  EXPECT_NE(error_of(r).find("field 'override': missing"), std::string::npos) << r;
+  EXPECT_EQ(f.shop->Machine("vm-0000")->coolant_override, std::optional<std::string>("flood"));
   r = f.Post("/api/machines/vm-0000/rollback", "");
   EXPECT_EQ(StatusOf(r), 400);
   EXPECT_NE(error_of(r).find("field 'body'"), std::string::npos) << r;
-  r = Raw(f.api->port(), "GET /api/nope HTTP/1.1\r\nHost: x\r\n\r\n");
+  r = Raw(f.api->port(), "GET /api/nope HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
   EXPECT_EQ(StatusOf(r), 404);
   EXPECT_NE(error_of(r).find("no such endpoint"), std::string::npos) << r;
-  r = Raw(f.api->port(), "DELETE /api/machines/vm-0000 HTTP/1.1\r\nHost: x\r\n\r\n");
+  r = Raw(f.api->port(), "DELETE /api/machines/vm-0000 HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
   EXPECT_EQ(StatusOf(r), 405);
   EXPECT_NE(error_of(r).find("not allowed"), std::string::npos) << r;
-  r = Raw(f.api->port(), "GET /api/machines/vm-0000/model HTTP/1.1\r\nHost: x\r\n\r\n");
+  r = Raw(f.api->port(), "GET /api/machines/vm-0000/model HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n");
   EXPECT_EQ(StatusOf(r), 405);
   EXPECT_NE(r.find("Allow: POST"), std::string::npos) << r;
   const std::string secret = f.dir + "/secret.txt";
