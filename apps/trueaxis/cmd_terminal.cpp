@@ -7,6 +7,7 @@
 //   trueaxis terminal --config terminal.toml [--duration-s 10] [--json]
 // Config and wiring: docs/terminal.md.
 #include <csignal>
+#include <filesystem>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -137,6 +138,21 @@ void RunTerminal(const TerminalCliOptions& o) {
   if (!o.one_wire_root.empty()) {
     if (!cfg.one_wire.present) throw InputError("command line", 0, "--one-wire-root", "the config has no [one_wire] section");
     cfg.one_wire.options.root = o.one_wire_root;
+  }
+  if (cfg.one_wire.present) {
+    // The kernel's 1-Wire tree: a file there is a mistake; a missing one is the bus driver not loaded
+    // (yet: it may appear after boot), which left every channel never_read without a word.
+    const std::string& root = cfg.one_wire.options.root;
+    std::error_code ec;
+    const bool from_option = !o.one_wire_root.empty();
+    if (std::filesystem::exists(root, ec) && !std::filesystem::is_directory(root, ec))
+      throw InputError(from_option ? "command line" : o.config, 0, from_option ? "--one-wire-root" : "one_wire.root",
+                       fmt::format("'{}' is a file, not the 1-Wire devices directory (on the terminal: /sys/bus/w1/devices)", root));
+    if (!std::filesystem::exists(root, ec))
+      fmt::print(stderr,
+                 "warning: the 1-Wire devices directory '{}' does not exist (the w1-gpio / w1-therm drivers not loaded?): "
+                 "every 1-Wire channel reads as lost until it appears\n",
+                 root);
   }
 
   terminal::TerminalSources sources = terminal::BuildTerminalSources(cfg);

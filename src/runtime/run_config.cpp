@@ -29,7 +29,7 @@ void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptio
   o.link_stale_after_s = std::max(o.link_stale_after_s, 3 * period_s);
   if (const toml::table* t = r.Table("limits")) {
     TomlTableReader m(*t, r.source(), r.Key("limits"));
-    m.Double("max_correction_um", o.shaper.max_correction_um, 0, 1e5);
+    m.Double("max_correction_um", o.shaper.max_correction_um, 1e-3, 1e5);  // 0 would hold every correction at 0
     m.Double("max_step_um", o.shaper.max_step_um, 1e-6, 1e5);
     m.Double("hysteresis", o.shaper.hysteresis, 0, 0.5);
     m.RejectUnknown();

@@ -149,6 +149,7 @@ void ExpectError(const std::string& text, int line, const std::string& field, co
 TEST(RunConfig, BadInputNamesLineAndField) {
   const std::string head = "[machine]\nkind = \"modbus\"\n[model]\nfile = \"m.json\"\n";  // lines 1-4
   ExpectError(head + "[limits]\nmax_step_um = -1\n", 6, "limits.max_step_um", "out of range");
+  ExpectError(head + "[limits]\nmax_correction_um = 0\n", 6, "limits.max_correction_um", "out of range");  // all held at 0
   ExpectError(head + "[limits]\nmax_stepp_um = 1\n", 6, "limits.max_stepp_um", "unknown key");
   ExpectError(head + "[link]\nloss_policy = \"panic\"\n", 6, "link.loss_policy", "not one of");
   ExpectError(head + "[loop]\nperiod_s = \"fast\"\n", 6, "loop.period_s", "must be a number");

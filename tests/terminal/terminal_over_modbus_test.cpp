@@ -169,6 +169,32 @@ TEST(TerminalCli, BadConfigNamesFileLineAndKey) {
   EXPECT_NE(r.output.find("bad_terminal.toml:7: field 'one_wire.sensor[0].id'"), std::string::npos) << r.output;
 }
 
+// The 1-Wire root: a file is refused; a directory that does not exist (the bus driver not loaded)
+// is said out loud — it left every channel never_read without a word.
+TEST(TerminalCli, AOneWireRootThatIsAFileIsRefusedAMissingOneWarned) {
+  std::string why;
+  drivers::testing::MockTemperatures probe_temps(1);
+  auto probe = StartServer(nullptr, &probe_temps, {}, &why);  // a free port, as the test above
+  ASSERT_NE(probe, nullptr) << why;
+  const int port = probe->options().port;
+  probe->Stop();
+  const std::string dir = ::testing::TempDir();
+  const std::string file = dir + "/w1_is_a_file";
+  std::ofstream(file) << "x";
+  const auto config = [&](const std::string& root) {
+    const std::string path = dir + "/w1_root_terminal.toml";
+    std::ofstream(path) << "[cnc]\nkind = \"none\"\n\n[serve]\nbind = \"127.0.0.1\"\nport = " << port << "\n\n[one_wire]\nroot = \"" << root
+                        << "\"\n[[one_wire.sensor]]\nid = \"28-0316a2794aff\"\nchannel = \"a\"\n";
+    return path;
+  };
+  auto r = trueaxis::testing::RunCli("terminal --config " + config(file) + " --duration-s 1");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("field 'one_wire.root'"), std::string::npos) << r.output;
+  r = trueaxis::testing::RunCli("terminal --config " + config(dir + "/no_such_w1") + " --duration-s 0.5 --status-interval-s 0");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: the 1-Wire devices directory"), std::string::npos) << r.output;
+}
+
 // A CNC behind a MODBUS gateway (here a ModbusMachineServer over a fake CNC),
 // relayed by the terminal: the server's compensation reaches the CNC, and when
 // the server stops writing the terminal's watchdog ramps it to zero without a jump.
