@@ -103,13 +103,11 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
              fmt::format("terminal {} is already machine '{}': two machines cannot share one terminal", it->first, it->second));
     m.Int("pmc_unit_id", mc.pmc_unit_id, 0, 255);
     m.Int("first_rtd_unit_id", mc.first_rtd_unit_id, 0, 255);
-    m.Strings("axes", mc.axes);
+    m.UniqueStrings("axes", mc.axes, "axis");
     if (mc.axes.empty() || mc.axes.size() > drivers::pmc::kMaxAxes)
       m.Fail("axes", t.get("axes"), fmt::format("must list 1..{} axes (the PMC window's order)", drivers::pmc::kMaxAxes));
-    for (std::size_t a = 0; a < mc.axes.size(); ++a)
-      if (std::find(mc.axes.begin(), mc.axes.begin() + static_cast<std::ptrdiff_t>(a), mc.axes[a]) != mc.axes.begin() + static_cast<std::ptrdiff_t>(a))
-        m.Fail("axes", t.get("axes"), fmt::format("axis '{}' is listed twice", mc.axes[a]));
-    m.Strings("rtd_channels", mc.channels);
+    // One name for two inputs would mix two sensors in the history and the model's reading.
+    m.UniqueStrings("rtd_channels", mc.channels, "channel");
     if (m.String("model", mc.model_file, true)) mc.model_file = Resolve(base, mc.model_file);
     m.Double("period_s", mc.period_s, 1e-3, 60);
     m.Double("temperature_period_s", mc.temperature_period_s, 1e-3, 600);

@@ -100,6 +100,9 @@ TEST(ShopConfig, RefusesASharedTerminalAFastTemperaturePeriodAndAnAxisTwice) {
   s = kShop;
   s.replace(s.find("axes = [\"X\", \"Y\"]"), 17, "axes = [\"X\", \"X\"]");
   ExpectError(s, 9, "machine[0].axes");
+  s = kShop;
+  s.replace(s.find("rtd_channels = [\"x_nut\", \"ambient\"]"), 35, "rtd_channels = [\"x_nut\", \"x_nut\"]");
+  ExpectError(s, 10, "machine[0].rtd_channels");  // one name for two inputs mixes two sensors
   // A slow poll with the default temperature period (1 s) is still accepted.
   s = kShop;
   s.replace(s.find("period_s = 0.1"), 14, "period_s = 2.0");
