@@ -127,6 +127,8 @@ void RunServe(const ServeOptions& o) {
   const auto& sensor_names = terminal.channel_names();
   const std::size_t n_axes = axis_names.size();
   const double scale = o.time_scale;
+  if (auto problem = drivers::UnitIdLayoutProblem(so, sensor_names.size(), true))
+    throw InputError("command line", 0, "--first-rtd-unit", *problem);
   terminal.Start();
 
   const std::size_t modules = terminal.RtdModuleCount();

@@ -188,6 +188,10 @@ void RunTerminal(const TerminalCliOptions& o) {
   if (!temperatures.Activate(&why)) fmt::print(stderr, "terminal: temperatures: {} (retrying)\n", why);
   if (cnc && !cnc->Activate(&why)) fmt::print(stderr, "terminal: cnc: {} (retrying)\n", why);
 
+  if (auto problem = drivers::UnitIdLayoutProblem(cfg.server, temperatures.ChannelCount(), cnc != nullptr)) {
+    temperatures.Deactivate();
+    throw InputError(o.config, 0, "serve.first_rtd_unit_id", *problem);
+  }
   drivers::ModbusMachineServer server(cnc.get(), &temperatures, cfg.server);
   if (!server.Start(&why)) {
     temperatures.Deactivate();

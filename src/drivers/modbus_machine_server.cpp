@@ -575,6 +575,21 @@ ModbusMachineServer::~ModbusMachineServer() { Stop(); }
 void ModbusMachineServer::SetAdvance(AdvanceFn advance) { impl_->advance = std::move(advance); }
 void ModbusMachineServer::ShareMachineWith(std::mutex* machine_mutex) { impl_->machine_mutex = machine_mutex; }
 
+std::optional<std::string> UnitIdLayoutProblem(const ModbusMachineServerOptions& o, std::size_t channel_count,
+                                               bool has_cnc) {
+  const std::size_t modules = (channel_count + adam6015::kChannelCount - 1) / adam6015::kChannelCount;
+  if (modules == 0) return std::nullopt;
+  const int last_unit = o.first_rtd_unit_id + static_cast<int>(modules) - 1;
+  if (last_unit > 247)
+    return fmt::format("too many RTD modules for the unit id range: {} channels need {} modules, unit ids {}..{} go "
+                       "beyond MODBUS's 247",
+                       channel_count, modules, o.first_rtd_unit_id, last_unit);
+  if (has_cnc && o.pmc_unit_id >= o.first_rtd_unit_id && o.pmc_unit_id <= last_unit)
+    return fmt::format("pmc_unit_id {} collides with the RTD modules' unit ids {}..{}", o.pmc_unit_id, o.first_rtd_unit_id,
+                       last_unit);
+  return std::nullopt;
+}
+
 std::size_t ModbusMachineServer::RtdModuleCount() const {
   if (!impl_->temps) return 0;
   return (impl_->temps->ChannelCount() + adam6015::kChannelCount - 1) / adam6015::kChannelCount;
@@ -594,10 +609,7 @@ bool ModbusMachineServer::Start(std::string* error) {
   if (s.axis_count > pmc::kMaxAxes) return fail(fmt::format("the PMC window holds at most {} axes, the CNC has {}", pmc::kMaxAxes, s.axis_count));
   s.channel_count = s.temps ? s.temps->ChannelCount() : 0;
   s.module_count = RtdModuleCount();
-  const int last_unit = options_.first_rtd_unit_id + static_cast<int>(s.module_count) - 1;
-  if (s.module_count > 0 && last_unit > 247) return fail("too many RTD modules for the unit id range");
-  if (s.cnc && s.module_count > 0 && options_.pmc_unit_id >= options_.first_rtd_unit_id && options_.pmc_unit_id <= last_unit)
-    return fail(fmt::format("pmc_unit_id {} collides with the RTD modules' unit ids {}..{}", options_.pmc_unit_id, options_.first_rtd_unit_id, last_unit));
+  if (auto why = UnitIdLayoutProblem(options_, s.channel_count, s.cnc != nullptr)) return fail(*why);
 
   // (Re)build the register image.
   if (s.pmc_map) modbus_mapping_free(s.pmc_map);

@@ -69,6 +69,17 @@ TEST(ExitCodes, RunLengthOptionsRefuseNanInfAndNegative) {
   EXPECT_FALSE(std::filesystem::exists(missing_users));
 }
 
+// A unit-id layout MODBUS cannot hold (RTD modules past 247, or over the PMC window's unit id)
+// exited 1 from the server's start; it is an option error now, found before anything listens.
+TEST(ExitCodes, AUnitIdLayoutMODBUSCannotHoldNamesTheOption) {
+  const std::string serve = "sim serve --machine " + std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850.toml --duration-s 1 ";
+  for (const std::string options : {"--first-rtd-unit 247", "--pmc-unit 2 --first-rtd-unit 2"}) {
+    const auto r = RunCli(serve + options);
+    EXPECT_EQ(r.exit_code, 2) << options << "\n" << r.output;
+    EXPECT_NE(r.output.find("error: command line: field '--first-rtd-unit': "), std::string::npos) << options << "\n" << r.output;
+  }
+}
+
 // `user list --users <typo>` created an empty database and exited 0 (a typo read as "no users");
 // the commands that read or change users refuse a missing database and create nothing.
 TEST(ExitCodes, UserCommandsOtherThanAddRefuseAMissingDatabase) {

@@ -20,6 +20,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -64,6 +65,13 @@ struct ModbusMachineServerStats {
   int clients = 0;                     // connected now
   std::string BriefReport() const;
 };
+
+// The terminal's unit-id layout: the RTD modules (adam6015::kChannelCount channels each, unit ids
+// from first_rtd_unit_id on) must stay within MODBUS's 247 and, with a CNC, miss pmc_unit_id. The
+// reason when they do not, else nullopt — for a caller to name its own option or config key before
+// Start() (which refuses the same layout with the same text).
+std::optional<std::string> UnitIdLayoutProblem(const ModbusMachineServerOptions& options, std::size_t channel_count,
+                                               bool has_cnc);
 
 class ModbusMachineServer {
  public:
