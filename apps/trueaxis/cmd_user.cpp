@@ -5,6 +5,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -125,6 +126,12 @@ void Setup(CLI::App& app) {
     if (!db.RemoveUser(o->name)) throw InputError(o->users, 0, "name", "no user '" + o->name + "'");
     db.Record({0, "", 0, "", "", "cli", "user_remove", o->name, "", "ok"});
     fmt::print("user {} removed\n", o->name);
+    const auto users = db.Users();
+    if (std::none_of(users.begin(), users.end(), [](const web::UserRecord& u) { return u.role == web::Role::kAdmin; }))
+      fmt::print(stderr,
+                 "warning: {} has no admin left: nobody can manage users or switch compensation from the web front end "
+                 "until `trueaxis user add --users {} --role admin …`\n",
+                 o->users, o->users);
   });
 
   CLI::App* list = user->add_subcommand("list", "List the users and their roles");

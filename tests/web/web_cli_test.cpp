@@ -48,8 +48,13 @@ TEST_F(WebCliTest, UserAddReadsThePasswordFromStdinOrAFileAndStoresOnlyAHash) {
   r = RunCli("user passwd --users " + db_ + " --name anna < " + File("pw3", "anna-password-2\n"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(VerifyPassword(AccessDb(db_).FindUser("anna")->password_hash, "anna-password-2"));
-  EXPECT_EQ(RunCli("user remove --users " + db_ + " --name anna").exit_code, 0);
+  r = RunCli("user remove --users " + db_ + " --name anna");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("no admin left"), std::string::npos) << r.output;
   EXPECT_FALSE(AccessDb(db_).FindUser("anna"));
+  r = RunCli("user remove --users " + db_ + " --name chief");  // the last admin: done, and said
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: " + db_ + " has no admin left"), std::string::npos) << r.output;
 }
 
 TEST_F(WebCliTest, UserAddRefusesBadInputWithExitCode2) {
