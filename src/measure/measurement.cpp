@@ -41,7 +41,7 @@ int Measurement::MetaLine(const std::string& key) const {
 }
 
 std::optional<std::string> DeviationUnitWarning(const Measurement& m) {
-  constexpr double kTruestUm = 0.05, kMinSpanMm = 10;
+  constexpr double kTruestUm = 0.2, kMinSpanMm = 50;  // a real run over 50 mm: laser noise alone exceeds 0.2 µm
   if (m.points.empty()) return std::nullopt;
   double largest_um = 0, lo_mm = m.points.front().target_mm, hi_mm = lo_mm;
   for (const auto& p : m.points) {

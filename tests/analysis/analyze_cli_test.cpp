@@ -120,7 +120,7 @@ TEST(AnalyzeCli, DeviationsThatLookLikeMillimetresAreWarnedAbout) {
   EXPECT_EQ(um.exit_code, 0) << um.err;
   EXPECT_EQ(um.err.find("warning"), std::string::npos) << um.err;
   EXPECT_EQ(mm.exit_code, 0) << mm.err;
-  EXPECT_NE(mm.err.find("in_mm.csv: every deviation is under 0.05 µm (largest 0.01 µm) over 400 mm"), std::string::npos)
+  EXPECT_NE(mm.err.find("in_mm.csv: every deviation is under 0.2 µm (largest 0.01 µm) over 400 mm"), std::string::npos)
       << mm.err;
 }
 

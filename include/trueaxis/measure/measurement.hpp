@@ -58,8 +58,8 @@ struct Measurement {
 // a model on them, or subtracting a prediction from them, counts the model twice.
 std::optional<bool> CompensationActive(const Measurement& m);
 
-// A warning when the deviations look like another unit than µm: every |deviation| under 0.05 µm
-// over a run longer than 10 mm — no working axis is that true; deviations in mm (or a file
+// A warning when the deviations look like another unit than µm: every |deviation| under 0.2 µm
+// over a run longer than 50 mm — no working axis is that true; deviations in mm (or a file
 // labelled nm holding mm) read that way. nullopt otherwise. The text names the largest value.
 std::optional<std::string> DeviationUnitWarning(const Measurement& m);
 
