@@ -4,7 +4,7 @@
 set -euo pipefail
 
 PACKAGES=(
-  build-essential cmake ninja-build pkg-config git
+  build-essential cmake ninja-build pkg-config git ccache
   libeigen3-dev libmodbus-dev nlohmann-json3-dev libcli11-dev libtomlplusplus-dev
   libfmt-dev libspdlog-dev libcpp-httplib-dev libsodium-dev libsqlite3-dev
   libxlsxwriter-dev libminizip-dev libpugixml-dev libgtest-dev libgmock-dev libbenchmark-dev

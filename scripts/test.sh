@@ -9,8 +9,10 @@ bash scripts/install-deps.sh
 # with them off, and CMake's cache would otherwise keep that (no tests built, none run).
 # A compiler cache, when the machine has one, makes rebuilds of unchanged files free.
 LAUNCHER=()
+# Paths are hashed relative to the checkout, so another clone of the same sources hits the cache too.
 if command -v ccache >/dev/null 2>&1; then
   LAUNCHER=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+  export CCACHE_BASEDIR="$PWD" CCACHE_MAXSIZE="${CCACHE_MAXSIZE:-8G}"
 fi
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRUEAXIS_BUILD_TESTS=ON -DTRUEAXIS_BUILD_BENCH=ON "${LAUNCHER[@]}"
 cmake --build build -j"$(nproc)"

@@ -35,10 +35,7 @@ struct ProbeOptions {
 };
 
 CLI::App* ModbusCommand(CLI::App& app) {
-  for (CLI::App* sub : app.get_subcommands([](CLI::App* s) { return s->get_name() == "modbus"; })) return sub;
-  CLI::App* m = app.add_subcommand("modbus", "MODBUS TCP tools (docs/protocols.md)");
-  m->require_subcommand(1);
-  return m;
+  return CommandGroup(app, "modbus", "MODBUS TCP tools (docs/protocols.md)");
 }
 
 void RunProbe(const ProbeOptions& o) {

@@ -33,6 +33,15 @@ struct CommandRegistrar {
   CommandRegistrar(std::string name, SetupFn setup) { Registry().push_back({std::move(name), std::move(setup)}); }
 };
 
+// The parent subcommand `name` (`sim`, `pitch`, `campaign`, …) whose children attach from their own
+// files: whichever setup runs first creates it, the others get the same one.
+inline CLI::App* CommandGroup(CLI::App& app, const std::string& name, const std::string& description) {
+  for (CLI::App* sub : app.get_subcommands([&](CLI::App* s) { return s->get_name() == name; })) return sub;
+  CLI::App* group = app.add_subcommand(name, description);
+  group->require_subcommand(1);
+  return group;
+}
+
 // Exit codes shared by all subcommands.
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitBadInput = 2;   // InputError: file/line/field named on stderr

@@ -1,5 +1,7 @@
 #include "pitch_command.hpp"
 
+#include "command.hpp"
+
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
@@ -7,10 +9,7 @@
 namespace trueaxis::cli {
 
 CLI::App* PitchCommand(CLI::App& app) {
-  for (CLI::App* sub : app.get_subcommands([](CLI::App* s) { return s->get_name() == "pitch"; })) return sub;
-  CLI::App* pitch = app.add_subcommand("pitch", "Lead-screw pitch error: once-per-lead error files, proof (seed 002)");
-  pitch->require_subcommand(1);
-  return pitch;
+  return CommandGroup(app, "pitch", "Lead-screw pitch error: once-per-lead error files, proof (seed 002)");
 }
 
 std::size_t MachineAxis(const sim::MachineDescription& machine, const std::string& machine_path, const std::string& axis) {
