@@ -1,7 +1,7 @@
 // trueaxis fit --out model.json INPUTS… [--manifest DIR/manifest.json]
 //              [--geometric auto|poly|table] [--max-degree N] [--report fit.html]
 //              [--previous old.json [--add-to-previous]] [--keys nut,bearing] [--reference-mm P]
-//              [--rho R] [--ambient-sensor NAME] [--axis X] [--full]
+//              [--rho R] [--ambient-sensor NAME] [--axis X] [--state S] [--columns …|--column-map F] [--full]
 // Fits the composite geometric + thermal model (seed 000) per axis and per
 // direction from measurement files of several thermal states and writes the
 // model file (docs/model-file.md). With --previous the new model is the next

@@ -113,8 +113,10 @@ Measurement ParseMappedCsv(std::string_view text, const std::string& source, con
     for (std::size_t k = 0; k < cols.size(); ++k)
       if (found[k] == std::string::npos)
         throw InputError(source, best_line, cols[k]->column,
-                         fmt::format("mapped column (for {}, {} line {}) is not in the header; the closest line has {}",
-                                     cols[k]->key, map.source, map.LineOf(cols[k]->key), has));
+                         fmt::format("mapped column (for {} in {}{}) is not in the header; the closest line has {}",
+                                     cols[k]->key, map.source,
+                                     map.LineOf(cols[k]->key) ? fmt::format(" line {}", map.LineOf(cols[k]->key)) : "",
+                                     has));
   }
   // A unit stated in a column's name must be the unit its key reads: never a silent ×1000.
   for (const auto* c : cols) {

@@ -116,12 +116,13 @@ TEST_F(MeasurementFormats, EcmcDatGivesTheSameResultsThroughEveryCommandAsItsCon
   ASSERT_EQ(pm1.exit_code, 0) << pm1.output;
   EXPECT_EQ(WithoutSources(pm1.output), WithoutSources(pm2.output));
 
-  // pitch table: the same pitch error file.
-  const auto t1 = RunCli("pitch table --measurement " + kDat + " --lead-mm 5 --out " + Path("dat.pitch.csv"));
-  const auto t2 = RunCli("pitch table --measurement " + csv + " --lead-mm 5 --out " + Path("csv.pitch.csv"));
-  ASSERT_EQ(t1.exit_code, t2.exit_code) << t1.output << t2.output;
-  if (t1.exit_code == 0) EXPECT_EQ(WithoutSources(Read(Path("dat.pitch.csv"))), WithoutSources(Read(Path("csv.pitch.csv"))));
-  else EXPECT_EQ(WithoutSources(t1.output), WithoutSources(t2.output));
+  // pitch table: the same pitch error file (a lead of twice the target spacing of 5.12 mm).
+  const auto t1 = RunCli("pitch table --measurement " + kDat + " --lead-mm 10.24 --out " + Path("dat.pitch.csv"));
+  const auto t2 = RunCli("pitch table --measurement " + csv + " --lead-mm 10.24 --out " + Path("csv.pitch.csv"));
+  ASSERT_EQ(t1.exit_code, 0) << t1.output;
+  ASSERT_EQ(t2.exit_code, 0) << t2.output;
+  EXPECT_EQ(WithoutSources(Read(Path("dat.pitch.csv"))), WithoutSources(Read(Path("csv.pitch.csv"))));
+  EXPECT_EQ(WithoutSources(t1.output), WithoutSources(t2.output));
 
   // convert refuses to write over its input.
   const auto over = RunCli("measurement convert " + csv + " --out " + csv);
