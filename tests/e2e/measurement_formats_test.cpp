@@ -201,8 +201,9 @@ TEST_F(MeasurementFormats, MappedVendorCsvEvaluatesAndFitsAsItsCanonicalEquivale
   ASSERT_EQ(e1.exit_code, 0) << e1.output;
   ASSERT_EQ(e2.exit_code, 0) << e2.output;
   EXPECT_EQ(WithoutSources(Read(Path("t1.csv"))), WithoutSources(Read(Path("t2.csv"))));
-  const auto t1 = RunCli("pitch table --measurement " + canonical + " --out " + Path("p1.csv"));
-  const auto t2 = RunCli("pitch table --measurement " + vendor + " --column-map " + map + " --lead-mm 10 --out " + Path("p2.csv"));
+  // (a 50 mm grid: the targets are up to 24.9 mm apart)
+  const auto t1 = RunCli("pitch table --measurement " + canonical + " --lead-mm 50 --out " + Path("p1.csv"));
+  const auto t2 = RunCli("pitch table --measurement " + vendor + " --column-map " + map + " --lead-mm 50 --out " + Path("p2.csv"));
   ASSERT_EQ(t1.exit_code, 0) << t1.output;
   ASSERT_EQ(t2.exit_code, 0) << t2.output;
   EXPECT_EQ(WithoutSources(Read(Path("p1.csv"))), WithoutSources(Read(Path("p2.csv"))));
