@@ -110,6 +110,14 @@ TEST_F(MeasurementFormats, EcmcDatGivesTheSameResultsThroughEveryCommandAsItsCon
     EXPECT_EQ(p1.output, p2.output) << pos;
   }
 
+  // --state names the state of one file without one; for two it would make one state twice.
+  const std::string other = std::string(TRUEAXIS_SHARED_DATA_DIR) + "/ecmc/mcu1025_fat_sat.dat";
+  if (fs::exists(other)) {
+    const auto two = RunCli("fit " + kDat + " " + other + " --state cold --axis X --out " + Path("two.json"));
+    EXPECT_EQ(two.exit_code, 2) << two.output;
+    EXPECT_NE(two.output.find("field '--state': 2 input files name no state"), std::string::npos) << two.output;
+  }
+
   // predict --measurement on the .dat itself (held-out check path).
   const auto pm1 = RunCli("predict --model " + Path("dat_model.json") + " --measurement " + kDat + " --axis X --geometric-only");
   const auto pm2 = RunCli("predict --model " + Path("dat_model.json") + " --measurement " + csv + " --axis X --geometric-only");
@@ -183,6 +191,11 @@ TEST_F(MeasurementFormats, MappedVendorCsvEvaluatesAndFitsAsItsCanonicalEquivale
   ASSERT_EQ(conv.exit_code, 0) << conv.output;
   EXPECT_NE(conv.output.find("mapped CSV"), std::string::npos) << conv.output;
   ExpectSameEvaluation(reference, Analyze(Path("conv.csv")));
+  // An option contradicting the mapping's metadata is refused, not written over it.
+  const auto clash = RunCli("measurement convert " + vendor + " --column-map " + map + " --axis Y --out " + Path("y.csv"));
+  EXPECT_EQ(clash.exit_code, 2) << clash.output;
+  EXPECT_NE(clash.output.find("field 'axis': the file says 'X', --axis says 'Y'"), std::string::npos) << clash.output;
+  EXPECT_FALSE(fs::exists(Path("y.csv")));
 
   // fit with temperatures from the mapped columns: the same model as from the canonical file.
   const auto f1 = RunCli("fit " + canonical + " --state cold --out " + Path("c.json"));
