@@ -34,8 +34,10 @@ set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME trueaxis)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "measure, model and compensate geometric and thermal errors of machine-tool axes")
+# Installed with prefix /usr into a staging DESTDIR: /etc/trueaxis and /lib/systemd/system lie outside /usr.
+set(CPACK_SET_DESTDIR ON)
+set(CPACK_INSTALL_PREFIX /usr)
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
-set(CPACK_SET_DESTDIR ON)  # /etc/trueaxis and /lib/systemd/system lie outside /usr
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEB_COMPONENT_INSTALL ON)
 set(CPACK_COMPONENTS_ALL trueaxis)
@@ -46,10 +48,10 @@ set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)  # Depends: from the libraries the progra
 set(CPACK_DEBIAN_TRUEAXIS_PACKAGE_NAME trueaxis)
 set(CPACK_DEBIAN_TRUEAXIS_PACKAGE_DEPENDS "adduser, libjs-chart.js")  # the user in postinst; Chart.js for the pages
 set(CPACK_DEBIAN_TRUEAXIS_PACKAGE_RECOMMENDS "systemd")
-set(CPACK_COMPONENT_TRUEAXIS_DESCRIPTION
-    "trueaxis measures, models and compensates the geometric and thermal errors of CNC machine-tool axes:\n"
-    "ISO 230-2 analysis, model fitting, the real-time compensator, the workshop server, the machine\n"
-    "terminal and the web front end, with systemd services for the server, the terminal and the web.")
+set(CPACK_COMPONENT_TRUEAXIS_DESCRIPTION "trueaxis measures, models and compensates the geometric and thermal\n\
+errors of CNC machine-tool axes: ISO 230-2 analysis, model fitting, the real-time compensator,\n\
+the workshop server, the machine terminal and the web front end, with systemd services for the\n\
+server, the terminal and the web front end.")
 set(CPACK_DEBIAN_TRUEAXIS_PACKAGE_CONTROL_EXTRA
     ${PROJECT_SOURCE_DIR}/packaging/debian/postinst ${PROJECT_SOURCE_DIR}/packaging/debian/prerm
     ${PROJECT_SOURCE_DIR}/packaging/debian/postrm ${PROJECT_SOURCE_DIR}/packaging/debian/conffiles)
@@ -57,9 +59,8 @@ set(CPACK_DEBIAN_TRUEAXIS_PACKAGE_CONTROL_STRICT_PERMISSION TRUE)
 if(TARGET trueaxis-hal)
   list(APPEND CPACK_COMPONENTS_ALL hal)
   set(CPACK_DEBIAN_HAL_PACKAGE_NAME trueaxis-hal)
-  set(CPACK_COMPONENT_HAL_DESCRIPTION
-      "trueaxis's LinuxCNC HAL component trueaxis-hal and the virtual-machine plant trueaxis-hal-plant\n"
-      "(docs/linuxcnc.md).")
+  set(CPACK_COMPONENT_HAL_DESCRIPTION "The LinuxCNC HAL programs of trueaxis: the HAL component trueaxis-hal\n\
+and the virtual-machine plant trueaxis-hal-plant (docs/linuxcnc.md).")
 endif()
 # `cpack` packages what was built; it does not build everything (tests, benchmarks) first.
 set(CMAKE_SKIP_INSTALL_ALL_DEPENDENCY ON)

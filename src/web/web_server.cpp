@@ -25,9 +25,8 @@ using nlohmann::json;
 std::string DefaultStaticDir() {
   const DataFolder pages = FindDataFolder("web", "src/web/static");
   if (!pages.found())
-    throw InputError("--web-root", 0, "web_root",
-                     "no web pages folder found (looked in " + pages.LookedIn() +
-                         "): install trueaxis (docs/install.md) or give --web-root FOLDER");
+    throw InputError("--web-root", "no web pages folder found (looked in " + pages.LookedIn() +
+                                       "): install trueaxis (docs/install.md) or give --web-root FOLDER");
   return pages.path.string();
 }
 
