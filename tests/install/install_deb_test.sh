@@ -57,13 +57,30 @@ done
 grep -Eq 'adduser --system .*--home /var/lib/trueaxis .*--shell /usr/sbin/nologin trueaxis' "$ctrl/postinst" \
   || fail "postinst does not create the system user trueaxis (home /var/lib/trueaxis, no login)"
 ! grep -Eq 'systemctl (enable|start|restart)|deb-systemd-invoke start' "$ctrl/postinst" || fail "postinst starts or enables a service"
+# postinst run against stand-ins of the commands it calls (nothing on this computer changes): a fresh
+# install makes the user and its folder, a second configure with the user present does not add it again.
+stubs=$tmp/stubs
+mkdir -p "$stubs"
+for cmd in adduser install systemctl; do printf '#!/bin/sh\necho "%s $*" >>"%s"\n' "$cmd" "$tmp/calls" >"$stubs/$cmd"; done
+printf '#!/bin/sh\n[ -e "%s" ]\n' "$tmp/user-exists" >"$stubs/getent"
+chmod +x "$stubs"/*
+PATH=$stubs:/bin:/usr/bin sh "$ctrl/postinst" configure "" || fail "postinst configure (fresh) failed"
+grep -qx 'adduser --system --group --home /var/lib/trueaxis --no-create-home --shell /usr/sbin/nologin trueaxis' "$tmp/calls" \
+  || { cat "$tmp/calls"; fail "postinst did not add the system user trueaxis"; }
+grep -qx 'install -d -o trueaxis -g trueaxis -m 0750 /var/lib/trueaxis' "$tmp/calls" || { cat "$tmp/calls"; fail "postinst did not make /var/lib/trueaxis"; }
+! grep -Eq '^systemctl .*(enable|start)' "$tmp/calls" || { cat "$tmp/calls"; fail "postinst enabled or started a service"; }
+: >"$tmp/calls"
+touch "$tmp/user-exists"
+PATH=$stubs:/bin:/usr/bin sh "$ctrl/postinst" configure "$version" || fail "postinst configure (upgrade) failed"
+! grep -q '^adduser' "$tmp/calls" || fail "postinst added the user again on upgrade"
 
 # --- the HAL programs, in their own package ---
 if [[ $have_hal == ON ]]; then
   hal=$tmp/out/trueaxis-hal_${version}_${arch}.deb
   [[ -f $hal ]] || { ls "$tmp/out"; fail "no $hal"; }
-  dpkg-deb -c "$hal" | grep -q '\./usr/bin/trueaxis-hal$' || fail "trueaxis-hal not in $hal"
-  dpkg-deb -c "$hal" | grep -q '\./usr/bin/trueaxis-hal-plant$' || fail "trueaxis-hal-plant not in $hal"
+  dpkg-deb -c "$hal" >"$tmp/hal.list"
+  grep -q '\./usr/bin/trueaxis-hal$' "$tmp/hal.list" || fail "trueaxis-hal not in $hal"
+  grep -q '\./usr/bin/trueaxis-hal-plant$' "$tmp/hal.list" || fail "trueaxis-hal-plant not in $hal"
   [[ $(dpkg-deb -f "$hal" Depends) == *linuxcnc-uspace* ]] || fail "trueaxis-hal does not depend on linuxcnc-uspace: $(dpkg-deb -f "$hal" Depends)"
 fi
 echo "PASS: $(cd "$tmp/out" && ls *.deb | tr '\n' ' ')($(du -k "$deb" | cut -f1) KiB)"
