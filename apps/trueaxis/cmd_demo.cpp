@@ -9,6 +9,7 @@
 
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/install_paths.hpp"
 #include "trueaxis/demo/demo.hpp"
 
 namespace {
@@ -19,15 +20,9 @@ struct Options {
   bool quiet = false;
 };
 
-std::string DefaultMachine() {
-  // The example machine, from the repository root (scripts/demo.sh runs there) or one level below.
-  for (const char* p : {"examples/machines/vmc850.toml", "../examples/machines/vmc850.toml"})
-    if (std::filesystem::exists(p)) return p;
-  return "examples/machines/vmc850.toml";
-}
-
 void Run(Options& o) {
-  if (o.demo.machine_file.empty()) o.demo.machine_file = DefaultMachine();
+  // The example machine: from the checkout (scripts/demo.sh runs at its root) or the installed examples.
+  if (o.demo.machine_file.empty()) o.demo.machine_file = trueaxis::DefaultExampleFile("machines/vmc850.toml");
   o.demo.period_s = (o.period_ms > 0 ? o.period_ms : (o.demo.modbus ? 100 : 10)) / 1000.0;
   if (!std::filesystem::exists(o.demo.machine_file))
     throw trueaxis::InputError(o.demo.machine_file, 0, "--machine", "machine file not found");
@@ -48,7 +43,7 @@ void Setup(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--seed", opts->demo.seed, "Run seed (the working day uses seed + 1000)")->capture_default_str();
   cmd->add_flag("--fast", opts->demo.fast, "One axis, fewer targets and runs (a few seconds in process; 4–5 minutes with --modbus)");
-  cmd->add_option("--machine", opts->demo.machine_file, "Machine description (default examples/machines/vmc850.toml)");
+  cmd->add_option("--machine", opts->demo.machine_file, "Machine description (default: the example machines/vmc850.toml)");
   cmd->add_option("--axes", opts->demo.axes, "Axes to calibrate and measure, e.g. X,Y (default: all; --fast: the first)")
       ->delimiter(',');
   cmd->add_option("--period-ms", opts->period_ms, "Compensation cycle in ms of machine time (default 10; 100 with --modbus)");

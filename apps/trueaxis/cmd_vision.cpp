@@ -14,6 +14,7 @@
 #include "command.hpp"
 #include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/install_paths.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/core/text_lines.hpp"
@@ -359,7 +360,7 @@ void Setup(CLI::App& app) {
     auto csv = std::make_shared<std::string>();
     auto loop_csv = std::make_shared<std::string>();
     auto report = std::make_shared<std::string>();
-    auto machine = std::make_shared<std::string>("examples/machines/vmc850.toml");
+    auto machine = std::make_shared<std::string>(trueaxis::DefaultExampleFile("machines/vmc850.toml"));
     auto lo = std::make_shared<VisionLoopOptions>();
     AddDayArgs(cmd, a.get());
     cmd->add_option("--csv", *csv, "write the readings and the truth as CSV");

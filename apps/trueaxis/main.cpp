@@ -20,7 +20,7 @@ std::vector<CommandEntry>& Registry() {
 int main(int argc, char** argv) {
   using namespace trueaxis::cli;
   CLI::App app{"trueaxis — measure, model and compensate the geometric and thermal errors of machine-tool axes"};
-  app.set_version_flag("--version", "trueaxis 0.1.0");
+  app.set_version_flag("--version", "trueaxis " TRUEAXIS_VERSION);  // the project's version (CMakeLists.txt)
   app.require_subcommand(1);
   auto& registry = Registry();
   std::sort(registry.begin(), registry.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
