@@ -222,6 +222,12 @@ TEST_F(MeasurementFormats, MappedVendorCsvEvaluatesAndFitsAsItsCanonicalEquivale
   EXPECT_EQ(WithoutSources(Read(Path("p1.csv"))), WithoutSources(Read(Path("p2.csv"))));
 }
 
+TEST_F(MeasurementFormats, TheExampleLaserExportReadsAsTheExampleItWasMadeFrom) {
+  const std::string ex = kSrc + "/examples/measurements/";
+  ExpectSameEvaluation(Analyze(ex + "x_axis_cold.csv"),
+                       Analyze(ex + "laser_export_x.csv --column-map " + ex + "laser_export.toml"));
+}
+
 TEST_F(MeasurementFormats, BadMappingsExitTwoNamingFileLineAndField) {
   const std::string vendor = Write("v.csv",
                                    "Run,Dir,Target [mm],Error [mm]\n1,up,0,0.001\n1,down,0,0.002\n2,sideways,0,0.001\n");
