@@ -2,6 +2,7 @@
 // Subcommands live one per file (cmd_*.cpp) and register themselves; their --help heading comes
 // from command_groups.hpp.
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -125,7 +126,8 @@ std::optional<std::string> UnknownWord(const CLI::App& app, int argc, char** arg
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"trueaxis — measure, model and compensate the geometric and thermal errors of machine-tool axes"};
+  // Named, so that help and messages say `trueaxis` however the program was started.
+  CLI::App app{"trueaxis — measure, model and compensate the geometric and thermal errors of machine-tool axes", "trueaxis"};
   app.set_version_flag("--version", "trueaxis 0.1.0");
   app.require_subcommand(1);
   app.footer("Start with `trueaxis demo`; every command has --help; docs/cli.md lists them all.");
