@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -12,6 +11,7 @@
 
 #include "../apps/trueaxis/command_groups.hpp"
 #include "support/cli_runner.hpp"
+#include "support/read_text.hpp"
 
 namespace {
 
@@ -75,34 +75,28 @@ TEST(CliHelp, EveryCommandHasAGroupOfItsOwn) {
   EXPECT_TRUE(ungrouped.empty()) << "add these commands to apps/trueaxis/command_groups.hpp:" << list;
 }
 
+// `trueaxis args` is a usage error (exit 2) whose message contains `says`; returns the output.
+std::string ExpectUsageError(const std::string& args, const std::string& says) {
+  const auto r = RunCli(args);
+  EXPECT_EQ(r.exit_code, 2) << "trueaxis " << args << "\n" << r.output;
+  EXPECT_NE(r.output.find(says), std::string::npos) << "trueaxis " << args << "\n" << r.output;
+  return r.output;
+}
+
 TEST(CliHelp, AMistypedCommandIsAnsweredWithTheNearestOne) {
-  const auto top = RunCli("analize x.csv");
-  EXPECT_EQ(top.exit_code, 2) << top.output;
-  EXPECT_NE(top.output.find("unknown command 'analize'; did you mean 'analyze'?"), std::string::npos) << top.output;
-
-  const auto nested = RunCli("sim campain --machine m.toml");
-  EXPECT_EQ(nested.exit_code, 2) << nested.output;
-  EXPECT_NE(nested.output.find("unknown command 'campain' of 'trueaxis sim'; did you mean 'campaign'?"),
-            std::string::npos)
-      << nested.output;
-
-  const auto far = RunCli("xyzzy");
-  EXPECT_EQ(far.exit_code, 2) << far.output;
-  EXPECT_NE(far.output.find("unknown command 'xyzzy'"), std::string::npos) << far.output;
-  EXPECT_EQ(far.output.find("did you mean"), std::string::npos) << "nothing is near 'xyzzy':\n" << far.output;
+  ExpectUsageError("analize x.csv", "unknown command 'analize'; did you mean 'analyze'?");
+  ExpectUsageError("sim campain --machine m.toml", "unknown command 'campain' of 'trueaxis sim'; did you mean 'campaign'?");
+  const auto far = ExpectUsageError("xyzzy", "unknown command 'xyzzy'");
+  EXPECT_EQ(far.find("did you mean"), std::string::npos) << "nothing is near 'xyzzy':\n" << far;
 }
 
 TEST(CliHelp, AMistypedOptionIsAnsweredWithTheNearestOne) {
   const std::string run = "run --config " + std::string(TRUEAXIS_SOURCE_DIR) + "/examples/run/virtual.toml";
-  const auto r = RunCli(run + " --status-intervals 1");
-  EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("unknown option '--status-intervals' for 'trueaxis run'; did you mean '--status-interval-s'?"),
-            std::string::npos)
-      << r.output;
+  ExpectUsageError(run + " --status-intervals 1",
+                   "unknown option '--status-intervals' for 'trueaxis run'; did you mean '--status-interval-s'?");
   // An option's value that looks like a word is not taken for a command.
-  const auto v = RunCli("analyze --standard analize --no-such-option x.csv");
-  EXPECT_EQ(v.exit_code, 2) << v.output;
-  EXPECT_NE(v.output.find("unknown option '--no-such-option' for 'trueaxis analyze'"), std::string::npos) << v.output;
+  ExpectUsageError("analyze --standard analize --no-such-option x.csv",
+                   "unknown option '--no-such-option' for 'trueaxis analyze'");
 }
 
 // One name for the status-line interval everywhere; run's earlier --status-s still works, unlisted.
@@ -142,18 +136,11 @@ TEST(CliHelp, TheHistoryCheckCatchesWhatItShould) {
 TEST(CliHelp, CliReferenceMatchesTheProgram) {
   const std::filesystem::path src = TRUEAXIS_SOURCE_DIR;
   const std::string cmd = "bash '" + (src / "scripts/cli-reference.sh").string() + "' '" + TRUEAXIS_CLI_PATH + "'";
-  FILE* p = popen(cmd.c_str(), "r");
-  ASSERT_NE(p, nullptr);
-  std::string generated;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) generated.append(buf, n);
-  ASSERT_EQ(pclose(p), 0) << generated;
-  std::ifstream in(src / "docs/cli.md");
-  std::stringstream committed;
-  committed << in.rdbuf();
+  const auto run = trueaxis::testing::RunShell(cmd);
+  const std::string& generated = run.output;
+  ASSERT_EQ(run.exit_code, 0) << generated;
   ASSERT_GT(generated.size(), 1000u);
-  EXPECT_TRUE(generated == committed.str())
+  EXPECT_TRUE(generated == trueaxis::testing::ReadText(src / "docs/cli.md"))
       << "docs/cli.md differs from the program's --help: run `bash scripts/cli-reference.sh > docs/cli.md`";
 }
 

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "support/read_text.hpp"
 #include "support/cli_runner.hpp"
 #include "support/local_process.hpp"
 
@@ -31,12 +32,7 @@ namespace {
 // The documents whose commands run, in this order (later ones use what earlier ones wrote).
 constexpr const char* kDocuments[] = {"README.md", "docs/getting-started.md", "docs/tour.md"};
 
-std::string ReadAll(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using trueaxis::testing::ReadText;
 
 // Drops a trailing "# comment" that stands outside quotes.
 std::string StripComment(const std::string& line) {
@@ -135,7 +131,7 @@ TEST(ReadmeCommands, EveryCommandRunsAsWrittenInOrderAfterTheDemo) {
   std::vector<std::string> commands;
   for (const char* document : kDocuments) {
     ASSERT_TRUE(fs::exists(source / document)) << document;
-    const auto own = ExtractCommands(ReadAll(source / document), "## Quick start");
+    const auto own = ExtractCommands(ReadText(source / document), "## Quick start");
     EXPECT_FALSE(own.empty()) << document << " should show the commands a user runs, in ```sh blocks";
     commands.insert(commands.end(), own.begin(), own.end());
   }
@@ -154,7 +150,7 @@ TEST(ReadmeCommands, EveryCommandRunsAsWrittenInOrderAfterTheDemo) {
   fs::create_directory_symlink(shared, top / "shared");
   {
     const fs::path modbus = repo / "examples/run/modbus.toml";
-    const std::string text = std::regex_replace(ReadAll(modbus), std::regex(R"(\b1502\b)"), port);
+    const std::string text = std::regex_replace(ReadText(modbus), std::regex(R"(\b1502\b)"), port);
     std::ofstream(modbus) << text;
   }
   // First what scripts/demo.sh runs, from the repository root: out/demo (campaign, model, day, history).
@@ -162,14 +158,9 @@ TEST(ReadmeCommands, EveryCommandRunsAsWrittenInOrderAfterTheDemo) {
 
   std::ofstream(top / "readme.sh") << ScriptFor(commands);
   const std::string cmd = "cd " + ShellQuote(repo.string()) + " && bash ../readme.sh 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  ASSERT_NE(p, nullptr);
-  std::string output;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) output.append(buf, n);
-  const int status = pclose(p);
-  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const auto run = trueaxis::testing::RunShell(cmd);
+  const std::string& output = run.output;
+  const int code = run.exit_code;
   // The tail is what matters on failure: the failing command and its message.
   EXPECT_EQ(code, 0) << output.substr(output.size() > 6000 ? output.size() - 6000 : 0);
   EXPECT_NE(output.find("README commands run: " + std::to_string(commands.size())), std::string::npos);

@@ -8,21 +8,18 @@
 #include <sstream>
 #include <string>
 
+#include "support/read_text.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string ReadAll(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using trueaxis::testing::ReadText;
 
 const std::regex kHistory(R"(\b(issue|stop) [0-9]+\b)", std::regex::icase);
 
 TEST(UserDocs, ReadmeIsShortAndFreeOfDevelopmentHistory) {
-  const std::string readme = ReadAll(fs::path(TRUEAXIS_SOURCE_DIR) / "README.md");
+  const std::string readme = ReadText(fs::path(TRUEAXIS_SOURCE_DIR) / "README.md");
   ASSERT_FALSE(readme.empty());
   std::size_t lines = 0;
   for (char c : readme) lines += c == '\n';
@@ -40,7 +37,7 @@ TEST(UserDocs, DocsSpeakOfNoIssuesOrStops) {
   for (const auto& entry : fs::directory_iterator(fs::path(TRUEAXIS_SOURCE_DIR) / "docs")) {
     if (entry.path().extension() != ".md") continue;
     ++pages;
-    const std::string text = ReadAll(entry.path());
+    const std::string text = ReadText(entry.path());
     std::smatch m;
     EXPECT_FALSE(std::regex_search(text, m, kHistory)) << entry.path().filename() << " says '" << m.str() << "'";
   }
