@@ -124,7 +124,7 @@ void RunAnalyze(const AnalyzeOptions& o) {
     return;
   }
   std::cout << ev.FullReport();
-  if (show_dec) std::cout << "\nError decomposition (seed 002)\n" << dec.FullReport();
+  if (show_dec) std::cout << "\nError decomposition (progressive, periodic, random)\n" << dec.FullReport();
   if (after_ev) {
     std::cout << fmt::format("\nComparison with {} ({} targets × {} runs)\n", o.compare, after_ev->targets.size(),
                              after_ev->runs);

@@ -250,7 +250,7 @@ void RunExport(const ExportArgs& a) {
   const TableFormat f = FormatOf(a);
   if (a.out.empty()) Bad("--out", "required: the file to write");
   if (!a.model_path.empty() && !a.thermal_model_path.empty())
-    Bad("--thermal-model", "give either --model (a seed-000 model file) or --thermal-model (a `trueaxis thermal fit` "
+    Bad("--thermal-model", "give either --model (a `trueaxis fit` model file) or --thermal-model (a `trueaxis thermal fit` "
                            "model), not both");
   if (!a.model_path.empty() + !a.thermal_model_path.empty() + !a.measurement_path.empty() + !a.pitch_path.empty() != 1)
     Bad("--model", "give exactly one of --model (with --axis), --thermal-model (with --channel, --axis, --range), "

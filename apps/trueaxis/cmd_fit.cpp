@@ -245,11 +245,11 @@ void RunFit(const FitCliOptions& o) {
 
 void Setup(CLI::App& app) {
   auto opts = std::make_shared<FitCliOptions>();
-  auto* cmd = app.add_subcommand("fit", "Fit the composite geometric + thermal error model (seed 000) per axis and direction");
+  auto* cmd = app.add_subcommand("fit", "Fit the composite error model (geometric + fan-shaped thermal) per axis and direction");
   cmd->add_option("--out", opts->out, "Model file to write (JSON, docs/model-file.md)")->required();
   cmd->add_option("inputs", opts->inputs, "Measurement files (canonical CSV, ecmc .dat or a mapped laser export), one thermal state each ('# state:' metadata)");
   cmd->add_option("--manifest", opts->manifest, "Campaign manifest.json listing files and their states");
-  cmd->add_option("--geometric", opts->geometric, "Geometric part: poly (degree chosen by CV), table (seed 002), or auto (table when the polynomial leaves a systematic pattern)")
+  cmd->add_option("--geometric", opts->geometric, "Geometric part: poly (degree chosen by CV), table (one value per sample), or auto (table when the polynomial leaves a systematic pattern)")
       ->capture_default_str();
   cmd->add_option("--max-degree", opts->max_degree, "Highest polynomial degree tried")->capture_default_str();
   cmd->add_option("--report", opts->report, "Write an HTML fit report (measured vs model per state)");
@@ -299,11 +299,11 @@ void Setup(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--key-offsets", opts->key_offsets,
                   "Each key's own pivot (its rise also shifts the error over the travel): auto (by cross-validation), "
-                  "on, off (one pivot Px, seed 000)")
+                  "on, off (one pivot Px, the fan-shaped model's form)")
       ->capture_default_str();
   cmd->add_option("--motion-heat", opts->motion_heat,
                   "The axis's feed, lagged, as one more key of the thermal slope (needs the manifest's temperature "
-                  "log with <axis>_travel_mm): auto (kept by cross-validation; without travel columns not tried), on, off (the seed's keys only)")
+                  "log with <axis>_travel_mm): auto (kept by cross-validation; without travel columns not tried), on, off (the temperature keys only)")
       ->capture_default_str();
   cmd->add_option("--motion-lag-grid-s", opts->motion_lag_grid_s,
                   "Lag τ values (s) tried for the motion-heat input, by the same cross-validation")

@@ -77,7 +77,7 @@ void Setup(CLI::App& app) {
   cmd->add_option("--axis", o->axis, "axis name (required with --model; overrides the run's)");
   cmd->add_option("--lead-mm", o->lead_mm, "screw lead (default: the run's lead_mm metadata)")->check(CLI::PositiveNumber);
   cmd->add_option("--reference-mm", o->reference_mm, "grid origin (default: the run's reference_mm, else its first target)");
-  cmd->add_option("--samples-per-lead", o->samples_per_lead, "samples per lead (1: seed 002)")
+  cmd->add_option("--samples-per-lead", o->samples_per_lead, "samples per lead (1: once per lead)")
       ->capture_default_str()->check(CLI::Range(1, 64));
   cmd->add_option("--harmonics", o->harmonics, "lead harmonics tried by the decomposition")->capture_default_str()->check(CLI::Range(0, 8));
   cmd->add_option("--out", o->out, "pitch error file to write")->required();
