@@ -45,7 +45,7 @@ void BindAxis(const model::AxisModel& am, const AxisInterface& ai, const std::st
   // geometric-only one for want of a channel. The message says which axis needs it and how to map it.
   const auto unmapped = [&](const std::string& sensor, const std::string& role) {
     return fmt::format("axis {}'s model{} needs the {} '{}', which maps to no temperature channel (channels: {}); "
-                       "name its channel in the run config: [channels] {} = \"CHANNEL\"",
+                       "name the channel that reads it in the run config: [channels] {} = \"CHANNEL\" (one of [machine] channels)",
                        am.axis, fallback_index >= 0 ? fmt::format(" (fallback {})", fallback_index) : "", role, sensor,
                        Known(channel_names), sensor);
   };
