@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "command.hpp"
+#include "measurement_input.hpp"
 #include "trueaxis/analysis/analysis_report.hpp"
 #include "trueaxis/analysis/decomposition.hpp"
 #include "trueaxis/analysis/evaluation.hpp"
@@ -34,6 +35,7 @@ struct AnalyzeOptions {
   bool decompose = false;
   int harmonics = 2;
   int trend_degree = 1;
+  MeasurementInputOptions input;
 };
 
 // Lead from --lead-mm, else from a "lead_mm" metadata line, else 0 (unknown).
@@ -78,9 +80,10 @@ void RunAnalyze(const AnalyzeOptions& o) {
   eo.standard = o.standard;
   std::string why;
   if (!eo.IsValid(&why)) throw InputError("--standard", 0, "standard", why);
-  RefuseOutputOverInput(o.report, {o.file, o.compare}, "--report");
+  RefuseOutputOverInput(o.report, {o.file, o.compare, o.input.column_map}, "--report");
 
-  const auto before = measure::ReadMeasurementFile(o.file);
+  const auto read = o.input.Resolve();
+  const auto before = measure::ReadMeasurementFile(o.file, read);
   const auto warn_units = [](const measure::Measurement& m) {
     if (auto why = measure::DeviationUnitWarning(m)) fmt::print(stderr, "warning: {}: {}\n", m.source, *why);
   };
@@ -90,7 +93,7 @@ void RunAnalyze(const AnalyzeOptions& o) {
   std::unique_ptr<measure::Measurement> after_m;
   std::optional<analysis::Evaluation> after_ev;
   if (!o.compare.empty()) {
-    after_m = std::make_unique<measure::Measurement>(measure::ReadMeasurementFile(o.compare));
+    after_m = std::make_unique<measure::Measurement>(measure::ReadMeasurementFile(o.compare, read));
     RequireComparable(before, *after_m);
     warn_units(*after_m);
     after_ev = analysis::Evaluate(*after_m, eo);
@@ -121,7 +124,7 @@ void RunAnalyze(const AnalyzeOptions& o) {
     return;
   }
   std::cout << ev.FullReport();
-  if (show_dec) std::cout << "\nError decomposition (seed 002)\n" << dec.FullReport();
+  if (show_dec) std::cout << "\nError decomposition (progressive, periodic, random)\n" << dec.FullReport();
   if (after_ev) {
     std::cout << fmt::format("\nComparison with {} ({} targets × {} runs)\n", o.compare, after_ev->targets.size(),
                              after_ev->runs);
@@ -138,8 +141,9 @@ void RunAnalyze(const AnalyzeOptions& o) {
 
 void Setup(CLI::App& app) {
   auto opts = std::make_shared<AnalyzeOptions>();
-  auto* cmd = app.add_subcommand("analyze", "Evaluate a positioning test by ISO 230-2 / VDI 3441 (CSV or ecmc .dat)");
-  cmd->add_option("file", opts->file, "measurement file: canonical CSV or ecmc .dat (detected by content)")->required();
+  auto* cmd = app.add_subcommand("analyze", "Evaluate a positioning test by ISO 230-2 / VDI 3441 (CSV, ecmc .dat or a mapped laser export)");
+  cmd->add_option("file", opts->file, "measurement file: canonical CSV or ecmc .dat (detected by content), or a laser software's CSV with --columns")->required();
+  AddMeasurementInputOptions(cmd, opts->input);
   std::string names;
   for (const auto& n : analysis::StandardNames()) names += (names.empty() ? "" : ", ") + n;
   cmd->add_option("--standard", opts->standard, "evaluation standard: " + names)->capture_default_str();

@@ -9,6 +9,7 @@
 
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/install_paths.hpp"
 #include "trueaxis/demo/demo.hpp"
 
 namespace {
@@ -19,15 +20,9 @@ struct Options {
   bool quiet = false;
 };
 
-std::string DefaultMachine() {
-  // The example machine, from the repository root (scripts/demo.sh runs there) or one level below.
-  for (const char* p : {"examples/machines/vmc850.toml", "../examples/machines/vmc850.toml"})
-    if (std::filesystem::exists(p)) return p;
-  return "examples/machines/vmc850.toml";
-}
-
 void Run(Options& o) {
-  if (o.demo.machine_file.empty()) o.demo.machine_file = DefaultMachine();
+  // The example machine: from the checkout (scripts/demo.sh runs at its root) or the installed examples.
+  if (o.demo.machine_file.empty()) o.demo.machine_file = trueaxis::DefaultExampleFile("machines/vmc850.toml");
   o.demo.period_s = (o.period_ms > 0 ? o.period_ms : (o.demo.modbus ? 100 : 10)) / 1000.0;
   if (!std::filesystem::exists(o.demo.machine_file))
     throw trueaxis::InputError(o.demo.machine_file, 0, "--machine", "machine file not found");
@@ -48,7 +43,7 @@ void Setup(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--seed", opts->demo.seed, "Run seed (the working day uses seed + 1000)")->capture_default_str();
   cmd->add_flag("--fast", opts->demo.fast, "One axis, fewer targets and runs (a few seconds in process; 4–5 minutes with --modbus)");
-  cmd->add_option("--machine", opts->demo.machine_file, "Machine description (default examples/machines/vmc850.toml)");
+  cmd->add_option("--machine", opts->demo.machine_file, "Machine description (default: the example machines/vmc850.toml)");
   cmd->add_option("--axes", opts->demo.axes, "Axes to calibrate and measure, e.g. X,Y (default: all; --fast: the first)")
       ->delimiter(',');
   cmd->add_option("--period-ms", opts->period_ms, "Compensation cycle in ms of machine time (default 10; 100 with --modbus)");
@@ -61,7 +56,7 @@ void Setup(CLI::App& app) {
   cmd->add_flag_function("--no-lag", [opts](std::int64_t) { opts->demo.thermal_lag = false; },
                 "Fit the static thermal model (no key-sensor lag), for comparison with the default");
   cmd->add_flag("--coolant-memory", opts->demo.coolant_memory,
-                "Let the fit try issue 10's coolant memory (one set of gains, the keys drawn to the room under "
+                "Let the fit try the coolant memory (one set of gains, the keys drawn to the room under "
                 "coolant; fit --coolant-loss-grid-s), off by default since it did worse on the machine zoo "
                 "(bench/results/zoo.md)");
   cmd->add_flag("--coolant-soak", opts->demo.coolant_soak,
@@ -77,7 +72,7 @@ void Setup(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag_function("--no-envelope", [opts](std::int64_t) { opts->demo.fitted_envelope = false; },
                          "Fit without the gains' fitted envelope (fit --envelope-margin -1): gains per coolant state "
-                         "and no envelope is the model before issue 10's coolant work, the baseline of "
+                         "and no envelope, the baseline of "
                          "bench/results/zoo.md");
   cmd->add_flag_function("--no-coolant-rest", [opts](std::int64_t) { opts->demo.coolant_rest = false; },
                          "Calibrate without the campaign's stop under coolant (the measurements of the axis at rest "
@@ -87,17 +82,17 @@ void Setup(CLI::App& app) {
                   "14 (default: 3,10,19; bench/results/zoo.md compares)")
       ->delimiter(',');
   cmd->add_option("--secondary-key-ridge", opts->demo.secondary_key_ridge,
-                  "Ridge λ on the bearing key's gain, shrinking it toward the nut-only fit (0: the seed's plain least "
+                  "Ridge λ on the bearing key's gain, shrinking it toward the nut-only fit (0: plain least "
                   "squares, for comparison; bench/results/zoo.md)")
       ->capture_default_str();
   cmd->add_option("--key-offsets", opts->demo.key_offsets,
-                  "Each key's own pivot: auto (by the fit's cross-validation), on, off (one pivot Px, the seed's form; "
+                  "Each key's own pivot: auto (by the fit's cross-validation), on, off (one pivot Px, the fan-shaped model's form; "
                   "bench/results/zoo.md compares)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
   cmd->add_option("--motion-heat", opts->demo.motion_heat,
                   "The axis's lagged feed as one more key of the thermal slope (the motion-heat input): auto (kept "
-                  "by the fit's cross-validation; the default), on, off (the seed's keys only; bench/results/zoo.md compares)")
+                  "by the fit's cross-validation; the default), on, off (nut and bearing keys only; bench/results/zoo.md compares)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
   cmd->add_option("--motion-lag-grid-s", opts->demo.motion_lag_grid_s,
@@ -122,7 +117,7 @@ void Setup(CLI::App& app) {
              trueaxis::sim::CoolantVisitName(trueaxis::sim::CampaignOptions{}.coolant_visit))
       ->check(CLI::IsMember({"after-seasons", "first", "both"}));
   cmd->add_option("--keys", opts->demo.keys,
-                  "Key sensors: seed (the axis's nut and bearing, seed 000's key points), auto (chosen from every "
+                  "Key sensors: seed (the axis's nut and bearing, the key points of the fan-shaped model), auto (chosen from every "
                   "sensor by the fit's cross-validation, as `trueaxis fit`)")
       ->check(CLI::IsMember({"seed", "auto"}))
       ->capture_default_str();
@@ -132,7 +127,7 @@ void Setup(CLI::App& app) {
                          "Feed the compensator the raw sensor readings instead of the temperature pipeline "
                          "(filter + fault status, on by default as in `trueaxis run`), for comparison");
   cmd->add_option("--geometric", opts->demo.geometric,
-                  "Er(x) model: auto (polynomial or table by cross-validation), polynomial (seed 000), table (seed 002)")
+                  "Er(x) model: auto (polynomial or table by cross-validation), polynomial (the fan-shaped model's form), table (one value per sample, as a pitch table)")
       ->check(CLI::IsMember({"auto", "polynomial", "table"}))
       ->capture_default_str();
   cmd->add_flag_function("--fixed-bound", [opts](std::int64_t) { opts->demo.derive_bounds = false; },

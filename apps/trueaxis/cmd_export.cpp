@@ -16,6 +16,7 @@
 #include <fmt/ranges.h>
 
 #include "command.hpp"
+#include "measurement_input.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/output_path.hpp"
@@ -30,7 +31,6 @@
 #include "trueaxis/export/resample_axis_model.hpp"
 #include "trueaxis/export/sinumerik_table.hpp"
 #include "trueaxis/export/table_format.hpp"
-#include "trueaxis/measure/measurement_csv.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/pitch/error_file.hpp"
 #include "trueaxis/thermal/pso_bp_network.hpp"
@@ -47,6 +47,7 @@ constexpr const char* kCli = "command line";
 struct ExportArgs {
   std::string model_path, measurement_path, pitch_path, axis, format, out, read;
   std::string thermal_model_path, channel;  // a `thermal fit` model and its error channel for --axis
+  MeasurementInputOptions input;            // --measurement: a laser software's columns
   double start = ResampleOptions::kNaN, spacing = ResampleOptions::kNaN;
   int count = 0;
   std::string range;
@@ -249,13 +250,15 @@ void RunExport(const ExportArgs& a) {
   const TableFormat f = FormatOf(a);
   if (a.out.empty()) Bad("--out", "required: the file to write");
   if (!a.model_path.empty() && !a.thermal_model_path.empty())
-    Bad("--thermal-model", "give either --model (a seed-000 model file) or --thermal-model (a `trueaxis thermal fit` "
+    Bad("--thermal-model", "give either --model (a `trueaxis fit` model file) or --thermal-model (a `trueaxis thermal fit` "
                            "model), not both");
   if (!a.model_path.empty() + !a.thermal_model_path.empty() + !a.measurement_path.empty() + !a.pitch_path.empty() != 1)
     Bad("--model", "give exactly one of --model (with --axis), --thermal-model (with --channel, --axis, --range), "
                    "--measurement or --pitch-file");
   if (!a.channel.empty() && a.thermal_model_path.empty()) Bad("--channel", "applies to --thermal-model only");
-  const std::vector<std::string> inputs = {a.model_path, a.measurement_path, a.pitch_path, a.thermal_model_path};
+  if (a.input.Given() && a.measurement_path.empty()) Bad("--columns", "applies to --measurement only");
+  const std::vector<std::string> inputs = {a.model_path, a.measurement_path, a.pitch_path, a.thermal_model_path,
+                                          a.input.column_map};
   RefuseOutputOverInput(a.out, inputs, "--out");
   const ValueSign sign = SignOf(a, f);
   const ResampleOptions ro = ResampleOf(a, f);
@@ -290,7 +293,7 @@ void RunExport(const ExportArgs& a) {
       Bad("--axis", fmt::format("the model has no axis '{}' (it has: {})", a.axis, known));
     }
   } else {
-    meas = measure::ReadMeasurementCsv(a.measurement_path);
+    meas = a.input.Read(a.measurement_path);
   }
   auto resample = [&](const ResampleOptions& o) {
     if (!a.pitch_path.empty()) return pitch::ResamplePitchTable(pitch_table, o, a.pitch_path);
@@ -394,7 +397,10 @@ void Setup(CLI::App& app) {
   auto a = std::make_shared<ExportArgs>();
   auto* cmd = app.add_subcommand("export", "Write (or --read back) a compensation table for a CNC controller");
   cmd->add_option("--model", a->model_path, "fitted model JSON (docs/model-file.md)");
-  cmd->add_option("--measurement", a->measurement_path, "measurement CSV: per-target mean deviations per direction");
+  cmd->add_option("--measurement", a->measurement_path,
+                  "measurement (canonical CSV, ecmc .dat or a mapped laser export): per-target mean deviations per "
+                  "direction");
+  AddMeasurementInputOptions(cmd, a->input);
   cmd->add_option("--pitch-file", a->pitch_path, "pitch error file (once per lead, docs/pitch-error-file.md)");
   cmd->add_option("--thermal-model", a->thermal_model_path,
                   "data-driven thermal model from `trueaxis thermal fit` (needs --channel, --axis, --range, --temp)");

@@ -1,7 +1,7 @@
 // trueaxis fit --out model.json INPUTS… [--manifest DIR/manifest.json]
 //              [--geometric auto|poly|table] [--max-degree N] [--report fit.html]
 //              [--previous old.json [--add-to-previous]] [--keys nut,bearing] [--reference-mm P]
-//              [--rho R] [--ambient-sensor NAME] [--axis X] [--full]
+//              [--rho R] [--ambient-sensor NAME] [--axis X] [--state S] [--columns …|--column-map F] [--full]
 // Fits the composite geometric + thermal model (seed 000) per axis and per
 // direction from measurement files of several thermal states and writes the
 // model file (docs/model-file.md). With --previous the new model is the next
@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 
 #include "command.hpp"
+#include "measurement_input.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/text_file.hpp"
@@ -52,6 +53,8 @@ struct FitCliOptions {
   double rho = std::numeric_limits<double>::quiet_NaN();
   std::string ambient_sensor;
   std::string axis;
+  std::string state;  // for an input file that names none (an ecmc .dat, a laser export)
+  MeasurementInputOptions input;
   int max_keys = 3;
   double max_key_correlation = 0.98;
   double secondary_key_ridge = model::FitOptions{}.secondary_key_ridge;
@@ -101,6 +104,28 @@ std::string CompareWithPrevious(const model::CompositeModel& prev, const model::
                          fmt::join(new_lag, "/"));
   }
   return out;
+}
+
+// --state: the thermal state of the one input file that names none (`# state:` line, manifest):
+// an ecmc .dat or a laser software's export carries no state. Given to several such files it would
+// make them one state twice, so it is refused then; a file that names its own state keeps it.
+void ApplyStateOption(const std::string& label, std::vector<model::FitState>& states) {
+  std::vector<model::FitState*> unnamed;
+  for (auto& s : states)
+    if (s.label.empty()) unnamed.push_back(&s);
+  if (unnamed.empty())
+    throw InputError("command line", 0, "--state",
+                     "every input file names its own state ('# state:' line or manifest); --state would change none");
+  if (unnamed.size() > 1)
+    throw InputError("command line", 0, "--state",
+                     fmt::format("{} input files name no state ({}, …): --state names the state of one file; give the "
+                                 "others theirs in a manifest or with `trueaxis measurement convert --state`",
+                                 unnamed.size(), unnamed[0]->path));
+  auto& s = *unnamed[0];
+  const model::FitState labelled = model::MakeFitState(s.measurement, label, "", s.sha256);
+  s.label = labelled.label;
+  s.kind = labelled.kind;
+  s.coolant = labelled.coolant;
 }
 
 void RunFit(const FitCliOptions& o) {
@@ -158,18 +183,20 @@ void RunFit(const FitCliOptions& o) {
     prev_sha = model::Sha256OfFile(o.previous);
   }
 
+  const auto read = o.input.Resolve();
   std::vector<model::FitState> states;
   if (o.reuse_sources) {
-    states = model::LoadPreviousSources(*prev, o.previous);
+    states = model::LoadPreviousSources(*prev, o.previous, read);
     // A file given again on the command line is not counted twice.
-    for (auto& s : model::LoadFitStates(o.inputs, o.manifest)) {
+    for (auto& s : model::LoadFitStates(o.inputs, o.manifest, read)) {
       bool dup = false;
       for (const auto& old : states) dup = dup || old.sha256 == s.sha256;
       if (!dup) states.push_back(std::move(s));
     }
   } else {
-    states = model::LoadFitStates(o.inputs, o.manifest);
+    states = model::LoadFitStates(o.inputs, o.manifest, read);
   }
+  if (!o.state.empty()) ApplyStateOption(o.state, states);
   // A redundant probe the files do not have would silently change nothing: refused.
   for (const auto& group : fo.redundant_groups)
     for (const auto& name : group) {
@@ -218,11 +245,11 @@ void RunFit(const FitCliOptions& o) {
 
 void Setup(CLI::App& app) {
   auto opts = std::make_shared<FitCliOptions>();
-  auto* cmd = app.add_subcommand("fit", "Fit the composite geometric + thermal error model (seed 000) per axis and direction");
+  auto* cmd = app.add_subcommand("fit", "Fit the composite error model (geometric + fan-shaped thermal) per axis and direction");
   cmd->add_option("--out", opts->out, "Model file to write (JSON, docs/model-file.md)")->required();
-  cmd->add_option("inputs", opts->inputs, "Measurement CSV files, one thermal state each ('# state:' metadata)");
+  cmd->add_option("inputs", opts->inputs, "Measurement files (canonical CSV, ecmc .dat or a mapped laser export), one thermal state each ('# state:' metadata)");
   cmd->add_option("--manifest", opts->manifest, "Campaign manifest.json listing files and their states");
-  cmd->add_option("--geometric", opts->geometric, "Geometric part: poly (degree chosen by CV), table (seed 002), or auto (table when the polynomial leaves a systematic pattern)")
+  cmd->add_option("--geometric", opts->geometric, "Geometric part: poly (degree chosen by CV), table (one value per sample), or auto (table when the polynomial leaves a systematic pattern)")
       ->capture_default_str();
   cmd->add_option("--max-degree", opts->max_degree, "Highest polynomial degree tried")->capture_default_str();
   cmd->add_option("--report", opts->report, "Write an HTML fit report (measured vs model per state)");
@@ -272,11 +299,11 @@ void Setup(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--key-offsets", opts->key_offsets,
                   "Each key's own pivot (its rise also shifts the error over the travel): auto (by cross-validation), "
-                  "on, off (one pivot Px, seed 000)")
+                  "on, off (one pivot Px, the fan-shaped model's form)")
       ->capture_default_str();
   cmd->add_option("--motion-heat", opts->motion_heat,
                   "The axis's feed, lagged, as one more key of the thermal slope (needs the manifest's temperature "
-                  "log with <axis>_travel_mm): auto (kept by cross-validation; without travel columns not tried), on, off (the seed's keys only)")
+                  "log with <axis>_travel_mm): auto (kept by cross-validation; without travel columns not tried), on, off (the temperature keys only)")
       ->capture_default_str();
   cmd->add_option("--motion-lag-grid-s", opts->motion_lag_grid_s,
                   "Lag τ values (s) tried for the motion-heat input, by the same cross-validation")
@@ -286,6 +313,10 @@ void Setup(CLI::App& app) {
   cmd->add_option("--rho", opts->rho, "ρ in µm/mm/°C (default: fitted, or −cte/1000 from metadata)");
   cmd->add_option("--ambient-sensor", opts->ambient_sensor, "Ambient sensor name ('none' for no ambient term)");
   cmd->add_option("--axis", opts->axis, "Axis for files without '# axis:' metadata");
+  cmd->add_option("--state", opts->state,
+                  "Thermal state (cold, heated-1, ambient-24, …) of the one input file that names none, e.g. an ecmc "
+                  ".dat or a laser software's export");
+  AddMeasurementInputOptions(cmd, opts->input);
   cmd->add_flag("--add-to-previous", opts->reuse_sources,
                 "Re-fit on the previous model's source files (hash-checked) plus the new INPUTS");
   cmd->add_flag("--full", opts->full, "Print the full fit report instead of the brief one");

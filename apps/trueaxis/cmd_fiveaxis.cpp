@@ -67,7 +67,7 @@ void PrintRuns(const Experiment& x, const FiveAxisMachine& m) {
 }
 
 void Setup(CLI::App& app) {
-  auto* five = app.add_subcommand("fiveaxis", "Five-axis contour error: servo model, feed-forward, command correction (seed 004)");
+  auto* five = app.add_subcommand("fiveaxis", "Five-axis contour error: servo model, feed-forward, command correction");
   five->require_subcommand(1);
   {
     auto* cmd = five->add_subcommand("identify", "Run sine tests of each axis on the virtual machine and fit the tracking-error model");
@@ -139,7 +139,7 @@ void Setup(CLI::App& app) {
   }
   {
     auto* cmd = five->add_subcommand(
-        "correct", "No FF / seed-004 FF / FF + corrected program on the virtual machine; writes the corrected program and a report");
+        "correct", "No FF / averaged FF / FF + corrected program on the virtual machine; writes the corrected program and a report");
     auto o = std::make_shared<PathOptions>();
     auto model_path = std::make_shared<std::string>();
     auto out = std::make_shared<std::string>();
@@ -147,7 +147,7 @@ void Setup(CLI::App& app) {
     auto block = std::make_shared<int>(1);
     auto iterations = std::make_shared<int>(ExperimentOptions{}.correction_iterations);
     AddPathOptions(cmd, o.get());
-    cmd->add_option("--iterations", *iterations, "correction passes (1 = the seed's one-shot correction)")->capture_default_str();
+    cmd->add_option("--iterations", *iterations, "correction passes (1 = a one-shot correction)")->capture_default_str();
     cmd->add_option("--model", *model_path, "tracking-error model from `fiveaxis identify` (default: identify now)");
     cmd->add_option("--out,-o", *out, "corrected program to write (.csv for CSV, else G-code)");
     cmd->add_option("--report", *report, "HTML report to write");

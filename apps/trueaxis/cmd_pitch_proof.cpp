@@ -79,13 +79,13 @@ void Run(const Options& o) {
 void Setup(CLI::App& app) {
   auto o = std::make_shared<Options>();
   CLI::App* cmd = cli::PitchCommand(app)->add_subcommand(
-      "proof", "Seed-002 before/after on the virtual machine: fine calibration, once-per-lead table, re-homing, verification");
+      "proof", "Pitch-table before/after on the virtual machine: fine calibration, once-per-lead table, re-homing, verification");
   cmd->add_option("--machine", o->machine, "Machine description (TOML)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--axis", o->axis, "Axis (default: every axis)");
   cmd->add_option("--seed", o->seed, "Run seed")->capture_default_str();
   cmd->add_option("--day", o->day, "0: verified right after the calibration (re-homed); N: N days later")
       ->capture_default_str()->check(CLI::Range(0, 3650));
-  cmd->add_option("--samples-per-lead", o->samples_per_lead, "table samples per lead (1: seed 002)")
+  cmd->add_option("--samples-per-lead", o->samples_per_lead, "table samples per lead (1: once per lead)")
       ->capture_default_str()->check(CLI::Range(1, 64));
   cmd->add_option("--feeds", o->feeds, "feeds of the following-error comparison, mm/min")->delimiter(',')->capture_default_str();
   cmd->add_option("--out", o->out, "write <AXIS>_fine_before.csv, <AXIS>_fine_after.csv, <AXIS>.pitch.csv here");

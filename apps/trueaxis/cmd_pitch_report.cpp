@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "command.hpp"
+#include "measurement_input.hpp"
 #include "pitch_command.hpp"
 #include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/input_error.hpp"
@@ -21,12 +22,14 @@ struct Options {
   std::string before, after, pitch_file, out, machine, axis;
   std::vector<double> feeds = {1000, 5000, 10000, 20000, 40000};
   double cycle_ms = 2;
+  cli::MeasurementInputOptions input;
 };
 
 void Run(const Options& o) {
-  RefuseOutputOverInput(o.out, {o.before, o.after, o.pitch_file, o.machine}, "--out");
-  const auto before = measure::ReadMeasurementFile(o.before);
-  const auto after = measure::ReadMeasurementFile(o.after);
+  RefuseOutputOverInput(o.out, {o.before, o.after, o.pitch_file, o.machine, o.input.column_map}, "--out");
+  const auto read = o.input.Resolve();
+  const auto before = measure::ReadMeasurementFile(o.before, read);
+  const auto after = measure::ReadMeasurementFile(o.after, read);
   const auto table = pitch::ReadPitchErrorFile(o.pitch_file);
   pitch::PitchReportInput in;
   in.before = &before;
@@ -48,6 +51,7 @@ void Setup(CLI::App& app) {
   CLI::App* cmd = cli::PitchCommand(app)->add_subcommand("report", "HTML before/after of a pitch table (fine runs without and with it)");
   cmd->add_option("--before", o->before, "fine run without the table")->required()->check(CLI::ExistingFile);
   cmd->add_option("--after", o->after, "fine run with the table")->required()->check(CLI::ExistingFile);
+  cli::AddMeasurementInputOptions(cmd, o->input);
   cmd->add_option("--pitch-file", o->pitch_file, "the pitch error file")->required()->check(CLI::ExistingFile);
   cmd->add_option("--out", o->out, "HTML file to write")->required();
   cmd->add_option("--machine", o->machine, "virtual machine: add the following error vs feed (ahead vs late)")->check(CLI::ExistingFile);

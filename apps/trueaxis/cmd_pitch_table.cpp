@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "command.hpp"
+#include "measurement_input.hpp"
 #include "pitch_command.hpp"
 #include "trueaxis/analysis/decomposition.hpp"
 #include "trueaxis/core/input_error.hpp"
@@ -26,15 +27,16 @@ struct Options {
   double reference_mm = std::nan("");
   int samples_per_lead = 1;
   int harmonics = 2;
+  cli::MeasurementInputOptions input;
 };
 
 void Run(const Options& o) {
   if (o.measurement.empty() == o.model.empty())
     throw InputError("command line", 0, "--measurement", "give exactly one of --measurement or --model (with --axis)");
-  RefuseOutputOverInput(o.out, {o.measurement, o.model}, "--out");
+  RefuseOutputOverInput(o.out, {o.measurement, o.model, o.input.column_map}, "--out");
   pitch::PitchErrorTable table;
   if (!o.measurement.empty()) {
-    const auto m = measure::ReadMeasurementFile(o.measurement);
+    const auto m = o.input.Read(o.measurement);
     pitch::TableFromMeasurementOptions to;
     to.lead_mm = o.lead_mm;
     to.samples_per_lead = o.samples_per_lead;
@@ -68,13 +70,14 @@ void Run(const Options& o) {
 void Setup(CLI::App& app) {
   auto o = std::make_shared<Options>();
   CLI::App* cmd = cli::PitchCommand(app)->add_subcommand("table", "Write a pitch error file (once per lead) from a fine laser run or a fitted model");
-  cmd->add_option("--measurement", o->measurement, "laser run (canonical CSV or ecmc .dat) with targets at lead spacing or finer")
+  cmd->add_option("--measurement", o->measurement, "laser run (canonical CSV, ecmc .dat or a mapped laser export) with targets at lead spacing or finer")
       ->check(CLI::ExistingFile);
+  cli::AddMeasurementInputOptions(cmd, o->input);
   cmd->add_option("--model", o->model, "fitted model JSON (cold state)")->check(CLI::ExistingFile);
   cmd->add_option("--axis", o->axis, "axis name (required with --model; overrides the run's)");
   cmd->add_option("--lead-mm", o->lead_mm, "screw lead (default: the run's lead_mm metadata)")->check(CLI::PositiveNumber);
   cmd->add_option("--reference-mm", o->reference_mm, "grid origin (default: the run's reference_mm, else its first target)");
-  cmd->add_option("--samples-per-lead", o->samples_per_lead, "samples per lead (1: seed 002)")
+  cmd->add_option("--samples-per-lead", o->samples_per_lead, "samples per lead (1: once per lead)")
       ->capture_default_str()->check(CLI::Range(1, 64));
   cmd->add_option("--harmonics", o->harmonics, "lead harmonics tried by the decomposition")->capture_default_str()->check(CLI::Range(0, 8));
   cmd->add_option("--out", o->out, "pitch error file to write")->required();

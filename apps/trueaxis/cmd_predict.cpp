@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "measurement_input.hpp"
 #include "trueaxis/analysis/evaluation.hpp"
 #include "trueaxis/core/ascii_case.hpp"
 #include "trueaxis/core/input_error.hpp"
@@ -45,6 +46,7 @@ struct PredictOptions {
   std::string residual_out;
   std::string temperature_log;  // with --measurement: history before the file, for the thermal lag
   bool position_given = false;
+  MeasurementInputOptions input;
 };
 
 // `first` and the later fallbacks of `parent` that replace the same sensor and whose sensors
@@ -69,7 +71,7 @@ std::string DescribeFallbacks(const std::vector<const model::AxisModel*>& group)
 }
 
 void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel& model) {
-  const auto m = measure::ReadMeasurementCsv(o.measurement);
+  const auto m = o.input.Read(o.measurement);
   std::string axis_name = o.axis.empty() ? std::string(Trim(m.Meta("axis").value_or(""))) : o.axis;
   if (axis_name.empty())
     throw InputError(o.measurement, 0, "axis", "no '# axis:' metadata line; pass --axis");
@@ -252,6 +254,8 @@ void RunPredictMeasurement(const PredictOptions& o, const model::CompositeModel&
 
 void RunPredict(const PredictOptions& o) {
   const auto model = model::ReadModelFile(o.model);
+  if (o.input.Given() && o.measurement.empty())
+    throw InputError("command line", 0, "--columns", "applies to --measurement only");
   if (!o.measurement.empty()) return RunPredictMeasurement(o, model);
   if (o.axis.empty()) throw InputError("command line", 0, "--axis", "required (or give --measurement)");
   if (!o.position_given) throw InputError("command line", 0, "--position-mm", "required (or give --measurement)");
@@ -459,7 +463,9 @@ void Setup(CLI::App& app) {
       "Commanded machine coordinate P0 in mm");
   cmd->add_option("--direction", o->direction, "Direction of approach: + or -");
   cmd->add_option("--measurement", o->measurement,
-                  "Predict every point of this measurement CSV (held-out check) instead of one position");
+                  "Predict every point of this measurement (canonical CSV, ecmc .dat or a mapped laser export; "
+                  "held-out check) instead of one position");
+  AddMeasurementInputOptions(cmd, o->input);
   cmd->add_option("--residual-out", o->residual_out, "With --measurement: write measured − predicted as a CSV");
   cmd->add_option("--temperature-log", o->temperature_log,
                   "With --measurement: the campaign's temperature_log.csv, so the model's key-sensor lag starts from "

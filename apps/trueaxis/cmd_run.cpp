@@ -100,7 +100,7 @@ class CsvLog {
 
 void Run(const Options& o) {
   if (o.duration_given) cli::CheckSecondsOption(o.duration_s, "--duration-s", "until SIGINT/SIGTERM");
-  cli::CheckSecondsOption(o.status_interval_s, "--status-s", "every 50 ms");
+  cli::CheckSecondsOption(o.status_interval_s, "--status-interval-s", "every 50 ms");
   runtime::RunConfig c = runtime::ReadRunConfig(o.config);
   if (o.duration_given) c.duration_s = o.duration_s;
   station::Machine m = station::OpenMachine(c);  // + the temperature pipeline ([signal], on by default)
@@ -249,7 +249,10 @@ void Setup(CLI::App& app) {
   cmd->add_option("--duration-s", opts->duration_s,
                   "Stop after this many seconds (0: until SIGINT/SIGTERM; default: the config's duration_s)")
       ->each([opts](const std::string&) { opts->duration_given = true; });
-  cmd->add_option("--status-s", opts->status_interval_s, "Status line interval on stderr")->capture_default_str();
+  cmd->add_option("--status-interval-s", opts->status_interval_s, "Seconds between status lines on stderr")
+      ->capture_default_str();
+  // The earlier spelling, still accepted (scripts written for it keep working); not shown in --help.
+  cmd->add_option("--status-s", opts->status_interval_s, "Same as --status-interval-s")->group("");
   cmd->add_flag("--quiet", opts->quiet, "No progress on stderr");
   cli::AddWebOptions(cmd, opts->web, "--web");
   cmd->add_option("--machine-id", opts->machine_id, "The machine's id on the web page ([A-Za-z0-9_.-])")

@@ -15,6 +15,7 @@
 #include "command.hpp"
 #include "sim_command.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/install_paths.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/server/virtual_shop.hpp"
 
@@ -85,7 +86,7 @@ void RunShop(ShopOptions o) {
 
 void Setup(CLI::App& app) {
   auto o = std::make_shared<ShopOptions>();
-  o->shop.machine_files = {"examples/machines/vmc850.toml"};
+  o->shop.machine_files = {trueaxis::DefaultExampleFile("machines/vmc850.toml")};
   CLI::App* cmd = trueaxis::cli::SimCommand(app)->add_subcommand(
       "shop", "Serve N virtual machines, one MODBUS TCP terminal each on base-port + i, from one process (docs/server.md)");
   cmd->add_option("--machines", o->shop.machines, "Number of machines")->capture_default_str();

@@ -80,12 +80,12 @@ void AddCommon(CLI::App* cmd, CommonOptions* o) {
       ->capture_default_str();
   cmd->add_option("--lambda", o->lambda, "ridge penalty on standardised temperatures")->capture_default_str();
   cmd->add_option("--temperature-inputs", o->temperature_inputs,
-                  "pso-bp: selected temperatures fed to the network (seed 003: 1, plus the position)")
+                  "pso-bp: selected temperatures fed to the network (1 in the workshop paper, plus the position)")
       ->capture_default_str();
   cmd->add_option("--hidden", o->hidden, "pso-bp: hidden units")->capture_default_str();
   cmd->add_option("--epochs", o->epochs, "pso-bp: back-propagation epochs")->capture_default_str();
   cmd->add_option("--particles", o->particles, "pso-bp: swarm size")->capture_default_str();
-  cmd->add_option("--pso-iterations", o->pso_iterations, "pso-bp: swarm iterations (not given by seed 003)")
+  cmd->add_option("--pso-iterations", o->pso_iterations, "pso-bp: swarm iterations (not given by the workshop paper)")
       ->capture_default_str();
   cmd->add_option("--pso-max-samples", o->pso_max_samples, "pso-bp: rows used for the swarm's fitness")
       ->capture_default_str();

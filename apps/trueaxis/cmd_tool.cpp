@@ -78,7 +78,7 @@ std::string ModelsJson(const std::map<int, ToolErrorModel>& models, const ToolTa
 
 std::string ScoreTable(const ToolEvaluation& ev, const ToolTable& table) {
   std::string s =
-      "| tool | cutting samples | hysteresis µm | none RMS / max µm | one model | seed 001 sub-models | first-order lag | "
+      "| tool | cutting samples | hysteresis µm | none RMS / max µm | one model | heating/steady/cooling sub-models | first-order lag | "
       "two-body | zones | best (by CV) | RMS reduction: sub-models / best |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& sc : ev.tools) {
     const ToolDescription* t = table.Find(sc.tool);

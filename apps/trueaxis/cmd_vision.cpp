@@ -14,6 +14,7 @@
 #include "command.hpp"
 #include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/install_paths.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/core/text_lines.hpp"
@@ -101,7 +102,7 @@ void AddImageArgs(CLI::App* cmd, ImageArgs* a, const std::string& images_help) {
 MarkerDescription ReadMarker(const std::string& path) {
   MarkerDescription m = ReadMarkerFile(path);
   if (!m.EpsilonInSeedRange())
-    fmt::print(stderr, "warning: {}: credibility.epsilon = {:g} is outside seed 001's range 0.1 %…5 %\n", path, m.epsilon);
+    fmt::print(stderr, "warning: {}: credibility.epsilon = {:g} is outside the marker method's range 0.1 %…5 %\n", path, m.epsilon);
   return m;
 }
 
@@ -186,7 +187,7 @@ void WriteAlarm(const std::string& path, const CredibilityMonitor& m) {
 }
 
 void Setup(CLI::App& app) {
-  auto* vision = app.add_subcommand("vision", "Seed 001: spindle growth read by a camera from a marker on the spindle");
+  auto* vision = app.add_subcommand("vision", "Spindle growth read by a camera from a marker on the spindle");
   vision->require_subcommand(1);
 
   {  // render
@@ -343,7 +344,7 @@ void Setup(CLI::App& app) {
         for (std::size_t i : ExampleIndices(rows)) frames.push_back({Caption(rows[i]), DrawReading(kept[i], rows[i].reading)});
         int credible = 0;
         for (const auto& r : rows) credible += r.reading.credible();
-        BuildVisionReport("Spindle growth from the marker (seed 001)", m, rows, frames,
+        BuildVisionReport("Spindle growth from the marker", m, rows, frames,
                           {{"images", std::to_string(rows.size())}, {"credible", std::to_string(credible)},
                            {"stop rule", monitor.stop() ? monitor.message() : "not tripped"}})
             .Save(*report);
@@ -359,7 +360,7 @@ void Setup(CLI::App& app) {
     auto csv = std::make_shared<std::string>();
     auto loop_csv = std::make_shared<std::string>();
     auto report = std::make_shared<std::string>();
-    auto machine = std::make_shared<std::string>("examples/machines/vmc850.toml");
+    auto machine = std::make_shared<std::string>(trueaxis::DefaultExampleFile("machines/vmc850.toml"));
     auto lo = std::make_shared<VisionLoopOptions>();
     AddDayArgs(cmd, a.get());
     cmd->add_option("--csv", *csv, "write the readings and the truth as CSV");
@@ -435,7 +436,7 @@ void Setup(CLI::App& app) {
       if (!report->empty()) {
         std::vector<ReportFrame> frames;
         for (std::size_t i : ExampleIndices(rows)) frames.push_back({Caption(rows[i]), DrawReading(images[i].second, rows[i].reading)});
-        BuildVisionReport("Spindle growth from the marker against the virtual spindle (seed 001)", m, rows, frames, summary)
+        BuildVisionReport("Spindle growth from the marker against the virtual spindle", m, rows, frames, summary)
             .Save(*report);
         fmt::print("report written to {}\n", *report);
       }

@@ -9,7 +9,7 @@
 namespace trueaxis::cli {
 
 CLI::App* PitchCommand(CLI::App& app) {
-  return CommandGroup(app, "pitch", "Lead-screw pitch error: once-per-lead error files, proof (seed 002)");
+  return CommandGroup(app, "pitch", "Lead-screw pitch error: once-per-lead error files, feed-forward, proof");
 }
 
 std::size_t MachineAxis(const sim::MachineDescription& machine, const std::string& machine_path, const std::string& axis) {
@@ -31,8 +31,8 @@ void FineCliOptions::Add(CLI::App* cmd) {
   cmd->add_option("--dwell-s", dwell_s, "stop at each target, s")->capture_default_str()->check(CLI::NonNegativeNumber);
   cmd->add_option("--cycle-ms", cycle_ms, "interpolation cycle of the virtual CNC, ms (CNCs: 1-4)")
       ->capture_default_str()->check(CLI::Range(0.1, 100.0));
-  cmd->add_option("--homing", homing, "switch+index (seed 002's improved homing) | switch (switch only)")->capture_default_str();
-  cmd->add_option("--feed-forward", feed_forward, "how the interpolator applies a table: ahead (seed 002) | late | off")
+  cmd->add_option("--homing", homing, "switch+index (switch, then the encoder index) | switch (switch only)")->capture_default_str();
+  cmd->add_option("--feed-forward", feed_forward, "how the interpolator applies a table: ahead (feed-forward) | late | off")
       ->capture_default_str();
 }
 

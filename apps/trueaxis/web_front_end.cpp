@@ -12,7 +12,7 @@ void AddWebOptions(CLI::App* cmd, WebCliOptions& o, const std::string& listen_fl
   cmd->add_option("--users", o.users, "User and audit-log database (SQLite; `trueaxis user add` makes the first admin)");
   cmd->add_option("--web-cert", o.cert, "TLS certificate (PEM): serve HTTPS (docs/web.md says how to make one)");
   cmd->add_option("--web-key", o.key, "TLS private key (PEM) of --web-cert");
-  cmd->add_option("--web-root", o.root, "Folder of the pages (default: the source tree's src/web/static)");
+  cmd->add_option("--web-root", o.root, "Folder of the pages (default: share/trueaxis/web next to the program's bin folder)");
   cmd->add_option("--web-idle-timeout-s", o.idle_timeout_s, "Log out after this long without a request")->capture_default_str();
   cmd->add_option("--web-absolute-timeout-s", o.absolute_timeout_s, "Log out this long after login")->capture_default_str();
 }

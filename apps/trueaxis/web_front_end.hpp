@@ -16,7 +16,7 @@ struct WebCliOptions {
   std::string listen;      // HOST:PORT; "" = no web front end
   std::string users;       // the user + audit database (trueaxis user add)
   std::string cert, key;   // TLS (PEM)
-  std::string root;        // the pages folder ("" = compiled-in)
+  std::string root;        // the pages folder ("" = web::DefaultStaticDir())
   double idle_timeout_s = 15 * 60;
   double absolute_timeout_s = 8 * 3600;
 };

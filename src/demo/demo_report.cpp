@@ -69,7 +69,7 @@ void WriteDemoReport(const DemoResult& r, const DemoOptions& o, const model::Fit
   report::HtmlPage page(fmt::format("trueaxis demo — {}: geometric + thermal compensation in the loop", md.name));
   page.AddParagraph(
       "A calibration campaign with the virtual laser interferometer, an automatic fit of the composite model "
-      "Er(x,T) = Er(x) + tanβ·(Px − P0) + ρ·ΔT_env·(Px − P0) per axis and direction (seed 000), then a simulated "
+      "Er(x,T) = Er(x) + tanβ·(Px − P0) + ρ·ΔT_env·(Px − P0) per axis and direction, then a simulated "
       "working day on another run of the same machine — cold start, machining, coolant on and off, the workshop's "
       "air drifting — and another day in another season, with the real-time compensator running every cycle through "
       "the machine's CNC and temperature interfaces. At each state every axis was measured twice by the laser, with "

@@ -5,8 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "point_fields.hpp"
 #include "trueaxis/core/input_error.hpp"
-#include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/text_file.hpp"
@@ -63,7 +63,9 @@ Measurement ParseMeasurementCsv(std::string_view text, const std::string& source
           m.sensor_names.push_back(sensor);
         } else {
           throw InputError(source, line_no, name.empty() ? "(empty)" : name,
-                           "unknown column; expected run, direction, target_mm, deviation_um, time_s or t_<sensor>_c");
+                           "unknown column; expected run, direction, target_mm, deviation_um, time_s or t_<sensor>_c "
+                           "(a laser software's own export: map its columns with --columns or --column-map, "
+                           "docs/formats.md)");
         }
         if (spec.kind <= Column::kDeviation) {
           int k = static_cast<int>(spec.kind);
@@ -87,13 +89,9 @@ Measurement ParseMeasurementCsv(std::string_view text, const std::string& source
       const auto& col = columns[c];
       std::string_view f = fields[c];
       switch (col.kind) {
-        case Column::kRun: {
-          auto v = ParseInt(f);
-          if (!v || *v < 1 || *v > 100000)
-            throw InputError(source, line_no, col.name, fmt::format("'{}' is not a run number (integer >= 1)", f));
-          p.run = static_cast<int>(*v);
+        case Column::kRun:
+          p.run = detail::ReadRunField(f, source, line_no, col.name);
           break;
-        }
         case Column::kDirection: {
           auto d = ParseDirection(f);
           if (!d) throw InputError(source, line_no, col.name, fmt::format("'{}' is not a direction; use + or -", f));
@@ -101,30 +99,17 @@ Measurement ParseMeasurementCsv(std::string_view text, const std::string& source
           break;
         }
         case Column::kTarget:
+          p.target_mm = detail::ReadQuantityField(f, detail::Quantity::kTargetMm, source, line_no, col.name);
+          break;
         case Column::kDeviation:
-        case Column::kTime: {
-          auto v = ParseDouble(f);
-          if (!v || !std::isfinite(*v))
-            throw InputError(source, line_no, col.name, fmt::format("'{}' is not a finite number", f));
-          const auto implausible = col.kind == Column::kTarget      ? ImplausiblePositionMm(*v)
-                                   : col.kind == Column::kDeviation ? ImplausibleDeviationUm(*v)
-                                                                    : ImplausibleTimeS(*v);
-          if (implausible) throw InputError(source, line_no, col.name, *implausible);
-          if (col.kind == Column::kTarget) p.target_mm = *v;
-          else if (col.kind == Column::kDeviation) p.deviation_um = *v;
-          else p.time_s = *v;
+          p.deviation_um = detail::ReadQuantityField(f, detail::Quantity::kDeviationUm, source, line_no, col.name);
           break;
-        }
-        case Column::kTemperature: {
-          if (f.empty()) break;  // not read at this point: stays NaN
-          auto v = ParseDouble(f);
-          if (!v || !std::isfinite(*v))
-            throw InputError(source, line_no, col.name,
-                             fmt::format("'{}' is not a temperature in °C (empty means not read)", f));
-          if (auto why = ImplausibleTemperatureC(*v)) throw InputError(source, line_no, col.name, *why);
-          p.temperatures_c[col.sensor] = *v;
+        case Column::kTime:
+          p.time_s = detail::ReadQuantityField(f, detail::Quantity::kTimeS, source, line_no, col.name);
           break;
-        }
+        case Column::kTemperature:
+          if (auto t = detail::ReadTemperatureField(f, source, line_no, col.name)) p.temperatures_c[col.sensor] = *t;
+          break;
       }
     }
     m.points.push_back(std::move(p));

@@ -17,7 +17,7 @@
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
-#include "trueaxis/measure/measurement_csv.hpp"
+#include "trueaxis/measure/measurement_file.hpp"
 #include "trueaxis/model/composite_model.hpp"
 #include "trueaxis/model/sha256.hpp"
 
@@ -327,7 +327,8 @@ TemperatureHistory TemperatureHistoryFromLog(const std::string& log_path, const 
   return HistoryBefore(log, m, start_time_s);
 }
 
-std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, const std::string& given_manifest) {
+std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, const std::string& given_manifest,
+                                    const measure::MeasurementReadOptions& read) {
   std::vector<FitState> out;
   // A campaign's manifest.json given among the input files is read as a manifest.
   std::vector<std::string> manifests;
@@ -338,7 +339,7 @@ std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, c
       manifests.push_back(p);
       continue;
     }
-    out.push_back(MakeFitState(measure::ParseMeasurementCsv(bytes, p), "", "", Sha256Hex(bytes)));
+    out.push_back(MakeFitState(measure::ParseMeasurement(bytes, p, read), "", "", Sha256Hex(bytes)));
   }
   if (!given_manifest.empty()) manifests.push_back(given_manifest);
   for (const auto& manifest_path : manifests) {
@@ -399,7 +400,7 @@ std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, c
       std::filesystem::path p(rel);
       if (p.is_relative()) p = base / p;
       const std::string bytes = ReadTextFile(p.string());
-      auto m = measure::ParseMeasurementCsv(bytes, p.string());
+      auto m = measure::ParseMeasurement(bytes, p.string(), read);
       std::string label = str("state");
       if (label.empty()) label = str("label");
       const std::string coolant = str("coolant");
@@ -439,7 +440,8 @@ void RejectDuplicateStates(const std::vector<FitState>& states) {
   }
 }
 
-std::vector<FitState> LoadPreviousSources(const CompositeModel& previous, const std::string& model_path) {
+std::vector<FitState> LoadPreviousSources(const CompositeModel& previous, const std::string& model_path,
+                                          const measure::MeasurementReadOptions& read) {
   std::vector<FitState> out;
   std::map<std::string, TemperatureLog> logs;
   for (std::size_t i = 0; i < previous.sources.size(); ++i) {
@@ -454,7 +456,7 @@ std::vector<FitState> LoadPreviousSources(const CompositeModel& previous, const 
                        fmt::format("the file changed since the previous fit (recorded {}…, now {}…); re-fit from the "
                                    "files explicitly if the change is intended",
                                    src.sha256.substr(0, 12), sha.substr(0, 12)));
-    FitState s = MakeFitState(measure::ParseMeasurementCsv(bytes, src.path), src.state, src.coolant, sha);
+    FitState s = MakeFitState(measure::ParseMeasurement(bytes, src.path, read), src.state, src.coolant, sha);
     if (!src.axis.empty()) s.axis = src.axis;
     if (!src.temperature_log.empty() && std::isfinite(src.start_time_s)) {
       // The history (thermal lag) the previous fit had: the same log, hash-checked.

@@ -12,20 +12,23 @@
 #include <nlohmann/json.hpp>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/install_paths.hpp"
 #include "trueaxis/web/backend_json.hpp"
 #include "trueaxis/web/machine_query.hpp"
 #include "trueaxis/web/password_hash.hpp"
-
-#ifndef TRUEAXIS_WEB_STATIC_DIR
-#define TRUEAXIS_WEB_STATIC_DIR ""
-#endif
 
 namespace trueaxis::web {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string DefaultStaticDir() { return TRUEAXIS_WEB_STATIC_DIR; }
+std::string DefaultStaticDir() {
+  const DataFolder pages = FindDataFolder("web", "src/web/static");
+  if (!pages.found())
+    throw InputError("--web-root", "no web pages folder found (looked in " + pages.LookedIn() +
+                                       "): install trueaxis (docs/install.md) or give --web-root FOLDER");
+  return pages.path.string();
+}
 
 namespace {
 

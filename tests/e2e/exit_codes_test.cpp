@@ -49,7 +49,7 @@ TEST(ExitCodes, RunLengthOptionsRefuseNanInfAndNegative) {
       {run + " --duration-s -1", "--duration-s"},
       {run + " --duration-s nan", "--duration-s"},
       {run + " --duration-s inf", "--duration-s"},
-      {run + " --status-s nan", "--status-s"},
+      {run + " --status-interval-s nan", "--status-interval-s"},
       {"web --listen 127.0.0.1:1 --users " + missing_users + " --duration-s -1", "--duration-s"},
       {"web --listen 127.0.0.1:1 --users " + missing_users + " --duration-s nan", "--duration-s"},
       {"server --config " + src + "/examples/run/virtual.toml --duration-s nan", "--duration-s"},

@@ -1,13 +1,13 @@
-// Every command in the README must run as written, in order, after the two
-// quick-start commands. This test reads README.md itself (so every later edit
-// of the README is tested too), extracts the commands of every ```sh block
-// outside "## Quick start", and runs them with bash in a scratch copy of the
+// Every command in the README and in the documents a new user follows (docs/getting-started.md,
+// docs/tour.md) must run as written, in order, after the two quick-start commands. This test reads
+// those files themselves (so every later edit of them is tested too), extracts the commands of every
+// ```sh block outside a "## Quick start" section, and runs them with bash in a scratch copy of the
 // repository layout (examples/, build/apps/trueaxis/trueaxis, ../shared) after
-// `trueaxis demo --out out/demo` — what scripts/demo.sh leaves behind.
+// `trueaxis demo --out out/demo` — what scripts/demo.sh leaves behind. A block that shows commands
+// not to be run here is written ```text (or ```bash).
 //
-// The only rewrite: the MODBUS port 1502 of the README (and of
-// examples/run/modbus.toml) becomes a free port, so parallel test runs and a
-// server someone left running cannot collide with it.
+// The only rewrite: the MODBUS port 1502 of the documents (and of examples/run/modbus.toml) becomes
+// a free port, so parallel test runs and a server someone left running cannot collide with it.
 #include <gtest/gtest.h>
 
 #include <netinet/in.h>
@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "support/read_text.hpp"
 #include "support/cli_runner.hpp"
 #include "support/local_process.hpp"
 
@@ -28,12 +29,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string ReadAll(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+// The documents whose commands run, in this order (later ones use what earlier ones wrote).
+constexpr const char* kDocuments[] = {"README.md", "docs/getting-started.md", "docs/tour.md"};
+
+using trueaxis::testing::ReadText;
 
 // Drops a trailing "# comment" that stands outside quotes.
 std::string StripComment(const std::string& line) {
@@ -105,6 +104,10 @@ std::string ScriptFor(const std::vector<std::string>& commands) {
     const bool background = c.back() == '&';
     if (assignment || c.rfind("kill ", 0) == 0) {
       s += c + "\n";
+    } else if (c.rfind("until ", 0) == 0 || c.rfind("while ", 0) == 0) {
+      // A wait loop a user pastes (for a server started with & to listen): bounded here.
+      s += "timeout 60 bash -c " + ShellQuote(c) + " || { echo " +
+           ShellQuote("README command " + std::to_string(n) + " failed: " + c) + " \"(exit $?)\"; exit 1; }\n";
     } else if (background) {
       s += c + "\n";
       std::smatch m;
@@ -125,9 +128,15 @@ TEST(ReadmeCommands, EveryCommandRunsAsWrittenInOrderAfterTheDemo) {
   const fs::path shared = fs::path(TRUEAXIS_SHARED_DATA_DIR).parent_path();
   if (!fs::exists(shared / "data")) GTEST_SKIP() << "../shared/data is absent; the README's commands read it";
 
-  auto commands = ExtractCommands(ReadAll(source / "README.md"), "## Quick start");
-  // Fails when the section vanishes or its blocks stop being ```sh.
-  ASSERT_GE(commands.size(), 20u) << "the README should hold the commands a user runs, in ```sh blocks";
+  std::vector<std::string> commands;
+  for (const char* document : kDocuments) {
+    ASSERT_TRUE(fs::exists(source / document)) << document;
+    const auto own = ExtractCommands(ReadText(source / document), "## Quick start");
+    EXPECT_FALSE(own.empty()) << document << " should show the commands a user runs, in ```sh blocks";
+    commands.insert(commands.end(), own.begin(), own.end());
+  }
+  // Fails when the sections vanish or their blocks stop being ```sh.
+  ASSERT_GE(commands.size(), 60u) << "the documents should hold the commands a user runs, in ```sh blocks";
 
   const std::string port = std::to_string(trueaxis::testing::FreeLoopbackPort());
   for (auto& c : commands) c = std::regex_replace(c, std::regex(R"(\b1502\b)"), port);
@@ -141,7 +150,7 @@ TEST(ReadmeCommands, EveryCommandRunsAsWrittenInOrderAfterTheDemo) {
   fs::create_directory_symlink(shared, top / "shared");
   {
     const fs::path modbus = repo / "examples/run/modbus.toml";
-    const std::string text = std::regex_replace(ReadAll(modbus), std::regex(R"(\b1502\b)"), port);
+    const std::string text = std::regex_replace(ReadText(modbus), std::regex(R"(\b1502\b)"), port);
     std::ofstream(modbus) << text;
   }
   // First what scripts/demo.sh runs, from the repository root: out/demo (campaign, model, day, history).
@@ -149,14 +158,9 @@ TEST(ReadmeCommands, EveryCommandRunsAsWrittenInOrderAfterTheDemo) {
 
   std::ofstream(top / "readme.sh") << ScriptFor(commands);
   const std::string cmd = "cd " + ShellQuote(repo.string()) + " && bash ../readme.sh 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  ASSERT_NE(p, nullptr);
-  std::string output;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) output.append(buf, n);
-  const int status = pclose(p);
-  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const auto run = trueaxis::testing::RunShell(cmd);
+  const std::string& output = run.output;
+  const int code = run.exit_code;
   // The tail is what matters on failure: the failing command and its message.
   EXPECT_EQ(code, 0) << output.substr(output.size() > 6000 ? output.size() - 6000 : 0);
   EXPECT_NE(output.find("README commands run: " + std::to_string(commands.size())), std::string::npos);

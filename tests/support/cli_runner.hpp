@@ -13,10 +13,10 @@ struct CliResult {
   std::string output;
 };
 
-inline CliResult RunCli(const std::string& args) {
+// Runs `command` with /bin/sh and captures its exit code and standard output (add 2>&1 for both).
+inline CliResult RunShell(const std::string& command) {
   CliResult r;
-  const std::string cmd = std::string(TRUEAXIS_CLI_PATH) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
+  FILE* p = popen(command.c_str(), "r");
   if (!p) return r;
   std::array<char, 4096> buf;
   std::size_t n;
@@ -24,6 +24,10 @@ inline CliResult RunCli(const std::string& args) {
   const int status = pclose(p);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+inline CliResult RunCli(const std::string& args) {
+  return RunShell(std::string(TRUEAXIS_CLI_PATH) + " " + args + " 2>&1");
 }
 
 }  // namespace trueaxis::testing

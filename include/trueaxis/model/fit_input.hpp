@@ -20,6 +20,7 @@
 
 #include "trueaxis/core/coolant.hpp"
 #include "trueaxis/measure/measurement.hpp"
+#include "trueaxis/measure/measurement_file.hpp"
 
 namespace trueaxis::model {
 
@@ -85,10 +86,12 @@ StateKind KindFromLabel(const std::string& label);
 FitState MakeFitState(measure::Measurement m, const std::string& label_override = "",
                       const std::string& coolant_override = "", const std::string& sha256 = "");
 
-// Reads each CSV (measure::ReadMeasurementCsv) and, when manifest_path is not
-// empty, every file the manifest lists (paths relative to the manifest's folder).
-// Throws InputError naming the file/line/field for any bad input.
-std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, const std::string& manifest_path);
+// Reads each measurement file (measure::ParseMeasurement: canonical CSV, ecmc .dat, or a laser
+// software's CSV through `read`'s column mapping) and, when manifest_path is not empty, every file
+// the manifest lists (paths relative to the manifest's folder). Throws InputError naming the
+// file/line/field for any bad input.
+std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, const std::string& manifest_path,
+                                    const measure::MeasurementReadOptions& read = {});
 
 // The measurement files a previous model was fitted on (its `sources`), for a
 // re-fit that adds new measurements: each file is read again from its
@@ -97,6 +100,8 @@ std::vector<FitState> LoadFitStates(const std::vector<std::string>& csv_paths, c
 // InputError(model_path, 0, "sources[i].path") when a file is gone,
 // InputError(file, 0, "sha256") when it changed since that fit.
 struct CompositeModel;
-std::vector<FitState> LoadPreviousSources(const CompositeModel& previous, const std::string& model_path);
+// `read`: the column mapping of sources that are a laser software's export (as given to that fit).
+std::vector<FitState> LoadPreviousSources(const CompositeModel& previous, const std::string& model_path,
+                                          const measure::MeasurementReadOptions& read = {});
 
 }  // namespace trueaxis::model

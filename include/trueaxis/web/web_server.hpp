@@ -33,7 +33,7 @@ namespace trueaxis::web {
 struct WebServerOptions {
   std::string host = "127.0.0.1";  // loopback unless told otherwise
   int port = 8080;                 // 0: any free port (tests)
-  std::string static_dir;          // the pages (src/web/static); "" = the compiled-in default
+  std::string static_dir;          // the pages; "" = DefaultStaticDir()
   std::string chartjs_file = "/usr/share/javascript/chart.js/chart.min.js";  // Debian libjs-chart.js
   std::string tls_cert_file, tls_key_file;  // both or neither: HTTPS
   SessionTimeouts sessions;
@@ -44,7 +44,9 @@ struct WebServerOptions {
   std::size_t live_max_samples = 600;
 };
 
-// The folder of the pages in the source tree (compiled in).
+// The folder of the pages: <program folder>/../share/trueaxis/web when installed, the source tree's
+// src/web/static for a program run from its build tree (core/install_paths.hpp). Throws InputError
+// naming --web-root and every place looked in when there is none.
 std::string DefaultStaticDir();
 
 class WebServer {
