@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/hw/no_temperature_source.hpp"
 #include "trueaxis/linuxcnc/hal_cnc_link.hpp"
 #include "trueaxis/linuxcnc/hal_component.hpp"
 #include "trueaxis/linuxcnc/hal_temperature_source.hpp"
@@ -67,14 +68,14 @@ int Run(const Options& o) {
     throw InputError(c.source, 0, "machine.kind",
                      "trueaxis-hal needs kind = \"modbus\": [machine] axes are the LinuxCNC axes, channels the "
                      "temperature channels (RTD modules at host:port, or HAL pins with --temperatures hal)");
-  if (c.modbus.channel_names.empty())
-    throw InputError(c.source, 0, "machine.channels", "the temperature channel names are needed");
 
   linuxcnc::HalComponent hal(o.name);
   linuxcnc::HalCncLink link(hal, AxisInterfaces(c));
   std::unique_ptr<hw::TemperatureSource> raw;
   station::ModbusClients modbus;
-  if (o.temperatures == "hal") {
+  if (c.modbus.channel_names.empty()) {
+    raw = std::make_unique<hw::NoTemperatureSource>();  // a geometric-only model: no channels to read
+  } else if (o.temperatures == "hal") {
     raw = std::make_unique<linuxcnc::HalTemperatureSource>(hal, c.modbus.channel_names);
   } else {
     modbus = station::MakeModbusClients(c.modbus, c.source);
@@ -116,15 +117,17 @@ int Run(const Options& o) {
   fmt::print(stderr, "trueaxis-hal: component {} | {} axes | temperatures {} | model {} | cycle {} ms\n", o.name,
              axis_names.size(), o.temperatures == "hal" ? "from HAL pins" : fmt::format("MODBUS {}:{}", c.modbus.host, c.modbus.port),
              c.model_file, c.period_s * 1000);
-  std::uint32_t last_alarms = 0;
+  std::string last_alarms;
+  std::vector<std::uint32_t> axis_alarms(axis_names.size());
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   while (!g_stop.load()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    const std::uint32_t alarms = comp->LastStatus().alarms;  // a racy read for the log line only
-    if (alarms != last_alarms)
-      fmt::print(stderr, "[{:.1f} s] alarms: {}\n", elapsed(), alarms ? runtime::AlarmNames(alarms) : "cleared");
-    last_alarms = alarms;
+    const runtime::CycleStatus& st = comp->LastStatus();  // a racy read for the log line only
+    for (std::size_t i = 0; i < axis_alarms.size() && i < st.axes.size(); ++i) axis_alarms[i] = st.axes[i].alarms;
+    std::string alarms = runtime::AlarmNamesWithAxes(st.alarms, axis_alarms, axis_names);  // with the axis
+    if (alarms != last_alarms) fmt::print(stderr, "[{:.1f} s] alarms: {}\n", elapsed(), alarms.empty() ? "cleared" : alarms);
+    last_alarms = std::move(alarms);
     comp->CollectRetired();
     if (c.duration_s > 0 && elapsed() >= c.duration_s) break;
   }

@@ -59,6 +59,7 @@ struct Options {
 class CsvLog {
  public:
   CsvLog(const std::string& path, const runtime::Compensator& comp) {
+    for (const auto& a : comp.axes()) axis_names_.push_back(a.axis);
     std::string header = "time_s,alarms";
     for (const auto& a : comp.axes()) header += "," + a.axis + "_position_mm," + a.axis + "_correction_um";
     for (const auto& ch : comp.channel_names()) header += ",t_" + ch + "_c";
@@ -83,7 +84,7 @@ class CsvLog {
   }
   bool repaired() const { return repaired_; }
   void Write(const runtime::CycleRecord& r) {
-    out_ << fmt::format("{:.3f},{}", r.time_s, runtime::AlarmNames(r.alarms));
+    out_ << fmt::format("{:.3f},{}", r.time_s, runtime::RecordAlarmNames(r, axis_names_));
     for (std::size_t i = 0; i < r.axis_count; ++i)
       out_ << fmt::format(",{:.4f},{:.3f}", r.axes[i].cnc_position_mm, r.axes[i].output_um);
     for (std::size_t i = 0; i < r.channel_count; ++i) out_ << fmt::format(",{:.3f}", r.temp_c[i]);
@@ -93,6 +94,7 @@ class CsvLog {
 
  private:
   std::ofstream out_;
+  std::vector<std::string> axis_names_;
   bool repaired_ = false;
 };
 
@@ -173,7 +175,7 @@ void Run(const Options& o) {
   auto next_status = t0 + std::chrono::duration<double>(o.status_interval_s);
   auto next_housekeeping = t0;
   runtime::CycleRecord rec;
-  std::uint32_t last_alarms = 0;
+  std::string last_alarms;
   bool have_record = false;
   auto drain = [&] {
     while (recorder.Pop(rec)) {
@@ -181,9 +183,10 @@ void Run(const Options& o) {
       if (history) history->Log(rec);
       if (web_backend) web_backend->OnRecord(rec);
       if (csv) csv->Write(rec);
-      if (rec.alarms != last_alarms && !o.quiet)
-        fmt::print(stderr, "[{:.2f} s] alarms: {}\n", rec.time_s, rec.alarms ? runtime::AlarmNames(rec.alarms) : "cleared");
-      last_alarms = rec.alarms;
+      std::string alarms = runtime::RecordAlarmNames(rec, axis_names);  // "no_model_for_axis(Y)": which axis
+      if (alarms != last_alarms && !o.quiet)
+        fmt::print(stderr, "[{:.2f} s] alarms: {}\n", rec.time_s, alarms.empty() ? "cleared" : alarms);
+      last_alarms = std::move(alarms);
     }
   };
   while (!g_stop.load()) {

@@ -45,7 +45,10 @@ bool HalCncLink::Read(std::span<hw::AxisState> out, hw::CncState& machine) {
     a.has_last = true;
     out[i].position_mm = a.pos_fb.Get();
     out[i].moving = std::abs(step) > kMovingStepMm;
-    if (out[i].moving) out[i].servo_direction = step > 0 ? 1 : -1;
+    if (out[i].moving) a.last_direction = step > 0 ? 1 : -1;
+    // Where the axis last moved, also while it stands: pos-fb carries the offset's own ramp, and a
+    // change of it the runtime takes for a move then keeps the programmed direction.
+    out[i].servo_direction = a.last_direction;
   }
   machine.coolant = flood_.Get() ? CoolantState::kFlood : (mist_.Get() ? CoolantState::kMist : CoolantState::kOff);
   machine.compensation_enabled = CncEnable();

@@ -41,21 +41,34 @@ void BindAxis(const model::AxisModel& am, const AxisInterface& ai, const std::st
   if (am.baseline_temp_c.size() < am.key_sensors.size())
     throw InputError(label, 0, where + ".baseline_temp_c",
                      fmt::format("{} baselines for {} key sensors", am.baseline_temp_c.size(), am.key_sensors.size()));
+  // A sensor the model computes with must read: a model with a thermal part is never run as a
+  // geometric-only one for want of a channel. The message says which axis needs it and how to map it.
+  const auto unmapped = [&](const std::string& sensor, const std::string& role) {
+    return fmt::format("axis {}'s model{} needs the {} '{}', which maps to no temperature channel (channels: {}); "
+                       "name the channel that reads it in the run config: [channels] {} = \"CHANNEL\" (one of [machine] channels)",
+                       am.axis, fallback_index >= 0 ? fmt::format(" (fallback {})", fallback_index) : "", role, sensor,
+                       Known(channel_names), sensor);
+  };
   for (const auto& sensor : am.key_sensors) {
     const int ch = FindChannel(sensor, channel_names, channel_map);
     if (ch < 0)
       throw InputError(label, 0, field,
-                       fmt::format("key sensor '{}' maps to no temperature channel (channels: {}; map it with [channels] in the run config{})",
-                                   sensor, Known(channel_names),
-                                   fallback_index >= 0 ? ", or refit with `fit --no-fallback-models`" : ""));
+                       unmapped(sensor, "key sensor") +
+                           (fallback_index >= 0 ? ", or refit with `trueaxis fit --no-fallback-models`" : ""));
     b.key_channel.push_back(ch);
   }
-  if (!am.ambient_sensor.empty()) {
+  // The room sensor only where it changes the prediction (AmbientInUse): a geometric-only model that
+  // merely records the room sensor of its measurement runs on a machine without temperature channels.
+  if (am.AmbientInUse()) {
     b.ambient_channel = FindChannel(am.ambient_sensor, channel_names, channel_map);
     if (b.ambient_channel < 0)
       throw InputError(label, 0, where + ".ambient_sensor",
-                       fmt::format("ambient sensor '{}' maps to no temperature channel (channels: {})", am.ambient_sensor,
-                                   Known(channel_names)));
+                       unmapped(am.ambient_sensor, fmt::format("room (ambient) sensor{}",
+                                                               am.rho_um_per_mm_per_c != 0
+                                                                   ? fmt::format(" of its ρ term ({} µm/mm/°C)",
+                                                                                 am.rho_um_per_mm_per_c)
+                                                                   : std::string())) +
+                           ", or fit the model without the room term (`trueaxis fit --ambient-sensor none`)");
   }
 }
 

@@ -32,6 +32,10 @@ bool CompensatorOptions::IsValid(std::string* why) const {
     if (why) *why = "link_stale_after_s must be > 0";
     return false;
   }
+  if (!(direction_min_move_um > 0) || !std::isfinite(direction_min_move_um)) {
+    if (why) *why = "direction_min_move_um must be > 0";
+    return false;
+  }
   return true;
 }
 

@@ -29,6 +29,7 @@ void FillRecord(const CycleStatus& s, CycleRecord& r) {
     o.desired_um = a.desired_um;
     o.output_um = a.output_um;
     o.written_um = a.written_um;
+    o.alarms = a.alarms;
   }
   for (std::size_t i = 0; i < r.channel_count; ++i) {
     r.temp_c[i] = s.channels[i].value_c;
@@ -36,8 +37,18 @@ void FillRecord(const CycleStatus& s, CycleRecord& r) {
   }
 }
 
+std::string RecordAlarmNames(const CycleRecord& r, std::span<const std::string> axis_names) {
+  std::array<std::uint32_t, kRecordMaxAxes> axis_alarms{};
+  for (std::size_t i = 0; i < r.axis_count; ++i) axis_alarms[i] = r.axes[i].alarms;
+  return AlarmNamesWithAxes(r.alarms, std::span<const std::uint32_t>(axis_alarms.data(), r.axis_count), axis_names);
+}
+
 void CycleRecorder::OnCycle(const CycleStatus& status) {
-  const bool alarm_edge = first_ || status.alarms != last_alarms_;
+  bool alarm_edge = first_ || status.alarms != last_alarms_;
+  for (std::size_t i = 0; i < status.axes.size() && i < kRecordMaxAxes; ++i) {
+    alarm_edge = alarm_edge || status.axes[i].alarms != last_axis_alarms_[i];
+    last_axis_alarms_[i] = status.axes[i].alarms;
+  }
   first_ = false;
   last_alarms_ = status.alarms;
   if (!alarm_edge && status.cycle % every_ != 0) return;

@@ -25,6 +25,24 @@ std::string AlarmNames(std::uint32_t alarms) {
   return out;
 }
 
+std::string AlarmNamesWithAxes(std::uint32_t alarms, std::span<const std::uint32_t> axis_alarms,
+                               std::span<const std::string> axis_names) {
+  std::string out;
+  for (std::uint32_t bit = 1; bit != 0 && bit <= alarms; bit <<= 1) {
+    if (!(alarms & bit)) continue;
+    if (!out.empty()) out += '|';
+    out += AlarmNames(bit);
+    std::string axes;
+    for (std::size_t i = 0; i < axis_alarms.size(); ++i)
+      if (axis_alarms[i] & bit) {
+        if (!axes.empty()) axes += ' ';
+        axes += i < axis_names.size() && !axis_names[i].empty() ? axis_names[i] : std::to_string(i);
+      }
+    if (!axes.empty()) out += "(" + axes + ")";
+  }
+  return out;
+}
+
 const char* AxisCompensationState(bool link_read_ok, bool enabled, bool thermal_used, int fallback_model) {
   return !link_read_ok        ? "link_lost"
          : !enabled           ? "disabled"
@@ -37,6 +55,7 @@ StepState::StepState(std::size_t axis_count, std::size_t channel_count, const Co
     : channels(channel_count),
       good_reads_in_row(options.link_recovery_cycles),  // start as if connected; the first read decides
       direction(axis_count, Direction::kForward),
+      last_read(axis_count),
       shaper(axis_count),
       pending(axis_count),
       model_position_mm(axis_count, std::nan("")) {
@@ -456,6 +475,41 @@ std::vector<ShaperLimits> ShaperLimitsFor(const CompensatorOptions& options, std
   return out;
 }
 
+namespace {
+// The direction model of each axis (docs/runtime.md step 4). While the link is usable, the CNC's
+// servo direction while it reports the axis moving (any report with direction_only_while_moving
+// off). And on every new good read, a move between two reads: the position changed by more than
+// the noise threshold plus what the compensation itself changed (the output the CNC held, over this
+// and the previous read) — a move too short for the loop to see it `moving` still switches the
+// model: to the CNC's direction (where it last moved) when reported, else the sign of the change.
+// At standstill the compensation's own µm nudges stay below the threshold and never flip it.
+void UpdateDirections(const StepModel& model, StepState& state, const CncSnapshot& cs, bool link_usable, bool new_read) {
+  const CompensatorOptions& o = model.options;
+  for (std::size_t i = 0; i < model.axes.size(); ++i) {
+    const hw::AxisState& as = cs.axes[i];
+    Direction& dir = state.direction[i];
+    if (link_usable && (as.moving || !o.direction_only_while_moving)) {
+      if (as.servo_direction > 0) dir = Direction::kForward;
+      else if (as.servo_direction < 0) dir = Direction::kReverse;
+    }
+    if (!new_read) continue;
+    StepState::LastRead& last = state.last_read[i];
+    const double position_mm = model.axes[i].ModelPositionMm(as.position_mm);
+    const double q = model.shaping.empty() ? model.axes[i].PhysicalQuantumUm() : model.shaping[i].quantum_um;
+    const double held_um = OutputUm(state.shaper[i], q);
+    const double held_step_um = std::fabs(held_um - last.held_um);
+    const double moved_um = (position_mm - last.position_mm) * 1000;  // NaN before the first read
+    if (std::fabs(moved_um) > o.direction_min_move_um + std::max(held_step_um, last.held_step_um)) {
+      if (as.servo_direction != 0) dir = as.servo_direction > 0 ? Direction::kForward : Direction::kReverse;
+      else dir = moved_um > 0 ? Direction::kForward : Direction::kReverse;
+    }
+    if (std::isfinite(position_mm)) last.position_mm = position_mm;
+    last.held_step_um = held_step_um;
+    last.held_um = held_um;
+  }
+}
+}  // namespace
+
 void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOutputs& out) {
   const CompensatorOptions& o = model.options;
   ++state.cycle;
@@ -464,20 +518,14 @@ void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOu
 
   const bool temps_ok = ConditionTemperatures(o.sensor, in.temperatures, in.now_s, state, out, alarms);
   bool read_ok = false;
+  const std::uint64_t sequence_before = state.cnc_sequence;
   const bool link_usable = TakeCncSnapshot(model, in.cnc, in.now_s, state, read_ok, alarms);
+  const bool new_read = read_ok && in.cnc->sequence != sequence_before;
   for (std::size_t i = 0; i < state.model_position_mm.size(); ++i)
     state.model_position_mm[i] = link_usable && i < model.axes.size()
                                      ? model.axes[i].ModelPositionMm(in.cnc->axes[i].position_mm)
                                      : std::nan("");
-  if (link_usable) {
-    for (std::size_t i = 0; i < model.axes.size(); ++i) {
-      const hw::AxisState& as = in.cnc->axes[i];
-      if (as.moving || !o.direction_only_while_moving) {
-        if (as.servo_direction > 0) state.direction[i] = Direction::kForward;
-        else if (as.servo_direction < 0) state.direction[i] = Direction::kReverse;
-      }
-    }
-  }
+  if (link_usable || new_read) UpdateDirections(model, state, *in.cnc, link_usable, new_read);
   if (model.bound)
     AdvanceModelDynamics(*model.bound, out.channels, state.machine.coolant, in.now_s, state.dynamics,
                          state.model_position_mm);
@@ -489,7 +537,8 @@ void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOu
     st.thermal_used = false;
     st.fallback_model = -1;
     st.fallbacks_averaged = 0;
-    double desired = DesiredCorrection(model, state, in, i, link_usable, out, alarms);
+    std::uint32_t axis_alarms = 0;  // this axis's own, kept with it so a user is told which axis
+    double desired = DesiredCorrection(model, state, in, i, link_usable, out, axis_alarms);
     // The additional error term (error sign): the correction gets its negative, before the shaper.
     st.extra_error_um = 0;
     if (st.enabled && i < in.extra_error_um.size() && std::isfinite(in.extra_error_um[i])) {
@@ -498,7 +547,9 @@ void Step(const StepModel& model, StepState& state, const StepInputs& in, StepOu
     }
     const ShaperLimits limits = model.shaping.empty() ? AxisShaperLimits(o, ai) : model.shaping[i];
     st.clamped = std::fabs(desired) > limits.options.max_correction_um;
-    if (st.clamped) alarms |= kAlarmCorrectionClamped;
+    if (st.clamped) axis_alarms |= kAlarmCorrectionClamped;
+    st.alarms = axis_alarms;
+    alarms |= axis_alarms;
     st.desired_um = desired;
     out.proposed[i] = state.outstanding ? state.pending[i] : ShapeOutput(state.shaper[i], desired, limits);
     out.command.correction_um[i] = ai.CncCorrectionUm(OutputUm(out.proposed[i], limits.quantum_um));

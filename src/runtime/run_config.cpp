@@ -60,6 +60,7 @@ void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptio
              fmt::format("must be at least twice the loop period ({} s): every CNC snapshot would be stale", period_s));
     m.Bool("follow_cnc_enable", o.follow_cnc_enable);
     m.Bool("direction_only_while_moving", o.direction_only_while_moving);
+    m.Double("direction_min_move_um", o.direction_min_move_um, 1e-3, 1e4);
     m.RejectUnknown();
   }
   if (const toml::table* t = r.Table("channels")) {

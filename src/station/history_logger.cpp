@@ -1,5 +1,7 @@
 #include "trueaxis/station/history_logger.hpp"
 
+#include <array>
+
 #include <fmt/format.h>
 
 namespace trueaxis::station {
@@ -31,10 +33,24 @@ void HistoryLogger::Log(const CycleRecord& r) {
     writer_.PushCompensation(t, axis_names_[i], a.cnc_position_mm, a.output_um,
                              runtime::AxisCompensationState(r.link_read_ok, a.enabled, a.thermal_used, a.fallback_model));
   }
-  const std::uint32_t raised = r.alarms & ~last_alarms_;
-  const std::uint32_t cleared = last_alarms_ & ~r.alarms;
-  if (raised) writer_.PushAlarm(t, "warning", alarm_source_, "raised: " + AlarmNames(raised));
-  if (cleared) writer_.PushAlarm(t, "info", alarm_source_, "cleared: " + AlarmNames(cleared));
+  // Raised and cleared, each with the axes it was raised or cleared on ("no_model_for_axis(Y)").
+  std::uint32_t raised = r.alarms & ~last_alarms_;
+  std::uint32_t cleared = last_alarms_ & ~r.alarms;
+  std::array<std::uint32_t, runtime::kRecordMaxAxes> axis_raised{}, axis_cleared{};
+  for (std::size_t i = 0; i < r.axis_count; ++i) {
+    axis_raised[i] = r.axes[i].alarms & ~last_axis_alarms_[i];
+    axis_cleared[i] = last_axis_alarms_[i] & ~r.axes[i].alarms;
+    raised |= axis_raised[i];
+    cleared |= axis_cleared[i];
+    last_axis_alarms_[i] = r.axes[i].alarms;
+  }
+  const std::size_t n = r.axis_count;
+  if (raised)
+    writer_.PushAlarm(t, "warning", alarm_source_,
+                      "raised: " + runtime::AlarmNamesWithAxes(raised, std::span(axis_raised.data(), n), axis_names_));
+  if (cleared)
+    writer_.PushAlarm(t, "info", alarm_source_,
+                      "cleared: " + runtime::AlarmNamesWithAxes(cleared, std::span(axis_cleared.data(), n), axis_names_));
   last_alarms_ = r.alarms;
   ++records_;
 }

@@ -30,10 +30,11 @@ ModbusClients MakeModbusClients(const runtime::ModbusConfig& b, const std::strin
   to.unit_ids = drivers::RtdModuleUnitIds(b.first_rtd_unit_id, b.channel_names.size());
   std::string why;
   if (!co.IsValid(&why)) throw InputError(source, 0, "machine", why);
-  if (!to.IsValid(&why)) throw InputError(source, 0, "machine", why);
+  const bool rtd = !b.channel_names.empty();  // no channels: no RTD modules (a geometric-only model)
+  if (rtd && !to.IsValid(&why)) throw InputError(source, 0, "machine", why);
   ModbusClients c;
   c.cnc = std::make_unique<drivers::ModbusCncLink>(co);
-  c.temperatures = std::make_unique<drivers::ModbusTemperatureSource>(to);
+  if (rtd) c.temperatures = std::make_unique<drivers::ModbusTemperatureSource>(to);
   return c;
 }
 
@@ -63,12 +64,12 @@ void OpenVirtual(const runtime::RunConfig& c, Machine& m) {
 
 void OpenModbus(const runtime::RunConfig& c, Machine& m) {
   const auto& b = c.modbus;
-  if (b.channel_names.empty())
-    throw InputError(c.source, 0, "machine.channels", "kind = \"modbus\" needs the RTD channel names in module order");
   // The PMC window and the RTD modules share one terminal: their unit ids must differ and stay
   // within MODBUS's 247 (the RTD modules hold 7 channels each, unit ids from first_rtd_unit_id).
-  const std::vector<int> rtd_units = drivers::RtdModuleUnitIds(b.first_rtd_unit_id, b.channel_names.size());
-  if (rtd_units.back() > 247)
+  // No channels: no RTD modules are read (a model that needs a sensor is refused when published).
+  const std::vector<int> rtd_units =
+      b.channel_names.empty() ? std::vector<int>{} : drivers::RtdModuleUnitIds(b.first_rtd_unit_id, b.channel_names.size());
+  if (!rtd_units.empty() && rtd_units.back() > 247)
     throw InputError(c.source, c.LineOf("machine.first_rtd_unit_id"), "machine.first_rtd_unit_id",
                      fmt::format("{} channels need {} RTD modules: unit ids {}..{} go beyond 247", b.channel_names.size(),
                                  rtd_units.size(), rtd_units.front(), rtd_units.back()));
@@ -81,15 +82,23 @@ void OpenModbus(const runtime::RunConfig& c, Machine& m) {
   // The hardware lifecycle: configure (options), activate (connect; a terminal not reachable yet is
   // a warning — its Read/Write fail and retry on their own).
   std::string why;
-  if (!m.modbus.cnc->Configure(&why) || !m.modbus.temperatures->Configure(&why)) throw InputError(c.source, 0, "machine", why);
+  if (!m.modbus.cnc->Configure(&why) || (m.modbus.temperatures && !m.modbus.temperatures->Configure(&why)))
+    throw InputError(c.source, 0, "machine", why);
   if (!m.modbus.cnc->Activate(&why))
     m.warnings.push_back(fmt::format("CNC terminal {}:{} not reachable yet ({}); the loop keeps trying", b.host, b.port, why));
-  if (!m.modbus.temperatures->Activate(&why))
+  if (m.modbus.temperatures && !m.modbus.temperatures->Activate(&why))
     m.warnings.push_back(fmt::format("RTD modules at {}:{} not reachable yet ({}); the loop keeps trying", b.host, b.port, why));
   m.link = m.modbus.cnc.get();
-  m.source = m.modbus.temperatures.get();
-  m.description = fmt::format("MODBUS TCP {}:{} (PMC unit {}, RTD units from {})", b.host, b.port, b.cnc_unit_id,
-                              b.first_rtd_unit_id);
+  if (m.modbus.temperatures) {
+    m.source = m.modbus.temperatures.get();
+  } else {
+    m.no_temperatures = std::make_unique<hw::NoTemperatureSource>();
+    m.source = m.no_temperatures.get();
+  }
+  m.description = m.modbus.temperatures ? fmt::format("MODBUS TCP {}:{} (PMC unit {}, RTD units from {})", b.host, b.port,
+                                                      b.cnc_unit_id, b.first_rtd_unit_id)
+                                        : fmt::format("MODBUS TCP {}:{} (PMC unit {}, no temperature channels)", b.host,
+                                                      b.port, b.cnc_unit_id);
 }
 
 void AttachTemperaturePipeline(const runtime::RunConfig& c, Machine& m) {

@@ -37,7 +37,7 @@ RunBackend::RunBackend(runtime::Compensator& compensator, CoolantOverrideLink* c
 
 void RunBackend::OnRecord(const runtime::CycleRecord& r) {
   const double t = options_.unix0 + r.time_s;
-  const std::vector<std::string> alarms = SplitAlarmNames(runtime::AlarmNames(r.alarms));
+  const std::vector<std::string> alarms = SplitAlarmNames(runtime::RecordAlarmNames(r, axes_));  // "no_model_for_axis(Y)"
   {
     std::lock_guard lock(mutex_);
     summary_.connected = r.link_read_ok;

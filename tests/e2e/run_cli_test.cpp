@@ -260,6 +260,82 @@ TEST(RunCli, OverModbusTcpAgainstSimServe) {
   std::this_thread::sleep_for(std::chrono::seconds(4));  // let the server's own duration end it
 }
 
+// A user's own laser file, fitted and run against a MODBUS terminal that has no RTD modules in the
+// config: a geometric-only model runs with no temperature channels and no ambient option; a model
+// with a room term (ρ from the file's cte) is refused saying which sensor, which axis and how to
+// map it, and runs once mapped; the axes without a model are named in the alarm.
+TEST(RunCli, FittedColdModelOverModbusWithoutAndWithTemperatureChannels) {
+  TempDir dir("trueaxis_run_cold_fit");
+  const std::string cold = std::string(TRUEAXIS_SOURCE_DIR) + "/examples/measurements/x_axis_cold.csv";
+  {  // the same runs without the cte metadata: the fit records the air sensor but has no room term
+    std::ifstream in(cold);
+    std::ofstream out(dir.path / "x_cold_no_cte.csv");
+    for (std::string line; std::getline(in, line);)
+      if (line.rfind("# cte_um_per_m_c", 0) != 0) out << line << "\n";
+  }
+  const auto fit = [&](const std::string& csv, const std::string& model) {
+    return RunShell(kCli + " fit --out " + (dir.path / model).string() + " " + csv + " > " +
+                    (dir.path / "fit.txt").string() + " 2>&1");
+  };
+  ASSERT_EQ(fit((dir.path / "x_cold_no_cte.csv").string(), "geometric.json"), 0) << Slurp(dir.path / "fit.txt");
+  ASSERT_EQ(fit(cold, "room.json"), 0) << Slurp(dir.path / "fit.txt");
+  {
+    const auto geometric = model::ReadModelFile((dir.path / "geometric.json").string());
+    ASSERT_EQ(geometric.axes.size(), 1u);
+    EXPECT_TRUE(geometric.axes[0].key_sensors.empty());
+    EXPECT_FALSE(geometric.axes[0].AmbientInUse());
+    const auto room = model::ReadModelFile((dir.path / "room.json").string());
+    EXPECT_EQ(room.axes[0].ambient_sensor, "air");
+    EXPECT_NE(room.axes[0].rho_um_per_mm_per_c, 0);
+  }
+
+  const int port = FreePort() + 2;
+  const std::string serve = kCli + " sim serve --machine " + kMachine + " --port " + std::to_string(port) +
+                            " --time-scale 60 --duration-s 9 --status-interval-s 0 > " +
+                            (dir.path / "serve.txt").string() + " 2>&1 &";
+  ASSERT_EQ(RunShell(serve), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  const auto run = [&](const std::string& name, const std::string& model, const std::string& channels) {
+    std::ofstream(dir.path / name) << "[machine]\nkind = \"modbus\"\nport = " << port
+                                   << "\naxes = [\"X\", \"Y\", \"Z\"]\n" << channels << "[model]\nfile = \"" << model
+                                   << "\"\n[history]\ndb = \"" << name << ".sqlite\"\nrecord_interval_s = 0.1\n";
+    const int rc = RunShell(kCli + " run --config " + (dir.path / name).string() + " --duration-s 2 > " +
+                            (dir.path / "out.txt").string() + " 2> " + (dir.path / "err.txt").string());
+    return std::make_pair(rc, Slurp(dir.path / "err.txt"));
+  };
+
+  // Geometric-only, no channels: runs, corrects X, and the alarm names Y and Z (no model for them).
+  auto [rc, err] = run("geometric.toml", "geometric.json", "");
+  ASSERT_EQ(rc, 0) << err;
+  EXPECT_NE(err.find("no temperature channels"), std::string::npos) << err;
+  EXPECT_NE(err.find("no_model_for_axis(Y Z)"), std::string::npos) << err;
+  {
+    store::HistoryDb db((dir.path / "geometric.toml.sqlite").string(), store::HistoryDb::Mode::kReadOnly);
+    const auto rows = db.QueryCompensation({}, {"X"});
+    ASSERT_GT(rows.size(), 5u);
+    double max_abs = 0;
+    for (const auto& r : rows) max_abs = std::max(max_abs, std::fabs(r.correction_um));
+    EXPECT_GT(max_abs, 1) << err;  // the cold runs' error along X, some µm
+    bool named = false;
+    for (const auto& a : db.QueryAlarms({})) named = named || a.message.find("no_model_for_axis(Y Z)") != std::string::npos;
+    EXPECT_TRUE(named) << "the history's alarm log names the axes";
+  }
+
+  // The room term without a channel: refused (exit 2) before any loop runs, saying what to do.
+  std::tie(rc, err) = run("room.toml", "room.json", "");
+  EXPECT_EQ(rc, 2) << err;
+  for (const char* words : {"room.json", "axes[X].ambient_sensor", "axis X's model", "'air'", "[channels] air = ",
+                            "--ambient-sensor none"})
+    EXPECT_NE(err.find(words), std::string::npos) << words << " in: " << err;
+
+  // Mapped as the message says: runs.
+  std::tie(rc, err) = run("mapped.toml", "room.json",
+                          "channels = [\"x_nut\", \"x_bearing\", \"x_motor\", \"y_nut\", \"y_bearing\", \"y_motor\", "
+                          "\"z_nut\", \"z_bearing\", \"z_motor\", \"ambient\", \"bed\"]\n[channels]\nair = \"ambient\"\n");
+  EXPECT_EQ(rc, 0) << err;
+  std::this_thread::sleep_for(std::chrono::seconds(3));  // let the server's own duration end it
+}
+
 TEST(RunCli, StaysUpWhenTheTerminalIsUnreachable) {
   TempDir dir("trueaxis_run_nolink");
   WriteXModel(dir.path / "model.json");

@@ -222,6 +222,12 @@ TEST(Compensator, AxisWithoutModelRampsToZeroWithAlarm) {
   const auto& s = r.Cycle(2);
   EXPECT_TRUE(s.alarms & kAlarmNoModelForAxis);
   EXPECT_EQ(r.cnc.cnc_value_um[1], 0);
+  // The alarm says which axis: Y carries it, X (modelled) does not, and the text a user reads names Y.
+  EXPECT_EQ(s.axes[0].alarms & kAlarmNoModelForAxis, 0u);
+  EXPECT_TRUE(s.axes[1].alarms & kAlarmNoModelForAxis);
+  const std::uint32_t axis_alarms[] = {s.axes[0].alarms, s.axes[1].alarms};
+  const std::string names[] = {"X", "Y"};
+  EXPECT_EQ(AlarmNamesWithAxes(s.alarms, axis_alarms, names), "no_model_for_axis(Y)");
 }
 
 TEST(Compensator, InvalidOptionsAreRejected) {
@@ -236,6 +242,15 @@ TEST(Compensator, InvalidOptionsAreRejected) {
 TEST(Compensator, AlarmNamesAreReadable) {
   EXPECT_EQ(AlarmNames(0), "");
   EXPECT_EQ(AlarmNames(kAlarmSensorHeld | kAlarmLinkRead), "sensor_held|link_read");
+}
+
+TEST(Compensator, AlarmNamesWithAxesNameTheAxesBehindEachAlarm) {
+  const std::uint32_t axis_alarms[] = {kAlarmCorrectionClamped, kAlarmNoModelForAxis, kAlarmNoModelForAxis};
+  const std::string names[] = {"X", "Y", "Z"};
+  EXPECT_EQ(AlarmNamesWithAxes(kAlarmLinkWrite | kAlarmNoModelForAxis | kAlarmCorrectionClamped, axis_alarms, names),
+            "link_write|no_model_for_axis(Y Z)|correction_clamped(X)");
+  EXPECT_EQ(AlarmNamesWithAxes(0, axis_alarms, names), "");
+  EXPECT_EQ(AlarmNamesWithAxes(kAlarmNoModelForAxis, axis_alarms, {}), "no_model_for_axis(1 2)");  // no names: indices
 }
 
 }  // namespace

@@ -39,6 +39,7 @@ max_rate_c_per_s = 1
 loss_policy = "ramp_to_zero"
 recovery_cycles = 10
 follow_cnc_enable = false
+direction_min_move_um = 5
 
 [channels]
 x_nut = "rtd_1"
@@ -85,6 +86,7 @@ TEST(RunConfig, ParsesEveryField) {
   EXPECT_EQ(c.compensator.link_loss, LinkLossPolicy::kRampToZero);
   EXPECT_EQ(c.compensator.link_recovery_cycles, 10);
   EXPECT_FALSE(c.compensator.follow_cnc_enable);
+  EXPECT_DOUBLE_EQ(c.compensator.direction_min_move_um, 5);
   EXPECT_EQ(c.compensator.channel_map.at("x_nut"), "rtd_1");
   ASSERT_EQ(c.axes.size(), 2u);
   EXPECT_EQ(c.axes[0].programming, Programming::kDiameter);
@@ -120,6 +122,7 @@ TEST(RunConfig, MinimalModbusConfigGetsDefaults) {
   EXPECT_TRUE(c.signal_processing);  // the temperature pipeline is on unless switched off
   EXPECT_DOUBLE_EQ(c.temperature_period_s, 0.1);
   EXPECT_DOUBLE_EQ(c.compensator.link_stale_after_s, 0.25);
+  EXPECT_DOUBLE_EQ(c.compensator.direction_min_move_um, 2.0);
 }
 
 TEST(RunConfig, StalenessLimitsFollowTheLoopPeriod) {
@@ -152,6 +155,7 @@ TEST(RunConfig, BadInputNamesLineAndField) {
   ExpectError(head + "[limits]\nmax_correction_um = 0\n", 6, "limits.max_correction_um", "out of range");  // all held at 0
   ExpectError(head + "[limits]\nmax_stepp_um = 1\n", 6, "limits.max_stepp_um", "unknown key");
   ExpectError(head + "[link]\nloss_policy = \"panic\"\n", 6, "link.loss_policy", "not one of");
+  ExpectError(head + "[link]\ndirection_min_move_um = 0\n", 6, "link.direction_min_move_um", "out of range");
   ExpectError(head + "[loop]\nperiod_s = \"fast\"\n", 6, "loop.period_s", "must be a number");
   ExpectError(head + "[[axis]]\npulse_equivalent_um = 1\n", 5, "axis[0].name", "missing");
   ExpectError(head + "[[axis]]\nname = \"X\"\n[[axis]]\nname = \"X\"\n", 8, "axis[1].name", "twice");

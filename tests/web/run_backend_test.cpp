@@ -193,6 +193,8 @@ TEST_F(RunBackendTest, HistoryExportAndAlarmsComeFromTheRun) {
   const auto alarms = backend_->Alarms(10);
   ASSERT_FALSE(alarms.empty()) << "the faulty nut sensor raises an alarm";
   EXPECT_TRUE(alarms[0].active);
+  EXPECT_NE(alarms[0].name.find("sensor_"), std::string::npos) << alarms[0].name;
+  EXPECT_NE(alarms[0].name.find("(X)"), std::string::npos) << "the page names the axis: " << alarms[0].name;
   backend_->AcknowledgeAlarm(kWho, alarms[0].id);
   EXPECT_EQ(backend_->Alarms(10)[0].acknowledged_by, "op");
 }

@@ -66,6 +66,7 @@ class HalCncLink : public hw::CncLink {
     Pin<bool> offset_enable;
     double last_programmed_mm = 0;
     bool has_last = false;
+    int last_direction = 0;  // of the last programmed move (+1/−1; 0 before the first): reported while standing
   };
   std::vector<Axis> axes_;
   Pin<bool> enable_, machine_on_, flood_, mist_;

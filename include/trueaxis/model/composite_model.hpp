@@ -153,6 +153,17 @@ struct AxisModel {
   // it — a machine soaked in a colder room really is shorter. NaN: not recorded (older files).
   std::array<double, 2> ambient_fitted_range_c{std::numeric_limits<double>::quiet_NaN(),
                                                std::numeric_limits<double>::quiet_NaN()};
+  // Whether the ambient sensor changes what the model predicts: a ρ term, or a thermal part (its
+  // keys' rise above ambient, the coolant's pull towards the room, a room pivot). A geometric-only
+  // model that merely records the room sensor of its measurement (ρ = 0, no keys) does not need it.
+  bool AmbientInUse() const {
+    if (ambient_sensor.empty()) return false;
+    if (rho_um_per_mm_per_c != 0 || !key_sensors.empty() || HasMotionHeat()) return true;
+    for (const auto& per_direction : key_shifts)
+      for (const auto& ks : per_direction)
+        if (ks.ambient_offset_um_per_c != 0) return true;
+    return false;
+  }
   bool AmbientOutsideFittedRange(double ambient_c) const {
     return ambient_c < ambient_fitted_range_c[0] - 1e-9 || ambient_c > ambient_fitted_range_c[1] + 1e-9;
   }  // false for NaN (either side)

@@ -63,6 +63,12 @@ struct CompensatorOptions {
   // flip between the forward and reverse models (a limit cycle of the reversal
   // value). Set false for a CNC that never reports `moving`.
   bool direction_only_while_moving = true;
+  // A move the loop did not see (`moving` never set in a snapshot: a few mm at rapid feed between
+  // two reads) is still a move: a change of the axis position between two CNC snapshots by more
+  // than this (µm, in the model's frame; above the position noise, a few encoder counts), beyond
+  // what the compensation itself changed meanwhile, switches the direction model — to the CNC's
+  // direction where it reports one, else to the direction of the change (docs/runtime.md step 4).
+  double direction_min_move_um = 2.0;
   // Model sensor name → temperature channel name (absent: same name).
   std::map<std::string, std::string> channel_map;
 

@@ -9,6 +9,8 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <span>
+#include <string>
 
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
@@ -29,6 +31,7 @@ struct AxisRecord {
   double desired_um = 0;   // target correction (NaN = hold)
   double output_um = 0;    // shaped correction, physical
   double written_um = 0;   // written, CNC units
+  std::uint32_t alarms = 0;  // AxisStatus::alarms: the alarm bits this axis raised
 };
 
 struct CycleRecord {
@@ -45,6 +48,9 @@ struct CycleRecord {
 };
 
 void FillRecord(const CycleStatus& status, CycleRecord& out);
+// The record's alarms as a user reads them, with the axes behind each (AlarmNamesWithAxes):
+// "no_model_for_axis(Y)|link_read"; "" when none. Not for the RT thread.
+std::string RecordAlarmNames(const CycleRecord& record, std::span<const std::string> axis_names);
 
 class CycleRecorder : public CycleObserver {
  public:
@@ -57,6 +63,7 @@ class CycleRecorder : public CycleObserver {
   SpscRing<CycleRecord> ring_;
   std::uint64_t every_;
   std::uint32_t last_alarms_ = 0;
+  std::array<std::uint32_t, kRecordMaxAxes> last_axis_alarms_{};  // an alarm moving to another axis is an edge too
   bool first_ = true;
   CycleRecord scratch_;
   std::atomic<std::uint64_t> dropped_{0};

@@ -54,6 +54,11 @@ enum Alarm : std::uint32_t {
                                        // the CNC is in feed hold until the marker is redrawn (docs/vision.md)
 };
 std::string AlarmNames(std::uint32_t alarms);  // "sensor_held|link_read", "" when none (not for the RT thread)
+// The same with the axes behind each alarm an axis raised (AxisStatus::alarms), as a user reads
+// it: "no_model_for_axis(Y Z)|link_read". `axis_alarms[i]` are axis i's bits, `axis_names[i]` its
+// name (an axis without a name: its index). Not for the RT thread.
+std::string AlarmNamesWithAxes(std::uint32_t alarms, std::span<const std::uint32_t> axis_alarms,
+                               std::span<const std::string> axis_names);
 
 enum class ChannelHealth : std::uint8_t { kOk, kHeld, kLost };
 
@@ -77,6 +82,7 @@ struct AxisStatus {
   bool clamped = false;         // desired beyond this axis's bound: the output saturates (alarm raised)
   double output_um = 0;         // shaped correction, physical µm
   double written_um = 0;        // value written to the CNC (CNC units: ×2 on diameter axes)
+  std::uint32_t alarms = 0;     // the Alarm bits this axis raised this cycle (also in CycleStatus::alarms)
 };
 
 // How an axis is compensated, in one word (the history's compensation state, the workshop
@@ -159,6 +165,15 @@ struct StepState {
   int good_reads_in_row = 0;
   hw::CncState machine;                    // from the last good CNC read
   std::vector<Direction> direction;        // per axis, held while stopped
+  // Per axis, what the direction rule compares the next CNC snapshot with: the model position at
+  // the last good read (NaN: none yet), the output the CNC held then, and how much that output had
+  // changed since the read before (a CNC may show the compensation in its position a cycle late).
+  struct LastRead {
+    double position_mm = std::numeric_limits<double>::quiet_NaN();
+    double held_um = 0;
+    double held_step_um = 0;
+  };
+  std::vector<LastRead> last_read;
   std::vector<OutputShaperState> shaper;   // per axis: what the CNC holds
   // Asynchronous writes: at most one command is outstanding. Its proposal waits here until a
   // snapshot reports it written (the shaper advances to it) or failed; until then the step hands

@@ -4,6 +4,7 @@
 // and health, every axis's position and correction, each alarm raised or
 // cleared, and model changes. Runs on a non-real-time thread (it allocates
 // strings); the writer's own thread does the disk work.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -36,6 +37,7 @@ class HistoryLogger {
   double offset_s_;
   std::string alarm_source_;
   std::uint32_t last_alarms_ = 0;
+  std::array<std::uint32_t, runtime::kRecordMaxAxes> last_axis_alarms_{};
   std::uint64_t records_ = 0;
 };
 

@@ -12,6 +12,7 @@
 #include "trueaxis/drivers/modbus_cnc_link.hpp"
 #include "trueaxis/drivers/modbus_temperature_source.hpp"
 #include "trueaxis/hw/cnc_link.hpp"
+#include "trueaxis/hw/no_temperature_source.hpp"
 #include "trueaxis/hw/temperature_source.hpp"
 #include "trueaxis/runtime/run_config.hpp"
 #include "trueaxis/signal/monitored_temperature_source.hpp"
@@ -21,7 +22,7 @@
 namespace trueaxis::station {
 
 // The MODBUS clients of one terminal: the PMC window and the RTD modules
-// (unit ids first_rtd_unit_id, +1, ... one per 7 channels). Not connected yet.
+// (unit ids first_rtd_unit_id, +1, ... one per 7 channels; none without channel names). Not connected yet.
 struct ModbusClients {
   std::unique_ptr<drivers::ModbusCncLink> cnc;
   std::unique_ptr<drivers::ModbusTemperatureSource> temperatures;
@@ -40,6 +41,7 @@ signal::MonitorOptions MonitorOptionsFor(const runtime::SensorFaultPolicy& polic
 struct Machine {
   std::unique_ptr<sim::VirtualMachine> vm;
   ModbusClients modbus;
+  std::unique_ptr<hw::NoTemperatureSource> no_temperatures;       // MODBUS without channels
   std::unique_ptr<signal::MonitoredTemperatureSource> monitored;  // the temperature pipeline
   hw::CncLink* link = nullptr;
   hw::TemperatureSource* source = nullptr;  // what the compensator reads (the pipeline when on)
