@@ -7,35 +7,6 @@ macro(trueaxis_requires_feature feature)
   endif()
 endmacro()
 
-# Precompiled header (TRUEAXIS_PCH, on by default): the standard library and the header-only
-# libraries most files include (fmt, nlohmann/json, Eigen, toml++, CLI11) are parsed once, into
-# trueaxis_pch, and every module, the CLI and the test programs reuse it. Parsing those headers
-# was over half of each file's compile time (bench/results/build.md).
-option(TRUEAXIS_PCH "Precompile the common headers once for every module, program and test" ON)
-set(TRUEAXIS_PCH_LIBS Eigen3::Eigen nlohmann_json::nlohmann_json fmt::fmt tomlplusplus::tomlplusplus CLI11::CLI11)
-if(TRUEAXIS_PCH)
-  file(CONFIGURE OUTPUT ${CMAKE_BINARY_DIR}/trueaxis_pch.cpp CONTENT "// translation unit of the shared precompiled header\n")
-  add_library(trueaxis_pch OBJECT ${CMAKE_BINARY_DIR}/trueaxis_pch.cpp)
-  target_link_libraries(trueaxis_pch PUBLIC ${TRUEAXIS_PCH_LIBS})
-  target_precompile_headers(trueaxis_pch PRIVATE
-    <algorithm> <array> <atomic> <chrono> <cmath> <cstddef> <cstdint> <cstdio> <filesystem> <fstream>
-    <functional> <limits> <map> <memory> <mutex> <optional> <random> <set> <span> <sstream> <stdexcept>
-    <string> <string_view> <thread> <vector>
-    <fmt/format.h> <fmt/ranges.h> <nlohmann/json.hpp> <Eigen/Dense> <toml++/toml.h> <CLI/CLI.hpp>)
-endif()
-
-# trueaxis_use_pch(<target>): <target> compiles with the shared precompiled header.
-function(trueaxis_use_pch target)
-  if(TRUEAXIS_PCH)
-    target_link_libraries(${target} PRIVATE ${TRUEAXIS_PCH_LIBS})
-    target_precompile_headers(${target} REUSE_FROM trueaxis_pch)
-    if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
-      # ccache (with sloppiness pch_defines,time_macros) caches files compiled with a PCH only so.
-      target_compile_options(${target} PRIVATE -fpch-preprocess)
-    endif()
-  endif()
-endfunction()
-
 # trueaxis_module(<name> [DEPS target...])
 #   Builds src/<name>/*.cpp into the static library trueaxis_<name>, with the
 #   public headers in include/trueaxis/<name>/, and records it so the CLI links it.
@@ -46,7 +17,6 @@ function(trueaxis_module name)
   target_include_directories(trueaxis_${name} PUBLIC ${PROJECT_SOURCE_DIR}/include)
   target_compile_options(trueaxis_${name} PRIVATE -Wall -Wextra -Wno-unused-parameter -Wno-restrict)
   target_link_libraries(trueaxis_${name} PUBLIC ${ARG_DEPS})
-  trueaxis_use_pch(trueaxis_${name})
   set_property(GLOBAL APPEND PROPERTY TRUEAXIS_MODULES trueaxis_${name})
 endfunction()
 
@@ -59,7 +29,6 @@ function(trueaxis_tests name)
   file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
   add_executable(test_${name} ${sources})
   target_link_libraries(test_${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gmock GTest::gtest_main)
-  trueaxis_use_pch(test_${name})
   # tests/support/: helpers shared by the suites (e.g. running the CLI).
   target_include_directories(test_${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests)
   target_compile_definitions(test_${name} PRIVATE
