@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "../tests/live/mosquitto_broker.hpp"
-#include "../tests/store/postgres_server.hpp"
+#include "../tests/store_postgres/postgres_server.hpp"
 #include "trueaxis/live/mqtt_publisher.hpp"
 #include "trueaxis/store/history_db.hpp"
-#include "trueaxis/store/postgres_history_sink.hpp"
+#include "trueaxis/store_postgres/postgres_history_sink.hpp"
 
 namespace {
 

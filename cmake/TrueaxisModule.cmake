@@ -1,3 +1,12 @@
+# trueaxis_requires_feature(<FEATURE>)
+#   First line of the CMakeLists of a module, test folder or program that needs an optional
+#   feature (cmake/TrueaxisDeps.cmake): without it the rest of that file is skipped.
+macro(trueaxis_requires_feature feature)
+  if(NOT TRUEAXIS_HAVE_${feature})
+    return()
+  endif()
+endmacro()
+
 # trueaxis_module(<name> [DEPS target...])
 #   Builds src/<name>/*.cpp into the static library trueaxis_<name>, with the
 #   public headers in include/trueaxis/<name>/, and records it so the CLI links it.

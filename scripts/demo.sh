@@ -6,7 +6,9 @@
 # Usage: scripts/demo.sh [extra arguments for `trueaxis demo`, e.g. --fast or --seed 7]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
+# Only what the demo needs: the optional features (vision, PostgreSQL, MQTT, LinuxCNC) are built
+# when their libraries are already there (scripts/test.sh installs them), else left out.
+bash scripts/install-deps.sh --demo
 # A compiler cache, when the machine has one, makes rebuilds of unchanged files free.
 LAUNCHER=()
 # Paths are hashed relative to the checkout, so another clone of the same sources hits the cache too.
@@ -14,7 +16,8 @@ if command -v ccache >/dev/null 2>&1; then
   LAUNCHER=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
   export CCACHE_BASEDIR="$PWD" CCACHE_MAXSIZE="${CCACHE_MAXSIZE:-8G}"
 fi
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRUEAXIS_BUILD_TESTS=OFF -DTRUEAXIS_BUILD_BENCH=OFF "${LAUNCHER[@]}"
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRUEAXIS_BUILD_TESTS=OFF -DTRUEAXIS_BUILD_BENCH=OFF \
+  -DTRUEAXIS_ALL_FEATURES=OFF "${LAUNCHER[@]}"
 cmake --build build -j"$(nproc)" --target trueaxis
 ./build/apps/trueaxis/trueaxis demo --out out/demo "$@"
 echo "report: out/demo/report.html"

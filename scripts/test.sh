@@ -4,9 +4,11 @@
 # Usage: scripts/test.sh            (build dirs: build/, build-fuzz/)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
-# Tests and benchmarks are switched on explicitly: scripts/demo.sh configures the same build/
-# with them off, and CMake's cache would otherwise keep that (no tests built, none run).
+bash scripts/install-deps.sh --all
+# Tests, benchmarks and every optional feature are switched on explicitly: scripts/demo.sh
+# configures the same build/ with them off or auto-detected, and CMake's cache would otherwise
+# keep that (tests not built, none run). TRUEAXIS_ALL_FEATURES=ON fails the configure when a
+# feature's library is missing instead of leaving its tests out.
 # A compiler cache, when the machine has one, makes rebuilds of unchanged files free.
 LAUNCHER=()
 # Paths are hashed relative to the checkout, so another clone of the same sources hits the cache too.
@@ -14,7 +16,8 @@ if command -v ccache >/dev/null 2>&1; then
   LAUNCHER=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
   export CCACHE_BASEDIR="$PWD" CCACHE_MAXSIZE="${CCACHE_MAXSIZE:-8G}"
 fi
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRUEAXIS_BUILD_TESTS=ON -DTRUEAXIS_BUILD_BENCH=ON "${LAUNCHER[@]}"
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRUEAXIS_BUILD_TESTS=ON -DTRUEAXIS_BUILD_BENCH=ON \
+  -DTRUEAXIS_ALL_FEATURES=ON "${LAUNCHER[@]}"
 cmake --build build -j"$(nproc)"
 
 # Bounded libFuzzer run of the measurement readers (fuzz/): a separate clang

@@ -20,11 +20,11 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "optional_features.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/server/http_api.hpp"
 #include "trueaxis/server/shop.hpp"
 #include "trueaxis/server/shop_config.hpp"
-#include "trueaxis/server/shop_mqtt.hpp"
 #include "trueaxis/store/history_writer.hpp"
 #include "trueaxis/store/open_history_sink.hpp"
 #include "trueaxis/web/shop_backend.hpp"
@@ -119,8 +119,8 @@ void RunServer(const ServerOptions& o) {
     web_backend = std::make_unique<web::ShopBackend>(shop, history.get(), wo);
     web_front_end = cli::StartWebFrontEnd(o.web, *web_backend);  // InputError: no user, bad address or certificate
   }
-  std::unique_ptr<server::ShopMqttRelay> mqtt;
-  if (!config.mqtt.broker.empty()) mqtt = std::make_unique<server::ShopMqttRelay>(shop, config.mqtt);  // InputError
+  std::unique_ptr<cli::LiveRelay> mqtt;
+  if (!config.mqtt.broker.empty()) mqtt = cli::MakeShopMqttRelay(shop, config.mqtt);  // InputError, FeatureMissing
   shop.Start();
   if (web_backend) web_backend->Start();
   if (mqtt) mqtt->Start();
@@ -147,7 +147,7 @@ void RunServer(const ServerOptions& o) {
   if (web_backend) web_backend->Stop();
   if (mqtt) {
     mqtt->Stop();
-    fmt::print("mqtt: {} ({})\n", config.mqtt.broker, mqtt->Stats().BriefReport());
+    fmt::print("mqtt: {} ({})\n", config.mqtt.broker, mqtt->StatsReport());
   }
   if (api) api->Stop();
   shop.Stop();

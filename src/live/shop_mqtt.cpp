@@ -1,4 +1,4 @@
-#include "trueaxis/server/shop_mqtt.hpp"
+#include "trueaxis/live/shop_mqtt.hpp"
 
 #include <cmath>
 
@@ -6,11 +6,14 @@
 
 #include "trueaxis/server/http_api.hpp"
 
-namespace trueaxis::server {
+namespace trueaxis::live {
+
+using server::MachineStatus;
+using server::ToJson;
 
 namespace {
-live::MqttPublisherOptions PublisherOptions(const MqttConfig& c) {
-  live::MqttPublisherOptions o;
+MqttPublisherOptions PublisherOptions(const server::MqttConfig& c) {
+  MqttPublisherOptions o;
   o.broker = c.broker;
   o.shop = c.shop;
   o.topic_root = c.topic_root;
@@ -24,7 +27,7 @@ nlohmann::json ValueWithStatus(const std::optional<double>& value, const char* k
 }
 }  // namespace
 
-ShopMqttRelay::ShopMqttRelay(const Shop& shop, const MqttConfig& config)
+ShopMqttRelay::ShopMqttRelay(const server::Shop& shop, const server::MqttConfig& config)
     : shop_(shop), config_(config), publisher_(PublisherOptions(config)) {}
 
 ShopMqttRelay::~ShopMqttRelay() { Stop(); }
@@ -58,4 +61,4 @@ void ShopMqttRelay::Stop() {
   closed_ = true;
 }
 
-}  // namespace trueaxis::server
+}  // namespace trueaxis::live

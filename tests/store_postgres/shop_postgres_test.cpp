@@ -3,11 +3,12 @@
 // HistoryWriter, and psql (an independent reader) finds every machine's rows.
 #include <gtest/gtest.h>
 
-#include "../store/postgres_server.hpp"
-#include "shop_fixture.hpp"
+#include "server/shop_fixture.hpp"
+#include "postgres_server.hpp"
 #include "trueaxis/server/shop.hpp"
 #include "trueaxis/store/history_writer.hpp"
 #include "trueaxis/store/open_history_sink.hpp"
+#include "trueaxis/store_postgres/postgres_history_sink.hpp"
 
 namespace trueaxis::server {
 namespace {
@@ -27,6 +28,7 @@ TEST(ShopPostgres, EveryMachinesHistoryLandsInPostgresql) {
   ASSERT_TRUE(vshop);
   ShopConfig config = ConfigFor(*vshop, WriteModel(dir + "/model.json"));
   config.history = pg.Url();
+  store::EnablePostgresHistory();
   store::HistoryWriter writer(store::OpenHistorySink(config.history));
   {
     Shop shop(config, &writer);

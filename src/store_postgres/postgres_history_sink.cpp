@@ -1,13 +1,13 @@
-#include "trueaxis/store/postgres_history_sink.hpp"
+#include "trueaxis/store_postgres/postgres_history_sink.hpp"
 
 #include <array>
 #include <cmath>
-#include <regex>
 
 #include <fmt/format.h>
 #include <pqxx/pqxx>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/store/open_history_sink.hpp"
 
 namespace trueaxis::store {
 namespace {
@@ -64,13 +64,6 @@ constexpr const char* kApplication = "trueaxis history";
 std::string CopyDouble(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); }
 
 }  // namespace
-
-std::string RedactedUrl(const std::string& url) {
-  static const std::regex password(R"(^([a-zA-Z][a-zA-Z0-9+.-]*://[^:/@?#]*):[^@/?#]*@)");
-  std::string out = std::regex_replace(url, password, "$1:***@");
-  static const std::regex param(R"(([?&]password=)[^&]*)");
-  return std::regex_replace(out, param, "$1***");
-}
 
 struct PostgresHistorySink::Connection : pqxx::connection {
   using pqxx::connection::connection;
@@ -249,6 +242,12 @@ std::vector<TemperatureRow> PostgresHistorySink::QueryTemperatures(const TimeRan
     rows.push_back(std::move(row));
   }
   return rows;
+}
+
+void EnablePostgresHistory() {
+  SetPostgresHistoryOpener([](const std::string& url, const HistorySinkOptions& options) -> std::unique_ptr<HistorySink> {
+    return std::make_unique<PostgresHistorySink>(PostgresHistoryOptions{url, options.postgres_schema});
+  });
 }
 
 }  // namespace trueaxis::store

@@ -73,7 +73,8 @@ class PostgresHistorySink final : public HistorySink {
   std::vector<std::pair<std::string, std::int64_t>> channel_ids_, axis_ids_;
 };
 
-// The URL without its password (for messages and logs).
-std::string RedactedUrl(const std::string& url);
+// Lets store::OpenHistorySink open postgresql:// URLs with PostgresHistorySink (once, before any
+// open; trueaxis calls it at start).
+void EnablePostgresHistory();
 
 }  // namespace trueaxis::store

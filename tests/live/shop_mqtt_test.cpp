@@ -1,17 +1,19 @@
 // The workshop server's live values on a real mosquitto broker, read by mosquitto_sub (an
 // independent client): every machine's status, axes and temperatures, retained; a lost terminal's
 // values become null / UNAVAILABLE, never its last numbers.
-#include "trueaxis/server/shop_mqtt.hpp"
+#include "trueaxis/live/shop_mqtt.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "../live/mosquitto_broker.hpp"
-#include "shop_fixture.hpp"
+#include "mosquitto_broker.hpp"
+#include "server/shop_fixture.hpp"
 #include "trueaxis/core/input_error.hpp"
 
 namespace trueaxis::server {
 namespace {
+
+using live::ShopMqttRelay;
 
 using testing::ConfigFor;
 using testing::StartVirtualShop;
