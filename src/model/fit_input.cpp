@@ -108,19 +108,6 @@ FitState MakeFitState(measure::Measurement m, const std::string& label_override,
   return s;
 }
 
-namespace {
-
-// The campaign's temperature_log.csv: time_s (campaign clock) + t_<sensor>_c columns.
-struct TemperatureLog {
-  std::vector<std::string> sensors;
-  std::vector<double> time_s;
-  std::vector<int> line;                  // per row: its line in the file, for error messages
-  std::vector<std::vector<double>> rows;  // parallel to sensors
-  std::vector<CoolantState> coolant;      // per row; empty when the log has no coolant column
-  std::map<std::string, std::vector<double>> travel_mm;  // per axis (lower case): <axis>_travel_mm
-  int header_line = 0;
-};
-
 // Every row must have the header's field count, a time after the previous
 // row's, and plausible temperatures: a row cut short or a log glued from two
 // files is refused, not half-read.
@@ -208,6 +195,8 @@ TemperatureLog ReadTemperatureLog(const std::string& path) {
   if (log.time_s.empty()) throw InputError(path, cursor.number(), "time_s", "the temperature log has no rows");
   return log;
 }
+
+namespace {
 
 // The rows of `log` in [start − window, start), mapped onto m's sensors.
 TemperatureHistory HistoryBefore(const TemperatureLog& log, const measure::Measurement& m, double start_s) {
