@@ -3,6 +3,7 @@
 // (docs/campaign.md "On your own machine") and says when the next warm-up test is due.
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>

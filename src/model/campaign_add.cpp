@@ -106,7 +106,7 @@ CampaignAddResult AddToCampaign(const CampaignAddOptions& o) {
                        fmt::format("'{}' is not a date with a time of day; give the test's --start", *date));
     // Laser software writes the file when the test ends.
     const auto mtime = std::filesystem::last_write_time(o.file);
-    const auto sys = std::chrono::clock_cast<std::chrono::system_clock>(mtime);
+    const auto sys = std::chrono::file_clock::to_sys(mtime);
     start_unix = std::chrono::duration<double>(sys.time_since_epoch()).count();
     offset_s = -duration_s;
     r.start_source = "the file's modification time (taken as the test's end)";

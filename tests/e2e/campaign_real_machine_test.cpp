@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -34,7 +35,7 @@ std::string Slurp(const fs::path& p) {
   return s.str();
 }
 
-std::pair<int, std::string> Run(const std::string& args, const fs::path& out) {
+std::pair<int, std::string> RunTrueaxis(const std::string& args, const fs::path& out) {
   const int rc = std::system((kCli + " " + args + " > " + out.string() + " 2>&1").c_str());
   return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, Slurp(out)};
 }
@@ -74,9 +75,9 @@ TEST(CampaignRealMachine, LogAddFitAgainstTheServedMachine) {
   const std::string log_cmd = "campaign log " + campaign.string() + " --config " + (dir / "terminal.toml").string() +
                               " --period-s 60 --clock-scale " + std::to_string(kScale) + " --status";
   // Two sessions: the log is stopped and started again; it goes on in the same file.
-  const auto [rc1, out1] = Run(log_cmd + " --duration-s 25", dir / "log1.txt");
+  const auto [rc1, out1] = RunTrueaxis(log_cmd + " --duration-s 25", dir / "log1.txt");
   ASSERT_EQ(rc1, 0) << out1;
-  const auto [rc2, out2] = Run(log_cmd + " --duration-s 29", dir / "log2.txt");
+  const auto [rc2, out2] = RunTrueaxis(log_cmd + " --duration-s 29", dir / "log2.txt");
   ASSERT_EQ(rc2, 0) << out2;
   EXPECT_NE(out2.find("continuing"), std::string::npos) << out2;
   // The warm-up rule spoke: a test due as the nut rose.
@@ -116,7 +117,7 @@ TEST(CampaignRealMachine, LogAddFitAgainstTheServedMachine) {
   ASSERT_GE(files.size(), 8u) << Slurp(dir / "serve.txt");
   const std::size_t held_out = 5;
   for (std::size_t i = 0; i < files.size(); ++i) {
-    const auto [rc, text] = Run("campaign add " + campaign.string() + " " + files[i].string() + " --axis X --state " +
+    const auto [rc, text] = RunTrueaxis("campaign add " + campaign.string() + " " + files[i].string() + " --axis X --state " +
                                     (i == 0 ? "cold" : "warm"),
                                 dir / "add.txt");
     // The last test may have run past the log's end: refused, named.
@@ -136,11 +137,11 @@ TEST(CampaignRealMachine, LogAddFitAgainstTheServedMachine) {
   manifest["measurements"].erase(manifest["measurements"].begin() + static_cast<long>(held_out));
   std::ofstream(campaign / "fit_manifest.json") << manifest.dump(2);
   const auto [fit_rc, fit_text] =
-      Run("fit --out " + (dir / "model.json").string() + " " + (campaign / "fit_manifest.json").string(), dir / "fit.txt");
+      RunTrueaxis("fit --out " + (dir / "model.json").string() + " " + (campaign / "fit_manifest.json").string(), dir / "fit.txt");
   ASSERT_EQ(fit_rc, 0) << fit_text;
 
   const auto [pred_rc, pred_text] =
-      Run("predict --model " + (dir / "model.json").string() + " --measurement " + (campaign / held_file).string() +
+      RunTrueaxis("predict --model " + (dir / "model.json").string() + " --measurement " + (campaign / held_file).string() +
               " --temperature-log " + (campaign / "temperature_log.csv").string(),
           dir / "predict.txt");
   ASSERT_EQ(pred_rc, 0) << pred_text;

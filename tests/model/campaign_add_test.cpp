@@ -1,5 +1,7 @@
 // `campaign add`: a laser file put on the campaign clock with the logged temperatures at each of
 // its points, written into the folder and listed in manifest.json as the fit reads it.
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
 #include <string>

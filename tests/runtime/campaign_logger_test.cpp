@@ -1,5 +1,7 @@
 // `campaign log`'s file side: the fit's layout, travelled paths from the CNC's counter or its
 // positions, and a restart that goes on in the same file without losing or reordering rows.
+#include <unistd.h>
+
 #include <filesystem>
 #include <string>
 #include <vector>
