@@ -134,8 +134,11 @@ CampaignAddResult AddToCampaign(const CampaignAddOptions& o) {
     std::sort(steps.begin(), steps.end());
     period_s = steps.empty() ? 0 : steps[steps.size() / 2];
   }
+  // A hole of more than three rows and ten minutes: the logger was stopped (temperatures drift by
+  // far less than a test's resolution over a shorter one, and it tolerates a stalled computer).
+  const double max_gap_s = std::max(3 * period_s + 1, 600.0);
   for (std::size_t i = 1; i < log.time_s.size(); ++i)
-    if (log.time_s[i] > start_s && log.time_s[i - 1] < end_s && log.time_s[i] - log.time_s[i - 1] > 3 * period_s + 1)
+    if (log.time_s[i] > start_s && log.time_s[i - 1] < end_s && log.time_s[i] - log.time_s[i - 1] > max_gap_s)
       throw InputError(log_path, log.line[i], "time_s",
                        fmt::format("the log has a gap from {:.0f} to {:.0f} s during {} ({:.0f}–{:.0f} s): the "
                                    "temperatures of its points are not known",

@@ -58,7 +58,7 @@ TEST(CampaignRealMachine, LogAddFitAgainstTheServedMachine) {
   const std::string serve = kCli + " sim serve --machine " + kMachine + " --port " + std::to_string(port) +
                             " --time-scale " + std::to_string(kScale) +
                             " --laser-axis X --laser-out " + laser.string() +
-                            " --laser-first-s 3600 --laser-every-s 2400 --laser-runs 2 --laser-spacing-mm 100"
+                            " --laser-first-s 3600 --laser-every-s 2400 --laser-runs 3 --laser-spacing-mm 50"
                             " --laser-count 11 --duration-s 58 --status-interval-s 0 > " + (dir / "serve.txt").string() +
                             " 2>&1 &";
   ASSERT_EQ(std::system(serve.c_str()), 0);
