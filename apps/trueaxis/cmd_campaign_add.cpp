@@ -9,12 +9,13 @@
 
 #include "campaign_command.hpp"
 #include "command.hpp"
-#include "trueaxis/model/campaign_add.hpp"
+#include "trueaxis/campaign/campaign_add.hpp"
+#include "trueaxis/measure/campaign_manifest.hpp"
 
 namespace {
 
 void Setup(CLI::App& app) {
-  auto o = std::make_shared<trueaxis::model::CampaignAddOptions>();
+  auto o = std::make_shared<trueaxis::campaign::CampaignAddOptions>();
   CLI::App* cmd = trueaxis::cli::CampaignCommand(app)->add_subcommand(
       "add",
       "Add a laser file to the campaign: its start on the campaign clock, the logged temperatures at each point, "
@@ -28,7 +29,7 @@ void Setup(CLI::App& app) {
   cmd->add_option("--axis", o->axis, "The measured axis")->required();
   cmd->add_option("--state", o->state, "The machine's state during the test")
       ->required()
-      ->check(CLI::IsMember(trueaxis::model::CampaignStates()));
+      ->check(CLI::IsMember(trueaxis::measure::CampaignStates()));
   cmd->add_option("--coolant", o->coolant, "Coolant during the test: off, flood, mist, air (default: from the log)")
       ->check(CLI::IsMember({"off", "flood", "mist", "air"}));
   cmd->add_option("--start", o->start,
@@ -36,7 +37,7 @@ void Setup(CLI::App& app) {
                   "modification time as the test's end)");
   cmd->add_option("--end", o->end, "When the test ended (instead of --start)");
   cmd->callback([o] {
-    const auto r = trueaxis::model::AddToCampaign(*o);
+    const auto r = trueaxis::campaign::AddToCampaign(*o);
     fmt::print("{}: {} {} #{} from {} to {} s of the campaign clock (start {} from {}){}\n", r.written, o->axis,
                o->state, r.sequence, std::round(r.start_time_s * 10) / 10, std::round(r.end_time_s * 10) / 10,
                r.start_date, r.start_source,

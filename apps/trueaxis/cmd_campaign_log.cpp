@@ -23,9 +23,9 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/core/toml_reader.hpp"
-#include "trueaxis/model/campaign_folder.hpp"
-#include "trueaxis/model/fit_input.hpp"
-#include "trueaxis/model/warmup_watch.hpp"
+#include "trueaxis/campaign/campaign_folder.hpp"
+#include "trueaxis/measure/campaign_log.hpp"
+#include "trueaxis/campaign/warmup_watch.hpp"
 #include "trueaxis/runtime/run_config.hpp"
 #include "trueaxis/station/campaign_logger.hpp"
 #include "trueaxis/station/machine_connection.hpp"
@@ -118,19 +118,19 @@ void Run(const Options& o) {
 
   // The campaign: its manifest (started here when no plan wrote one) and clock.
   std::filesystem::create_directories(o.dir);
-  model::CampaignFolder folder;
-  const double now0 = model::WallClockNowS();
+  campaign::CampaignFolder folder;
+  const double now0 = campaign::WallClockNowS();
   if (!std::filesystem::exists(std::filesystem::path(o.dir) / "manifest.json")) {
-    folder = model::NewCampaignFolder(o.dir, std::floor(now0), sensors, o.clock_scale > 0 ? o.clock_scale : 1);
+    folder = campaign::NewCampaignFolder(o.dir, std::floor(now0), sensors, o.clock_scale > 0 ? o.clock_scale : 1);
     folder.Save();
     fmt::print("started the campaign {} at {} (no manifest.json: campaign plan writes one with a plan)\n", o.dir,
                folder.manifest["start_date"].get<std::string>());
   } else {
-    folder = model::OpenCampaignFolder(o.dir);
+    folder = campaign::OpenCampaignFolder(o.dir);
     bool changed = false;
     if (!folder.manifest.contains("start_date") || folder.manifest["start_date"].is_null() ||
         folder.manifest["start_date"] == "") {
-      folder.manifest["start_date"] = model::FormatCampaignDate(std::floor(now0));
+      folder.manifest["start_date"] = campaign::FormatCampaignDate(std::floor(now0));
       changed = true;
     }
     if (o.clock_scale > 0 && !folder.manifest.contains("clock_scale") && o.clock_scale != 1) {
@@ -139,7 +139,7 @@ void Run(const Options& o) {
     }
     if (changed) folder.Save();
   }
-  const model::CampaignClock clock = folder.Clock();
+  const campaign::CampaignClock clock = folder.Clock();
   if (o.clock_scale > 0 && o.clock_scale != clock.scale)
     throw InputError(folder.ManifestPath(), 0, "clock_scale",
                      fmt::format("the campaign's clock runs at {} campaign seconds per wall second, --clock-scale says {}",
@@ -155,7 +155,7 @@ void Run(const Options& o) {
     for (std::size_t c = 0; c < sensors.size(); ++c)
       if (sensors[c] == LowerAscii(axes[a]) + "_nut") nut_channel[a] = static_cast<int>(c);
   if (logger.ResumedRows() > 0) {
-    const auto log = model::ReadTemperatureLog(log_path);
+    const auto log = measure::ReadTemperatureLog(log_path);
     for (std::size_t r = 0; r < log.time_s.size(); ++r) {
       times.push_back(log.time_s[r]);
       double sum = 0;
@@ -195,10 +195,10 @@ void Run(const Options& o) {
     hw::CncState cnc;
     const bool cnc_ok = ch.link && ch.link->Read(axis_state, cnc);
     if (cnc_ok) logger.Poll(axis_state);
-    const double t = clock.FromUnix(model::WallClockNowS());
+    const double t = clock.FromUnix(campaign::WallClockNowS());
     if (t >= next_row_s) {
       const bool temps_ok = ch.source->Read(temps);
-      const std::string date = model::FormatCampaignDate(clock.start_unix_s + t / clock.scale);
+      const std::string date = campaign::FormatCampaignDate(clock.start_unix_s + t / clock.scale);
       if (logger.Append(t, date, cnc_ok ? std::optional<hw::CncState>(cnc) : std::nullopt,
                         temps_ok ? std::optional<std::span<const hw::RawTemperature>>(temps) : std::nullopt)) {
         times.push_back(logger.LastTimeS());
@@ -211,11 +211,11 @@ void Run(const Options& o) {
         // The warm-up: the manifest as `campaign add` left it, the nut as logged.
         std::string line, events;
         try {
-          const auto manifest = model::OpenCampaignFolder(o.dir).manifest;
+          const auto manifest = campaign::OpenCampaignFolder(o.dir).manifest;
           const auto& list = manifest.contains("measurements") ? manifest["measurements"] : nlohmann::ordered_json::array();
           for (const auto& axis : watched) {
             const std::size_t a = static_cast<std::size_t>(std::find(axes.begin(), axes.end(), axis) - axes.begin());
-            const auto st = model::WatchWarmUp(rule, o.warmup_per_test, list, axis, times, nut[a], travel_sum, o.period_s);
+            const auto st = campaign::WatchWarmUp(rule, o.warmup_per_test, list, axis, times, nut[a], travel_sum, o.period_s);
             line += (line.empty() ? "" : " | ") + st.Text();
             if (st.due || st.saturated) events += (events.empty() ? "" : " | ") + st.Text();
           }

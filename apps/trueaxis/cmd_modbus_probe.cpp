@@ -35,7 +35,7 @@ struct ProbeOptions {
 };
 
 CLI::App* ModbusCommand(CLI::App& app) {
-  return trueaxis::cli::CommandGroup(app, "modbus", "MODBUS TCP tools (docs/protocols.md)");
+  return cli::CommandGroup(app, "modbus", "MODBUS TCP tools (docs/protocols.md)");
 }
 
 void RunProbe(const ProbeOptions& o) {

@@ -11,12 +11,12 @@
 #include <tuple>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include "trueaxis/core/ascii_case.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
+#include "trueaxis/measure/campaign_manifest.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
 #include "trueaxis/model/warmup_rule.hpp"
 #include "trueaxis/sim/machine_log.hpp"
@@ -168,7 +168,7 @@ class Campaign {
       last_day = std::max(last_day, offset);
     }
     if (o_.coolant_visit != CampaignOptions::CoolantVisit::kFirstVisit) CoolantSessions(last_day);
-    WriteTextFile((std::filesystem::path(o_.out_dir) / "temperature_log.csv").string(), log_);
+    WriteTextFile((std::filesystem::path(o_.out_dir) / measure::kCampaignLogFile).string(), log_);
     WriteManifest();
     summary_.machine_time_s = vm_.TimeS();
     summary_.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
@@ -403,38 +403,31 @@ class Campaign {
   }
 
   void WriteManifest() {
-    nlohmann::ordered_json j;
-    j["format"] = "trueaxis-sim-campaign";
-    j["version"] = 1;
-    j["machine"] = vm_.description().name;
-    j["machine_file"] = vm_.description().source;
-    j["seed"] = o_.seed;
-    j["start_date"] = vm_.description().start_iso;
-    j["sensors"] = sensor_names_;
-    j["temperature_log"] = "temperature_log.csv";
-    auto& files = j["measurements"] = nlohmann::ordered_json::array();
+    measure::CampaignManifest m;
+    m.machine = vm_.description().name;
+    m.machine_file = vm_.description().source;
+    m.seed = o_.seed;
+    m.start_date = vm_.description().start_iso;
+    m.sensors = sensor_names_;
+    for (const auto& s : vm_.description().sensors)
+      if (!s.location.empty() && s.location != s.name) m.sensor_locations[s.name] = s.location;
     for (std::size_t i = 0; i < summary_.files.size(); ++i) {
       const auto& f = summary_.files[i];
-      nlohmann::ordered_json e;
-      e["file"] = f.file;
-      e["axis"] = f.axis;
-      e["state"] = f.state;
-      e["coolant"] = f.coolant;
-      e["sequence"] = f.sequence;
-      e["start_date"] = f.start_date;
-      e["start_time_s"] = std::round(f.start_time_s * 10) / 10;
-      e["end_time_s"] = std::round(f.end_time_s * 10) / 10;
-      e["nut_rise_c"] = std::round(f.nut_rise_c * 1000) / 1000;
-      if (f.coolant_session > 0) e["coolant_session"] = f.coolant_session;
-      auto& mt = e["mean_temperatures_c"] = nlohmann::ordered_json::object();
-      for (const auto& s : sensor_names_) {
-        const double v = means_[i].at(s);
-        if (std::isfinite(v)) mt[s] = std::round(v * 1000) / 1000;
-        else mt[s] = nullptr;
-      }
-      files.push_back(e);
+      measure::CampaignEntry e;
+      e.file = f.file;
+      e.axis = f.axis;
+      e.state = f.state;
+      e.coolant = f.coolant;
+      e.sequence = f.sequence;
+      e.start_date = f.start_date;
+      e.start_time_s = f.start_time_s;
+      e.end_time_s = f.end_time_s;
+      e.nut_rise_c = f.nut_rise_c;
+      e.coolant_session = f.coolant_session;
+      for (const auto& s : sensor_names_) e.mean_temperatures_c.emplace_back(s, means_[i].at(s));
+      m.measurements.push_back(std::move(e));
     }
-    WriteTextFile((std::filesystem::path(o_.out_dir) / "manifest.json").string(), j.dump(2) + "\n");
+    measure::WriteCampaignManifest(m, (std::filesystem::path(o_.out_dir) / measure::kCampaignManifestFile).string());
   }
 
   CampaignOptions o_;

@@ -6,6 +6,7 @@
 #include "trueaxis/core/ascii_case.hpp"
 #include "trueaxis/core/coolant.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/measure/campaign_manifest.hpp"
 
 namespace trueaxis::sim {
 namespace {
@@ -17,11 +18,10 @@ std::string Fixed(double v, int digits) {
 }  // namespace
 
 std::string MachineLogHeader(const VirtualMachine& vm) {
-  std::string h = "time_s,date,coolant";
-  for (std::size_t i = 0; i < vm.AxisCount(); ++i) h += "," + LowerAscii(vm.AxisName(i)) + "_mm";
-  for (std::size_t i = 0; i < vm.AxisCount(); ++i) h += "," + LowerAscii(vm.AxisName(i)) + "_travel_mm";
-  for (std::size_t i = 0; i < vm.ChannelCount(); ++i) h += ",t_" + vm.ChannelName(i) + "_c";
-  return h + "\n";
+  std::vector<std::string> axes, sensors;
+  for (std::size_t i = 0; i < vm.AxisCount(); ++i) axes.push_back(vm.AxisName(i));
+  for (std::size_t i = 0; i < vm.ChannelCount(); ++i) sensors.push_back(vm.ChannelName(i));
+  return measure::CampaignLogHeader(axes, sensors);
 }
 
 std::string MachineLogRow(const VirtualMachine& vm) {

@@ -14,7 +14,8 @@
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/core/text_lines.hpp"
-#include "trueaxis/model/fit_input.hpp"
+#include "trueaxis/measure/campaign_log.hpp"
+#include "trueaxis/measure/campaign_manifest.hpp"
 
 namespace trueaxis::station {
 namespace {
@@ -63,7 +64,7 @@ CampaignLogger::CampaignLogger(std::string path, std::vector<std::string> axis_n
   if (!text.empty() && text.back() != '\n')
     throw InputError(path_, 0, "", "the last row is cut short (no line end): remove it before logging on");
   if (text.find('\n', text.find(header) + header.size()) == std::string::npos) return;  // header only
-  const model::TemperatureLog log = model::ReadTemperatureLog(path_);
+  const measure::TemperatureLog log = measure::ReadTemperatureLog(path_);
   resumed_rows_ = log.time_s.size();
   last_time_s_ = log.time_s.back();
   for (std::size_t a = 0; a < axes_.size(); ++a) {
@@ -78,13 +79,7 @@ CampaignLogger::CampaignLogger(std::string path, std::vector<std::string> axis_n
   if (!log.coolant.empty()) coolant_ = CoolantStateName(log.coolant.back());
 }
 
-std::string CampaignLogger::Header() const {
-  std::string h = "time_s,date,coolant";
-  for (const auto& a : axes_) h += "," + LowerAscii(a) + "_mm";
-  for (const auto& a : axes_) h += "," + LowerAscii(a) + "_travel_mm";
-  for (const auto& s : sensors_) h += ",t_" + s + "_c";
-  return h + "\n";
-}
+std::string CampaignLogger::Header() const { return measure::CampaignLogHeader(axes_, sensors_); }
 
 void CampaignLogger::Poll(std::span<const hw::AxisState> axes) {
   for (std::size_t a = 0; a < axes_.size() && a < axes.size(); ++a) {

@@ -9,7 +9,7 @@
 #include "trueaxis/core/coolant.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
-#include "trueaxis/model/campaign_clock.hpp"
+#include "trueaxis/campaign/campaign_clock.hpp"
 #include "trueaxis/sim/machine_description.hpp"
 
 namespace trueaxis::station {
@@ -73,14 +73,14 @@ void VirtualTerminal::Advance(double wall_elapsed_s) {
 }
 
 void VirtualTerminal::TakeLaserTest() {
-  const double wall_start = model::WallClockNowS();
+  const double wall_start = campaign::WallClockNowS();
   const double before = vm_->TimeS();
   for (std::size_t i = 0; i < vm_->AxisCount(); ++i) vm_->CommandStop(i);
   interferometer_->Setup(*vm_, laser_axis_, vm_->description().axes[laser_axis_].reference_mm);
   const double t0 = vm_->TimeS();
   measure::Measurement m = interferometer_->Measure(*vm_, laser_->runs, {});
   // What laser software knows: its own clock and the machine's axis, not the machine's sensors.
-  m.SetMeta("date", model::FormatCampaignDate(wall_start + (t0 - before) / config_.time_scale, 3));
+  m.SetMeta("date", campaign::FormatCampaignDate(wall_start + (t0 - before) / config_.time_scale, 3));
   m.sensor_names.clear();
   for (auto& p : m.points) p.temperatures_c.clear();
   const int n = laser_tests_.load() + 1;

@@ -11,7 +11,7 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
-#include "trueaxis/model/fit_input.hpp"
+#include "trueaxis/measure/campaign_log.hpp"
 #include "trueaxis/runtime/run_config.hpp"
 #include "trueaxis/station/campaign_logger.hpp"
 
@@ -65,7 +65,7 @@ TEST(CampaignLogger, WritesTheFitsLayoutAndGoesOnAfterARestart) {
     ASSERT_TRUE(log.Append(90, "2026-11-28T07:01:30", cnc, temps));
     EXPECT_EQ(log.TravelMm(), (std::vector<double>{35, 17}));
   }
-  const auto read = model::ReadTemperatureLog(path.string());  // as the fit reads it
+  const auto read = measure::ReadTemperatureLog(path.string());  // as the fit reads it
   EXPECT_EQ(read.time_s, (std::vector<double>{30, 60, 90}));
   EXPECT_EQ(read.travel_mm.at("x"), (std::vector<double>{20, 25, 35}));
   EXPECT_EQ(read.coolant.back(), CoolantState::kFlood);

@@ -15,7 +15,6 @@
 // another room temperature, anything else a heated state; "coolant:<name>" or
 // "coolant-<name>" (or `# coolant: <name>`) sets the coolant working state.
 #include <limits>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -43,23 +42,6 @@ struct TemperatureHistory {
   bool empty() const { return time_s.empty(); }
   bool HasTravel() const { return travel_time_s.size() >= 2; }
 };
-
-// The campaign's temperature_log.csv (docs/campaign.md), as read: time_s (campaign clock),
-// t_<sensor>_c columns, the coolant column and each <axis>_travel_mm.
-struct TemperatureLog {
-  std::vector<std::string> sensors;
-  std::vector<double> time_s;
-  std::vector<int> line;                  // per row: its line in the file, for error messages
-  std::vector<std::vector<double>> rows;  // parallel to sensors
-  std::vector<CoolantState> coolant;      // per row; empty when the log has no coolant column
-  std::map<std::string, std::vector<double>> travel_mm;  // per axis (lower case): <axis>_travel_mm
-  int header_line = 0;
-};
-
-// Every row must have the header's field count, a time after the previous row's, plausible
-// temperatures and travels that never shrink: a row cut short or a log glued from two files is
-// refused (InputError naming the file, line and column), not half-read.
-TemperatureLog ReadTemperatureLog(const std::string& path);
 
 struct FitState {
   std::string path;    // as given (for messages and the model's sources)

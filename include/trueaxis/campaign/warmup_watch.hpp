@@ -10,7 +10,7 @@
 
 #include "trueaxis/model/warmup_rule.hpp"
 
-namespace trueaxis::model {
+namespace trueaxis::campaign {
 
 struct WarmUpStatus {
   std::string axis;
@@ -29,8 +29,8 @@ struct WarmUpStatus {
 // `measurements`: the manifest's array; `time_s` / `nut_c` / `travel_mm`: the log's rows (campaign
 // clock; the axis's nut sensor, NaN where not read; the summed travel of every axis), `period_s`
 // apart. `min_warmup_per_test`: R (docs/campaign.md step 2).
-WarmUpStatus WatchWarmUp(const WarmUpRule& rule, double min_warmup_per_test, const nlohmann::ordered_json& measurements,
+WarmUpStatus WatchWarmUp(const model::WarmUpRule& rule, double min_warmup_per_test, const nlohmann::ordered_json& measurements,
                          const std::string& axis, std::span<const double> time_s, std::span<const double> nut_c,
                          std::span<const double> travel_mm, double period_s);
 
-}  // namespace trueaxis::model
+}  // namespace trueaxis::campaign

@@ -7,9 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "trueaxis/model/campaign_clock.hpp"
+#include "trueaxis/campaign/campaign_clock.hpp"
 
-namespace trueaxis::model {
+namespace trueaxis::campaign {
 
 struct CampaignFolder {
   std::string dir;
@@ -32,4 +32,4 @@ CampaignFolder OpenCampaignFolder(const std::string& dir);
 CampaignFolder NewCampaignFolder(const std::string& dir, double start_unix_s, const std::vector<std::string>& sensors,
                                  double clock_scale);
 
-}  // namespace trueaxis::model
+}  // namespace trueaxis::campaign

@@ -8,13 +8,13 @@
 #include <string>
 #include <vector>
 
-namespace trueaxis::model {
+namespace trueaxis::campaign {
 
 struct CampaignAddOptions {
   std::string campaign_dir;
   std::string file;
   std::string axis;
-  std::string state;    // cold | warm | cooldown | ambient | coolant | coolant_rest
+  std::string state;    // one of measure::CampaignStates()
   std::string coolant;  // "" = from the log's coolant column during the test
   std::string start;    // date of the test's start ("" = from the file)
   std::string end;      // date of the test's end (instead of start)
@@ -29,10 +29,8 @@ struct CampaignAddResult {
   int sequence = 0;
 };
 
-const std::vector<std::string>& CampaignStates();
-
 // Throws InputError naming the file, line and field (the campaign's manifest or log, the laser
 // file, or the command line) for anything it cannot do exactly.
 CampaignAddResult AddToCampaign(const CampaignAddOptions& options);
 
-}  // namespace trueaxis::model
+}  // namespace trueaxis::campaign

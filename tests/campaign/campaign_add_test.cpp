@@ -14,11 +14,11 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/measure/measurement_file.hpp"
-#include "trueaxis/model/campaign_add.hpp"
-#include "trueaxis/model/campaign_clock.hpp"
+#include "trueaxis/campaign/campaign_add.hpp"
+#include "trueaxis/campaign/campaign_clock.hpp"
 #include "trueaxis/model/fit_input.hpp"
 
-namespace trueaxis::model {
+namespace trueaxis::campaign {
 namespace {
 
 namespace fs = std::filesystem;
@@ -93,9 +93,9 @@ TEST(CampaignAdd, StampsTheFileOnTheCampaignClockWithTheLoggedTemperatures) {
   EXPECT_EQ(e["coolant"], "off");
   EXPECT_EQ(e["start_time_s"], 600);
   // The fit reads it, the log's history behind it.
-  const auto states = LoadFitStates({}, (dir / "manifest.json").string());
+  const auto states = model::LoadFitStates({}, (dir / "manifest.json").string());
   ASSERT_EQ(states.size(), 1u);
-  EXPECT_EQ(states[0].kind, StateKind::kCold);
+  EXPECT_EQ(states[0].kind, model::StateKind::kCold);
   EXPECT_FALSE(states[0].history.empty());
   EXPECT_TRUE(states[0].history.HasTravel());
 }
@@ -157,4 +157,4 @@ TEST(CampaignClock, ReadsLocalDatesZonesAndFractions) {
 }
 
 }  // namespace
-}  // namespace trueaxis::model
+}  // namespace trueaxis::campaign

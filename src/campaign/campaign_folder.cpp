@@ -1,4 +1,4 @@
-#include "trueaxis/model/campaign_folder.hpp"
+#include "trueaxis/campaign/campaign_folder.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -8,8 +8,9 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/json_text.hpp"
 #include "trueaxis/core/text_file.hpp"
+#include "trueaxis/measure/campaign_manifest.hpp"
 
-namespace trueaxis::model {
+namespace trueaxis::campaign {
 
 std::string CampaignFolder::ManifestPath() const { return (std::filesystem::path(dir) / "manifest.json").string(); }
 
@@ -63,7 +64,7 @@ CampaignFolder OpenCampaignFolder(const std::string& dir) {
   if (!std::filesystem::exists(path))
     throw InputError(path, 0, "", "no manifest.json in the campaign folder (trueaxis campaign plan or campaign log starts one)");
   const std::string text = ReadTextFile(path);
-  ParseJsonOrThrow(text, path);  // the error with its line
+  measure::CheckCampaignManifestFormat(ParseJsonOrThrow(text, path), path);  // a JSON error with its line
   f.manifest = nlohmann::ordered_json::parse(text);
   if (!f.manifest.is_object()) throw InputError(path, 0, "", "expected a JSON object (a campaign manifest)");
   return f;
@@ -74,8 +75,8 @@ CampaignFolder NewCampaignFolder(const std::string& dir, double start_unix_s, co
   CampaignFolder f;
   f.dir = dir;
   auto& j = f.manifest;
-  j["format"] = "trueaxis-sim-campaign";
-  j["version"] = 1;
+  j["format"] = std::string(measure::kCampaignManifestFormat);
+  j["version"] = measure::kCampaignManifestVersion;
   j["start_date"] = FormatCampaignDate(start_unix_s);
   if (clock_scale != 1) j["clock_scale"] = clock_scale;
   j["sensors"] = sensors;
@@ -84,4 +85,4 @@ CampaignFolder NewCampaignFolder(const std::string& dir, double start_unix_s, co
   return f;
 }
 
-}  // namespace trueaxis::model
+}  // namespace trueaxis::campaign

@@ -1,4 +1,4 @@
-#include "trueaxis/model/campaign_add.hpp"
+#include "trueaxis/campaign/campaign_add.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -16,10 +16,11 @@
 #include "trueaxis/core/text_lines.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
 #include "trueaxis/measure/measurement_file.hpp"
-#include "trueaxis/model/campaign_folder.hpp"
-#include "trueaxis/model/fit_input.hpp"
+#include "trueaxis/campaign/campaign_folder.hpp"
+#include "trueaxis/measure/campaign_log.hpp"
+#include "trueaxis/measure/campaign_manifest.hpp"
 
-namespace trueaxis::model {
+namespace trueaxis::campaign {
 namespace {
 
 double Round(double v, int digits) {
@@ -29,7 +30,7 @@ double Round(double v, int digits) {
 
 // The log's value of column `k` at campaign time t: linear between the two rows around t; NaN when
 // either is empty (the channel was flagged).
-double LogValueAt(const TemperatureLog& log, std::size_t k, double t) {
+double LogValueAt(const measure::TemperatureLog& log, std::size_t k, double t) {
   const auto it = std::lower_bound(log.time_s.begin(), log.time_s.end(), t);
   const std::size_t hi = static_cast<std::size_t>(it - log.time_s.begin());
   if (hi < log.time_s.size() && log.time_s[hi] == t) return log.rows[hi][k];
@@ -41,13 +42,8 @@ double LogValueAt(const TemperatureLog& log, std::size_t k, double t) {
 
 }  // namespace
 
-const std::vector<std::string>& CampaignStates() {
-  static const std::vector<std::string> states = {"cold", "warm", "cooldown", "ambient", "coolant", "coolant_rest"};
-  return states;
-}
-
 CampaignAddResult AddToCampaign(const CampaignAddOptions& o) {
-  const auto& states = CampaignStates();
+  const auto& states = measure::CampaignStates();
   if (std::find(states.begin(), states.end(), o.state) == states.end())
     throw InputError("command line", 0, "--state",
                      fmt::format("'{}' is not one of cold, warm, cooldown, ambient, coolant, coolant_rest", o.state));
@@ -60,7 +56,7 @@ CampaignAddResult AddToCampaign(const CampaignAddOptions& o) {
   if (!std::filesystem::exists(log_path))
     throw InputError(folder.ManifestPath(), 0, "temperature_log",
                      fmt::format("'{}' does not exist: start `trueaxis campaign log` before the first test", log_path));
-  const TemperatureLog log = ReadTemperatureLog(log_path);
+  const measure::TemperatureLog log = measure::ReadTemperatureLog(log_path);
 
   measure::Measurement m = measure::ReadMeasurementFile(o.file);
   if (m.points.empty()) throw InputError(o.file, 0, "", "no measurement points");
@@ -248,4 +244,4 @@ CampaignAddResult AddToCampaign(const CampaignAddOptions& o) {
   return r;
 }
 
-}  // namespace trueaxis::model
+}  // namespace trueaxis::campaign

@@ -1,4 +1,4 @@
-#include "trueaxis/model/campaign_clock.hpp"
+#include "trueaxis/campaign/campaign_clock.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -10,7 +10,7 @@
 
 #include <fmt/format.h>
 
-namespace trueaxis::model {
+namespace trueaxis::campaign {
 
 std::optional<double> ParseCampaignDate(std::string_view text) {
   while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
@@ -84,4 +84,4 @@ double WallClockNowS() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-}  // namespace trueaxis::model
+}  // namespace trueaxis::campaign

@@ -12,7 +12,7 @@
 #include <string>
 #include <string_view>
 
-namespace trueaxis::model {
+namespace trueaxis::campaign {
 
 // Seconds since the Unix epoch; nullopt when `text` is not such a date.
 std::optional<double> ParseCampaignDate(std::string_view text);
@@ -27,4 +27,4 @@ struct CampaignClock {
   double FromUnix(double unix_s) const { return (unix_s - start_unix_s) * scale; }
 };
 
-}  // namespace trueaxis::model
+}  // namespace trueaxis::campaign
