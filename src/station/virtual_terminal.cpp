@@ -63,17 +63,33 @@ int VirtualTerminal::LaserTests() const { return laser_tests_.load(); }
 
 void VirtualTerminal::Advance(double wall_elapsed_s) {
   double dt = wall_elapsed_s * config_.time_scale;
-  const double pause = std::min(dt, pause_s_);  // the machine time a laser test took at once
+  // A laser test runs in machine time at once; the machine stands for as long in scaled wall time,
+  // before the test (by the last test's duration: what the channels show during the test is the
+  // machine as the test starts) and after it for what the test took longer.
+  const double pause = std::min(dt, pause_s_);
   pause_s_ -= pause;
   dt -= pause;
-  if (dt > 0) vm_->Advance(dt);
-  if (laser_ && vm_->TimeS() >= next_laser_s_ && (laser_->count <= 0 || laser_tests_.load() < laser_->count))
+  if (laser_due_ && pause_s_ <= 0) {
+    laser_due_ = false;
     TakeLaserTest();
+  }
+  if (dt > 0 && pause_s_ <= 0) vm_->Advance(dt);
+  if (laser_ && !laser_due_ && vm_->TimeS() >= next_laser_s_ &&
+      (laser_->count <= 0 || laser_tests_.load() < laser_->count)) {
+    laser_due_ = true;
+    laser_wall_start_ = campaign::WallClockNowS();
+    for (std::size_t i = 0; i < vm_->AxisCount(); ++i) vm_->CommandStop(i);
+    pause_s_ = last_laser_s_;
+    if (pause_s_ <= 0) {
+      laser_due_ = false;
+      TakeLaserTest();
+    }
+  }
   Snapshot();
 }
 
 void VirtualTerminal::TakeLaserTest() {
-  const double wall_start = campaign::WallClockNowS();
+  const double wall_start = laser_wall_start_;
   const double before = vm_->TimeS();
   for (std::size_t i = 0; i < vm_->AxisCount(); ++i) vm_->CommandStop(i);
   interferometer_->Setup(*vm_, laser_axis_, vm_->description().axes[laser_axis_].reference_mm);
@@ -88,7 +104,9 @@ void VirtualTerminal::TakeLaserTest() {
       std::filesystem::path(laser_->out_dir) / fmt::format("{}_laser_{:03}.csv", laser_->axis, n);
   measure::WriteMeasurementCsv(m, out.string() + ".tmp");
   std::filesystem::rename(out.string() + ".tmp", out);
-  pause_s_ += vm_->TimeS() - before;
+  const double took = vm_->TimeS() - before;
+  pause_s_ += std::max(0.0, took - last_laser_s_);
+  last_laser_s_ = took;
   next_laser_s_ = before + laser_->every_s;
   if (next_laser_s_ < vm_->TimeS()) next_laser_s_ = vm_->TimeS();
   StartProgram(*vm_, config_);

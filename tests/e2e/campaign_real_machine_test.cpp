@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -83,7 +84,8 @@ TEST(CampaignRealMachine, LogAddFitAgainstTheServedMachine) {
 
   // The user meanwhile: each laser file, once written, added as a cold test (the first) or a warm-up
   // test; one the log has not yet passed is tried again later.
-  std::vector<std::string> added;  // laser files in the order added
+  std::vector<std::string> added;    // laser files in the order added
+  std::vector<std::string> skipped;  // measured across the log's restart
   auto add_new_files = [&](bool last_try) {
     std::vector<fs::path> files;
     if (fs::exists(laser))
@@ -91,7 +93,9 @@ TEST(CampaignRealMachine, LogAddFitAgainstTheServedMachine) {
         if (e.path().extension() == ".csv") files.push_back(e.path());
     std::sort(files.begin(), files.end());
     for (const auto& f : files) {
-      if (std::find(added.begin(), added.end(), f.string()) != added.end()) continue;
+      if (std::find(added.begin(), added.end(), f.string()) != added.end() ||
+          std::find(skipped.begin(), skipped.end(), f.string()) != skipped.end())
+        continue;
       const auto [rc, text] = RunTrueaxis("campaign add " + campaign.string() + " " + f.string() + " --axis X --state " +
                                               (added.empty() ? "cold" : "warm"),
                                           dir / "add.txt");
@@ -100,9 +104,14 @@ TEST(CampaignRealMachine, LogAddFitAgainstTheServedMachine) {
         added.push_back(f.string());
         continue;
       }
-      // Not covered yet: refused, naming the file; later (or, after the log stopped, left out).
+      // Refused, naming the file: not covered yet (tried again later; after the log stopped, left
+      // out), or measured while the log was restarting (left out: its temperatures are not known).
       EXPECT_EQ(rc, 2) << text;
       EXPECT_NE(text.find(f.string()), std::string::npos) << text;
+      if (text.find("the log has a gap") != std::string::npos) {
+        skipped.push_back(f.string());
+        continue;
+      }
       EXPECT_NE(text.find("once the log has passed its end"), std::string::npos) << text;
       if (!last_try) break;  // keep the order: the next one after this one
     }
@@ -147,6 +156,7 @@ TEST(CampaignRealMachine, LogAddFitAgainstTheServedMachine) {
   EXPECT_GT(last_travel - first_travel, 100000) << "the machine's program moved X over 100 m";
 
   ASSERT_GE(added.size(), 8u) << Slurp(dir / "serve.txt");
+  EXPECT_LE(skipped.size(), 1u) << "only a test across the restart may fall into a gap";
   const std::size_t held_out = 5;  // a warm-up test half-way, left out of the fit
   auto manifest = nlohmann::json::parse(Slurp(campaign / "manifest.json"));
   ASSERT_EQ(manifest["measurements"].size(), added.size());
@@ -168,6 +178,8 @@ TEST(CampaignRealMachine, LogAddFitAgainstTheServedMachine) {
   ASSERT_GT(a_off, 0) << pred_text;
   ASSERT_GT(a_on, 0) << pred_text;
   EXPECT_LT(a_on, 0.5 * a_off) << pred_text;
+  std::cout << "held-out warm-up test: ISO 230-2 A " << a_off << " µm measured, " << a_on
+            << " µm with the compensation; " << added.size() << " tests added, " << skipped.size() << " left out\n";
   fs::remove_all(dir);
 }
 

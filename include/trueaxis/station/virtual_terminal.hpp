@@ -32,8 +32,9 @@ void StartProgram(sim::VirtualMachine& vm, const runtime::VirtualMachineConfig& 
 // a user gets from the laser software on a real machine — a test file with its start date (the
 // wall clock) and a time per point, and nothing of the machine's own sensors. The machine stands
 // until the first test (the cold state), then runs its program; every `every_s` machine seconds
-// the program stops for a test. A test runs in machine time at once; the machine then pauses for
-// as long in scaled wall time, so its clock stays the wall clock × the time scale.
+// the program stops for a test. A test runs in machine time at once; the machine stands for as
+// long in scaled wall time (before the test, as long as the last one took: the channels show the
+// machine as the test starts), so its clock stays the wall clock × the time scale.
 struct ServedLaser {
   std::string axis;
   std::string out_dir;       // <axis>_laser_<nnn>.csv, each written whole (renamed into place)
@@ -87,6 +88,9 @@ class VirtualTerminal {
   std::unique_ptr<sim::LaserInterferometer> interferometer_;
   std::size_t laser_axis_ = 0;
   double next_laser_s_ = 0, pause_s_ = 0;
+  bool laser_due_ = false;         // the machine stands before the test
+  double laser_wall_start_ = 0;    // wall clock as the test was due: the file's date
+  double last_laser_s_ = 0;        // the last test's machine seconds
   std::atomic<int> laser_tests_{0};
 
   std::unique_ptr<sim::VirtualMachine> vm_;
