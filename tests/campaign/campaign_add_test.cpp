@@ -111,7 +111,7 @@ TEST(CampaignAdd, AnEmptyLogCellStaysEmptyAndWarmTestsCountTheirRise) {
   EXPECT_DOUBLE_EQ(r.start_time_s, 240);
   EXPECT_EQ(fs::path(r.written).filename(), "X_02_warm_01.csv");
   // Mean nut of the cold test (0–140 s) vs this one (240–380 s): 240 s / 360 s/°C later.
-  EXPECT_NEAR(r.nut_rise_c, 240 / 360.0, 1e-6);
+  EXPECT_NEAR(r.nut_rise_c, 240 / 360.0, 1e-3);  // the cold mean as the manifest keeps it (0.001 °C)
   const auto m = measure::ReadMeasurementFile(r.written);
   int empty = 0;
   for (const auto& p : m.points) empty += std::isnan(p.temperatures_c[1]) && 240 + *p.time_s > 270 && 240 + *p.time_s < 330;
