@@ -63,12 +63,6 @@ std::vector<std::string> CampaignMachine::SensorsAt(const std::string& location)
 
 namespace {
 
-bool ValidSensorName(const std::string& n) {
-  return !n.empty() && std::all_of(n.begin(), n.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
-  });
-}
-
 bool KnownLocation(const std::string& location, const std::vector<CampaignAxis>& axes) {
   for (const char* l : {"ambient", "bed", "bed_top", "bed_bottom", "coolant", "spindle"})
     if (location == l) return true;
@@ -174,7 +168,7 @@ CampaignMachine ParseCampaignMachineToml(const std::string& text, const std::str
       TomlTableReader sr(st, source, fmt::format("sensor[{}]", i));
       CampaignSensor s;
       sr.String("name", s.name, true);
-      if (!ValidSensorName(s.name)) sr.Fail("name", st.get("name"), "must be lower case letters, digits and '_' (e.g. x_nut)");
+      if (!sim::ValidSensorName(s.name)) sr.Fail("name", st.get("name"), "must be lower case letters, digits and '_' (e.g. x_nut)");
       if (!names.insert(s.name).second) sr.Fail("name", st.get("name"), fmt::format("sensor '{}' is defined twice", s.name));
       s.location = s.name;
       sr.String("location", s.location);

@@ -156,7 +156,7 @@ std::string PlanMarkdown(const CampaignPlan& plan) {
         "rᵢ a different random value at each inner target (|rᵢ| ≤ the bound below: the lead's periodic error is "
         "sampled at many phases), the first and last at the ends of the measurement travel, with the overrun beyond "
         "each end for the reversal inside the soft limits.\n\n";
-  md += "| axis | limits mm | reference mm | targets | p mm | |r| ≤ mm | overrun mm | dwell s | feed mm/min | "
+  md += "| axis | limits mm | reference mm | targets | p mm | r within ± mm | overrun mm | dwell s | feed mm/min | "
         "test (runs) |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (std::size_t i = 0; i < plan.axes.size(); ++i) {
     const auto& t = plan.targets[i];

@@ -78,14 +78,14 @@ void ReadPitch(TomlTableReader& r, PitchErrorDescription& p) {
   r.RejectUnknown();
 }
 
+}  // namespace
+
 bool ValidSensorName(const std::string& s) {
   if (s.empty() || s.size() > 40) return false;
   for (char c : s)
     if (!(std::islower(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) || c == '_')) return false;
   return std::islower(static_cast<unsigned char>(s[0]));
 }
-
-}  // namespace
 
 MachineDescription ParseMachineToml(const std::string& text, const std::string& source) {
   const toml::table root = ParseTomlOrThrow(text, source);

@@ -160,4 +160,8 @@ void FinishMachineDescription(MachineDescription& m);
 
 std::string_view SensorKindName(SensorKind k);
 
+// A sensor name as every machine file takes it (the log's t_<name>_c column): 1–40 lower case
+// letters, digits and '_', starting with a letter.
+bool ValidSensorName(const std::string& name);
+
 }  // namespace trueaxis::sim
