@@ -48,6 +48,7 @@ struct ServeOptions {
   double machine_period_s = 0.005;
   double watchdog_s = 0;
   double watchdog_ramp_um_per_s = 10;
+  station::ServedLaser laser;
 };
 
 using Status = station::VirtualTerminalStatus;
@@ -123,6 +124,11 @@ void RunServe(const ServeOptions& o) {
   if (!so.IsValid(&why)) throw InputError("command line", why);
 
   station::VirtualTerminal terminal(vc, so);  // throws InputError on a bad machine file
+  if (!o.laser.axis.empty()) {
+    if (!(o.laser.first_s >= 0) || !(o.laser.every_s > 0))
+      throw InputError("command line", 0, "--laser-every-s", "--laser-first-s must be >= 0 and --laser-every-s > 0");
+    terminal.SetLaser(o.laser);
+  }
   const auto& axis_names = terminal.axis_names();
   const auto& sensor_names = terminal.channel_names();
   const std::size_t n_axes = axis_names.size();
@@ -209,6 +215,17 @@ void Setup(CLI::App& app) {
   cmd->add_option("--watchdog-ramp-um-per-s", opts->watchdog_ramp_um_per_s, "Rate of that ramp")->capture_default_str();
   cmd->add_option("--pmc-unit", opts->pmc_unit, "Unit id of the PMC window")->capture_default_str();
   cmd->add_option("--first-rtd-unit", opts->first_rtd_unit, "Unit id of the first ADAM-6015 (7 sensors each)")->capture_default_str();
+  cmd->add_option("--laser-axis", opts->laser.axis,
+                  "Set up a laser interferometer on this axis: the machine stands until the first (cold) test, then "
+                  "runs its program, stopped for a test every --laser-every-s; each test is written as laser software "
+                  "writes it (its start date on the wall clock, a time per point, no machine sensors)");
+  cmd->add_option("--laser-out", opts->laser.out_dir, "Folder for the laser files (<axis>_laser_<nnn>.csv)");
+  cmd->add_option("--laser-first-s", opts->laser.first_s, "Machine seconds before the first test")->capture_default_str();
+  cmd->add_option("--laser-every-s", opts->laser.every_s, "Machine seconds from one test's start to the next")
+      ->capture_default_str();
+  cmd->add_option("--laser-runs", opts->laser.runs, "Runs of each test")->capture_default_str()->check(CLI::Range(2, 20));
+  cmd->add_option("--laser-spacing-mm", opts->laser.spacing_mm, "Target spacing")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--laser-count", opts->laser.count, "Tests in all (0: until stopped)")->capture_default_str()->check(CLI::NonNegativeNumber);
   cmd->callback([opts] { RunServe(*opts); });
 }
 

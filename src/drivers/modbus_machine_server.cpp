@@ -107,6 +107,9 @@ struct ModbusMachineServer::Impl {
   std::vector<double> pending_um;
   std::vector<double> applied_um;
   bool retry_write = false;  // the CNC refused the last vector: try again next period (no busy loop)
+  // Per axis: the path travelled (the CNC's distance counter, else summed here from each read's
+  // position change) and the position of the last good read.
+  std::vector<double> travel_mm, last_position_mm;
   Clock::time_point last_read_ok{};
   bool ever_read_ok = false;
 
@@ -426,6 +429,11 @@ struct ModbusMachineServer::Impl {
     const bool temps_ok = temps && temps->Read(raw);
     const auto now = Clock::now();
     if (read_ok) {
+      for (std::size_t a = 0; a < axis_count; ++a) {
+        if (std::isfinite(axes[a].travel_mm)) travel_mm[a] = axes[a].travel_mm;
+        else if (ever_read_ok) travel_mm[a] += std::abs(axes[a].position_mm - last_position_mm[a]);
+        last_position_mm[a] = axes[a].position_mm;
+      }
       last_read_ok = now;
       ever_read_ok = true;
     }
@@ -506,6 +514,10 @@ struct ModbusMachineServer::Impl {
         SplitInt32(c, ir + pmc::InputAxisRegister(a, pmc::kIrAxisPositionHi));
         ir[pmc::InputAxisRegister(a, pmc::kIrAxisDirection)] = static_cast<std::uint16_t>(static_cast<std::int16_t>(axes[a].servo_direction));
         ir[pmc::InputAxisRegister(a, pmc::kIrAxisMoving)] = axes[a].moving ? 1 : 0;
+        const double travel = std::clamp(std::floor(travel_mm[a]), 0.0, 4294967295.0);
+        const auto t = static_cast<std::uint32_t>(travel);
+        ir[pmc::InputAxisRegister(a, pmc::kIrAxisTravelHi)] = static_cast<std::uint16_t>(t >> 16);
+        ir[pmc::InputAxisRegister(a, pmc::kIrAxisTravelLo)] = static_cast<std::uint16_t>(t & 0xFFFF);
       }
     } else {
       // keep the last good state on the registers; the cleared bit and the
@@ -642,6 +654,8 @@ bool ModbusMachineServer::Start(std::string* error) {
   s.raw.assign(s.channel_count, {});
   s.pending_um.assign(s.axis_count, 0.0);
   s.applied_um.assign(s.axis_count, 0.0);
+  s.travel_mm.assign(s.axis_count, 0.0);
+  s.last_position_mm.assign(s.axis_count, 0.0);
   s.compensation_dirty = false;  // nothing is forwarded before a client writes: no jump at start-up
   s.retry_write = false;
   s.last_client_write = Clock::now();

@@ -95,7 +95,7 @@ void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptio
   }
 }
 
-RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
+RunConfig ParseRunConfig(const std::string& text, const std::string& source, bool model_required) {
   const toml::table root = ParseTomlOrThrow(text, source);
   RunConfig c;
   c.source = source;
@@ -145,8 +145,8 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source) {
   }
 
   const toml::table* mo = r.Table("model");
-  if (!mo) r.Fail("model", nullptr, "missing (required): [model] with file = \"model.json\"");
-  {
+  if (!mo && model_required) r.Fail("model", nullptr, "missing (required): [model] with file = \"model.json\"");
+  if (mo) {
     TomlTableReader m(*mo, source, "model");
     m.String("file", c.model_file, true);
     c.model_file = Resolve(base, c.model_file);
@@ -243,6 +243,8 @@ void RunConfig::RequireFile(const std::string& key, const std::string& path) con
     throw InputError(source, LineOf(key), key, fmt::format("'{}' is a folder, not a file", path));
 }
 
-RunConfig ReadRunConfig(const std::string& path) { return ParseRunConfig(ReadTextFile(path), path); }
+RunConfig ReadRunConfig(const std::string& path, bool model_required) {
+  return ParseRunConfig(ReadTextFile(path), path, model_required);
+}
 
 }  // namespace trueaxis::runtime

@@ -18,6 +18,7 @@
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/measure/campaign_manifest.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
+#include "trueaxis/model/warmup_rule.hpp"
 #include "trueaxis/sim/machine_log.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
 
@@ -118,27 +119,6 @@ std::vector<std::string> WarmUpCoverageGaps(const std::vector<CampaignFile>& fil
 }
 
 namespace {
-
-// The rise a first-order warm-up tends to, from its curve so far: the three-point formula
-// A = (T0·T2 − T1²)/(T0 + T2 − 2·T1) on equally spaced times (a third, two thirds and all of it).
-// NaN while the curve does not yet bend (no deceleration to extrapolate from).
-double EstimateSaturationRise(const std::vector<std::pair<double, double>>& curve) {
-  if (curve.size() < 30) return std::numeric_limits<double>::quiet_NaN();
-  const double t_end = curve.back().first;
-  auto at = [&](double t) {
-    const auto it = std::lower_bound(curve.begin(), curve.end(), t,
-                                     [](const std::pair<double, double>& p, double v) { return p.first < v; });
-    return it == curve.end() ? curve.back().second : it->second;
-  };
-  const double t0 = at(t_end / 3), t1 = at(2 * t_end / 3), t2 = curve.back().second;
-  const double first = t1 - t0, second = t2 - t1;
-  if (!(first > 0.05) || !(second < 0.95 * first)) return std::numeric_limits<double>::quiet_NaN();
-  const double den = t0 + t2 - 2 * t1;
-  const double a = (t0 * t2 - t1 * t1) / den;
-  // Beyond ten times the present rise the extrapolation is not to be trusted.
-  return a > t2 && a < 10 * std::max(t2, 0.5) ? a : std::numeric_limits<double>::quiet_NaN();
-}
-
 
 std::string Fixed(double v, int digits) {
   if (!std::isfinite(v)) return "";
@@ -295,13 +275,18 @@ class Campaign {
   void WarmUp(std::size_t axis, double nut0, const std::string& state, int max_measurements) {
     if (max_measurements <= 0) return;
     const double chunk_s = 10;
-    const std::size_t window = static_cast<std::size_t>(o_.saturation_window_min * 60 / chunk_s);
-    std::deque<double> history;  // nut readings every chunk of warm-up time
-    std::deque<double> minute;   // last minute, to average the sensor noise
-    double next = o_.nut_step_c;
+    model::WarmUpRule rule;
+    rule.nut_step_c = o_.nut_step_c;
+    rule.nut_step_growth = o_.nut_step_growth;
+    rule.max_measurements = max_measurements;
+    rule.saturation_window_s = o_.saturation_window_min * 60;
+    rule.saturation_rise_c = o_.saturation_rise_c;
+    std::vector<double> history;  // nut readings every chunk of warm-up time since the last test
+    std::deque<double> minute;    // last minute, to average the sensor noise
+    double next = model::NextTestRise(rule, {}, 0, 0);
     double warm_s = 0, warm_at_test_s = 0, last_test_s = 0;
     int taken = 0;
-    std::vector<std::pair<double, double>> curve;  // (warm-up seconds, nut rise), never reset
+    model::WarmUpCurve curve;  // (warm-up seconds, nut rise), never reset
     StartWarmUpMotion();
     Progress(fmt::format("warm-up ({} coolant), nut start {:.2f} °C", CoolantStateName(vm_.coolant()), nut0));
     // Threshold measurements up to max_measurements − 1; the last one is
@@ -315,11 +300,10 @@ class Campaign {
       for (double v : minute) nut += v;
       nut /= static_cast<double>(minute.size());
       history.push_back(nut);
-      if (history.size() > window + 1) history.pop_front();
       const double rise = nut - nut0;
       curve.emplace_back(warm_s, rise);
       // Settled, not still falling: a session over a warm machine first sees the nut drawn down to the coolant.
-      const bool saturated = history.size() > window && std::abs(history.back() - history.front()) < o_.saturation_rise_c;
+      const bool saturated = model::WarmUpSaturated(rule, history, chunk_s);
       const bool timeout = warm_s >= o_.max_warmup_hours * 3600;
       if (saturated || timeout) {
         Progress(saturated ? "thermal saturation reached" : "warm-up time cap reached");
@@ -328,22 +312,13 @@ class Campaign {
         break;
       }
       const bool machined_enough = state != "warm" || warm_s - warm_at_test_s >= o_.min_warmup_per_test * last_test_s;
-      if (std::abs(rise) >= next && machined_enough && taken + 1 < max_measurements) {  // up, or down to the coolant
+      if (std::abs(rise) >= next && machined_enough && model::ThresholdTestAllowed(rule, taken)) {  // up, or down to the coolant
         const double t0 = vm_.TimeS();
         MeasureAndWrite(axis, state);
         last_test_s = vm_.TimeS() - t0;
         warm_at_test_s = warm_s;
         ++taken;
-        // Spread the remaining measurements over the rise still to come (issue 10: with a fixed
-        // 0.5 °C step a hot machine used them all by +5 °C and jumped to its +11 °C saturation).
-        const double saturation_rise = EstimateSaturationRise(curve);
-        const int remaining = max_measurements - 1 - taken;
-        // At least nut_step_c, growing with the rise (a hot machine's rise is long; until the
-        // curve bends, its end is unknown), and at least the even share of what is still to come.
-        double step = std::max(o_.nut_step_c, o_.nut_step_growth * std::abs(rise));
-        if (std::isfinite(saturation_rise) && saturation_rise > rise && remaining > 0)
-          step = std::max(step, (saturation_rise - rise) / (remaining + 1));
-        next = std::abs(rise) + step;
+        next = model::NextTestRise(rule, curve, rise, taken);
         StartWarmUpMotion();
         history.clear();  // the measurement interrupted the warm-up: judge saturation afresh
         minute.clear();

@@ -514,6 +514,7 @@ bool VirtualMachine::Read(std::span<hw::AxisState> axes, hw::CncState& machine) 
     axes[i].position_mm = axes_[i]->cmd_mm;
     axes[i].servo_direction = axes_[i]->servo_dir;
     axes[i].moving = axes_[i]->speed_now > 0;
+    axes[i].travel_mm = TravelMm(i);
   }
   machine.coolant = coolant_;
   machine.compensation_enabled = compensation_enabled_;

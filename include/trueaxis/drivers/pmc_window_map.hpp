@@ -39,6 +39,8 @@ inline constexpr int kIrAxisDirection = 2;     // int16: +1 towards +, -1 toward
 inline constexpr int kIrAxisMoving = 3;        // 0/1
 inline constexpr int kIrAxisAppliedHi = 4;     // int32 compensation the CNC applies now, 0.1 µm
 inline constexpr int kIrAxisAppliedLo = 5;
+inline constexpr int kIrAxisTravelHi = 6;      // uint32 path travelled since the terminal started, mm
+inline constexpr int kIrAxisTravelLo = 7;      //   (the CNC's distance counter, or summed by the terminal)
 inline constexpr int kInputRegisterCount = kIrAxisBase + kIrAxisStride * static_cast<int>(kMaxAxes);
 
 inline constexpr std::uint16_t kStatusCompensationEnabled = 1u << 0;  // effective CNC-side enable

@@ -12,6 +12,7 @@
 // Contract: Read() and WriteCompensation() do not allocate and return false on
 // a link fault (timeout, refused, bad reply); the caller decides how to degrade.
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <string>
 
@@ -26,6 +27,10 @@ struct AxisState {
                            // diameter-programmed axis (the runtime converts, docs/runtime.md)
   int servo_direction = 0; // +1 moving/last moved towards +, -1 towards -, 0 not known
   bool moving = false;
+  // The path the axis has travelled since the CNC started, both directions counted (a CNC's
+  // distance counter): the motion-heat input of a thermal model. NaN when the CNC does not
+  // report it (the MODBUS terminal then sums it from the positions it reads, docs/protocols.md).
+  double travel_mm = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct CncState {

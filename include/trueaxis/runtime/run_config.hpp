@@ -97,7 +97,9 @@ struct RunConfig {
 void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptions& o, std::vector<AxisInterface>& axes,
                            std::vector<int>* axis_lines = nullptr);
 
-RunConfig ParseRunConfig(const std::string& text, const std::string& source);
-RunConfig ReadRunConfig(const std::string& path);
+// `model_required` false: a config without [model] is read too (what `campaign log` opens: the
+// machine's channels, before there is a model).
+RunConfig ParseRunConfig(const std::string& text, const std::string& source, bool model_required = true);
+RunConfig ReadRunConfig(const std::string& path, bool model_required = true);
 
 }  // namespace trueaxis::runtime

@@ -6,7 +6,9 @@
 //   station::VirtualTerminal t(config, server_options);   // builds the machine, starts its program
 //   t.Start();                                             // binds; throws when the port is taken
 //   auto s = t.Status();                                   // from any thread
+#include <atomic>
 #include <cstdint>
+#include <optional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -14,6 +16,7 @@
 
 #include "trueaxis/drivers/modbus_machine_server.hpp"
 #include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/sim/laser_interferometer.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
 
 namespace trueaxis::station {
@@ -22,6 +25,25 @@ namespace trueaxis::station {
 // over 10…90 % of its travel at the config's feed and duty, or idle) and its coolant state.
 // Throws InputError on a bad machine file.
 std::unique_ptr<sim::VirtualMachine> OpenVirtualMachine(const runtime::VirtualMachineConfig& config);
+// Starts the config's working program on `vm` (reciprocate, or nothing for idle).
+void StartProgram(sim::VirtualMachine& vm, const runtime::VirtualMachineConfig& config);
+
+// A laser interferometer set up on one axis of the served machine (`sim serve --laser-axis`): what
+// a user gets from the laser software on a real machine — a test file with its start date (the
+// wall clock) and a time per point, and nothing of the machine's own sensors. The machine stands
+// until the first test (the cold state), then runs its program; every `every_s` machine seconds
+// the program stops for a test. A test runs in machine time at once; the machine stands for as
+// long in scaled wall time (before the test, as long as the last one took: the channels show the
+// machine as the test starts), so its clock stays the wall clock × the time scale.
+struct ServedLaser {
+  std::string axis;
+  std::string out_dir;       // <axis>_laser_<nnn>.csv, each written whole (renamed into place)
+  double first_s = 600;      // machine seconds before the first (cold) test
+  double every_s = 1800;     // machine seconds from one test's start to the next
+  int runs = 2;
+  double spacing_mm = 50;
+  int count = 0;             // tests in all (0: until stopped)
+};
 
 // What the terminal's machine shows, copied on the machine thread after each exchange.
 struct VirtualTerminalStatus {
@@ -43,6 +65,9 @@ class VirtualTerminal {
   // Throws std::runtime_error when the port cannot be bound.
   void Start();
   void Stop();
+  // Before Start(); throws InputError naming the option when the axis is unknown.
+  void SetLaser(const ServedLaser& laser);
+  int LaserTests() const;  // tests written so far (any thread)
 
   VirtualTerminalStatus Status() const;
   drivers::ModbusMachineServerStats Stats() const { return server_->Stats(); }
@@ -55,6 +80,18 @@ class VirtualTerminal {
 
  private:
   void Snapshot();  // machine thread (or before Start)
+  void Advance(double wall_elapsed_s);  // machine thread
+  void TakeLaserTest();                 // machine thread
+
+  runtime::VirtualMachineConfig config_;
+  std::optional<ServedLaser> laser_;
+  std::unique_ptr<sim::LaserInterferometer> interferometer_;
+  std::size_t laser_axis_ = 0;
+  double next_laser_s_ = 0, pause_s_ = 0;
+  bool laser_due_ = false;         // the machine stands before the test
+  double laser_wall_start_ = 0;    // wall clock as the test was due: the file's date
+  double last_laser_s_ = 0;        // the last test's machine seconds
+  std::atomic<int> laser_tests_{0};
 
   std::unique_ptr<sim::VirtualMachine> vm_;
   std::unique_ptr<drivers::ModbusMachineServer> server_;
