@@ -1,5 +1,5 @@
 // trueaxis demo [--out DIR] [--seed N] [--fast] [--machine FILE] [--axes X,Y]
-// The end-to-end demonstration (issue 5): campaign → fit → a working day with
+// The end-to-end demonstration: campaign → fit → a working day with
 // the compensator in its loop → ISO 230-2 before/after → one HTML report.
 #include <cstdio>
 #include <filesystem>

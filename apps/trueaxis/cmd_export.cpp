@@ -1,6 +1,6 @@
-// trueaxis export: compensation tables for real CNC controllers (issue 6,
-// docs/export.md). Input: a fitted model (--model, --axis), a data-driven thermal
-// model (--thermal-model, --channel, --axis, --range; issue 15) or a measurement
+// trueaxis export: compensation tables for real CNC controllers
+// (docs/export.md). Input: a fitted model (--model, --axis), a data-driven thermal
+// model (--thermal-model, --channel, --axis, --range) or a measurement
 // (--measurement). Output: LinuxCNC COMP_FILE, SINUMERIK LEC table, FANUC
 // pitch-error tape, HEIDENHAIN .COM/.CMA, or plain CSV. `--read FILE` reads a
 // table back and prints it as corrections (the round trip a user can check).

@@ -30,7 +30,7 @@ std::vector<HeidenhainState> HeidenhainModelStates(const model::AxisModel& axis,
   std::set<CoolantState> fitted;
   for (const auto& d : axis.directions)
     for (const auto& g : d.thermal) fitted.insert(g.coolant);
-  // A coolant the model covers with one set of gains and its memory (key_loss_s, issue 10):
+  // A coolant the model covers with one set of gains and its memory (key_loss_s):
   // with the temperatures frozen its table uses those gains.
   for (std::size_t c = 0; c < axis.key_loss_s.size(); ++c)
     if (!axis.key_loss_s[c].empty()) fitted.insert(static_cast<CoolantState>(c));

@@ -1290,7 +1290,7 @@ class AxisFitter {
       // Own gains need keys + 1 states, and must predict a held-out coolant state better than the
       // one-factor form: with a few states of one warm-up the key rises move together, and own
       // gains fitted on them can be large and of opposite sign — they then extrapolate wildly on
-      // any other mix of nut and bearing temperatures (issue 10: gantry2000 X with flood coolant).
+      // any other mix of nut and bearing temperatures (gantry2000 X with flood coolant).
       const auto sensor_keys = SensorKeys(keys);
       bool own = states.size() >= sensor_keys.size() + 1 && !sensor_keys.empty();
       std::string why;
@@ -1342,7 +1342,7 @@ class AxisFitter {
 
   // The thermal slope Σ k_i·ΔT_i each gains entry gave over the fit's states it describes (off: the
   // off-coolant states, a coolant: that coolant's states; 0 for the cold state), widened on both
-  // sides by tan_beta_margin × its width: Predict holds tanβ there and flags it (issue 10).
+  // sides by tan_beta_margin × its width: Predict holds tanβ there and flags it.
   void SetTanBetaEnvelopes(const std::vector<ThermalPoint>& pts, const std::vector<std::size_t>& keys,
                            AxisFitSummary& sum) {
     if (!(o_.tan_beta_margin >= 0)) return;

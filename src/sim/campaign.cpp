@@ -387,7 +387,7 @@ class Campaign {
     WarmUp(axis, nut0, "coolant", o_.max_coolant_measurements - 1);
     // The coolant still running over an axis at rest (a tool change, a measuring cycle, the
     // operator's break): the screw is drawn to the coolant, not to the nut's reading — a state
-    // the working day has and the warm-up alone never shows the fit (issue 10).
+    // the working day has and the warm-up alone never shows the fit.
     if (o_.coolant_rest) CoolDown(axis, "coolant_rest");
     EndSession();
   }
