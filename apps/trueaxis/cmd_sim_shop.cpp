@@ -36,6 +36,7 @@ struct ShopOptions {
 };
 
 void RunShop(ShopOptions o) {
+  if (o.shop.machine_files.empty()) o.shop.machine_files = {trueaxis::DefaultExampleFile("machines/vmc850.toml")};
   g_stop.store(false);
   std::signal(SIGINT, OnShopStop);
   std::signal(SIGTERM, OnShopStop);
@@ -86,13 +87,13 @@ void RunShop(ShopOptions o) {
 
 void Setup(CLI::App& app) {
   auto o = std::make_shared<ShopOptions>();
-  o->shop.machine_files = {trueaxis::DefaultExampleFile("machines/vmc850.toml")};
   CLI::App* cmd = trueaxis::cli::SimCommand(app)->add_subcommand(
       "shop", "Serve N virtual machines, one MODBUS TCP terminal each on base-port + i, from one process (docs/server.md)");
   cmd->add_option("--machines", o->shop.machines, "Number of machines")->capture_default_str();
   cmd->add_option("--base-port,--port", o->shop.base_port, "Machine i listens on base-port + i")->capture_default_str();
-  cmd->add_option("--machine-files", o->shop.machine_files, "Machine descriptions, used round robin (docs/machine-file.md)")
-      ->delimiter(',')->capture_default_str()->check(CLI::ExistingFile);
+  cmd->add_option("--machine-files", o->shop.machine_files, "Machine descriptions, used round robin (docs/machine-file.md; default: "
+                  "examples/machines/vmc850.toml of the working folder, else of the installed examples)")
+      ->delimiter(',')->check(CLI::ExistingFile);
   cmd->add_option("--bind", o->shop.bind_address, "IPv4 address to listen on")->capture_default_str();
   cmd->add_option("--time-scale", o->shop.time_scale, "Machine seconds per wall-clock second")->capture_default_str();
   cmd->add_option("--seed", o->shop.seed, "Seed of machine 0 (machine i: seed + i)")->capture_default_str();

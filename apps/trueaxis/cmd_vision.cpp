@@ -360,13 +360,15 @@ void Setup(CLI::App& app) {
     auto csv = std::make_shared<std::string>();
     auto loop_csv = std::make_shared<std::string>();
     auto report = std::make_shared<std::string>();
-    auto machine = std::make_shared<std::string>(trueaxis::DefaultExampleFile("machines/vmc850.toml"));
+    auto machine = std::make_shared<std::string>();  // empty: the example VMC-850, found at run time
     auto lo = std::make_shared<VisionLoopOptions>();
     AddDayArgs(cmd, a.get());
     cmd->add_option("--csv", *csv, "write the readings and the truth as CSV");
     cmd->add_option("--loop-csv", *loop_csv, "write the Z error at the tool with/without the term, the correction and alarms per frame");
     cmd->add_option("--report", *report, "write an HTML report");
-    cmd->add_option("--machine", *machine, "machine TOML of the virtual machine the compensator runs against")->capture_default_str();
+    cmd->add_option("--machine", *machine,
+                    "machine TOML of the virtual machine the compensator runs against (default: "
+                    "examples/machines/vmc850.toml of the working folder, else of the installed examples)");
     cmd->add_option("--z-axis", lo->z_axis, "the axis the spindle grows along")->capture_default_str();
     cmd->add_option("--cycle-s", lo->cycle_s, "compensator cycle (s)")->capture_default_str();
     cmd->add_option("--max-step-um", lo->compensator.shaper.max_step_um, "output shaper: change per cycle (µm)")->capture_default_str();
@@ -382,8 +384,9 @@ void Setup(CLI::App& app) {
       if (!(lo->term_valid_s >= 0)) throw InputError("command line", 0, "--term-valid-s", "must be ≥ 0");
       std::string why;
       if (!lo->compensator.IsValid(&why)) throw InputError("command line", 0, "--max-step-um/--max-correction-um", why);
+      if (machine->empty()) *machine = trueaxis::DefaultExampleFile("machines/vmc850.toml");
       if (!std::filesystem::exists(*machine))
-        throw InputError(*machine, 0, "--machine", "machine file not found (the default is relative to the repository root)");
+        throw InputError(*machine, 0, "--machine", "machine file not found");
       const sim::MachineDescription md = sim::ReadMachineFile(*machine);
       if (md.AxisIndex(lo->z_axis) < 0)
         throw InputError(*machine, 0, "axes", "has no axis '" + lo->z_axis + "' (--z-axis)");
