@@ -131,6 +131,27 @@ std::string RenderFitReportHtml(const FitResult& result, const std::vector<FitSt
                  Num(s.tan_beta_um_per_mm[0], 5), Num(s.tan_beta_um_per_mm[1], 5)});
     page.AddTable(st);
 
+    if (!sum.diagnosis.states.empty()) {
+      const auto& dg = sum.diagnosis;
+      page.AddHeading("What the residual shows", 3);
+      report::HtmlTable rt({"state", "points", "offset (µm)", "slope (µm/m)", "end to end (µm)", "pattern RMS (µm)",
+                            "residual RMS (µm)"},
+                           fmt::format("{} residual split along the travel; noise levels: offset {} µm, end-to-end "
+                                       "slope {} µm ({})",
+                                       dg.cross_validated ? "cross-validated" : "in-sample", Num(dg.offset_level_um, 2),
+                                       Num(dg.slope_level_um, 2), dg.noise_source));
+      for (const auto& s : dg.states)
+        rt.AddRow({s.label + (s.cold ? " (cold)" : ""), std::to_string(s.points), Num(s.offset_um, 2),
+                   Num(s.slope_um_per_m, 1), Num(s.end_to_end_um, 2), Num(s.pattern_rms_um, 2), Num(s.residual_rms_um, 2)});
+      page.AddTable(rt);
+      for (const auto& f : dg.findings) page.AddParagraph(f);
+      if (!dg.key_shares.empty()) {
+        report::HtmlTable kt({"key sensor", "RMS of its correction (µm)", "share of the thermal correction (%)"});
+        for (const auto& k : dg.key_shares) kt.AddRow({k.sensor, Num(k.rms_um, 2), Num(k.share_pct, 1)});
+        page.AddTable(kt);
+      }
+    }
+
     for (const auto& s : states) {
       const std::string axis = s.axis.empty() ? a.axis : s.axis;
       if (axis != a.axis) continue;

@@ -48,6 +48,7 @@ std::string FitSummary::BriefReport() const {
       out += fmt::format("\n  worst state: {} residual RMS {} µm, max {} µm (uncorrected RMS {} µm)", worst->label,
                          Num(worst->residual_rms_um), Num(worst->residual_max_um), Num(worst->uncorrected_rms_um));
     out += "\n";
+    if (!a.diagnosis.states.empty()) out += ResidualDiagnosisBrief(a.diagnosis);
   }
   if (!warnings.empty()) out += fmt::format("{} warning(s):\n", warnings.size());
   for (const auto& w : warnings) out += "  warning: " + w + "\n";
@@ -108,6 +109,7 @@ std::string FitSummary::FullReport() const {
                          Num(s.residual_max_um), Num(s.tan_beta_um_per_mm[0], 5), Num(s.tan_beta_um_per_mm[1], 5),
                          fmt::join(rises, " "));
     }
+    if (!a.diagnosis.states.empty()) out += ResidualDiagnosisTable(a.diagnosis) + ResidualDiagnosisBrief(a.diagnosis);
   }
   if (!warnings.empty()) out += "warnings:\n";
   for (const auto& w : warnings) out += "  " + w + "\n";

@@ -1388,6 +1388,11 @@ class AxisFitter {
   }
 
   void ComputeStateStats(AxisFitSummary& sum) {
+    ResidualDiagnosisInput diag;
+    diag.key_sensors = model_.key_sensors;
+    for (const auto& d : sum.directions)
+      if (std::isfinite(d.degree.noise_um))
+        diag.noise_um = std::isfinite(diag.noise_um) ? std::max(diag.noise_um, d.degree.noise_um) : d.degree.noise_um;
     auto stats_for = [&](const FitState& s, bool used, const std::array<double, 2>& tb) {
       StateFitStats st;
       st.label = s.label.empty() ? "(unlabelled)" : s.label;
@@ -1408,11 +1413,19 @@ class AxisFitter {
         st.mean_ambient_rise_c = MeanOfSensor(m, model_.ambient_sensor) - model_.ambient_baseline_c;
       double su = 0, sg = 0, sr = 0;
       const auto lagged = LaggedKeyTemperatures(model_, m, &s.history, s.coolant);
+      StateResidualInput& dr = diag.states.emplace_back();
+      dr.label = st.label;
+      dr.cold = std::find(cold_states_.begin(), cold_states_.end(), &s) != cold_states_.end();
+      dr.key_contribution_um.resize(model_.key_sensors.size());
       for (std::size_t pi = 0; pi < m.points.size(); ++pi) {
         const auto& p = m.points[pi];
         const auto& t = lagged[pi];
         const auto pr = Predict(model_, p.target_mm, p.direction, {t.key_temp_c, t.ambient_c, s.coolant, true, t.motion_m_per_min});
         const double res = p.deviation_um - pr.total_um;
+        dr.position_mm.push_back(p.target_mm);
+        dr.residual_um.push_back(res);
+        for (std::size_t k = 0; k < model_.key_sensors.size() && k < t.key_temp_c.size(); ++k)
+          dr.key_contribution_um[k].push_back(KeyContribution(p, t, s.coolant, k, pr.total_um));
         su += p.deviation_um * p.deviation_um;
         sg += std::pow(p.deviation_um - pr.geometric_um, 2);
         sr += res * res;
@@ -1432,6 +1445,21 @@ class AxisFitter {
     }
     for (std::size_t si = 0; si < thermal_.size(); ++si)
       sum.states.push_back(stats_for(*thermal_[si], sum.thermal_fitted, stage1_.empty() ? std::array<double, 2>{kNaN, kNaN} : stage1_[si]));
+    diag.cross_validated = false;  // the model's own residual on the states it was fitted on
+    sum.diagnosis = DiagnoseResidual(diag);
+  }
+
+  // Key sensor k's part of the model's prediction at point p: the prediction with every key less
+  // the prediction with key k at its baseline (zero rise). Only reported, never fitted.
+  double KeyContribution(const measure::MeasurementPoint& p, const PointTemperatures& t, CoolantState coolant,
+                         std::size_t k, double total_um) const {
+    std::vector<double> temps = t.key_temp_c;
+    if (k >= temps.size() || k >= model_.baseline_temp_c.size() || !std::isfinite(temps[k])) return kNaN;
+    double base = model_.baseline_temp_c[k];
+    if (model_.key_rise_above_ambient && std::isfinite(t.ambient_c)) base += t.ambient_c - model_.ambient_baseline_c;
+    temps[k] = base;
+    const auto without = Predict(model_, p.target_mm, p.direction, {temps, t.ambient_c, coolant, true, t.motion_m_per_min});
+    return total_um - without.total_um;
   }
 
   // The lowest and highest reading of sensor `name` over every measurement of the fit (±inf

@@ -12,6 +12,7 @@
 
 #include "trueaxis/core/coolant.hpp"
 #include "trueaxis/model/composite_model.hpp"
+#include "trueaxis/model/fit_diagnostics.hpp"
 #include "trueaxis/model/fit_input.hpp"
 #include "trueaxis/model/polynomial_fit.hpp"
 
@@ -83,6 +84,8 @@ struct AxisFitSummary {
   std::vector<std::string> coolant_notes;  // how each coolant entry was fitted
   std::vector<std::string> fallback_notes; // the fallback models (FitOptions::fallback_models), in order
   std::vector<StateFitStats> states;
+  // The residual's shape per state, structure no sensor follows, key sensors' shares (fit_diagnostics.hpp).
+  ResidualDiagnosis diagnosis;
 };
 
 struct FitSummary {
