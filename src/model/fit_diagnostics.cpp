@@ -139,7 +139,7 @@ ResidualDiagnosis DiagnoseResidual(const ResidualDiagnosisInput& in) {
     d.offset_structure = true;
     const auto r = range_of(offset);
     const std::size_t pos = count_sig(offset, d.offset_level_um, +1), neg = count_sig(offset, d.offset_level_um, -1);
-    const bool same_sign = pos >= most || neg >= most;
+    const bool same_sign = pos == 0 || neg == 0;  // every offset above the level on one side
     d.findings.push_back(fmt::format(
         "offset: in {} of {} states the {} residual is shifted by more than the noise level {} µm ({} to {} µm){}: "
         "the whole axis moves in a way no key sensor follows. The room/ambient sensor or a sensor on the column "

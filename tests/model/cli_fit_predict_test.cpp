@@ -539,3 +539,40 @@ TEST_F(CliFit, PredictRejectsMissingOrUnknownInputs) {
 
 }  // namespace
 }  // namespace trueaxis::model
+
+namespace trueaxis::model {
+namespace {
+
+// `fit` on a small virtual campaign (sim campaign, one axis) prints the residual block: per state
+// in-sample, a finding in plain words and the key sensors' shares; the HTML report has its section.
+TEST_F(CliFit, FitPrintsWhatTheResidualShowsForACampaign) {
+  const std::string machine = std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc400_small.toml";
+  auto c = Cli("sim campaign --quiet --machine " + machine + " --out " + P("camp") +
+               " --axes X --runs 2 --warm-runs 2 --spacing-mm 100 --max-warm 4 --max-coolant 2 --cooldown 1"
+               " --ambient-days 60 --ambient-hours 10");
+  ASSERT_EQ(c.code, 0) << c.out;
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(P("camp")))
+    if (e.path().extension() == ".csv" && e.path().filename().string().rfind("X_", 0) == 0) files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  ASSERT_GE(files.size(), 5u);
+  std::string args;
+  for (const auto& f : files) args += " " + f;
+  auto r = Cli("fit --out " + P("m.json") + " --report " + P("fit.html") + args);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_THAT(r.out, HasSubstr("residual (in-sample; noise levels: offset"));
+  EXPECT_THAT(r.out, HasSubstr("key sensor share of the thermal correction:"));
+  EXPECT_TRUE(r.out.find("no structure:") != std::string::npos || r.out.find("slope: in ") != std::string::npos ||
+              r.out.find("offset: in ") != std::string::npos)
+      << r.out;
+  auto full = Cli("fit --full --out " + P("m2.json") + args);
+  ASSERT_EQ(full.code, 0) << full.out;
+  EXPECT_THAT(full.out, HasSubstr("residual shape per state (in-sample"));
+  EXPECT_THAT(full.out, HasSubstr("warm-01"));
+  const std::string html = ReadTextFile(P("fit.html"));
+  EXPECT_THAT(html, HasSubstr("What the residual shows"));
+  EXPECT_THAT(html, HasSubstr("share of the thermal correction"));
+}
+
+}  // namespace
+}  // namespace trueaxis::model
