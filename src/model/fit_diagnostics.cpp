@@ -121,18 +121,32 @@ ResidualDiagnosis DiagnoseResidual(const ResidualDiagnosisInput& in) {
   };
 
   for (int sign : {+1, -1}) {
+    // Consistent: a majority tilts this way, and fewer than a third as many the other way.
     const std::size_t c = count_sig(end_to_end, d.slope_level_um, sign);
-    if (c < most) continue;
+    const std::size_t against = count_sig(end_to_end, d.slope_level_um, -sign);
+    if (c < most || 3 * against >= c) continue;
     d.slope_structure = true;
     std::vector<double> slopes;
     for (const auto* s : judged) slopes.push_back(s->slope_um_per_m);
     const auto r = range_of(end_to_end);
     d.findings.push_back(fmt::format(
-        "slope: in {} of {} states the {} residual rises {} along the travel ({} to {} µm end to end, median {} µm/m), "
+        "slope: in {} of {} states the {} residual {} along the travel ({} to {} µm end to end, median {} µm/m), "
         "more than the noise level {} µm: the model misses a bending or stretching of the axis that no key sensor "
         "follows. A sensor on the structure between the fixed bearing and the measuring point, or on the bed's top "
         "and bottom (a gradient bends the axis), would help.",
-        c, nj, where, sign > 0 ? "" : "(negatively)", F(r[0]), F(r[1]), F(Median(slopes), 1), F(d.slope_level_um)));
+        c, nj, where, sign > 0 ? "rises" : "falls", F(r[0]), F(r[1]), F(Median(slopes), 1), F(d.slope_level_um)));
+  }
+  if (!d.slope_structure) {
+    const std::size_t c = count_sig(end_to_end, d.slope_level_um, 0);
+    if (c >= most) {
+      const auto r = range_of(end_to_end);
+      d.findings.push_back(fmt::format(
+          "slope of changing sign: in {} of {} states the {} residual tilts by more than the noise level {} µm end "
+          "to end, but up in some states and down in others ({} to {} µm): the keys' gains do not follow the "
+          "axis's tilt from state to state; a sensor on the structure between the fixed bearing and the measuring "
+          "point, or on the bed's top and bottom, may.",
+          c, nj, where, F(d.slope_level_um), F(r[0]), F(r[1])));
+    }
   }
   const std::size_t c_off = count_sig(offset, d.offset_level_um, 0);
   if (c_off >= most) {
@@ -147,7 +161,7 @@ ResidualDiagnosis DiagnoseResidual(const ResidualDiagnosisInput& in) {
         c_off, nj, where, F(d.offset_level_um), F(r[0]), F(r[1]),
         same_sign ? ", always the same sign" : ", changing from state to state"));
   }
-  if (!d.slope_structure && !d.offset_structure)
+  if (d.findings.empty())
     d.findings.push_back(fmt::format("no structure: in most states the {} residual's offset stays within {} µm and "
                                      "its end-to-end slope within {} µm (the noise levels); what is left is scatter "
                                      "or a pattern along the travel",

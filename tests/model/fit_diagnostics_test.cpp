@@ -81,6 +81,16 @@ TEST(FitDiagnostics, AnOffsetInEveryStatePointsToTheRoomOrColumn) {
   EXPECT_THAT(changing.findings[0], HasSubstr("changing from state to state"));
 }
 
+TEST(FitDiagnostics, ASlopeOfChangingSignIsNotCalledAStructureButNamed) {
+  auto in = States(0.0, 10.0, 0.5, 6);
+  for (std::size_t i = 0; i < in.states.size(); i += 2)
+    for (auto& r : in.states[i].residual_um) r = -r;  // every other state tilts the other way
+  const auto d = DiagnoseResidual(in);
+  EXPECT_FALSE(d.slope_structure);
+  ASSERT_EQ(d.findings.size(), 1u);
+  EXPECT_THAT(d.findings[0], HasSubstr("slope of changing sign"));
+}
+
 TEST(FitDiagnostics, KeySharesSumToOneHundredAndFollowTheLargerCorrection) {
   const auto d = DiagnoseResidual(States(0.0, 0.0, 1.0, 4));
   ASSERT_EQ(d.key_shares.size(), 2u);
