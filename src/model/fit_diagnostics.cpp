@@ -49,6 +49,11 @@ double Median(std::vector<double> v) {
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
+// Where a sensor would see a tilt along the travel that no key follows.
+constexpr const char* kStructureSensor =
+    "a sensor on the structure between the fixed bearing and the measuring point, or on the bed's top and bottom "
+    "(a gradient bends the axis)";
+
 std::string F(double v, int d = 2) { return fmt::format("{:.{}f}", v, d); }
 
 }  // namespace
@@ -132,20 +137,18 @@ ResidualDiagnosis DiagnoseResidual(const ResidualDiagnosisInput& in) {
     d.findings.push_back(fmt::format(
         "slope: in {} of {} states the {} residual {} along the travel ({} to {} µm end to end, median {} µm/m), "
         "more than the noise level {} µm: the model misses a bending or stretching of the axis that no key sensor "
-        "follows. A sensor on the structure between the fixed bearing and the measuring point, or on the bed's top "
-        "and bottom (a gradient bends the axis), would help.",
-        c, nj, where, sign > 0 ? "rises" : "falls", F(r[0]), F(r[1]), F(Median(slopes), 1), F(d.slope_level_um)));
+        "follows; {} would help.",
+        c, nj, where, sign > 0 ? "rises" : "falls", F(r[0]), F(r[1]), F(Median(slopes), 1), F(d.slope_level_um),
+        kStructureSensor));
   }
   if (!d.slope_structure) {
     const std::size_t c = count_sig(end_to_end, d.slope_level_um, 0);
     if (c >= most) {
       const auto r = range_of(end_to_end);
-      d.findings.push_back(fmt::format(
-          "slope of changing sign: in {} of {} states the {} residual tilts by more than the noise level {} µm end "
-          "to end, but up in some states and down in others ({} to {} µm): the keys' gains do not follow the "
-          "axis's tilt from state to state; a sensor on the structure between the fixed bearing and the measuring "
-          "point, or on the bed's top and bottom, may.",
-          c, nj, where, F(d.slope_level_um), F(r[0]), F(r[1])));
+      d.findings.push_back(fmt::format("slope of changing sign: in {} of {} states the {} residual tilts by more than "
+                                       "{} µm end to end, up in some and down in others ({} to {} µm): the keys' "
+                                       "gains do not follow the axis's tilt from state to state; {} may.",
+                                       c, nj, where, F(d.slope_level_um), F(r[0]), F(r[1]), kStructureSensor));
     }
   }
   const std::size_t c_off = count_sig(offset, d.offset_level_um, 0);
