@@ -75,6 +75,7 @@ printf 'correct horse battery\n' >"$tmp/password"
 "$bin" user add --users "$tmp/users.db" --name chief --role admin --password-file "$tmp/password" >/dev/null
 marker="<!-- served from the installed pages $$ -->"
 echo "$marker" >>"$moved/share/trueaxis/web/login.html"
+: >"$tmp/web.err"  # exists before the background program opens it: the loop below reads it at once
 "$bin" web --listen 127.0.0.1:0 --users "$tmp/users.db" --machines 2 --duration-s 300 >"$tmp/web.out" 2>"$tmp/web.err" &
 web_pid=$!
 pids+=("$web_pid")
