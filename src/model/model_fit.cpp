@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -497,10 +498,35 @@ class AxisFitter {
     return v;
   }
 
+  // The CTE's soak against what the calibration's room changes say: a CTE that does not match the
+  // files (the laser's material compensation on, which takes most of the soak out of them; a scale's
+  // CTE given for a screw) is a wrong ρ in every other season, so a large disagreement is warned
+  // about. The room's changes within a season never soak the machine fully, so some difference is
+  // normal (about 20 % on the virtual machines).
+  void CheckCteAgainstRoom(double fitted_rho, double cte_rho, const std::string& cte_source, double room_range_c,
+                           AxisFitSummary& sum) {
+    sum.rho_fitted_for_check = fitted_rho;
+    const double diff = std::fabs(fitted_rho - cte_rho);
+    if (diff <= 0.5 * std::fabs(cte_rho) || diff < 0.003) return;
+    Warn(fmt::format("the room's changes over the calibration ({:.1f} °C) fit ρ = {:.4f} µm/mm/°C, the CTE ({}) gives "
+                     "{:.4f}: check the CTE (with the laser's material compensation on, give the feedback's CTE minus "
+                     "the material's), or fit --rho-fit to use the fitted ρ",
+                     room_range_c, fitted_rho, cte_source, cte_rho));
+  }
+
   void PrepareThermal(AxisFitSummary& sum) {
     const std::string amb = AmbientSensorName();
     // Checked whether or not ρ comes from it: an absurd CTE is a broken file either way.
-    const auto cte = ColdMetaNumber("cte_um_per_m_c", ImplausibleCteUmPerMC);
+    const auto file_cte = ColdMetaNumber("cte_um_per_m_c", ImplausibleCteUmPerMC);
+    // The option wins over the files' metadata (a laser file that does not record it, or records the
+    // material's instead of the feedback's).
+    const std::optional<double> cte = std::isnan(o_.cte_um_per_m_c) ? file_cte : std::optional(o_.cte_um_per_m_c);
+    const std::string cte_source =
+        !std::isnan(o_.cte_um_per_m_c)
+            ? fmt::format("fit --cte {}", FormatShortest(o_.cte_um_per_m_c))
+            : file_cte ? fmt::format("{} line {}: cte_um_per_m_c = {}", cold_.source, cold_.MetaLine("cte_um_per_m_c"),
+                                     *cold_.Meta("cte_um_per_m_c"))
+                       : std::string();
     // Reference point from option or metadata first (needed even for a geometric-only model's ρ term).
     double px = o_.reference_position_mm;
     std::string px_source = "option";
@@ -710,7 +736,9 @@ class AxisFitter {
     for (const auto& p : pts)
       if (off_states.count(p.state) && std::isfinite(p.amb_rise))
         amb_lo = std::min(amb_lo, p.amb_rise), amb_hi = std::max(amb_hi, p.amb_rise);
+    const bool rho_can_be_fitted = amb_hi - amb_lo >= o_.min_ambient_range_c && off_states.size() >= 2;
     bool fit_rho = false;
+    std::optional<double> physical_rho;  // −cte/1000, replacing the fitted ρ for the final gains
     double rho = 0;
     std::string rho_source;
     if (amb.empty()) {
@@ -718,16 +746,29 @@ class AxisFitter {
     } else if (!std::isnan(o_.rho_um_per_mm_per_c)) {
       rho = o_.rho_um_per_mm_per_c;
       rho_source = "option";
-    } else if (amb_hi - amb_lo >= o_.min_ambient_range_c && off_states.size() >= 2) {
+    } else if (cte && !(o_.fit_rho_with_cte && rho_can_be_fitted)) {
+      // The keys, lags and pivots are still chosen with ρ fitted alongside (a subset of keys leans on
+      // it, as before); the final gains are solved with the physical ρ (below).
+      rho = -*cte / 1000.0;
+      if (rho_can_be_fitted) fit_rho = true, physical_rho = rho;
+      sum.rho_from_cte = true;
+      rho_source = fmt::format("−cte/1000 from {} (the axis's feedback soaks with the room: the screw grows away "
+                               "from Px, in every season)",
+                               cte_source);
+      if (auto unusual = UnusualCteUmPerMC(*cte))
+        Warn(fmt::format("{}: cte_um_per_m_c {}; ρ = {} µm/mm/°C taken from it",
+                         std::isnan(o_.cte_um_per_m_c)
+                             ? fmt::format("{} line {}", cold_.source, cold_.MetaLine("cte_um_per_m_c"))
+                             : std::string("fit --cte"),
+                         *unusual, FormatShortest(rho)));
+    } else if (rho_can_be_fitted) {
       fit_rho = true;
       rho_source = fmt::format("fitted (room temperature varied by {:.2f} °C over the states)", amb_hi - amb_lo);
-    } else if (cte) {
-      rho = -*cte / 1000.0;
-      rho_source = fmt::format("−cte/1000 from the cold file's cte_um_per_m_c = {} (the screw grows away from Px)",
-                               *cold_.Meta("cte_um_per_m_c"));  // as written
-      if (auto unusual = UnusualCteUmPerMC(*cte))
-        Warn(fmt::format("{} line {}: cte_um_per_m_c {}; ρ = {} µm/mm/°C taken from it", cold_.source,
-                         cold_.MetaLine("cte_um_per_m_c"), *unusual, FormatShortest(rho)));
+      if (!cte)
+        Warn(fmt::format("ρ is fitted from the room's changes over the calibration ({:.1f} °C); a room outside them, as "
+                         "in another season, extrapolates that fit: give the CTE of the axis's feedback (the files' "
+                         "'# cte_um_per_m_c:' or fit --cte) for the physical soak instead",
+                         amb_hi - amb_lo));
     } else {
       rho_source = "not determined (room temperature constant within the states, no cte metadata): ρ = 0";
       Warn(fmt::format("ρ could not be determined: the room temperature varied by only {:.2f} °C and the cold file "
@@ -738,7 +779,7 @@ class AxisFitter {
       model_.ambient_sensor = amb;
       model_.ambient_baseline_c = amb_base;
       model_.key_rise_above_ambient = true;
-      if (const auto range = SensorRange(amb); range[0] <= range[1]) model_.ambient_fitted_range_c = range;
+      if (const auto range = SensorRange(amb); range[0] <= range[1]) model_.ambient_fitted_range_c = range, sum.room_range_c = range;
     }
 
     // Gains.
@@ -1057,6 +1098,10 @@ class AxisFitter {
     if (thermal) {
       GainFit fits[2];
       if (fit_rho) rho = joint_rho(keys);
+      if (physical_rho) {
+        CheckCteAgainstRoom(rho, *physical_rho, cte_source, amb_hi - amb_lo, sum);
+        rho = *physical_rho;
+      }
       for (int dir = 0; dir < 2; ++dir) {
         fits[dir] = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
                                keys, false, rho, form_);
@@ -1118,7 +1163,13 @@ class AxisFitter {
     }
     // No key sensor (none present everywhere, or none helped) does not stop ρ: the other-ambient
     // states still determine it on their own.
-    if (fit_rho && !sum.thermal_fitted) rho = joint_rho({});
+    if (fit_rho && !sum.thermal_fitted) {
+      rho = joint_rho({});
+      if (physical_rho) {
+        CheckCteAgainstRoom(rho, *physical_rho, cte_source, amb_hi - amb_lo, sum);
+        rho = *physical_rho;
+      }
+    }
     model_.rho_um_per_mm_per_c = rho;
     sum.rho_um_per_mm_per_c = rho;
     sum.rho_source = rho_source;
