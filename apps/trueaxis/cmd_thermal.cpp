@@ -142,7 +142,7 @@ void AddCommon(CLI::App* cmd, CommonOptions* o) {
                   "use exactly these inputs, comma separated (no selection; e.g. t1,t4,t9 or t4@lag1800s)");
   cmd->add_option("--lags-s", o->lags_s,
                   "offer each sensor also lagged by these time constants (first-order lag, s): auto "
-                  "(600,1800,5400,16200 up to a third of the recording), none, or a list such as 900,2700")
+                  "(600,1800,5400,16200 up to a third of the longest experiment), none, or a list such as 900,2700")
       ->capture_default_str();
   cmd->add_option("--max-gap-samples", o->max_gap_samples, "interior gaps up to this many rows are interpolated")
       ->capture_default_str();

@@ -18,7 +18,7 @@ namespace trueaxis::thermal {
 inline constexpr double kLagResetGapFactor = 10.0;
 
 // Machine-tool structures have thermal time constants from minutes to hours; the default grid
-// covers 10 min … 4.5 h in factors of 3 (only those up to a third of the recording are used).
+// covers 10 min … 4.5 h in factors of 3 (only those up to a third of the longest experiment are used).
 std::vector<double> DefaultLagGridS();
 
 std::string LaggedName(const std::string& sensor, double tau_s);
