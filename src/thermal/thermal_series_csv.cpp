@@ -224,21 +224,17 @@ ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& so
       for (const std::string& name : names) {
         if (!seen.insert(name).second) throw InputError(source, line_no, name, "column given twice");
         Column col{Kind::kTime, name};
-        auto add_error = [&](const std::string& channel) {
-          if (s.ErrorIndex(channel))
-            throw InputError(source, line_no, name, fmt::format("error channel '{}' given twice", channel));
-          col.kind = Kind::kError;
-          col.index = s.error_names.size();
-          s.error_names.push_back(channel);
-          error_headers.push_back(name);
-        };
-        auto add_temperature = [&](const std::string& sensor) {
-          if (s.TemperatureIndex(sensor))
-            throw InputError(source, line_no, name, fmt::format("temperature '{}' given twice", sensor));
-          col.kind = Kind::kTemperature;
-          col.index = s.temperature_names.size();
-          s.temperature_names.push_back(sensor);
-          temperature_headers.push_back(name);
+        // A temperature sensor or an error channel named `id`, read from this column.
+        auto add = [&](Kind kind, const std::string& id) {
+          const bool error = kind == Kind::kError;
+          std::vector<std::string>& ids = error ? s.error_names : s.temperature_names;
+          if (std::find(ids.begin(), ids.end(), id) != ids.end())
+            throw InputError(source, line_no, name,
+                             fmt::format("{} '{}' given twice", error ? "error channel" : "temperature", id));
+          col.kind = kind;
+          col.index = ids.size();
+          ids.push_back(id);
+          (error ? error_headers : temperature_headers).push_back(name);
         };
         const bool mapped_time = !o.time_column.empty() && name == o.time_column;
         if (mapped_time || (o.time_column.empty() && TimeColumnUnitS(name) > 0)) {
@@ -248,9 +244,9 @@ ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& so
           time_header = name;
           time_unit_s = o.time_unit_s > 0 ? o.time_unit_s : mapped_time ? UnitOfMappedTimeColumn(name) : TimeColumnUnitS(name);
         } else if (is_error_column(name)) {
-          add_error(ChannelNameOf(name));
+          add(Kind::kError, ChannelNameOf(name));
         } else if (o.no_header) {
-          add_temperature(name);
+          add(Kind::kTemperature, name);
         } else if (name == "position_mm") {
           col.kind = Kind::kPosition;
           s.has_position = true;
@@ -263,11 +259,11 @@ ThermalSeries ParseThermalSeriesCsv(std::string_view text, const std::string& so
         } else if (EndsWith(name, "_c") || EndsWith(name, "_C")) {
           std::string sensor = name.substr(0, name.size() - 2);
           if (sensor.rfind("t_", 0) == 0 && sensor.size() > 2) sensor = sensor.substr(2);
-          add_temperature(sensor);
+          add(Kind::kTemperature, sensor);
         } else if (EndsWith(name, "_um")) {
           std::string channel = name.substr(0, name.size() - 3);
           if (channel.rfind("e_", 0) == 0 && channel.size() > 2) channel = channel.substr(2);
-          add_error(channel);
+          add(Kind::kError, channel);
         } else {
           throw InputError(source, line_no, name,
                            numeric_header

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -19,6 +20,13 @@ namespace {
 using testing::RunCli;
 
 bool Has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// The command is refused (exit 2) with every one of `parts` in its message.
+void ExpectRefused(const std::string& args, const std::vector<std::string>& parts) {
+  const auto r = RunCli(args);
+  EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+  for (const auto& part : parts) EXPECT_TRUE(Has(r.output, part)) << "missing '" << part << "' in:\n" << r.output;
+}
 
 // A 6 h warm-up and cool-down at one row a minute: sensor a heats 20 → 28 °C and cools, b is the
 // room; the error is 2 µm/°C on a (+0.5 µm/°C on b). `row` formats one row from (t_s, a, b, e).
@@ -50,11 +58,9 @@ TEST(ThermalGuards, FahrenheitIsRefusedAndConvertedWhenSaid) {
                   return Celsius(t, a * 9 / 5 + 32, b * 9 / 5 + 32, e);
                 }));
   const std::string fit = " --model mlr --sensors-list a,b --lags-s none -o ";
-  auto refused = RunCli("thermal fit --series " + dir + "/f.csv" + fit + dir + "/f.json");
-  EXPECT_EQ(refused.exit_code, 2) << refused.output;
-  EXPECT_TRUE(Has(refused.output, "f.csv:1")) << refused.output;
-  EXPECT_TRUE(Has(refused.output, "t_b_c")) << refused.output;  // the coolest sensor, the room
-  EXPECT_TRUE(Has(refused.output, "--temperature-unit F")) << refused.output;
+  // Named: the file, the header line, the coolest sensor's column (the room) and the option.
+  ExpectRefused("thermal fit --series " + dir + "/f.csv" + fit + dir + "/f.json",
+                {"f.csv:1", "t_b_c", "--temperature-unit F"});
   // Said in °F: the same model as from the °C file (coefficients in µm/°C).
   auto f = RunCli("thermal fit --series " + dir + "/f.csv --temperature-unit F" + fit + dir + "/f.json");
   auto c = RunCli("thermal fit --series " + dir + "/c.csv" + fit + dir + "/c.json");
@@ -65,9 +71,7 @@ TEST(ThermalGuards, FahrenheitIsRefusedAndConvertedWhenSaid) {
   ASSERT_TRUE(Has(LineOf(c.output, "x: e_um"), "*T[a]")) << c.output;
   EXPECT_EQ(coefficients(LineOf(f.output, "x: e_um")), coefficients(LineOf(c.output, "x: e_um"))) << f.output << c.output;
   // Predicting °F data with a °C model is refused the same way.
-  auto p = RunCli("thermal predict --model " + dir + "/c.json --series " + dir + "/f.csv");
-  EXPECT_EQ(p.exit_code, 2) << p.output;
-  EXPECT_TRUE(Has(p.output, "--temperature-unit F")) << p.output;
+  ExpectRefused("thermal predict --model " + dir + "/c.json --series " + dir + "/f.csv", {"--temperature-unit F"});
 }
 
 TEST(ThermalGuards, KelvinIsRefusedAndConvertedWhenSaid) {
@@ -75,10 +79,7 @@ TEST(ThermalGuards, KelvinIsRefusedAndConvertedWhenSaid) {
   WriteTextFile(dir + "/k.csv", Recording("time_s,t_a_c,t_b_c,e_x_um", [](double t, double a, double b, double e) {
                   return Celsius(t, a + 273.15, b + 273.15, e);
                 }));
-  auto refused = RunCli("thermal fit --series " + dir + "/k.csv --model mlr -o " + dir + "/k.json");
-  EXPECT_EQ(refused.exit_code, 2) << refused.output;
-  EXPECT_TRUE(Has(refused.output, "k.csv:1")) << refused.output;
-  EXPECT_TRUE(Has(refused.output, "--temperature-unit K")) << refused.output;
+  ExpectRefused("thermal fit --series " + dir + "/k.csv --model mlr -o " + dir + "/k.json", {"k.csv:1", "--temperature-unit K"});
   auto k = RunCli("thermal fit --series " + dir + "/k.csv --temperature-unit K --model mlr -o " + dir + "/k.json");
   EXPECT_EQ(k.exit_code, 0) << k.output;
   ThermalReadOptions ro;
@@ -93,10 +94,7 @@ TEST(ThermalGuards, AnErrorColumnInMillimetresIsRefusedAndConvertedWhenSaid) {
   WriteTextFile(dir + "/mm.csv", Recording("time_s,t_a_c,t_b_c,e_x_um", [](double t, double a, double b, double e) {
                   return fmt::format("{},{:.4f},{:.4f},{:.8f}", t, a, b, e / 1000);
                 }));
-  auto refused = RunCli("thermal fit --series " + dir + "/mm.csv --model mlr -o " + dir + "/m.json");
-  EXPECT_EQ(refused.exit_code, 2) << refused.output;
-  EXPECT_TRUE(Has(refused.output, "e_x_um")) << refused.output;
-  EXPECT_TRUE(Has(refused.output, "--error-unit mm")) << refused.output;
+  ExpectRefused("thermal fit --series " + dir + "/mm.csv --model mlr -o " + dir + "/m.json", {"e_x_um", "--error-unit mm"});
   auto mm = RunCli("thermal fit --series " + dir + "/mm.csv --error-unit mm --model mlr --sensors-list a,b --lags-s none -o " +
                    dir + "/m.json");
   ASSERT_EQ(mm.exit_code, 0) << mm.output;
@@ -157,9 +155,7 @@ TEST(ThermalGuards, ValidatingRowsNeverTrainsOnTheRowsAfterUnlessAsked) {
                      "--train-after-validation");
   ASSERT_EQ(leak.exit_code, 0) << leak.output;
   EXPECT_TRUE(Has(leak.output, "train on the other 1519 rows, including those after them")) << leak.output;
-  auto first = RunCli("thermal evaluate --series " + dir + "/s.csv --models mlr --validate-rows 0-100");
-  EXPECT_EQ(first.exit_code, 2) << first.output;
-  EXPECT_TRUE(Has(first.output, "--train-after-validation")) << first.output;
+  ExpectRefused("thermal evaluate --series " + dir + "/s.csv --models mlr --validate-rows 0-100", {"--train-after-validation"});
 }
 
 // Three 8 h experiments support the lags an 8 h run does: 16 200 s is more than a third of one.
@@ -203,10 +199,7 @@ TEST(ThermalGuards, TimeInMinutesIsSaidAndReadWhenNamed) {
 TEST(ThermalGuards, ColumnsMappedByNameWithoutHeaderOrTime) {
   const std::string dir = testing::TempDir("guard_cols");
   WriteTextFile(dir + "/dl.csv", Recording("time_s,t_a_c,t_b_c,delta L", Celsius));
-  auto unknown = RunCli("thermal fit --series " + dir + "/dl.csv --model mlr -o " + dir + "/m.json");
-  EXPECT_EQ(unknown.exit_code, 2) << unknown.output;
-  EXPECT_TRUE(Has(unknown.output, "unknown column")) << unknown.output;
-  EXPECT_TRUE(Has(unknown.output, "--error-column")) << unknown.output;
+  ExpectRefused("thermal fit --series " + dir + "/dl.csv --model mlr -o " + dir + "/m.json", {"unknown column", "--error-column"});
   auto mapped = RunCli("thermal fit --series " + dir + "/dl.csv --error-column 'delta L' --model mlr --lags-s none -o " +
                        dir + "/m.json");
   ASSERT_EQ(mapped.exit_code, 0) << mapped.output;
@@ -215,10 +208,8 @@ TEST(ThermalGuards, ColumnsMappedByNameWithoutHeaderOrTime) {
   // No header row: said so, and read with generated names.
   const std::string text = ReadTextFile(dir + "/dl.csv");
   WriteTextFile(dir + "/nohead.csv", text.substr(text.find('\n') + 1));
-  auto missing = RunCli("thermal fit --series " + dir + "/nohead.csv --model mlr -o " + dir + "/m.json");
-  EXPECT_EQ(missing.exit_code, 2) << missing.output;
-  EXPECT_TRUE(Has(missing.output, "the header seems missing")) << missing.output;
-  EXPECT_TRUE(Has(missing.output, "--no-header")) << missing.output;
+  ExpectRefused("thermal fit --series " + dir + "/nohead.csv --model mlr -o " + dir + "/m.json",
+                {"the header seems missing", "--no-header"});
   auto nohead = RunCli("thermal fit --series " + dir + "/nohead.csv --no-header --time-column col1 --error-column col4 "
                        "--model mlr --lags-s none -o " + dir + "/n.json");
   ASSERT_EQ(nohead.exit_code, 0) << nohead.output;
@@ -235,9 +226,8 @@ TEST(ThermalGuards, ColumnsMappedByNameWithoutHeaderOrTime) {
     at = end + 1;
   }
   WriteTextFile(dir + "/notime.csv", notime);
-  auto no_time = RunCli("thermal fit --series " + dir + "/notime.csv --error-column 'delta L' --model hysteresis -o " +
-                        dir + "/h.json");
-  EXPECT_EQ(no_time.exit_code, 2) << no_time.output;
+  ExpectRefused("thermal fit --series " + dir + "/notime.csv --error-column 'delta L' --model hysteresis -o " + dir + "/h.json",
+                {"needs time_s"});
   auto stated = RunCli("thermal fit --series " + dir + "/notime.csv --error-column 'delta L' --sample-interval-s 60 "
                        "--model hysteresis --lags-s none -o " + dir + "/h.json");
   auto timed = RunCli("thermal fit --series " + dir + "/dl.csv --error-column 'delta L' --model hysteresis --lags-s none -o " +
@@ -245,9 +235,8 @@ TEST(ThermalGuards, ColumnsMappedByNameWithoutHeaderOrTime) {
   ASSERT_EQ(stated.exit_code, 0) << stated.output;
   ASSERT_EQ(timed.exit_code, 0) << timed.output;
   EXPECT_EQ(LineOf(stated.output, "delta_L: fit RMSE"), LineOf(timed.output, "delta_L: fit RMSE"));
-  auto both = RunCli("thermal fit --series " + dir + "/dl.csv --error-column 'delta L' --sample-interval-s 60 -o " + dir +
-                     "/x.json");
-  EXPECT_EQ(both.exit_code, 2) << both.output;
+  ExpectRefused("thermal fit --series " + dir + "/dl.csv --error-column 'delta L' --sample-interval-s 60 -o " + dir + "/x.json",
+                {"leave out --sample-interval-s"});
 }
 
 TEST(ThermalGuards, ReportsTheCountCvTheListedSensorsAndTheInputs) {
