@@ -12,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
@@ -176,6 +177,37 @@ TEST(ShopHttpApiGuard, BodiesAndFieldsAreBoundedAndNeverEchoed) {
   r = f.Post("/api/machines/vm-0000/model", R"({"file": ")" + f.model + R"(", "user": ")" + std::string(100, 'a') +
                                                  [] { std::string s; for (int i = 0; i < 100; ++i) s += "é"; return s; }() + "\"}");
   EXPECT_EQ(StatusOf(r), 200) << r.substr(0, 300);
+}
+
+// A length given and the body chunked anyway: cpp-httplib read the chunks whole (1 MiB, or any
+// size), past the 64 KiB limit and the Content-Length guard.
+TEST(ShopHttpApiGuard, AChunkedBodyIsRefusedEvenWithAContentLength) {
+  ApiFixture f;
+  ASSERT_NE(f.vshop, nullptr);
+  const std::string head = "POST /api/machines/vm-0000/acknowledge HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+                           "Content-Type: application/json\r\nContent-Length: 40\r\nTransfer-Encoding: chunked\r\n\r\n";
+  const std::string body = R"({"user": "chunked"})";
+  // A valid body in one chunk, sent with the headers: refused as it arrives, nothing acknowledged.
+  auto r = Raw(f.api->port(), head + fmt::format("{:x}\r\n{}\r\n0\r\n\r\n", body.size(), body));
+  EXPECT_EQ(StatusOf(r), 411) << r.substr(0, 300);
+  EXPECT_NE(BodyOf(r).find("field 'Transfer-Encoding'"), std::string::npos) << r.substr(0, 300);
+  // 64 MiB of chunks: the server stops taking them at the headers.
+  const int fd = Connect(f.api->port());
+  ASSERT_GE(fd, 0);
+  timeval tv{5, 0};
+  ::setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
+  auto send_all = [fd](const std::string& s) { return ::send(fd, s.data(), s.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(s.size()); };
+  std::size_t sent = 0;
+  const std::string piece = "10000\r\n" + std::string(0x10000, ' ') + "\r\n";
+  for (bool ok = send_all(head); ok && sent < (64u << 20);)
+    if ((ok = send_all(piece))) sent += 0x10000;
+  ::close(fd);
+  EXPECT_LT(sent, 64u << 20) << "the whole chunked body was taken";
+  // A declared length over the limit is refused before the body is read.
+  r = Raw(f.api->port(), "POST /api/machines/vm-0000/acknowledge HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+                         "Content-Type: application/json\r\nContent-Length: 99999999999\r\n\r\n");
+  EXPECT_EQ(StatusOf(r), 413) << r;
+  EXPECT_EQ(StatusOf(f.Post("/api/machines/vm-0000/acknowledge", R"({"user": "x"})")), 200) << "a body with its length works";
 }
 
 // Finding 5: a few idle connections held every worker for seconds.
