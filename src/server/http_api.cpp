@@ -17,6 +17,7 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/runtime/cycle_step.hpp"
+#include "trueaxis/server/gated_http_server.hpp"
 #include "trueaxis/server/http_guard.hpp"
 
 namespace trueaxis::server {
@@ -84,9 +85,9 @@ namespace {
 constexpr std::size_t kMaxBodyBytes = 64 * 1024;  // larger: 413
 constexpr std::size_t kMaxUserChars = 200;        // "user": written to the audit log and the history
 constexpr std::size_t kMaxFileChars = 4096;       // "file": a path (PATH_MAX)
-// Each connection holds a worker while it is read: a handful of idle or slow clients must not
-// starve the API (cpp-httplib's default pool is 8 here), and a silent one is dropped after the
-// read timeout. One request per connection, so an idle keep-alive never holds a worker either.
+// A connection reaches a worker only once its whole request has arrived (GatedHttpServer): idle or
+// slow clients wait outside the pool and are dropped (408) when their request is not complete
+// within the timeout. One request per connection, so an idle keep-alive never holds a worker either.
 constexpr std::size_t kWorkers = 32;
 constexpr time_t kIoTimeoutS = 2;
 
@@ -141,7 +142,7 @@ bool IsLoopbackAddress(const std::string& address) {
 
 struct HttpApi::Impl {
   Shop& shop;
-  httplib::Server http;
+  GatedHttpServer http{kWorkers, static_cast<double>(kIoTimeoutS), kMaxBodyBytes};
   std::thread thread;
   int port = 0;  // the bound port (for the same-origin check)
   int listen_socket = -1;
@@ -209,7 +210,6 @@ struct HttpApi::Impl {
   }
 
   void Configure() {
-    http.new_task_queue = [] { return new httplib::ThreadPool(kWorkers); };
     http.set_keep_alive_max_count(1);
     http.set_keep_alive_timeout(kIoTimeoutS);  // a connection that sends nothing is closed after this
     http.set_read_timeout(kIoTimeoutS, 0);

@@ -13,6 +13,7 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/install_paths.hpp"
+#include "trueaxis/server/gated_http_server.hpp"
 #include "trueaxis/server/http_guard.hpp"
 #include "trueaxis/web/backend_json.hpp"
 #include "trueaxis/web/machine_query.hpp"
@@ -171,11 +172,13 @@ WebServer::WebServer(MonitorBackend& backend, AccessDb& access, WebServerOptions
       throw InputError(options_.tls_cert_file, "the certificate or its key (" + options_.tls_key_file +
                                                    ") could not be loaded (PEM? matching pair?)");
     server_ = std::move(ssl);
+    const int workers = std::max(2, options_.worker_threads);
+    server_->new_task_queue = [workers] { return new httplib::ThreadPool(static_cast<std::size_t>(workers)); };
   } else {
-    server_ = std::make_unique<httplib::Server>();
+    // A worker only for a request that has arrived whole: slow clients wait outside the pool.
+    server_ = std::make_unique<server::GatedHttpServer>(static_cast<std::size_t>(std::max(2, options_.worker_threads)),
+                                                        options_.read_timeout_s, options_.max_body_bytes);
   }
-  const int workers = std::max(2, options_.worker_threads);
-  server_->new_task_queue = [workers] { return new httplib::ThreadPool(static_cast<std::size_t>(workers)); };
   // One request per connection: an idle keep-alive connection would hold a worker thread.
   server_->set_keep_alive_max_count(1);
   server_->set_read_timeout(options_.read_timeout_s, 0);

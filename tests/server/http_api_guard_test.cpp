@@ -9,7 +9,10 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <fstream>
+#include <thread>
+#include <vector>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -225,6 +228,30 @@ TEST(ShopHttpApiGuard, IdleConnectionsDoNotStallTheApi) {
   EXPECT_EQ(res->status, 200);
   for (int fd : idle)
     if (fd >= 0) ::close(fd);
+}
+
+// Clients that trickle their headers held a worker each for as long as they trickled.
+TEST(ShopHttpApiGuard, SlowHeadersDoNotStallTheApi) {
+  ApiFixture f;
+  ASSERT_NE(f.vshop, nullptr);
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> loris;
+  for (int i = 0; i < 40; ++i)
+    loris.emplace_back([&, port = f.api->port()] {
+      const int fd = Connect(port);
+      const std::string part = "GET /api/stats HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ";
+      for (std::size_t k = 0; fd >= 0 && !stop.load() && ::send(fd, &part[k % part.size()], 1, MSG_NOSIGNAL) == 1; ++k)
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      if (fd >= 0) ::close(fd);
+    });
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  httplib::Client client("127.0.0.1", f.api->port());
+  client.set_read_timeout(5);  // a bound: before, no answer while they trickled
+  auto res = client.Get("/api/stats");
+  stop = true;
+  for (auto& t : loris) t.join();
+  ASSERT_TRUE(res) << httplib::to_string(res.error());
+  EXPECT_EQ(res->status, 200);
 }
 
 // Finding 6: an audit log that cannot be appended to lost every model change silently.
