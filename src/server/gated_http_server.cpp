@@ -140,11 +140,6 @@ GatedHttpServer::~GatedHttpServer() {
   ::close(wake_fd_);
 }
 
-std::size_t GatedHttpServer::waiting() const {
-  std::lock_guard lock(mutex_);
-  return deadlines_.size();
-}
-
 GatedHttpServer::Arrival GatedHttpServer::Peek(int sock) const {
   const std::size_t cap = kMaxHeaderBytes + max_body_bytes_;
   std::string buf(cap, '\0');

@@ -45,16 +45,17 @@ std::vector<Answer> ParallelLogins(int port, const std::vector<std::pair<std::st
   return results;
 }
 
-class ParallelLoginTest : public WebServerTest {
+// Three failures lock a name for a minute.
+class GuessingTest : public WebServerTest {
  protected:
-  ParallelLoginTest() {
+  GuessingTest() {
     options_.login.max_failures = 3;
     options_.login.lockout_s = 60;
     options_.worker_threads = 40;  // every request of the burst is served at once
   }
 };
 
-TEST_F(ParallelLoginTest, ParallelGuessesCannotPassTheLockout) {
+TEST_F(GuessingTest, ParallelGuessesCannotPassTheLockout) {
   // A hash at the real cost (tenths of a second): the window the guesses raced through.
   access_->AddUser("slow", Role::kOperator, "slow-pass-1", HashCost::kInteractive);
   std::vector<std::pair<std::string, std::string>> tries;
@@ -113,15 +114,7 @@ TEST_F(HashBoundTest, PasswordChecksBeyondTheBoundAreRefusedAtOnceWithRetryAfter
   EXPECT_EQ(Login("admin", kAdminPassword)->status, 200);
 }
 
-class LockedFloodTest : public WebServerTest {
- protected:
-  LockedFloodTest() {
-    options_.login.max_failures = 3;
-    options_.login.lockout_s = 600;
-  }
-};
-
-TEST_F(LockedFloodTest, AttemptsOnALockedNameAreOneAuditRowWithACount) {
+TEST_F(GuessingTest, AttemptsOnALockedNameAreOneAuditRowWithACount) {
   for (int i = 0; i < 3; ++i) EXPECT_EQ(Login("op", "wrong-" + std::to_string(i))->status, 401);
   int refused = 0;
   for (int i = 0; i < 150; ++i) refused += Login("op", "wrong-again")->status == 429;
@@ -250,21 +243,12 @@ TEST_F(WebServerTest, OnlyJsonItselfIsAcceptedAsJson) {
 TEST_F(WebServerTest, SlowHeadersDoNotDelayAFreshRequest) {
   // More connections than workers (32), each trickling a request a byte every 100 ms, never
   // finishing it: each held a worker as long as it kept trickling.
-  std::atomic<bool> stop{false};
-  std::vector<std::thread> loris;
-  for (int i = 0; i < 40; ++i)
-    loris.emplace_back([&, port = server_->port()] {
-      RawSocket s(port);
-      const std::string part = "GET /api/session HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ";
-      for (std::size_t k = 0; !stop.load() && s.Send(std::string(1, part[k % part.size()])); ++k)
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    });
+  SlowClients loris(server_->port(), 40);
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   httplib::Client c("127.0.0.1", server_->port());
   c.set_read_timeout(5, 0);  // a bound, not a timing assertion: before, no answer while they trickled
   auto page = c.Get("/login.html");
-  stop = true;
-  for (auto& t : loris) t.join();
+  loris.Stop();
   ASSERT_TRUE(page) << httplib::to_string(page.error());
   EXPECT_EQ(page->status, 200);
   // A request that does not arrive whole within the read timeout is answered 408 and closed.

@@ -317,15 +317,7 @@ TEST_F(WebServerTest, StaticFilesAreServedByExactNameOnlyWithSecurityHeaders) {
 
 TEST_F(WebServerTest, SlowLorisConnectionsDoNotStopTheServerServingOthers) {
   // Eight connections that trickle a request one byte at a time and never finish it.
-  std::atomic<bool> stop{false};
-  std::vector<std::thread> loris;
-  for (int i = 0; i < 8; ++i)
-    loris.emplace_back([&, port = server_->port()] {
-      RawSocket s(port);
-      const std::string part = "GET /api/session HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ";
-      for (std::size_t k = 0; !stop.load() && s.Send(std::string(1, part[k % part.size()])); ++k)
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    });
+  SlowClients loris(server_->port(), 8);
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   const LoggedIn s = LoginAs("viewer", kViewerPassword);
   for (int i = 0; i < 10; ++i) {
@@ -333,8 +325,7 @@ TEST_F(WebServerTest, SlowLorisConnectionsDoNotStopTheServerServingOthers) {
     ASSERT_TRUE(r) << "the server stopped answering while slow clients were connected";
     EXPECT_EQ(r->status, 200);
   }
-  stop = true;
-  for (auto& t : loris) t.join();
+  loris.Stop();
 }
 
 TEST_F(WebServerTest, ABurstOfConnectionsAtOnceIsServedNotReset) {

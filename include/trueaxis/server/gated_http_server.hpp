@@ -26,7 +26,6 @@ class GatedHttpServer : public httplib::Server {
   ~GatedHttpServer() override;
   GatedHttpServer(const GatedHttpServer&) = delete;
   GatedHttpServer& operator=(const GatedHttpServer&) = delete;
-  std::size_t waiting() const;  // connections whose request is still arriving
 
  private:
   class Queue;
