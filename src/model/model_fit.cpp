@@ -1110,6 +1110,7 @@ class AxisFitter {
                            "the thermal gains cannot be determined from these states (too few usable points)");
       }
       sum.thermal_cv_rms_um = CrossValidate(pts, off_states, keys, false, rho, form_);
+      HeldOutResiduals(pts, off_states, keys, rho);
       sum.thermal_fitted = true;
       if (keys.size() > 1 && o_.secondary_key_ridge > 0) {
         // Traceable: the shrunk gains next to what plain least squares would have given.
@@ -1438,6 +1439,28 @@ class AxisFitter {
     return out;
   }
 
+  void HeldOutResiduals(const std::vector<ThermalPoint>& pts, const std::set<std::size_t>& off_states,
+                        const std::vector<std::size_t>& keys, double rho) {
+    held_out_.clear();
+    if (off_states.size() < 3) return;
+    for (std::size_t s : off_states) {
+      StateResidualInput st;
+      st.label = thermal_[s]->label.empty() ? "(unlabelled)" : thermal_[s]->label;
+      for (int dir = 0; dir < 2; ++dir) {
+        const auto g = SolveGains(
+            pts, [&](const ThermalPoint& p) { return p.dir == dir && p.state != s && off_states.count(p.state); }, keys,
+            false, rho, form_);
+        if (!g.ok) continue;
+        for (const auto& p : pts) {
+          if (p.dir != dir || p.state != s || !RowUsable(p, keys, false)) continue;
+          st.position_mm.push_back(p.x);
+          st.residual_um.push_back(p.r - PredictThermal(p, keys, g));
+        }
+      }
+      if (!st.position_mm.empty()) held_out_.push_back(std::move(st));
+    }
+  }
+
   void ComputeStateStats(AxisFitSummary& sum) {
     ResidualDiagnosisInput diag;
     diag.key_sensors = model_.key_sensors;
@@ -1498,6 +1521,20 @@ class AxisFitter {
       sum.states.push_back(stats_for(*thermal_[si], sum.thermal_fitted, stage1_.empty() ? std::array<double, 2>{kNaN, kNaN} : stage1_[si]));
     diag.cross_validated = false;  // the model's own residual on the states it was fitted on
     sum.diagnosis = DiagnoseResidual(diag);
+    if (!held_out_.empty()) {
+      // The shapes judged on what the model does on a state it has not seen (the dry states, each
+      // predicted by the gains fitted without it); the key sensors' shares stay the model's own.
+      ResidualDiagnosisInput cv;
+      cv.key_sensors = diag.key_sensors;
+      cv.noise_um = diag.noise_um;
+      cv.cross_validated = true;
+      for (const auto& st : diag.states)
+        if (st.cold) cv.states.push_back(st);
+      cv.states.insert(cv.states.end(), held_out_.begin(), held_out_.end());
+      auto shares = std::move(sum.diagnosis.key_shares);
+      sum.diagnosis = DiagnoseResidual(cv);
+      sum.diagnosis.key_shares = std::move(shares);
+    }
   }
 
   // Key sensor k's part of the model's prediction at point p: the prediction with every key less
@@ -1535,6 +1572,9 @@ class AxisFitter {
   std::vector<const FitState*> cold_states_;
   std::vector<const FitState*> thermal_;
   std::vector<std::array<double, 2>> stage1_;
+  // Per dry thermal state, its residual predicted by the gains fitted without it (leave-one-state-out),
+  // for the residual's diagnosis; empty with fewer than three such states.
+  std::vector<StateResidualInput> held_out_;
   std::vector<std::string> candidates_;  // the key-sensor candidates of PrepareThermal (for notes)
   bool shared_gains_ = false;            // one gains entry for every coolant state (coolant memory)
   std::size_t motion_col_ = std::numeric_limits<std::size_t>::max();  // the motion input's column in rise
