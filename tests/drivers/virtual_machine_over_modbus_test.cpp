@@ -119,17 +119,21 @@ TEST(VirtualMachineOverModbus, CompensationWrittenOverTheWireMovesTheTable) {
   // And the PMC window reports what the machine applies.
   ASSERT_TRUE(testing::WaitFor([&] { return link.Read(axes, state) && std::abs(link.applied_um()[0] - 25.0) < 1e-9; }));
 
-  // The programmed direction: not known before the first move; after a 2 mm move towards −, the
-  // window says − while the axis stands, whatever the compensation does.
+  // The programmed direction: not known before the first move; after a move towards + and one
+  // back towards −, the window says − while the axis stands, whatever the compensation does.
   EXPECT_EQ(axes[0].programmed_direction, 0);
   const double from_mm = get().commanded_mm[0];
-  {
-    std::lock_guard<std::mutex> l(mu);
-    snap.move_x_to_mm = from_mm - 2;
-  }
-  ASSERT_TRUE(testing::WaitFor([&] { return std::abs(get().commanded_mm[0] - (from_mm - 2)) < 1e-9; }));
-  ASSERT_TRUE(testing::WaitFor([&] { return link.Read(axes, state) && std::abs(axes[0].position_mm - (from_mm - 2)) < 1e-6; }));
-  EXPECT_FALSE(axes[0].moving);
+  const auto move_x = [&](double to_mm) {
+    {
+      std::lock_guard<std::mutex> l(mu);
+      snap.move_x_to_mm = to_mm;
+    }
+    return testing::WaitFor([&] { return std::abs(get().commanded_mm[0] - to_mm) < 1e-9; }) &&
+           testing::WaitFor([&] { return link.Read(axes, state) && std::abs(axes[0].position_mm - to_mm) < 1e-6 && !axes[0].moving; });
+  };
+  ASSERT_TRUE(move_x(from_mm + 3));
+  EXPECT_EQ(axes[0].programmed_direction, +1);
+  ASSERT_TRUE(move_x(from_mm + 1));
   EXPECT_EQ(axes[0].programmed_direction, -1);
   EXPECT_EQ(axes[1].programmed_direction, 0);  // Y never moved
   ASSERT_TRUE(link.WriteCompensation(std::vector<double>{30.0, -13.0}));  // a nudge towards +
