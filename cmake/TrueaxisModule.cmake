@@ -7,13 +7,20 @@ macro(trueaxis_requires_feature feature)
   endif()
 endmacro()
 
-# trueaxis_module(<name> [DEPS target...])
+# trueaxis_module(<name> [UNITY] [DEPS target...])
 #   Builds src/<name>/*.cpp into the static library trueaxis_<name>, with the
 #   public headers in include/trueaxis/<name>/, and records it so the CLI links it.
+#   UNITY: the module's files compile in batches of 8 as one file each (CMake's UNITY_BUILD)
+#   when TRUEAXIS_UNITY_BUILD is ON, saving the repeated parsing of the heavy headers; only for
+#   modules whose files compile together (no two file-local helpers of the same name).
+option(TRUEAXIS_UNITY_BUILD "Compile the modules marked UNITY in batches (faster from scratch)" ON)
 function(trueaxis_module name)
-  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "UNITY" "" "DEPS" ${ARGN})
   file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
   add_library(trueaxis_${name} STATIC ${sources})
+  if(ARG_UNITY AND TRUEAXIS_UNITY_BUILD)
+    set_target_properties(trueaxis_${name} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+  endif()
   target_include_directories(trueaxis_${name} PUBLIC ${PROJECT_SOURCE_DIR}/include)
   target_compile_options(trueaxis_${name} PRIVATE -Wall -Wextra -Wno-unused-parameter -Wno-restrict)
   target_link_libraries(trueaxis_${name} PUBLIC ${ARG_DEPS})

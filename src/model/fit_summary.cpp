@@ -9,7 +9,7 @@
 namespace trueaxis::model {
 namespace {
 
-std::string Num(double v, int decimals = 3) {
+std::string SummaryNum(double v, int decimals = 3) {
   if (std::isnan(v)) return "–";
   return fmt::format("{:.{}f}", v, decimals);
 }
@@ -20,8 +20,8 @@ const char* KindText(GeometricError::Kind k) { return k == GeometricError::Kind:
 
 std::string GeometricText(const DirectionFitStats& d) {
   if (d.kind == GeometricError::Kind::kTable)
-    return fmt::format("table of {} points (CV {} µm)", d.targets, Num(d.geometric_cv_rms_um));
-  return fmt::format("degree {} (CV {} µm)", d.degree.degree, Num(d.geometric_cv_rms_um));
+    return fmt::format("table of {} points (CV {} µm)", d.targets, SummaryNum(d.geometric_cv_rms_um));
+  return fmt::format("degree {} (CV {} µm)", d.degree.degree, SummaryNum(d.geometric_cv_rms_um));
 }
 
 }  // namespace
@@ -34,10 +34,10 @@ std::string FitSummary::BriefReport() const {
     if (a.thermal_fitted)
       out += fmt::format("; keys {} (thermal CV {} µm, {} µm without); Px {} mm; ρ {} µm/mm/°C",
                          a.key_sensors.empty() ? std::string("none") : fmt::format("{}", fmt::join(a.key_sensors, ", ")),
-                         Num(a.thermal_cv_rms_um), Num(a.no_thermal_cv_rms_um), Num(a.reference_position_mm, 1),
-                         Num(a.rho_um_per_mm_per_c, 5));
-    if (a.thermal_fitted && !a.lag_reason.empty()) out += fmt::format("; key lag τ {} s", Num(a.key_lag_s, 0));
-    if (a.thermal_fitted && a.motion_lag_s > 0) out += fmt::format("; motion heat τ {} s", Num(a.motion_lag_s, 0));
+                         SummaryNum(a.thermal_cv_rms_um), SummaryNum(a.no_thermal_cv_rms_um), SummaryNum(a.reference_position_mm, 1),
+                         SummaryNum(a.rho_um_per_mm_per_c, 5));
+    if (a.thermal_fitted && !a.lag_reason.empty()) out += fmt::format("; key lag τ {} s", SummaryNum(a.key_lag_s, 0));
+    if (a.thermal_fitted && a.motion_lag_s > 0) out += fmt::format("; motion heat τ {} s", SummaryNum(a.motion_lag_s, 0));
     if (a.thermal_fitted && a.key_offsets) out += "; each key's own pivot";
     if (!a.thermal_fitted) out += "; geometric only";
     for (const auto& n : a.fallback_notes) out += "\n  " + n;
@@ -46,7 +46,7 @@ std::string FitSummary::BriefReport() const {
       if (!worst || s.residual_rms_um > worst->residual_rms_um) worst = &s;
     if (worst)
       out += fmt::format("\n  worst state: {} residual RMS {} µm, max {} µm (uncorrected RMS {} µm)", worst->label,
-                         Num(worst->residual_rms_um), Num(worst->residual_max_um), Num(worst->uncorrected_rms_um));
+                         SummaryNum(worst->residual_rms_um), SummaryNum(worst->residual_max_um), SummaryNum(worst->uncorrected_rms_um));
     out += "\n";
     if (!a.diagnosis.states.empty()) out += ResidualDiagnosisBrief(a.diagnosis);
   }
@@ -64,23 +64,23 @@ std::string FitSummary::FullReport() const {
       const auto& ds = a.directions[d];
       out += fmt::format("Er(x) {}: {} targets, {} run(s), {}; fit RMS {} µm, LOTO CV {} µm, table CV {} µm\n",
                          d == 0 ? "forward (+)" : "reverse (−)", ds.targets, ds.runs, KindText(ds.kind),
-                         Num(ds.geometric_fit_rms_um), Num(ds.geometric_cv_rms_um), Num(ds.table_cv_rms_um));
+                         SummaryNum(ds.geometric_fit_rms_um), SummaryNum(ds.geometric_cv_rms_um), SummaryNum(ds.table_cv_rms_um));
       out += fmt::format("  {}\n", ds.choice);
       if (!ds.degree.candidates.empty()) {
         out += "  degree  fit RMS µm  CV RMS µm\n";
         for (const auto& c : ds.degree.candidates)
-          out += fmt::format("  {:>6}  {:>10}  {:>9}{}\n", c.degree, Num(c.fit_rms_um), Num(c.cv_rms_um),
+          out += fmt::format("  {:>6}  {:>10}  {:>9}{}\n", c.degree, SummaryNum(c.fit_rms_um), SummaryNum(c.cv_rms_um),
                              c.degree == ds.degree.degree && ds.kind == GeometricError::Kind::kPolynomial ? "  ← chosen" : "");
         out += fmt::format("  rule: {}\n", ds.degree.rule);
       }
     }
-    out += fmt::format("reference point Px = {} mm ({})\n", Num(a.reference_position_mm, 2), a.reference_source);
-    out += fmt::format("ρ = {} µm/mm/°C ({})\n", Num(a.rho_um_per_mm_per_c, 6), a.rho_source);
+    out += fmt::format("reference point Px = {} mm ({})\n", SummaryNum(a.reference_position_mm, 2), a.reference_source);
+    out += fmt::format("ρ = {} µm/mm/°C ({})\n", SummaryNum(a.rho_um_per_mm_per_c, 6), a.rho_source);
     if (std::isfinite(a.rho_fitted_for_check))
-      out += fmt::format("  (the calibration's room changes alone would fit ρ = {} µm/mm/°C)\n", Num(a.rho_fitted_for_check, 6));
+      out += fmt::format("  (the calibration's room changes alone would fit ρ = {} µm/mm/°C)\n", SummaryNum(a.rho_fitted_for_check, 6));
     if (std::isfinite(a.room_range_c[0]))
-      out += fmt::format("room temperatures of the calibration: {}–{} °C; beyond them {}\n", Num(a.room_range_c[0], 1),
-                         Num(a.room_range_c[1], 1),
+      out += fmt::format("room temperatures of the calibration: {}–{} °C; beyond them {}\n", SummaryNum(a.room_range_c[0], 1),
+                         SummaryNum(a.room_range_c[1], 1),
                          a.rho_from_cte
                              ? "the room's soak (ρ, from the CTE) still holds; the fitted thermal terms are alarmed as extrapolated"
                              : "the model extrapolates (alarmed): measure a state in another season, or give the CTE for the soak");
@@ -90,17 +90,17 @@ std::string FitSummary::FullReport() const {
                        a.key_sensors.empty() ? std::string("none") : fmt::format("{}", fmt::join(a.key_sensors, ", ")));
     out += fmt::format("why: {}\n", a.key_selection_reason);
     for (const auto& st : a.selection_steps)
-      out += fmt::format("  step [{}]: LOSO CV RMS {} µm  {}\n", fmt::join(st.keys, ", "), Num(st.cv_rms_um), st.note);
+      out += fmt::format("  step [{}]: LOSO CV RMS {} µm  {}\n", fmt::join(st.keys, ", "), SummaryNum(st.cv_rms_um), st.note);
     if (!a.lag_reason.empty()) {
-      out += fmt::format("key sensor lag τ = {} s: {}\n", Num(a.key_lag_s, 0), a.lag_reason);
+      out += fmt::format("key sensor lag τ = {} s: {}\n", SummaryNum(a.key_lag_s, 0), a.lag_reason);
       for (const auto& c : a.lag_candidates)
-        out += fmt::format("  τ {:>6} s: LOSO CV RMS {} µm\n", Num(c[0], 0), Num(c[1]));
+        out += fmt::format("  τ {:>6} s: LOSO CV RMS {} µm\n", SummaryNum(c[0], 0), SummaryNum(c[1]));
     }
     if (!a.key_offsets_reason.empty()) out += fmt::format("pivots: {}\n", a.key_offsets_reason);
     if (!a.motion_reason.empty()) {
       out += fmt::format("motion heat: {}\n", a.motion_reason);
       for (const auto& c : a.motion_candidates)
-        out += fmt::format("  τ {:>6} s: LOSO CV RMS {} µm\n", Num(c[0], 0), Num(c[1]));
+        out += fmt::format("  τ {:>6} s: LOSO CV RMS {} µm\n", SummaryNum(c[0], 0), SummaryNum(c[1]));
     }
     for (const auto& n : a.coolant_notes) out += "  " + n + "\n";
     for (const auto& n : a.fallback_notes) out += "  " + n + "\n";
@@ -110,11 +110,11 @@ std::string FitSummary::FullReport() const {
                        "resid max", "tanβ fwd", "tanβ rev");
     for (const auto& s : a.states) {
       std::vector<std::string> rises;
-      for (double r : s.mean_key_rise_c) rises.push_back(Num(r, 2));
+      for (double r : s.mean_key_rise_c) rises.push_back(SummaryNum(r, 2));
       out += fmt::format("  {:<16} {:<8} {:<7} {:>6} {:>10} {:>10} {:>10} {:>9} {:>9} {:>11} {:>11}  {}\n", s.label,
-                         StateKindName(s.kind), CoolantStateName(s.coolant), s.points, Num(s.uncorrected_rms_um),
-                         Num(s.uncorrected_max_um), Num(s.geometric_only_rms_um), Num(s.residual_rms_um),
-                         Num(s.residual_max_um), Num(s.tan_beta_um_per_mm[0], 5), Num(s.tan_beta_um_per_mm[1], 5),
+                         StateKindName(s.kind), CoolantStateName(s.coolant), s.points, SummaryNum(s.uncorrected_rms_um),
+                         SummaryNum(s.uncorrected_max_um), SummaryNum(s.geometric_only_rms_um), SummaryNum(s.residual_rms_um),
+                         SummaryNum(s.residual_max_um), SummaryNum(s.tan_beta_um_per_mm[0], 5), SummaryNum(s.tan_beta_um_per_mm[1], 5),
                          fmt::join(rises, " "));
     }
     if (!a.diagnosis.states.empty()) out += ResidualDiagnosisTable(a.diagnosis) + ResidualDiagnosisBrief(a.diagnosis);

@@ -11,7 +11,7 @@
 namespace trueaxis::sim {
 namespace {
 // Rounded to `digits` decimals, written without trailing zeros (the log stays small).
-std::string Fixed(double v, int digits) {
+std::string LogFixed(double v, int digits) {
   const double scale = std::pow(10.0, digits);
   return FormatShortest(std::round(v * scale) / scale);
 }
@@ -25,12 +25,12 @@ std::string MachineLogHeader(const VirtualMachine& vm) {
 }
 
 std::string MachineLogRow(const VirtualMachine& vm) {
-  std::string row = Fixed(vm.TimeS(), 1) + "," + vm.IsoTime() + "," + std::string(CoolantStateName(vm.coolant()));
-  for (std::size_t i = 0; i < vm.AxisCount(); ++i) row += "," + Fixed(vm.CommandedMm(i), 3);
-  for (std::size_t i = 0; i < vm.AxisCount(); ++i) row += "," + Fixed(vm.TravelMm(i), 1);
+  std::string row = LogFixed(vm.TimeS(), 1) + "," + vm.IsoTime() + "," + std::string(CoolantStateName(vm.coolant()));
+  for (std::size_t i = 0; i < vm.AxisCount(); ++i) row += "," + LogFixed(vm.CommandedMm(i), 3);
+  for (std::size_t i = 0; i < vm.AxisCount(); ++i) row += "," + LogFixed(vm.TravelMm(i), 1);
   for (std::size_t i = 0; i < vm.SensorCount(); ++i) {
     const auto r = vm.sensor(i).Latest();
-    row += "," + (r.hardware_fault || !std::isfinite(r.temp_c) ? std::string() : Fixed(r.temp_c, 4));
+    row += "," + (r.hardware_fault || !std::isfinite(r.temp_c) ? std::string() : LogFixed(r.temp_c, 4));
   }
   return row + "\n";
 }
