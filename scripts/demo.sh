@@ -2,7 +2,7 @@
 # Installs what is missing, builds the demo and runs the main job: the
 # end-to-end demo (calibration campaign on the virtual machine, model fit, a
 # working day with the real-time compensator in its loop, ISO 230-2 before /
-# after) — report in out/demo/report.html; then builds every other command of trueaxis.
+# after) — report in out/demo/report.html.
 # Usage: scripts/demo.sh [extra arguments for `trueaxis demo`, e.g. --fast or --seed 7]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,11 +18,9 @@ if command -v ccache >/dev/null 2>&1; then
 fi
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DTRUEAXIS_BUILD_TESTS=OFF -DTRUEAXIS_BUILD_BENCH=OFF \
   -DTRUEAXIS_ALL_FEATURES=OFF "${LAUNCHER[@]}"
-# First the demo alone (trueaxis-demo: the `demo` command over only the modules it runs, about a
-# quarter of the compile), then the other commands, while the report is already there to read.
+# Only the demo (trueaxis-demo: the `demo` command over only the modules it runs, about a quarter
+# of the compile of every command). Every other command: `cmake --build build --target trueaxis`.
 cmake --build build -j"$(nproc)" --target trueaxis-demo
 ./build/apps/trueaxis/trueaxis-demo demo --out out/demo "$@"
 echo "report: out/demo/report.html"
-echo "building the other trueaxis commands (docs/tour.md); the report can be read meanwhile"
-cmake --build build -j"$(nproc)" --target trueaxis
-echo "report: out/demo/report.html; every command: ./build/apps/trueaxis/trueaxis --help"
+echo "every other command: cmake --build build --target trueaxis, then ./build/apps/trueaxis/trueaxis --help (docs/tour.md)"
