@@ -102,19 +102,21 @@ void ProgressLine::Clear() {
   }
 }
 
+std::string WrapLines(std::string_view text, std::size_t width) {
+  std::string out;
+  std::size_t start = 0;
+  while (start < text.size() || (start == 0 && text.empty())) {
+    const std::size_t end = std::min(text.find('\n', start), text.size());
+    for (const auto& l : WrapText(text.substr(start, end - start), width)) out += l + "\n";
+    start = end + 1;
+  }
+  return out;
+}
+
 void ProgressLine::Note(std::string_view line) {
   if (!sink_) return;
   Clear();
-  std::string out;
-  // Each line of a multi-line note is wrapped on its own.
-  std::size_t start = 0;
-  while (start <= line.size()) {
-    const std::size_t end = std::min(line.find('\n', start), line.size());
-    if (end == line.size() && start == end && start > 0) break;  // the text ended with '\n'
-    for (const auto& l : WrapText(line.substr(start, end - start), kMaxWidth)) out += l + "\n";
-    start = end + 1;
-  }
-  sink_(out);
+  sink_(WrapLines(line, kMaxWidth));
 }
 
 void ProgressLine::Finish() {

@@ -51,6 +51,22 @@ TEST(ProgressLine, NotATerminalWritesOccasionalPlainLines) {
   EXPECT_EQ(c.text.find("quiet"), std::string::npos);
 }
 
+// An event is the status on a terminal and a line of the log otherwise.
+TEST(ProgressLine, EventsAreTheStatusOnATerminalAndLinesInALog) {
+  Capture tty, log;
+  {
+    ProgressLine a("campaign", true, tty.Sink());
+    ProgressLine b("campaign", false, log.Sink());
+    for (auto* p : {&a, &b}) {
+      p->Event("measuring X");
+      p->Event("measuring Y");
+    }
+  }
+  EXPECT_EQ(Count(tty.text, '\n'), 0);
+  EXPECT_NE(tty.text.find("\r[campaign] measuring Y"), std::string::npos);
+  EXPECT_EQ(log.text, "measuring X\nmeasuring Y\n");
+}
+
 TEST(ProgressLine, NoLineIsLongerThanTheWidth) {
   Capture c;
   std::string inputs;
@@ -79,6 +95,11 @@ TEST(WrapText, BreaksAtSpacesIndentsContinuationsAndKeepsLongWords) {
   EXPECT_EQ(WrapText("  aa bb", 5), (std::vector<std::string>{"  aa", "  bb"}));
   EXPECT_EQ(WrapText("µµµµ µµµµ", 9), (std::vector<std::string>{"µµµµ µµµµ"}));  // characters, not bytes
   EXPECT_EQ(WrapText("abcdefgh ij", 4, ""), (std::vector<std::string>{"abcdefgh", "ij"}));
+}
+
+TEST(WrapText, WrapLinesWrapsEachLineOfATextOnItsOwn) {
+  EXPECT_EQ(WrapLines("aa bb cc\ndd\n", 5), "aa bb\n  cc\ndd\n");
+  EXPECT_EQ(WrapLines("x", 5), "x\n");
 }
 
 }  // namespace

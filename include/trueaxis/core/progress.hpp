@@ -4,6 +4,7 @@
 //   auto progress = ProgressLine::OnStderr("fit");
 //   progress.Step(2, 6, "axis Y: fallback without y_nut");   // "[fit] 33 % axis Y: fallback without y_nut"
 //   progress.Note("axis Y fitted");                          // a line that stays
+//   progress.Event("measuring X");  // a terminal: the status; a log: a line
 //   progress.Finish();
 //
 // On a terminal the status is one line, rewritten in place ("\r", padded over the previous text),
@@ -39,6 +40,9 @@ class ProgressLine {
   void Status(std::string_view what) { Step(0, 0, what); }
   // A line that stays, e.g. a result or a milestone (wrapped under kMaxWidth).
   void Note(std::string_view line);
+  // An event of a log: on a terminal the status (rewritten by the next), otherwise a Note, so a
+  // log file keeps every event.
+  void Event(std::string_view line) { terminal_ ? Status(line) : Note(line); }
   // Clears the status line (terminal); idempotent.
   void Finish();
   bool terminal() const { return terminal_; }
@@ -55,6 +59,8 @@ class ProgressLine {
 // `text` broken at spaces into lines of at most `width` characters (UTF-8 characters); a word
 // longer than a line stays whole on its own line. Continuation lines start with `indent`.
 std::vector<std::string> WrapText(std::string_view text, std::size_t width, std::string_view indent = "  ");
+// Every line of a multi-line `text` wrapped by WrapText; the result ends with '\n'.
+std::string WrapLines(std::string_view text, std::size_t width = ProgressLine::kMaxWidth);
 // Characters (not bytes) of UTF-8 text.
 std::size_t Utf8Width(std::string_view text);
 
