@@ -36,15 +36,17 @@ std::vector<std::string> WrapText(std::string_view text, std::size_t width, std:
   // Leading spaces of the text are kept (an indented block stays indented).
   while (i < text.size() && text[i] == ' ') line += text[i++];
   const std::size_t lead = line.size();
+  // Continuation lines: indented past the line's own indent.
+  const std::string continuation = line + std::string(indent);
   while (i < text.size()) {
     std::size_t j = i;
     while (j < text.size() && text[j] != ' ') ++j;
     const std::string_view word = text.substr(i, j - i);
     if (!word.empty()) {
-      const bool fresh = line.size() == (lines.empty() ? lead : indent.size());
+      const bool fresh = line.size() == (lines.empty() ? lead : continuation.size());
       if (!fresh && Utf8Width(line) + 1 + Utf8Width(word) > width) {
         lines.push_back(std::move(line));
-        line = std::string(indent);
+        line = continuation;
       } else if (!fresh) {
         line += ' ';
       }

@@ -178,7 +178,7 @@ std::string SvgChart::Render() const {
   // label wraps onto further lines (never cut), and the chart grows taller when the legend needs it.
   const double legend_w =
       labelled.empty() ? 0 : std::min(0.4 * w, 40 + kCharPx * static_cast<double>(std::min<std::size_t>(longest, 60)));
-  const std::size_t max_chars = static_cast<std::size_t>(std::max(4.0, (legend_w - 40) / kCharPx));
+  const std::size_t max_chars = static_cast<std::size_t>(std::max(4.0, std::floor((legend_w - 40) / kCharPx + 1e-6)));
   std::vector<std::vector<std::string>> legend_lines;
   double legend_h = 6;
   for (auto k : labelled) {

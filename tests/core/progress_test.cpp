@@ -92,7 +92,7 @@ TEST(ProgressLine, NoLineIsLongerThanTheWidth) {
 
 TEST(WrapText, BreaksAtSpacesIndentsContinuationsAndKeepsLongWords) {
   EXPECT_EQ(WrapText("aa bb cc", 5), (std::vector<std::string>{"aa bb", "  cc"}));
-  EXPECT_EQ(WrapText("  aa bb", 5), (std::vector<std::string>{"  aa", "  bb"}));
+  EXPECT_EQ(WrapText("  aa bb", 6), (std::vector<std::string>{"  aa", "    bb"}));
   EXPECT_EQ(WrapText("µµµµ µµµµ", 9), (std::vector<std::string>{"µµµµ µµµµ"}));  // characters, not bytes
   EXPECT_EQ(WrapText("abcdefgh ij", 4, ""), (std::vector<std::string>{"abcdefgh", "ij"}));
 }

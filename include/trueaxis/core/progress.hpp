@@ -57,7 +57,8 @@ class ProgressLine {
 };
 
 // `text` broken at spaces into lines of at most `width` characters (UTF-8 characters); a word
-// longer than a line stays whole on its own line. Continuation lines start with `indent`.
+// longer than a line stays whole on its own line. Continuation lines start with the line's own
+// leading spaces plus `indent`.
 std::vector<std::string> WrapText(std::string_view text, std::size_t width, std::string_view indent = "  ");
 // Every line of a multi-line `text` wrapped by WrapText; the result ends with '\n'.
 std::string WrapLines(std::string_view text, std::size_t width = ProgressLine::kMaxWidth);
