@@ -239,7 +239,7 @@ void RunFit(const FitCliOptions& o) {
   model::WriteModelFile(m, o.out);
   if (!o.report.empty()) model::WriteFitReportHtml(result, states, o.report);
 
-  std::cout << WrapLines(o.full ? result.summary.FullReport() : result.summary.BriefReport());
+  std::cout << (o.full ? result.summary.FullReport() : result.summary.BriefReport());
   if (prev) std::cout << fmt::format("changes against revision {} ({}):\n{}", prev->revision, o.previous,
                                      CompareWithPrevious(*prev, m));
   std::cout << fmt::format("wrote {} (revision {}, {} axis/axes, {} source file(s), sha256 {})\n", o.out, m.revision,
