@@ -51,6 +51,13 @@ DEMO_OPTIONS = [
      "study: the dry warm-up's next test waits for r x the last test's duration of machining (demo --warmup-per-test)"),
     ("--coolant-prewarm-h", "--coolant-prewarm-h", False,
      "hours of dry machining before each of the campaign's coolant sessions, e.g. 0,2 (demo --coolant-prewarm-h)"),
+    ("--ambient-days", "--ambient-days", False,
+     "days after the first on which the campaign measures other room temperatures, e.g. 1,2 for a campaign in one "
+     "season (demo --ambient-days; default 60,150)"),
+    ("--other-day", "--other-day", False,
+     "the other day's offset from the campaign's first, days (demo --other-day; default 250)"),
+    ("--rho-fit", "--rho-fit", True,
+     "fit rho from the campaign's room temperatures instead of the screw's CTE (demo --rho-fit): the rule before"),
     ("--no-lag-fall", "--no-lag-fall", True,
      "fit one lag tau both ways (demo --no-lag-fall): the lag before the longer fall"),
 ]

@@ -84,6 +84,9 @@ void Setup(CLI::App& app) {
                          "Fit without the gains' fitted envelope (fit --envelope-margin -1): gains per coolant state "
                          "and no envelope, the baseline of "
                          "bench/results/zoo.md");
+  cmd->add_flag("--rho-fit", opts->demo.rho_fit,
+                "Fit ρ from the campaign's room temperatures instead of the screw's CTE (fit --rho-fit), for "
+                "comparison: it misses other seasons (bench/results/zoo.md)");
   cmd->add_flag_function("--no-coolant-rest", [opts](std::int64_t) { opts->demo.coolant_rest = false; },
                          "Calibrate without the campaign's stop under coolant (the measurements of the axis at rest "
                          "with the coolant running), for comparison");
@@ -91,6 +94,14 @@ void Setup(CLI::App& app) {
                   "Hours of the day at which the campaign's ambient days measure the idle machine, increasing, e.g. "
                   "14 (default: 3,10,19; bench/results/zoo.md compares)")
       ->delimiter(',');
+  cmd->add_option_function<std::vector<int>>(
+         "--ambient-days", [opts](const std::vector<int>& days) { opts->demo.ambient_day_offsets = days; },
+         "Days after the campaign's first on which it measures the idle machine at another room temperature, e.g. "
+         "1,2 for a campaign within one season (default: 60,150, two other seasons)")
+      ->delimiter(',');
+  cmd->add_option("--other-day", opts->demo.other_day_offset,
+                  "The report's other day: this many days after the campaign's first (default 250, another season)")
+      ->check(CLI::Range(2, 3650));
   cmd->add_option("--secondary-key-ridge", opts->demo.secondary_key_ridge,
                   "Ridge λ on the bearing key's gain, shrinking it toward the nut-only fit (0: plain least "
                   "squares, for comparison; bench/results/zoo.md)")

@@ -52,6 +52,8 @@ struct FitCliOptions {
   std::vector<std::string> keys;
   double reference_mm = std::numeric_limits<double>::quiet_NaN();
   double rho = std::numeric_limits<double>::quiet_NaN();
+  double cte = std::numeric_limits<double>::quiet_NaN();
+  bool rho_fit = false;
   std::string ambient_sensor;
   std::string axis;
   std::string state;  // for an input file that names none (an ecmc .dat, a laser export)
@@ -155,6 +157,8 @@ void RunFit(const FitCliOptions& o) {
   fo.motion_lag_grid_s = o.motion_lag_grid_s;
   fo.reference_position_mm = o.reference_mm;
   fo.rho_um_per_mm_per_c = o.rho;
+  fo.cte_um_per_m_c = o.cte;
+  fo.fit_rho_with_cte = o.rho_fit;
   fo.ambient_sensor = o.ambient_sensor;
   fo.default_axis = o.axis;
   fo.key_lag_grid_s = o.lag_grid_s;
@@ -314,7 +318,15 @@ void Setup(CLI::App& app) {
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--reference-mm", opts->reference_mm, "Reference point Px in mm (default: metadata or fitted)");
-  cmd->add_option("--rho", opts->rho, "ρ in µm/mm/°C (default: fitted, or −cte/1000 from metadata)");
+  cmd->add_option("--rho", opts->rho,
+                  "ρ in µm/mm/°C (default: −cte/1000 when the CTE is known, else fitted from the room's changes)");
+  cmd->add_option("--cte", opts->cte,
+                  "CTE of the axis's position feedback in µm/m/°C: the ball screw's with a rotary encoder (steel about "
+                  "11.5), the scale's with a linear scale; gives ρ = −cte/1000, the soak that holds in every season "
+                  "(default: the cold file's '# cte_um_per_m_c:')");
+  cmd->add_flag("--rho-fit", opts->rho_fit,
+                "Fit ρ from the room's changes over the states even when the CTE is known (it then extrapolates to "
+                "rooms outside them, as in another season)");
   cmd->add_option("--ambient-sensor", opts->ambient_sensor, "Ambient sensor name ('none' for no ambient term)");
   cmd->add_option("--axis", opts->axis, "Axis for files without '# axis:' metadata");
   cmd->add_option("--state", opts->state,

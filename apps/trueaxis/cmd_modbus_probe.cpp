@@ -91,7 +91,9 @@ void RunProbe(const ProbeOptions& o) {
     fmt::print("{}:{} unit {}: heartbeat {}, coolant {}, compensation {}\n", o.host, o.port, o.pmc_unit, link.last_heartbeat(),
                CoolantStateName(state.coolant), state.compensation_enabled ? "enabled" : "DISABLED");
     for (std::size_t a = 0; a < names.size(); ++a)
-      fmt::print("  {:<3} {:12.4f} mm  dir {:+d}  {:<7} applied {:+8.1f} um\n", names[a], axes[a].position_mm, axes[a].servo_direction,
+      fmt::print("  {:<3} {:12.4f} mm  dir {:+d}  programmed {}  {:<7} applied {:+8.1f} um\n", names[a], axes[a].position_mm,
+                 axes[a].servo_direction,
+                 axes[a].programmed_direction > 0 ? "+" : axes[a].programmed_direction < 0 ? "-" : "?",
                  axes[a].moving ? "moving" : "stopped", link.applied_um()[a]);
     for (auto& rtd : rtds) {
       if (!rtd->Read(temps)) throw std::runtime_error("ADAM-6015: " + rtd->last_error());

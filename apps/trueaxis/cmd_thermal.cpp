@@ -2,6 +2,7 @@
 // (docs/thermal-models.md, docs/thermal-series.md).
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <optional>
 #include <memory>
@@ -24,7 +25,80 @@ namespace trueaxis::cli {
 namespace {
 using namespace trueaxis::thermal;
 
+// How the columns of a recording are read (ThermalReadOptions), for every subcommand.
+struct ColumnOptions {
+  std::string temperature_unit;  // C, F, K; empty: °C, checked for plausibility
+  std::string error_unit;        // um, mm; empty: µm, checked
+  std::vector<std::string> error_columns;
+  std::string time_column;
+  std::string time_unit;  // s, min, h; empty: from the column's name
+  double sample_interval_s = 0;
+  bool no_header = false;
+};
+
+void AddColumnOptions(CLI::App* cmd, ColumnOptions* o) {
+  cmd->add_option("--temperature-unit", o->temperature_unit,
+                  "unit of the temperature columns: C, F (converted) or K (converted); without it °C, and a recording "
+                  "whose coolest sensor reads like °F or kelvin is refused");
+  cmd->add_option("--error-unit", o->error_unit,
+                  "unit of the error columns: um or mm (converted); without it µm, and a column that reads like mm "
+                  "(all within ±0.2, RMS below 0.05) is refused");
+  cmd->add_option("--error-column", o->error_columns,
+                  "read this column as an error channel whatever its name (e.g. \"delta L\": channel delta_L); "
+                  "repeat or separate by commas for several")
+      ->delimiter(',');
+  cmd->add_option("--time-column", o->time_column,
+                  "read this column as the time (unit from --time-unit, or its name's _s/_min/_h; else s)");
+  cmd->add_option("--time-unit", o->time_unit, "unit of the time column: s, min or h (time_min and time_h are known)");
+  cmd->add_option("--sample-interval-s", o->sample_interval_s,
+                  "a file without a time column was sampled every S seconds (rows are then this far apart)");
+  cmd->add_flag("--no-header", o->no_header,
+                "the first row is data: columns are named col1..colN, and those not named by --time-column or "
+                "--error-column are temperatures");
+}
+
+ThermalReadOptions MakeReadOptions(const ColumnOptions& o) {
+  ThermalReadOptions r;
+  if (!o.temperature_unit.empty() && !ParseTemperatureUnit(o.temperature_unit, &r.temperature_unit))
+    throw InputError("command line", 0, "--temperature-unit", fmt::format("'{}' is not C, F or K", o.temperature_unit));
+  if (!o.error_unit.empty() && !ParseErrorUnit(o.error_unit, &r.error_unit))
+    throw InputError("command line", 0, "--error-unit", fmt::format("'{}' is not um or mm", o.error_unit));
+  for (const auto& c : o.error_columns)
+    if (!Trim(c).empty()) r.error_columns.emplace_back(Trim(c));
+  r.time_column = o.time_column;
+  if (!o.time_unit.empty()) {
+    const auto unit = ParseTimeUnitS(o.time_unit);
+    if (!unit) throw InputError("command line", 0, "--time-unit", fmt::format("'{}' is not s, min or h", o.time_unit));
+    r.time_unit_s = *unit;
+  }
+  if (o.sample_interval_s != 0 && !(o.sample_interval_s > 0))
+    throw InputError("command line", 0, "--sample-interval-s", "must be > 0 s");
+  r.sample_interval_s = o.sample_interval_s;
+  r.no_header = o.no_header;
+  return r;
+}
+
+// Each file read and cleaned on its own (its own clock and gaps), then joined as experiments;
+// `select` (optional) narrows a file's channels and sensors before it is cleaned.
+ThermalSeries ReadCleanAndJoin(const std::vector<std::string>& paths, const ColumnOptions& columns,
+                               const SeriesCleaningOptions& co, SeriesCleaningReport* report,
+                               const std::function<ThermalSeries(ThermalSeries)>& select = {}) {
+  const ThermalReadOptions ro = MakeReadOptions(columns);
+  std::vector<ThermalSeries> parts;
+  for (const auto& path : paths)
+    for (ThermalSeries s : ReadThermalSeriesFile(path, &report->warnings, ro)) {
+      if (select) s = select(std::move(s));
+      SeriesCleaningReport part_report;
+      parts.push_back(CleanSeries(s, co, &part_report));
+      for (const auto& w : part_report.warnings) report->warnings.push_back(w);
+      report->interpolated_values += part_report.interpolated_values;
+      for (const auto& d : part_report.dropped_temperatures) report->dropped_temperatures.push_back(d);
+    }
+  return ConcatenateExperiments(parts, &report->warnings);
+}
+
 struct CommonOptions {
+  ColumnOptions columns;
   std::vector<std::string> series;  // several: one experiment each
   std::string channels;  // comma list; empty = all
   std::string sensors_list;  // comma list; empty = every sensor of the series
@@ -63,12 +137,13 @@ void AddCommon(CLI::App* cmd, CommonOptions* o) {
                   "--series given again) are separate experiments of the same machine")
       ->required()
       ->expected(1, -1);
+  AddColumnOptions(cmd, &o->columns);
   cmd->add_option("--channels", o->channels, "error channels to model, comma separated (default: all)");
   cmd->add_option("--sensors-list", o->sensors_list,
                   "use exactly these inputs, comma separated (no selection; e.g. t1,t4,t9 or t4@lag1800s)");
   cmd->add_option("--lags-s", o->lags_s,
                   "offer each sensor also lagged by these time constants (first-order lag, s): auto "
-                  "(600,1800,5400,16200 up to a third of the recording), none, or a list such as 900,2700")
+                  "(600,1800,5400,16200 up to a third of the longest experiment), none, or a list such as 900,2700")
       ->capture_default_str();
   cmd->add_option("--max-gap-samples", o->max_gap_samples, "interior gaps up to this many rows are interpolated")
       ->capture_default_str();
@@ -126,6 +201,7 @@ ThermalFitOptions MakeFitOptions(const CommonOptions& o, ModelKind kind) {
       throw InputError("command line", 0, "--sensors-list", "names the sensors itself: leave out --sensors");
     f.linear.selection.method = SelectionMethod::kAll;
   }
+  f.sensors_listed = !o.sensors_list.empty();
   f.linear.choose_count_by_cv = o.sensors == "auto" && f.linear.selection.method != SelectionMethod::kAll;
   f.linear.selection.max_sensors = SensorCount(o);
 
@@ -152,19 +228,11 @@ ThermalSeries LoadSeries(const CommonOptions& o, SeriesCleaningReport* report) {
   co.allow_time_gaps = o.allow_time_gaps;
   std::string why;
   if (!co.IsValid(&why)) throw InputError("command line", 0, "--max-gap-samples", why);
-  // Each file is read and cleaned on its own (its own clock and gaps), then joined as experiments.
-  std::vector<ThermalSeries> parts;
-  for (const auto& path : o.series)
-    for (ThermalSeries s : ReadThermalSeriesFile(path, &report->warnings)) {
-      if (!o.channels.empty()) s = SelectErrorChannels(s, SplitList(o.channels));
-      if (!o.sensors_list.empty()) s = SelectTemperatureSensors(s, BaseSensors(SplitList(o.sensors_list)));
-      SeriesCleaningReport part_report;
-      parts.push_back(CleanSeries(s, co, &part_report));
-      for (const auto& w : part_report.warnings) report->warnings.push_back(w);
-      report->interpolated_values += part_report.interpolated_values;
-      for (const auto& d : part_report.dropped_temperatures) report->dropped_temperatures.push_back(d);
-    }
-  ThermalSeries cleaned = ConcatenateExperiments(parts, &report->warnings);
+  ThermalSeries cleaned = ReadCleanAndJoin(o.series, o.columns, co, report, [&](ThermalSeries s) {
+    if (!o.channels.empty()) s = SelectErrorChannels(s, SplitList(o.channels));
+    if (!o.sensors_list.empty()) s = SelectTemperatureSensors(s, BaseSensors(SplitList(o.sensors_list)));
+    return s;
+  });
   if (o.lags_s != "none") {
     std::vector<double> grid = DefaultLagGridS();
     if (o.lags_s != "auto") {
@@ -180,8 +248,9 @@ ThermalSeries LoadSeries(const CommonOptions& o, SeriesCleaningReport* report) {
     else if (o.lags_s != "auto") throw InputError(cleaned.source, 0, "--lags-s", "lagged inputs need time_s");
     // Said either way: with auto the short recording decides which lags are offered.
     if (!skipped.empty())
-      report->warnings.push_back(fmt::format("--lags-s {}: {} s not offered: longer than a third of the time recorded",
-                                             o.lags_s, fmt::join(skipped, ", ")));
+      report->warnings.push_back(fmt::format("--lags-s {}: {} s not offered: longer than a third of the longest "
+                                             "experiment ({:.2f} h)", o.lags_s, fmt::join(skipped, ", "),
+                                             LongestExperimentS(cleaned) / 3600));
   }
   if (!o.sensors_list.empty()) cleaned = SelectTemperatureSensors(cleaned, SplitList(o.sensors_list));
   for (const auto& w : report->warnings) fmt::print(stderr, "warning: {}\n", w);
@@ -248,11 +317,13 @@ void Setup(CLI::App& app) {
     auto series = std::make_shared<std::string>();
     auto out = std::make_shared<std::string>();
     auto gap = std::make_shared<int>(4);
+    auto columns = std::make_shared<ColumnOptions>();
     cmd->add_option("--model", *model_path, "model JSON from 'thermal fit'")->required();
     cmd->add_option("--series", *series, "thermal series CSV or .xlsx workbook (one experiment per sheet)")->required();
+    AddColumnOptions(cmd, columns.get());
     cmd->add_option("-o,--out", *out, "CSV to write (default: stdout)");
     cmd->add_option("--max-gap-samples", *gap, "interior gaps up to this many rows are interpolated")->capture_default_str();
-    cmd->callback([model_path, series, out, gap] {
+    cmd->callback([model_path, series, out, gap, columns] {
       RefuseOutputOverInput(*out, {*model_path, *series}, "--out");
       auto model = ReadThermalModelFile(*model_path);
       SeriesCleaningOptions co;
@@ -260,9 +331,16 @@ void Setup(CLI::App& app) {
       co.min_temperature_std_c = 0;       // prediction does not standardise
       co.check_error_channels = false;    // and needs no measured error
       SeriesCleaningReport rep;
-      std::vector<ThermalSeries> parts;
-      for (const ThermalSeries& s : ReadThermalSeriesFile(*series, &rep.warnings)) parts.push_back(CleanSeries(s, co, &rep));
-      ThermalSeries cleaned = ConcatenateExperiments(parts, &rep.warnings);
+      ThermalSeries cleaned = ReadCleanAndJoin({*series}, *columns, co, &rep);
+      // A lagged input starts at the file's first reading as if the machine had been at rest: on a
+      // file cut out of a longer recording its first rows lack the history the model was fitted with.
+      if (const LagStartUp lag = LagStartUpRows(cleaned, model->InputSensors()); lag.rows > 0)
+        rep.warnings.push_back(fmt::format(
+            "the model's lagged inputs (τ up to {:g} s) start at the first reading{}: the first {} row(s) ({:g} s = "
+            "{:g} × τ{}) lack the lag history and are predicted as if the machine had been at rest before; if it was "
+            "not, include the hours before in the file",
+            lag.longest_tau_s, lag.starts > 1 ? fmt::format(" of each of {} runs", lag.starts) : std::string(),
+            lag.rows, lag.settle_s, kLagSettleTaus, lag.starts > 1 ? " after each start" : ""));
       for (const auto& w : rep.warnings) fmt::print(stderr, "warning: {}\n", w);
       Eigen::MatrixXd pred = PredictSeries(*model, cleaned);
       // A prediction no machine's thermal error reaches (a damaged coefficient, a model of other
@@ -342,8 +420,14 @@ void Setup(CLI::App& app) {
                     "a single speed block: 0.3)");
     auto rows = std::make_shared<std::string>(), hours = std::make_shared<std::string>(),
          experiments = std::make_shared<std::string>();
-    cmd->add_option("--validate-rows", *rows, "validate on these data rows (0-based ranges, e.g. 9000-11114), train on the rest");
-    cmd->add_option("--validate-hours", *hours, "validate on the rows whose time lies in these hours (e.g. 30-46)");
+    auto after = std::make_shared<bool>(false);
+    cmd->add_option("--validate-rows", *rows,
+                    "validate on these data rows (0-based ranges, e.g. 9000-11114), train on the rows before them");
+    cmd->add_option("--validate-hours", *hours,
+                    "validate on the rows whose time lies in these hours (e.g. 30-46), train on the rows before them");
+    cmd->add_flag("--train-after-validation", *after,
+                  "with --validate-rows/--validate-hours: also train on the rows after the validated ones (in a time "
+                  "series that lets the model see the future it is judged on)");
     cmd->add_option("--validate-experiments", *experiments,
                     "with several --series files: validate on these experiments (0-based, e.g. 2 or 1,3), or 'each' "
                     "for leave-one-experiment-out (the default with several files)");
@@ -351,7 +435,7 @@ void Setup(CLI::App& app) {
     cmd->add_option("--markdown", *markdown, "write the metrics table as Markdown");
     auto verbose = std::make_shared<bool>(false);
     cmd->add_flag("--verbose", *verbose, "also print each model's coefficients and fit notes");
-    cmd->callback([o, models, train, validate, last, rows, hours, experiments, report, markdown, verbose] {
+    cmd->callback([o, models, train, validate, last, rows, hours, experiments, report, markdown, after, verbose] {
       RefuseOutputOverInput(*report, o->series, "--report");
       std::vector<std::string> read_or_written = o->series;
       read_or_written.push_back(*report);
@@ -365,6 +449,9 @@ void Setup(CLI::App& app) {
       eo.validate_rows = *rows;
       eo.validate_hours = *hours;
       eo.validate_experiments = *experiments;
+      eo.train_after_validation = *after;
+      if (*after && rows->empty() && hours->empty())
+        throw InputError("command line", 0, "--train-after-validation", "applies to --validate-rows or --validate-hours");
       for (const auto& m : SplitList(*models)) eo.models.push_back(MakeFitOptions(*o, ParseKind(m, "--models")));
       if (eo.models.empty()) throw InputError("command line", 0, "--models", "no model given");
       auto progress = ProgressLine::OnStderr("thermal evaluate");
@@ -372,13 +459,16 @@ void Setup(CLI::App& app) {
       ThermalEvaluation ev = EvaluateThermalModels(s, rep, eo);
       progress.Finish();
       // Every line wrapped under 120 characters (a model may read hundreds of lagged inputs).
-      fmt::print("{}", WrapLines(fmt::format("series: {} ({} rows, {} temperatures, {} channels)", s.source, s.Rows(),
-                                             s.temperature_names.size(), s.error_names.size())));
+      const auto inputs = s.temperature_names.size();
+      const auto sensors = BaseSensors(s.temperature_names).size();
+      fmt::print("{}", WrapLines(fmt::format("series: {} ({} rows, {} sensors{}, {} channels)", s.source, s.Rows(), sensors,
+                                             inputs > sensors ? fmt::format(" ({} inputs with lags)", inputs) : std::string(),
+                                             s.error_names.size())));
       fmt::print("{}", WrapLines(ev.SplitDescription()));
       for (const auto& m : ev.models) {
-        const auto inputs = m.model->InputSensors();
+        const auto used = m.model->InputSensors();
         fmt::print("\n{}", WrapLines(fmt::format("[{}] fitted in {:.2f} s; {} input{}: {}", m.name, m.fit_seconds,
-                                                 inputs.size(), inputs.size() == 1 ? "" : "s", fmt::join(inputs, ", "))));
+                                                 used.size(), used.size() == 1 ? "" : "s", fmt::join(used, ", "))));
         if (*verbose) fmt::print("{}", WrapLines(m.model->Describe() + m.fit_report));
       }
       if (!*verbose) fmt::print("\n(--verbose: each model's coefficients and fit notes)\n");

@@ -12,6 +12,9 @@ void AddWebOptions(CLI::App* cmd, WebCliOptions& o, const std::string& listen_fl
   cmd->add_option("--users", o.users, "User and audit-log database (SQLite; `trueaxis user add` makes the first admin)");
   cmd->add_option("--web-cert", o.cert, "TLS certificate (PEM): serve HTTPS (docs/web.md says how to make one)");
   cmd->add_option("--web-key", o.key, "TLS private key (PEM) of --web-cert");
+  cmd->add_option("--web-host-name", o.host_names,
+                  "A name browsers use for this server (DNS name; repeatable): other names in the Host header are "
+                  "refused (DNS rebinding). IP addresses, localhost and this computer's host name need none");
   cmd->add_option("--web-root", o.root, "Folder of the pages (default: share/trueaxis/web next to the program's bin folder)");
   cmd->add_option("--web-idle-timeout-s", o.idle_timeout_s, "Log out after this long without a request")->capture_default_str();
   cmd->add_option("--web-absolute-timeout-s", o.absolute_timeout_s, "Log out this long after login")->capture_default_str();
@@ -40,6 +43,7 @@ WebFrontEnd StartWebFrontEnd(const WebCliOptions& o, web::MonitorBackend& backen
                      "holds no user yet: add the first admin with `trueaxis user add --users " + o.users +
                          " --name NAME --role admin` (there is no default password)");
   so.static_dir = o.root;
+  so.host_names = o.host_names;
   so.tls_cert_file = o.cert;
   so.tls_key_file = o.key;
   so.sessions.idle_timeout_s = o.idle_timeout_s;

@@ -3,6 +3,7 @@
 // `trueaxis web` (the demo shop), and starting it over a backend (docs/web.md).
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -17,12 +18,13 @@ struct WebCliOptions {
   std::string users;       // the user + audit database (trueaxis user add)
   std::string cert, key;   // TLS (PEM)
   std::string root;        // the pages folder ("" = web::DefaultStaticDir())
+  std::vector<std::string> host_names;  // names browsers use for this server (Host header check)
   double idle_timeout_s = 15 * 60;
   double absolute_timeout_s = 8 * 3600;
 };
 
-// Adds --web/--listen (name given), --users, --web-cert, --web-key, --web-root, --web-idle-timeout-s,
-// --web-absolute-timeout-s.
+// Adds --web/--listen (name given), --users, --web-cert, --web-key, --web-root, --web-host-name,
+// --web-idle-timeout-s, --web-absolute-timeout-s.
 void AddWebOptions(CLI::App* cmd, WebCliOptions& o, const std::string& listen_flag);
 
 struct WebFrontEnd {

@@ -219,6 +219,10 @@ CampaignAddResult AddToCampaign(const CampaignAddOptions& o) {
   if (std::isfinite(r.nut_rise_c)) m.SetMeta("nut_rise_c", FormatShortest(Round(r.nut_rise_c, 3)));
   m.SetMeta("laser_file", std::filesystem::path(o.file).filename().string());
   m.SetMeta("start_from", r.start_source);
+  // The soak the fit's ρ takes (docs/real-machine.md): the machine file's CTE via the plan, unless
+  // the laser file gives its own.
+  if (!m.Meta("cte_um_per_m_c"))
+    if (const auto cte = folder.PlannedCteUmPerMC(axis)) m.SetMeta("cte_um_per_m_c", FormatShortest(*cte));
   measure::WriteMeasurementCsv(m, out.string());
 
   nlohmann::ordered_json e;

@@ -118,6 +118,7 @@ CampaignCheckResult CheckCampaign(const std::string& dir, const CheckOptions& o)
   // Each entry: the file, its time, its temperatures.
   std::vector<EntryFacts> facts;
   std::set<std::string> seen_files;
+  std::map<std::string, double> cte_of_axis;  // from the files' `# cte_um_per_m_c:`
   for (std::size_t i = 0; i < man.measurements.size(); ++i) {
     const auto& e = man.measurements[i];
     EntryFacts f;
@@ -133,6 +134,8 @@ CampaignCheckResult CheckCampaign(const std::string& dir, const CheckOptions& o)
     } else {
       try {
         m = measure::ReadMeasurementFile(p.string());
+        if (const auto cte = m->Meta("cte_um_per_m_c"))
+          if (const auto v = ParseDouble(std::string(Trim(*cte)))) cte_of_axis[e.axis] = *v;
         const auto file_axis = m->Meta("axis");
         if (file_axis && !std::string(Trim(*file_axis)).empty() && LowerAscii(std::string(Trim(*file_axis))) != LowerAscii(e.axis))
           res.file_problems.push_back(fmt::format("{}: the manifest says axis {}, the file says '{}'", where, e.axis, *file_axis));
@@ -298,6 +301,12 @@ CampaignCheckResult CheckCampaign(const std::string& dir, const CheckOptions& o)
     if (!mine.empty() && c.coolants.empty())
       c.missing.push_back("no coolant test: if the machine works with coolant, the model does not know its effect; "
                           "measure a warm-up with the coolant on (or ignore this for a dry machine)");
+    if (const auto it = cte_of_axis.find(axis); it != cte_of_axis.end()) c.cte_um_per_m_c = it->second;
+    if (!rooms.empty() && std::isnan(c.cte_um_per_m_c) && !mine.empty())
+      c.missing.push_back(fmt::format(
+          "no CTE of the axis's feedback (cte_um_per_m_c on the axis in the machine file, then `campaign plan` again; "
+          "or fit --cte): the fit then takes the room's soak from these tests' room changes, and a room outside them "
+          "(another season) extrapolates that fit instead of the screw's physical growth"));
     if (rooms.empty()) {
       c.missing.push_back("no room (ambient) sensor in the campaign: the model's reach in room temperature is unknown");
     } else if (std::isnan(c.room_min_c)) {
@@ -354,8 +363,12 @@ std::string CheckReport(const CampaignCheckResult& r) {
       out.back() = '\n';
     }
     if (std::isfinite(c.room_min_c))
-      out += fmt::format("  the model can vouch for room temperatures {} (measured); outside, it extrapolates\n",
-                         Range(c.room_min_c, c.room_max_c));
+      out += std::isnan(c.cte_um_per_m_c)
+                 ? fmt::format("  the model can vouch for room temperatures {} (measured); outside, it extrapolates\n",
+                               Range(c.room_min_c, c.room_max_c))
+                 : fmt::format("  the model can vouch for room temperatures {} (measured); outside, the room's soak "
+                               "still holds (ρ from the CTE {} µm/m/°C), its fitted thermal terms extrapolate\n",
+                               Range(c.room_min_c, c.room_max_c), FormatShortest(c.cte_um_per_m_c));
     if (c.missing.empty()) out += "  missing: nothing\n";
     else {
       out += "  missing:\n";

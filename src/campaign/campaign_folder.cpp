@@ -43,6 +43,21 @@ CampaignClock CampaignFolder::Clock() const {
   return c;
 }
 
+std::optional<double> CampaignFolder::PlannedCteUmPerMC(const std::string& axis) const {
+  const std::string path = (std::filesystem::path(dir) / "plan.json").string();
+  if (!std::filesystem::exists(path)) return std::nullopt;
+  const nlohmann::json plan = ParseJsonOrThrow(ReadTextFile(path), path);
+  if (!plan.contains("axes") || !plan["axes"].is_array()) return std::nullopt;
+  for (const auto& a : plan["axes"]) {
+    if (!a.is_object() || a.value("axis", std::string()) != axis || !a.contains("cte_um_per_m_c")) continue;
+    const auto& v = a["cte_um_per_m_c"];
+    if (!v.is_number() || !std::isfinite(v.get<double>()))
+      throw InputError(path, 0, "axes." + axis + ".cte_um_per_m_c", fmt::format("{} is not a number", v.dump()));
+    return v.get<double>();
+  }
+  return std::nullopt;
+}
+
 nlohmann::ordered_json& CampaignFolder::Measurements() {
   auto& m = manifest["measurements"];
   if (m.is_null()) m = nlohmann::ordered_json::array();

@@ -154,6 +154,7 @@ CampaignMachine ParseCampaignMachineToml(const std::string& text, const std::str
     a.fixed_at_min = fixed != 1;
     a.reference_mm = a.fixed_at_min ? a.min_mm : a.max_mm;
     ar.Double("reference_mm", a.reference_mm, a.min_mm, a.max_mm);
+    ar.Double("cte_um_per_m_c", a.cte_um_per_m_c, -30, 30);
     ar.RejectUnknown();
     m.axes.push_back(a);
   }

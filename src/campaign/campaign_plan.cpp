@@ -234,6 +234,7 @@ std::string PlanJson(const CampaignPlan& plan) {
     e["lead_mm"] = a.lead_mm;
     e["fixed_end"] = a.fixed_at_min ? "min" : "max";
     e["reference_mm"] = a.reference_mm;
+    if (std::isfinite(a.cte_um_per_m_c)) e["cte_um_per_m_c"] = a.cte_um_per_m_c;
     e["runs"] = plan.options.targets.runs;
     e["short_runs"] = s.warm_runs;
     e["overrun_mm"] = t.overrun_mm;

@@ -68,4 +68,37 @@ std::optional<std::string> UnusualCteUmPerMC(double v) {
   return fmt::format("{} µm/m/°C is unusual for a screw (above {} µm/m/°C; steel is about 11.5)", v, kMaxUsualCteUmPerMC);
 }
 
+UnitSuspicion SuspectTemperatureUnit(double coolest_median_c) {
+  if (!std::isfinite(coolest_median_c) || coolest_median_c <= kMaxPlausibleCoolestSensorC) return {};
+  // Beyond both (and beyond a machine in °F): no unit makes it plausible; ImplausibleTemperatureC says so.
+  if (coolest_median_c > kMaxPlausibleTemperatureC && coolest_median_c < kMinKelvinLikeTemperature) return {};
+  if (coolest_median_c > kMaxKelvinLikeTemperature) return {};
+  if (coolest_median_c >= kMinKelvinLikeTemperature)
+    return {SuspectedUnit::kKelvin,
+            fmt::format("even the coolest sensor reads {:g} (median): that is {:.1f} °C if it is kelvin", coolest_median_c,
+                        coolest_median_c - 273.15)};
+  return {SuspectedUnit::kFahrenheit,
+          fmt::format("even the coolest sensor reads {:g} (median), hotter than a machine tool's shop ({} °C at most); "
+                      "that is {:.1f} °C if it is °F", coolest_median_c, kMaxPlausibleCoolestSensorC,
+                      (coolest_median_c - 32) * 5 / 9)};
+}
+
+UnitSuspicion SuspectErrorUnit(double max_abs_um, double rms_um) {
+  if (!(max_abs_um > 0) || max_abs_um >= kMaxMillimetreLikeErrorAbs || rms_um >= kMaxMillimetreLikeErrorRms) return {};
+  return {SuspectedUnit::kMillimetre,
+          fmt::format("every value lies within ±{:g} with an RMS of {:.3g}: a thermal drift of less than {:g} µm is "
+                      "below what is worth compensating, but {:.0f} µm if the values are mm", kMaxMillimetreLikeErrorAbs,
+                      rms_um, kMaxMillimetreLikeErrorAbs, 1000 * max_abs_um)};
+}
+
+UnitSuspicion SuspectTimeUnit(double largest_range_c, double duration_s) {
+  if (!(duration_s > 0) || !std::isfinite(largest_range_c)) return {};
+  const double rate_c_per_h = largest_range_c / duration_s * 3600;
+  if (rate_c_per_h <= kMaxPlausibleRecordingRateCPerH) return {};
+  return {SuspectedUnit::kMinutes,
+          fmt::format("a sensor changes by {:.3g} °C within the {:g} s recorded ({:.0f} °C/h), faster than machine "
+                      "structures warm (at most {:g} °C/h); {:.0f} °C/h if the time is in minutes", largest_range_c,
+                      duration_s, rate_c_per_h, kMaxPlausibleRecordingRateCPerH, rate_c_per_h / 60)};
+}
+
 }  // namespace trueaxis

@@ -62,10 +62,11 @@ bool DemoOptions::IsValid(std::string* why) const {
     f.secondary_key_ridge = secondary_key_ridge;
     if (!f.IsValid(why)) return false;
   }
-  if (!ambient_hours.empty()) {  // the campaign's own check, before the campaign runs
+  if (!ambient_hours.empty() || ambient_day_offsets) {  // the campaign's own check, before the campaign runs
     sim::CampaignOptions c;
     c.out_dir = out_dir;
-    c.ambient_hours = ambient_hours;
+    if (!ambient_hours.empty()) c.ambient_hours = ambient_hours;
+    if (ambient_day_offsets) c.ambient_day_offsets = *ambient_day_offsets;
     if (!c.IsValid(why)) return false;
   }
   return compensator.IsValid(why);
@@ -590,6 +591,7 @@ DemoResult RunDemo(const DemoOptions& o) {
   c.axes = axes;
   c.coolant_rest = o.coolant_rest;
   if (!o.ambient_hours.empty()) c.ambient_hours = o.ambient_hours;
+  if (o.ambient_day_offsets) c.ambient_day_offsets = *o.ambient_day_offsets;
   if (o.fast) {
     c.laser.runs = 3;
     c.warm_runs = 2;
@@ -639,6 +641,7 @@ DemoResult RunDemo(const DemoOptions& o) {
     fo.fallback_models = o.fallback_models;
     fo.redundant_groups = RedundantProbes(md);
     if (!o.fitted_envelope) fo.tan_beta_margin = -1;
+    fo.fit_rho_with_cte = o.rho_fit;
     model::FitResult one = model::FitCompositeModel(axis_states, fo);
     // Er(x): the seed-000 polynomial, unless the seed-002 table (linear
     // interpolation between the measured targets) cross-validates better over

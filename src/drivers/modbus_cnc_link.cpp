@@ -96,6 +96,7 @@ bool ModbusCncLink::Read(std::span<hw::AxisState> axes, hw::CncState& machine) {
     axes[a].position_mm = CountsToMillimetres(JoinInt32(r + pmc::kIrAxisPositionHi));
     axes[a].servo_direction = static_cast<std::int16_t>(r[pmc::kIrAxisDirection]);
     axes[a].moving = r[pmc::kIrAxisMoving] != 0;
+    axes[a].programmed_direction = pmc::ProgrammedDirection(window_[pmc::kIrProgrammedDirection], a);
     axes[a].travel_mm = static_cast<double>(JoinUint32(r + pmc::kIrAxisTravelHi));
     applied_um_[a] = CountsToMicrometres(JoinInt32(r + pmc::kIrAxisAppliedHi));
   }

@@ -508,7 +508,9 @@ struct ModbusMachineServer::Impl {
       ir[pmc::kIrCoolant] = static_cast<std::uint16_t>(static_cast<int>(state.coolant));
       const bool enabled = state.compensation_enabled && pmc_map->tab_registers[pmc::kHrEnable] == 1;
       if (enabled) status |= pmc::kStatusCompensationEnabled;
+      std::uint16_t programmed = 0;
       for (std::size_t a = 0; a < axis_count; ++a) {
+        programmed |= pmc::ProgrammedDirectionBits(a, axes[a].programmed_direction);
         std::int32_t c = 0;
         MillimetresToCounts(axes[a].position_mm, &c);
         SplitInt32(c, ir + pmc::InputAxisRegister(a, pmc::kIrAxisPositionHi));
@@ -519,6 +521,7 @@ struct ModbusMachineServer::Impl {
         ir[pmc::InputAxisRegister(a, pmc::kIrAxisTravelHi)] = static_cast<std::uint16_t>(t >> 16);
         ir[pmc::InputAxisRegister(a, pmc::kIrAxisTravelLo)] = static_cast<std::uint16_t>(t & 0xFFFF);
       }
+      ir[pmc::kIrProgrammedDirection] = programmed;
     } else {
       // keep the last good state on the registers; the cleared bit and the
       // growing age tell the client it is stale

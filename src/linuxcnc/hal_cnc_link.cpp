@@ -46,9 +46,10 @@ bool HalCncLink::Read(std::span<hw::AxisState> out, hw::CncState& machine) {
     out[i].position_mm = a.pos_fb.Get();
     out[i].moving = std::abs(step) > kMovingStepMm;
     if (out[i].moving) a.last_direction = step > 0 ? 1 : -1;
-    // Where the axis last moved, also while it stands: pos-fb carries the offset's own ramp, and a
-    // change of it the runtime takes for a move then keeps the programmed direction.
+    // Where the program last moved the axis, also while it stands: the programmed direction (the
+    // runtime takes it on every read; pos-fb carries the offset's own ramp, which is no move).
     out[i].servo_direction = a.last_direction;
+    out[i].programmed_direction = a.last_direction;
   }
   machine.coolant = flood_.Get() ? CoolantState::kFlood : (mist_.Get() ? CoolantState::kMist : CoolantState::kOff);
   machine.compensation_enabled = CncEnable();

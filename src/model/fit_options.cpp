@@ -35,6 +35,9 @@ bool FitOptions::IsValid(std::string* why) const {
   if (!std::isnan(rho_um_per_mm_per_c))
     if (auto implausible = ImplausibleExpansionUmPerMmPerC(rho_um_per_mm_per_c))
       return fail("rho_um_per_mm_per_c: " + *implausible);
+  if (std::isinf(cte_um_per_m_c)) return fail("cte_um_per_m_c must be finite (or NaN: from the files)");
+  if (!std::isnan(cte_um_per_m_c))
+    if (auto implausible = ImplausibleCteUmPerMC(cte_um_per_m_c)) return fail("cte_um_per_m_c: " + *implausible);
   if (!(min_ambient_range_c > 0)) return fail("min_ambient_range_c must be > 0");
   for (double tau : key_lag_grid_s)
     if (!(tau >= 0) || !std::isfinite(tau)) return fail("key_lag_grid_s values must be finite seconds >= 0");

@@ -76,6 +76,14 @@ std::string FitSummary::FullReport() const {
     }
     out += fmt::format("reference point Px = {} mm ({})\n", Num(a.reference_position_mm, 2), a.reference_source);
     out += fmt::format("ρ = {} µm/mm/°C ({})\n", Num(a.rho_um_per_mm_per_c, 6), a.rho_source);
+    if (std::isfinite(a.rho_fitted_for_check))
+      out += fmt::format("  (the calibration's room changes alone would fit ρ = {} µm/mm/°C)\n", Num(a.rho_fitted_for_check, 6));
+    if (std::isfinite(a.room_range_c[0]))
+      out += fmt::format("room temperatures of the calibration: {}–{} °C; beyond them {}\n", Num(a.room_range_c[0], 1),
+                         Num(a.room_range_c[1], 1),
+                         a.rho_from_cte
+                             ? "the room's soak (ρ, from the CTE) still holds; the fitted thermal terms are alarmed as extrapolated"
+                             : "the model extrapolates (alarmed): measure a state in another season, or give the CTE for the soak");
     out += fmt::format("candidate sensors: {}\n",
                        a.candidate_sensors.empty() ? std::string("none") : fmt::format("{}", fmt::join(a.candidate_sensors, ", ")));
     out += fmt::format("key sensors: {}\n",
@@ -191,6 +199,9 @@ nlohmann::json FitSummary::ToJson() const {
                       {"no_thermal_cv_rms_um", JsonNum(a.no_thermal_cv_rms_um)},
                       {"reference_source", a.reference_source},
                       {"rho_source", a.rho_source},
+                      {"rho_from_cte", a.rho_from_cte},
+                      {"rho_fitted_for_check_um_per_mm_per_c", JsonNum(a.rho_fitted_for_check)},
+                      {"room_range_c", {JsonNum(a.room_range_c[0]), JsonNum(a.room_range_c[1])}},
                       {"coolant_notes", a.coolant_notes},
                       {"fallback_notes", a.fallback_notes},
                       {"states", states}});

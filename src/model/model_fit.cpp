@@ -8,6 +8,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -498,10 +499,35 @@ class AxisFitter {
     return v;
   }
 
+  // The CTE's soak against what the calibration's room changes say: a CTE that does not match the
+  // files (the laser's material compensation on, which takes most of the soak out of them; a scale's
+  // CTE given for a screw) is a wrong ρ in every other season, so a large disagreement is warned
+  // about. The room's changes within a season never soak the machine fully, so some difference is
+  // normal (about 20 % on the virtual machines).
+  void CheckCteAgainstRoom(double fitted_rho, double cte_rho, const std::string& cte_source, double room_range_c,
+                           AxisFitSummary& sum) {
+    sum.rho_fitted_for_check = fitted_rho;
+    const double diff = std::fabs(fitted_rho - cte_rho);
+    if (diff <= 0.5 * std::fabs(cte_rho) || diff < 0.003) return;
+    Warn(fmt::format("the room's changes over the calibration ({:.1f} °C) fit ρ = {:.4f} µm/mm/°C, the CTE ({}) gives "
+                     "{:.4f}: check the CTE (with the laser's material compensation on, give the feedback's CTE minus "
+                     "the material's), or fit --rho-fit to use the fitted ρ",
+                     room_range_c, fitted_rho, cte_source, cte_rho));
+  }
+
   void PrepareThermal(AxisFitSummary& sum) {
     const std::string amb = AmbientSensorName();
     // Checked whether or not ρ comes from it: an absurd CTE is a broken file either way.
-    const auto cte = ColdMetaNumber("cte_um_per_m_c", ImplausibleCteUmPerMC);
+    const auto file_cte = ColdMetaNumber("cte_um_per_m_c", ImplausibleCteUmPerMC);
+    // The option wins over the files' metadata (a laser file that does not record it, or records the
+    // material's instead of the feedback's).
+    const std::optional<double> cte = std::isnan(o_.cte_um_per_m_c) ? file_cte : std::optional(o_.cte_um_per_m_c);
+    const std::string cte_source =
+        !std::isnan(o_.cte_um_per_m_c)
+            ? fmt::format("fit --cte {}", FormatShortest(o_.cte_um_per_m_c))
+            : file_cte ? fmt::format("{} line {}: cte_um_per_m_c = {}", cold_.source, cold_.MetaLine("cte_um_per_m_c"),
+                                     *cold_.Meta("cte_um_per_m_c"))
+                       : std::string();
     // Reference point from option or metadata first (needed even for a geometric-only model's ρ term).
     double px = o_.reference_position_mm;
     std::string px_source = "option";
@@ -711,7 +737,9 @@ class AxisFitter {
     for (const auto& p : pts)
       if (off_states.count(p.state) && std::isfinite(p.amb_rise))
         amb_lo = std::min(amb_lo, p.amb_rise), amb_hi = std::max(amb_hi, p.amb_rise);
+    const bool rho_can_be_fitted = amb_hi - amb_lo >= o_.min_ambient_range_c && off_states.size() >= 2;
     bool fit_rho = false;
+    std::optional<double> physical_rho;  // −cte/1000, replacing the fitted ρ for the final gains
     double rho = 0;
     std::string rho_source;
     if (amb.empty()) {
@@ -719,16 +747,29 @@ class AxisFitter {
     } else if (!std::isnan(o_.rho_um_per_mm_per_c)) {
       rho = o_.rho_um_per_mm_per_c;
       rho_source = "option";
-    } else if (amb_hi - amb_lo >= o_.min_ambient_range_c && off_states.size() >= 2) {
+    } else if (cte && !(o_.fit_rho_with_cte && rho_can_be_fitted)) {
+      // The keys, lags and pivots are still chosen with ρ fitted alongside (a subset of keys leans on
+      // it, as before); the final gains are solved with the physical ρ (below).
+      rho = -*cte / 1000.0;
+      if (rho_can_be_fitted) fit_rho = true, physical_rho = rho;
+      sum.rho_from_cte = true;
+      rho_source = fmt::format("−cte/1000 from {} (the axis's feedback soaks with the room: the screw grows away "
+                               "from Px, in every season)",
+                               cte_source);
+      if (auto unusual = UnusualCteUmPerMC(*cte))
+        Warn(fmt::format("{}: cte_um_per_m_c {}; ρ = {} µm/mm/°C taken from it",
+                         std::isnan(o_.cte_um_per_m_c)
+                             ? fmt::format("{} line {}", cold_.source, cold_.MetaLine("cte_um_per_m_c"))
+                             : std::string("fit --cte"),
+                         *unusual, FormatShortest(rho)));
+    } else if (rho_can_be_fitted) {
       fit_rho = true;
       rho_source = fmt::format("fitted (room temperature varied by {:.2f} °C over the states)", amb_hi - amb_lo);
-    } else if (cte) {
-      rho = -*cte / 1000.0;
-      rho_source = fmt::format("−cte/1000 from the cold file's cte_um_per_m_c = {} (the screw grows away from Px)",
-                               *cold_.Meta("cte_um_per_m_c"));  // as written
-      if (auto unusual = UnusualCteUmPerMC(*cte))
-        Warn(fmt::format("{} line {}: cte_um_per_m_c {}; ρ = {} µm/mm/°C taken from it", cold_.source,
-                         cold_.MetaLine("cte_um_per_m_c"), *unusual, FormatShortest(rho)));
+      if (!cte)
+        Warn(fmt::format("ρ is fitted from the room's changes over the calibration ({:.1f} °C); a room outside them, as "
+                         "in another season, extrapolates that fit: give the CTE of the axis's feedback (the files' "
+                         "'# cte_um_per_m_c:' or fit --cte) for the physical soak instead",
+                         amb_hi - amb_lo));
     } else {
       rho_source = "not determined (room temperature constant within the states, no cte metadata): ρ = 0";
       Warn(fmt::format("ρ could not be determined: the room temperature varied by only {:.2f} °C and the cold file "
@@ -739,7 +780,7 @@ class AxisFitter {
       model_.ambient_sensor = amb;
       model_.ambient_baseline_c = amb_base;
       model_.key_rise_above_ambient = true;
-      if (const auto range = SensorRange(amb); range[0] <= range[1]) model_.ambient_fitted_range_c = range;
+      if (const auto range = SensorRange(amb); range[0] <= range[1]) model_.ambient_fitted_range_c = range, sum.room_range_c = range;
     }
 
     // Gains.
@@ -1058,6 +1099,10 @@ class AxisFitter {
     if (thermal) {
       GainFit fits[2];
       if (fit_rho) rho = joint_rho(keys);
+      if (physical_rho) {
+        CheckCteAgainstRoom(rho, *physical_rho, cte_source, amb_hi - amb_lo, sum);
+        rho = *physical_rho;
+      }
       for (int dir = 0; dir < 2; ++dir) {
         fits[dir] = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
                                keys, false, rho, form_);
@@ -1066,6 +1111,7 @@ class AxisFitter {
                            "the thermal gains cannot be determined from these states (too few usable points)");
       }
       sum.thermal_cv_rms_um = CrossValidate(pts, off_states, keys, false, rho, form_);
+      HeldOutResiduals(pts, off_states, keys, rho);
       sum.thermal_fitted = true;
       if (keys.size() > 1 && o_.secondary_key_ridge > 0) {
         // Traceable: the shrunk gains next to what plain least squares would have given.
@@ -1119,7 +1165,13 @@ class AxisFitter {
     }
     // No key sensor (none present everywhere, or none helped) does not stop ρ: the other-ambient
     // states still determine it on their own.
-    if (fit_rho && !sum.thermal_fitted) rho = joint_rho({});
+    if (fit_rho && !sum.thermal_fitted) {
+      rho = joint_rho({});
+      if (physical_rho) {
+        CheckCteAgainstRoom(rho, *physical_rho, cte_source, amb_hi - amb_lo, sum);
+        rho = *physical_rho;
+      }
+    }
     model_.rho_um_per_mm_per_c = rho;
     sum.rho_um_per_mm_per_c = rho;
     sum.rho_source = rho_source;
@@ -1388,6 +1440,28 @@ class AxisFitter {
     return out;
   }
 
+  void HeldOutResiduals(const std::vector<ThermalPoint>& pts, const std::set<std::size_t>& off_states,
+                        const std::vector<std::size_t>& keys, double rho) {
+    held_out_.clear();
+    if (off_states.size() < 3) return;
+    for (std::size_t s : off_states) {
+      StateResidualInput st;
+      st.label = thermal_[s]->label.empty() ? "(unlabelled)" : thermal_[s]->label;
+      for (int dir = 0; dir < 2; ++dir) {
+        const auto g = SolveGains(
+            pts, [&](const ThermalPoint& p) { return p.dir == dir && p.state != s && off_states.count(p.state); }, keys,
+            false, rho, form_);
+        if (!g.ok) continue;
+        for (const auto& p : pts) {
+          if (p.dir != dir || p.state != s || !RowUsable(p, keys, false)) continue;
+          st.position_mm.push_back(p.x);
+          st.residual_um.push_back(p.r - PredictThermal(p, keys, g));
+        }
+      }
+      if (!st.position_mm.empty()) held_out_.push_back(std::move(st));
+    }
+  }
+
   void ComputeStateStats(AxisFitSummary& sum) {
     ResidualDiagnosisInput diag;
     diag.key_sensors = model_.key_sensors;
@@ -1448,6 +1522,20 @@ class AxisFitter {
       sum.states.push_back(stats_for(*thermal_[si], sum.thermal_fitted, stage1_.empty() ? std::array<double, 2>{kNaN, kNaN} : stage1_[si]));
     diag.cross_validated = false;  // the model's own residual on the states it was fitted on
     sum.diagnosis = DiagnoseResidual(diag);
+    if (!held_out_.empty()) {
+      // The shapes judged on what the model does on a state it has not seen (the dry states, each
+      // predicted by the gains fitted without it); the key sensors' shares stay the model's own.
+      ResidualDiagnosisInput cv;
+      cv.key_sensors = diag.key_sensors;
+      cv.noise_um = diag.noise_um;
+      cv.cross_validated = true;
+      for (const auto& st : diag.states)
+        if (st.cold) cv.states.push_back(st);
+      cv.states.insert(cv.states.end(), held_out_.begin(), held_out_.end());
+      auto shares = std::move(sum.diagnosis.key_shares);
+      sum.diagnosis = DiagnoseResidual(cv);
+      sum.diagnosis.key_shares = std::move(shares);
+    }
   }
 
   // Key sensor k's part of the model's prediction at point p: the prediction with every key less
@@ -1485,6 +1573,9 @@ class AxisFitter {
   std::vector<const FitState*> cold_states_;
   std::vector<const FitState*> thermal_;
   std::vector<std::array<double, 2>> stage1_;
+  // Per dry thermal state, its residual predicted by the gains fitted without it (leave-one-state-out),
+  // for the residual's diagnosis; empty with fewer than three such states.
+  std::vector<StateResidualInput> held_out_;
   std::vector<std::string> candidates_;  // the key-sensor candidates of PrepareThermal (for notes)
   bool shared_gains_ = false;            // one gains entry for every coolant state (coolant memory)
   std::size_t motion_col_ = std::numeric_limits<std::size_t>::max();  // the motion input's column in rise

@@ -476,35 +476,49 @@ std::vector<ShaperLimits> ShaperLimitsFor(const CompensatorOptions& options, std
 }
 
 namespace {
-// The direction model of each axis (docs/runtime.md step 4). While the link is usable, the CNC's
-// servo direction while it reports the axis moving (any report with direction_only_while_moving
-// off). And on every new good read, a move between two reads: the position changed by more than
-// the noise threshold plus what the compensation itself changed (the output the CNC held, over this
-// and the previous read) — a move too short for the loop to see it `moving` still switches the
-// model: to the CNC's direction (where it last moved) when reported, else the sign of the change.
-// At standstill the compensation's own µm nudges stay below the threshold and never flip it.
+// The direction model of each axis (docs/runtime.md step 4), in this order of trust:
+//  1. the CNC's programmed direction, where the link gives one: taken on every usable read, moving
+//     or standing (the program's direction is never moved by the compensation's own nudges);
+//  2. else the servo direction while the CNC reports the axis moving (any report with
+//     direction_only_while_moving off);
+//  3. else, on every new good read, the position against the turning point: the farthest position
+//     reached in the held direction since the model last switched. A position back from it by more
+//     than direction_min_move_um (the noise) plus what the compensation output itself changed since
+//     that read is a reversal, however few reads saw the move — also one read after a 5 mm overrun
+//     and back. The servo direction of a standing axis is not taken here: at standstill it follows
+//     the servo's µm dither and the compensation's nudges.
+// At standstill the compensation's own µm nudges stay below the threshold and never flip the model.
 void UpdateDirections(const StepModel& model, StepState& state, const CncSnapshot& cs, bool link_usable, bool new_read) {
   const CompensatorOptions& o = model.options;
   for (std::size_t i = 0; i < model.axes.size(); ++i) {
     const hw::AxisState& as = cs.axes[i];
     Direction& dir = state.direction[i];
-    if (link_usable && (as.moving || !o.direction_only_while_moving)) {
-      if (as.servo_direction > 0) dir = Direction::kForward;
-      else if (as.servo_direction < 0) dir = Direction::kReverse;
+    int told = 0;  // the direction the CNC tells this read (1., 2.); 0: none
+    if (link_usable) {
+      if (as.programmed_direction != 0) told = as.programmed_direction;
+      else if (as.moving || !o.direction_only_while_moving) told = as.servo_direction;
     }
+    if (told != 0) dir = told > 0 ? Direction::kForward : Direction::kReverse;
     if (!new_read) continue;
     StepState::LastRead& last = state.last_read[i];
     const double position_mm = model.axes[i].ModelPositionMm(as.position_mm);
     const double q = model.shaping.empty() ? model.axes[i].PhysicalQuantumUm() : model.shaping[i].quantum_um;
     const double held_um = OutputUm(state.shaper[i], q);
-    const double held_step_um = std::fabs(held_um - last.held_um);
-    const double moved_um = (position_mm - last.position_mm) * 1000;  // NaN before the first read
-    if (std::fabs(moved_um) > o.direction_min_move_um + std::max(held_step_um, last.held_step_um)) {
-      if (as.servo_direction != 0) dir = as.servo_direction > 0 ? Direction::kForward : Direction::kReverse;
-      else dir = moved_um > 0 ? Direction::kForward : Direction::kReverse;
+    if (std::isfinite(position_mm)) {
+      const double sign = dir == Direction::kForward ? 1.0 : -1.0;
+      const double beyond_um = sign * (position_mm - last.turn_position_mm) * 1000;  // NaN before the first read
+      const double own_um = std::max(std::fabs(held_um - last.turn_held_um),
+                                     std::fabs(last.held_um - last.turn_held_before_um));
+      const bool reversed = told == 0 && -beyond_um > o.direction_min_move_um + own_um;
+      if (reversed) dir = dir == Direction::kForward ? Direction::kReverse : Direction::kForward;
+      // A new turning point: here, when the CNC told the direction, at a reversal, and on every
+      // read that went farther in the held direction.
+      if (told != 0 || reversed || !(beyond_um <= 0)) {
+        last.turn_position_mm = position_mm;
+        last.turn_held_um = held_um;
+        last.turn_held_before_um = last.held_um;
+      }
     }
-    if (std::isfinite(position_mm)) last.position_mm = position_mm;
-    last.held_step_um = held_step_um;
     last.held_um = held_um;
   }
 }

@@ -17,6 +17,8 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/runtime/cycle_step.hpp"
+#include "trueaxis/server/gated_http_server.hpp"
+#include "trueaxis/server/http_guard.hpp"
 
 namespace trueaxis::server {
 namespace {
@@ -83,9 +85,9 @@ namespace {
 constexpr std::size_t kMaxBodyBytes = 64 * 1024;  // larger: 413
 constexpr std::size_t kMaxUserChars = 200;        // "user": written to the audit log and the history
 constexpr std::size_t kMaxFileChars = 4096;       // "file": a path (PATH_MAX)
-// Each connection holds a worker while it is read: a handful of idle or slow clients must not
-// starve the API (cpp-httplib's default pool is 8 here), and a silent one is dropped after the
-// read timeout. One request per connection, so an idle keep-alive never holds a worker either.
+// A connection reaches a worker only once its whole request has arrived (GatedHttpServer): idle or
+// slow clients wait outside the pool and are dropped (408) when their request is not complete
+// within the timeout. One request per connection, so an idle keep-alive never holds a worker either.
 constexpr std::size_t kWorkers = 32;
 constexpr time_t kIoTimeoutS = 2;
 
@@ -106,13 +108,6 @@ std::string StringField(const nlohmann::json& body, const char* name, std::size_
   if (v.empty()) throw InputError("request", 0, name, std::string("missing (required): ") + what);
   if (Utf8Chars(v) > max) throw FieldValueError("request", 0, name, fmt::format("longer than {} characters", max));
   return v;
-}
-
-bool StartsWithNoCase(const std::string& s, const std::string& prefix) {
-  if (s.size() < prefix.size()) return false;
-  for (std::size_t i = 0; i < prefix.size(); ++i)
-    if (std::tolower(static_cast<unsigned char>(s[i])) != prefix[i]) return false;
-  return true;
 }
 
 }  // namespace
@@ -147,7 +142,7 @@ bool IsLoopbackAddress(const std::string& address) {
 
 struct HttpApi::Impl {
   Shop& shop;
-  httplib::Server http;
+  GatedHttpServer http{kWorkers, static_cast<double>(kIoTimeoutS), kMaxBodyBytes};
   std::thread thread;
   int port = 0;  // the bound port (for the same-origin check)
   int listen_socket = -1;
@@ -173,18 +168,6 @@ struct HttpApi::Impl {
                                     fmt::format("http://[::1]:{}", port)};
     if (bind != "0.0.0.0" && bind != "::" && !bind.empty()) own.push_back(fmt::format("http://{}:{}", bind, port));
     return std::find(own.begin(), own.end(), origin) != own.end();
-  }
-
-  // DNS rebinding: a page whose name the attacker points at 127.0.0.1 reaches this server as "the
-  // same origin", but its requests carry the attacker's name in Host. Only this computer's own names
-  // (and the bind address) are served; a wildcard bind (warned about) serves any. No Host (HTTP/1.0):
-  // served, as a browser always sends one.
-  bool OwnHost(std::string host) const {
-    if (host.empty() || bind == "0.0.0.0" || bind == "::") return true;
-    if (host.front() == '[') host = host.substr(1, host.find(']') == std::string::npos ? std::string::npos : host.find(']') - 1);
-    else if (const auto colon = host.rfind(':'); colon != std::string::npos) host = host.substr(0, colon);
-    for (auto& c : host) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return host == "127.0.0.1" || host == "localhost" || host == "::1" || host == bind;
   }
 
   // Runs `fn` with the request body as JSON; bad input → 400/404/422 with the message.
@@ -227,7 +210,6 @@ struct HttpApi::Impl {
   }
 
   void Configure() {
-    http.new_task_queue = [] { return new httplib::ThreadPool(kWorkers); };
     http.set_keep_alive_max_count(1);
     http.set_keep_alive_timeout(kIoTimeoutS);  // a connection that sends nothing is closed after this
     http.set_read_timeout(kIoTimeoutS, 0);
@@ -246,7 +228,8 @@ struct HttpApi::Impl {
     // Before the body is read: another site's page (403) and a body that is not JSON (415; a
     // browser sends text/plain cross-site without asking first).
     http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-      if (const std::string host = req.get_header_value("Host"); !OwnHost(host)) {
+      // DNS rebinding (http_guard.hpp): only this computer's names and IP addresses are served.
+      if (const std::string host = req.get_header_value("Host"); !IsOwnHost(host, bind)) {
         Error(res, 403, "request: field 'Host': '" + host.substr(0, 200) + "' is not this server's name (DNS rebinding?)");
         return httplib::Server::HandlerResponse::Handled;
       }
@@ -255,19 +238,15 @@ struct HttpApi::Impl {
         Error(res, 403, "request: field 'Origin': cross-origin request refused (Origin " + origin.substr(0, 200) + ")");
         return httplib::Server::HandlerResponse::Handled;
       }
-      if (req.method == "POST") {
-        // A body without its length (chunked, or until the connection closes) would be read whole
-        // before the size limit applies.
-        if (!req.has_header("Content-Length")) {
-          Error(res, 411, "request: field 'Content-Length': required (a JSON body of at most 64 KiB)");
-          return httplib::Server::HandlerResponse::Handled;
-        }
-        const std::string type = req.get_header_value("Content-Type");
-        const std::string json = "application/json";
-        if (!StartsWithNoCase(type, json) || (type.size() > json.size() && type[json.size()] != ';' && type[json.size()] != ' ')) {
-          Error(res, 415, "request: field 'Content-Type': must be application/json");
-          return httplib::Server::HandlerResponse::Handled;
-        }
+      // A chunked body, or one without its length, would be read whole before the size limit
+      // applies; a length over the limit is refused before the body is read.
+      if (const auto refusal = CheckBodyFraming(req, kMaxBodyBytes)) {
+        Error(res, refusal->status, refusal->message);
+        return httplib::Server::HandlerResponse::Handled;
+      }
+      if (req.method == "POST" && !IsJsonMediaType(req.get_header_value("Content-Type"))) {
+        Error(res, 415, "request: field 'Content-Type': must be application/json");
+        return httplib::Server::HandlerResponse::Handled;
       }
       return httplib::Server::HandlerResponse::Unhandled;
     });

@@ -548,6 +548,7 @@ struct Shop::Impl {
       s.position_mm = drivers::CountsToMillimetres(drivers::JoinInt32(r + pmc::InputAxisRegister(a, pmc::kIrAxisPositionHi)));
       s.servo_direction = static_cast<std::int16_t>(r[pmc::InputAxisRegister(a, pmc::kIrAxisDirection)]);
       s.moving = r[pmc::InputAxisRegister(a, pmc::kIrAxisMoving)] != 0;
+      s.programmed_direction = pmc::ProgrammedDirection(r[pmc::kIrProgrammedDirection], a);
       m.applied_um[a] = drivers::CountsToMicrometres(drivers::JoinInt32(r + pmc::InputAxisRegister(a, pmc::kIrAxisAppliedHi)));
     }
     return true;

@@ -241,13 +241,16 @@ struct VirtualShop::Impl {
       status |= pmc::kStatusMachineReadOk;
       ir[pmc::kIrCoolant] = static_cast<std::uint16_t>(state.coolant);
       if (state.compensation_enabled && t.hr[pmc::kHrEnable] == 1) status |= pmc::kStatusCompensationEnabled;
+      std::uint16_t programmed = 0;
       for (std::size_t a = 0; a < t.axes.size(); ++a) {
+        programmed |= pmc::ProgrammedDirectionBits(a, t.axis_state[a].programmed_direction);
         std::int32_t c = 0;
         drivers::MillimetresToCounts(t.axis_state[a].position_mm, &c);
         drivers::SplitInt32(c, ir + pmc::InputAxisRegister(a, pmc::kIrAxisPositionHi));
         ir[pmc::InputAxisRegister(a, pmc::kIrAxisDirection)] = static_cast<std::uint16_t>(static_cast<std::int16_t>(t.axis_state[a].servo_direction));
         ir[pmc::InputAxisRegister(a, pmc::kIrAxisMoving)] = t.axis_state[a].moving ? 1 : 0;
       }
+      ir[pmc::kIrProgrammedDirection] = programmed;
       ir[pmc::kIrReadAgeMs] = 0;
     }
     if (temps_ok) status |= pmc::kStatusTemperatureReadOk;

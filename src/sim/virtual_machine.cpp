@@ -515,6 +515,7 @@ bool VirtualMachine::Read(std::span<hw::AxisState> axes, hw::CncState& machine) 
     axes[i].servo_direction = axes_[i]->servo_dir;
     axes[i].moving = axes_[i]->speed_now > 0;
     axes[i].travel_mm = TravelMm(i);
+    axes[i].programmed_direction = axes_[i]->servo_dir;  // the commanded motion's, held at standstill
   }
   machine.coolant = coolant_;
   machine.compensation_enabled = compensation_enabled_;

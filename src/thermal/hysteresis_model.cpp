@@ -227,14 +227,24 @@ HysteresisThermalModel FitHysteresisModel(const ThermalSeries& s, const Hysteres
   std::vector<ThermalInterval> cls = ClassifyIntervals(s.time_s, ReferenceOf(s, ref), classifier);
   std::vector<LinearThermalModel> subs(kThermalIntervalCount);
   std::vector<bool> fitted(kThermalIntervalCount, false);
+  const auto start_up = static_cast<std::size_t>(std::count(cls.begin(), cls.end(), ThermalInterval::kStartUp));
+  // Rows whose window holds less than half its span are start-up whatever the trend: when they are
+  // most of the training rows, that (not the threshold) is why an interval is short of rows.
+  if (2 * start_up > cls.size())
+    warn(fmt::format("hysteresis: {} of {} training rows are start-up (less than half of the {:g} s trend window of "
+                     "history: the {:g} s recorded per run are too short for the window), so the heating, steady and "
+                     "cooling intervals have few rows; check the unit of the time column (--time-unit)",
+                     start_up, cls.size(), classifier.window_s, LongestExperimentS(s)));
   for (int i = 0; i < kThermalIntervalCount; ++i) {
     std::vector<Eigen::Index> rows;
     for (std::size_t r = 0; r < cls.size(); ++r)
       if (cls[r] == static_cast<ThermalInterval>(i)) rows.push_back(static_cast<Eigen::Index>(r));
     if (static_cast<int>(rows.size()) < o.min_interval_samples) {
-      warn(fmt::format("hysteresis: only {} training rows are {} (the trend never passes ±{:g} °C/h long enough); that "
-                       "interval uses the all-data model", rows.size(), ThermalIntervalName(static_cast<ThermalInterval>(i)),
-                       classifier.threshold_c_per_h));
+      warn(fmt::format("hysteresis: only {} training rows are {} ({}); that interval uses the all-data model", rows.size(),
+                       ThermalIntervalName(static_cast<ThermalInterval>(i)),
+                       2 * start_up > cls.size()
+                           ? fmt::format("{} rows are start-up", start_up)
+                           : fmt::format("the trend never passes ±{:g} °C/h long enough", classifier.threshold_c_per_h)));
       continue;
     }
     subs[static_cast<std::size_t>(i)] = FitLinearModel(SelectRows(s, rows), o.sub_model);

@@ -29,6 +29,27 @@ Eigen::VectorXd LagColumn(const ThermalSeries& s, const Eigen::VectorXd& raw, do
 
 std::vector<double> DefaultLagGridS() { return {600, 1800, 5400, 16200}; }
 
+LagStartUp LagStartUpRows(const ThermalSeries& s, const std::vector<std::string>& inputs) {
+  LagStartUp out;
+  for (const auto& name : inputs) {
+    double tau = 0;
+    if (ParseLaggedName(name, nullptr, &tau)) out.longest_tau_s = std::max(out.longest_tau_s, tau);
+  }
+  if (out.longest_tau_s == 0 || !s.has_time) return out;
+  out.settle_s = kLagSettleTaus * out.longest_tau_s;
+  const double reset_gap_s = kLagResetGapFactor * MedianTimeStepS(s);
+  double start_s = 0;
+  for (Eigen::Index r = 0; r < s.Rows(); ++r) {
+    const auto ru = static_cast<std::size_t>(r);
+    if (r == 0 || s.ExperimentOf(r) != s.ExperimentOf(r - 1) || s.time_s[ru] - s.time_s[ru - 1] > reset_gap_s) {
+      start_s = s.time_s[ru];
+      ++out.starts;
+    }
+    if (s.time_s[ru] - start_s < out.settle_s) ++out.rows;
+  }
+  return out;
+}
+
 std::string LaggedName(const std::string& sensor, double tau_s) { return fmt::format("{}@lag{:g}s", sensor, tau_s); }
 
 bool ParseLaggedName(const std::string& name, std::string* sensor, double* tau_s) {
@@ -57,11 +78,9 @@ ThermalSeries AddLaggedTemperatures(const ThermalSeries& s, const std::vector<do
   if (!s.has_time && !taus_s.empty())
     throw InputError(s.source, 0, "time_s", "lagged temperature inputs need time_s");
   ThermalSeries out = s;
-  // Time actually recorded (several experiments: their durations added, not the gaps between them).
-  double duration_s = 0;
-  for (Eigen::Index r = 1; r < s.Rows(); ++r)
-    if (s.ExperimentOf(r) == s.ExperimentOf(r - 1))
-      duration_s += s.time_s[static_cast<std::size_t>(r)] - s.time_s[static_cast<std::size_t>(r - 1)];
+  // The longest single experiment: a lag is identified within one run, so five 6-hour runs support
+  // the lags a 6-hour run does, not those of 30 hours.
+  const double duration_s = LongestExperimentS(s);
   std::vector<std::size_t> raw;
   for (std::size_t k = 0; k < s.temperature_names.size(); ++k)
     if (!ParseLaggedName(s.temperature_names[k], nullptr, nullptr)) raw.push_back(k);

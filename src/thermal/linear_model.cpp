@@ -49,6 +49,7 @@ nlohmann::json LinearThermalModel::ToJson() const {
                         {"sensors", names},
                         {"k_um_per_c", c.k_um_per_c},
                         {"intercept_um", c.intercept_um}});
+    if (!c.count_cv.empty()) channels.back()["sensor_count_cv_rms_um"] = c.count_cv;
   }
   return {{"kind", "linear"},
           {"ridge_lambda", ridge_lambda_},
@@ -64,6 +65,8 @@ std::string LinearThermalModel::Describe() const {
     for (std::size_t k = 0; k < c.inputs.size(); ++k)
       out += fmt::format(" {:+.6g}*T[{}]", c.k_um_per_c[k], sensors_[static_cast<std::size_t>(c.inputs[k])]);
     out += '\n';
+    if (!c.count_cv.empty())
+      out += fmt::format("  {} input(s) chosen by blocked 5-fold CV; RMS µm per count: {}\n", c.inputs.size(), c.count_cv);
   }
   return out;
 }
@@ -84,6 +87,7 @@ LinearThermalModel LinearThermalModel::FromJson(const nlohmann::json& doc, const
     std::vector<std::string> names = f.Strings(arr[i], p, "sensors");
     ch.k_um_per_c = f.Numbers(arr[i], p, "k_um_per_c");
     ch.intercept_um = f.Number(arr[i], p, "intercept_um");
+    if (arr[i].contains("sensor_count_cv_rms_um")) ch.count_cv = f.String(arr[i], p, "sensor_count_cv_rms_um");
     if (names.size() != ch.k_um_per_c.size())
       f.Fail(f.Join(p, "k_um_per_c"), fmt::format("{} coefficients for {} sensors", ch.k_um_per_c.size(), names.size()));
     for (std::size_t k = 0; k < names.size(); ++k) {
@@ -193,6 +197,7 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
   for (Eigen::Index c = 0; c < s.errors_um.cols(); ++c) {
     const Eigen::VectorXd y = s.errors_um.col(c);
     SensorSelectionOptions chosen = o.selection;
+    std::string count_cv;
     if (o.choose_count_by_cv && n >= 25) {
       // Candidate counts up to the bound, then every sensor; the smallest within 2 % of the best.
       std::vector<std::pair<SensorSelectionOptions, double>> tried;
@@ -217,17 +222,18 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
           chosen = so;
           break;
         }
-      std::string cv;
       for (const auto& [so, rms] : tried)
-        cv += fmt::format("{}{}: {:.3f}", cv.empty() ? "" : ", ",
-                          so.method == SelectionMethod::kAll ? std::string("all") : std::to_string(so.max_sensors), rms);
-      selection = fmt::format("{}, sensor count by blocked 5-fold CV (RMS µm per count: {})",
-                              SelectionMethodName(o.selection.method), cv);
+        count_cv += fmt::format("{}{}: {:.3f}", count_cv.empty() ? "" : ", ",
+                                so.method == SelectionMethod::kAll ? std::string("all") : std::to_string(so.max_sensors),
+                                rms);
+      selection = fmt::format("{}, sensor count by blocked 5-fold CV (per channel: sensor_count_cv_rms_um)",
+                              SelectionMethodName(o.selection.method));
     }
     const ChannelSolution sol = SolveChannel(s.temperatures_c, y, chosen, o.ridge_lambda);
     LinearChannel ch;
     ch.name = s.error_names[static_cast<std::size_t>(c)];
     ch.intercept_um = sol.intercept_um;
+    ch.count_cv = count_cv;
     for (std::size_t k = 0; k < sol.sensors.size(); ++k) {
       const std::string& sensor = s.temperature_names[static_cast<std::size_t>(sol.sensors[k])];
       int idx = -1;

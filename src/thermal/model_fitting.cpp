@@ -253,6 +253,7 @@ void ChooseSplit(const ThermalSeries& s, const EvaluationOptions& o, ThermalEval
   std::string by_experiment = o.validate_experiments;
   if (given == 0 && experiments > 1) by_experiment = "each";
   SplitFold fold;
+  bool train_chosen = false;  // the training rows are set, even when none are left
   if (!by_experiment.empty()) {
     if (experiments < 2)
       throw InputError("command line", 0, "--validate-experiments",
@@ -311,9 +312,22 @@ void ChooseSplit(const ThermalSeries& s, const EvaluationOptions& o, ThermalEval
                                    s.has_time ? fmt::format(", {:.2f}..{:.2f} h", s.time_s.front() / 3600,
                                                             s.time_s.back() / 3600)
                                               : std::string()));
-    ev->split = fmt::format("validate on {} {} ({} rows), train on the other {} rows", hours ? "hours" : "rows",
-                            hours ? o.validate_hours : o.validate_rows, fold.validate_rows.size(),
-                            n - static_cast<Eigen::Index>(fold.validate_rows.size()));
+    // A drift recording is a time series: rows after the validated ones hold its future, and a
+    // model trained on them interpolates instead of predicting. Only the rows before are trained on.
+    const std::string what = fmt::format("validate on {} {} ({} rows)", hours ? "hours" : "rows",
+                                         hours ? o.validate_hours : o.validate_rows, fold.validate_rows.size());
+    if (o.train_after_validation) {
+      ev->split = fmt::format("{}, train on the other {} rows, including those after them", what,
+                              n - static_cast<Eigen::Index>(fold.validate_rows.size()));
+    } else {
+      for (Eigen::Index r = 0; r < fold.validate_rows.front(); ++r) fold.train_rows.push_back(r);
+      train_chosen = true;
+      const auto unused = n - static_cast<Eigen::Index>(fold.validate_rows.size() + fold.train_rows.size());
+      ev->split = fmt::format("{}, train on the {} rows before them{}", what, fold.train_rows.size(),
+                              unused > 0 ? fmt::format(" (not on the {} rows after: --train-after-validation trains "
+                                                       "on those too)", unused)
+                                         : std::string());
+    }
   } else {
     double fraction = o.validate_last_fraction;
     if (!(fraction >= 0 && fraction < 1))
@@ -347,7 +361,7 @@ void ChooseSplit(const ThermalSeries& s, const EvaluationOptions& o, ThermalEval
       fold.validate_rows = RowsOfBlocks(ev->blocks, ev->validate_blocks);
     }
   }
-  if (fold.train_rows.empty()) fold.train_rows = Complement(n, fold.validate_rows);
+  if (fold.train_rows.empty() && !train_chosen) fold.train_rows = Complement(n, fold.validate_rows);
   fold.name = "split";
   ev->train_rows = fold.train_rows;
   ev->validate_rows = fold.validate_rows;
@@ -357,7 +371,7 @@ void ChooseSplit(const ThermalSeries& s, const EvaluationOptions& o, ThermalEval
 std::string ModelLabel(const ThermalFitOptions& fo) {
   const bool all = fo.linear.selection.method == SelectionMethod::kAll &&
                    (fo.kind == ModelKind::kMlr || fo.kind == ModelKind::kRidge || fo.kind == ModelKind::kHysteresis);
-  return std::string(ModelKindName(fo.kind)) + (all ? " (all sensors)" : "");
+  return std::string(ModelKindName(fo.kind)) + (!all ? "" : fo.sensors_listed ? " (listed sensors)" : " (all sensors)");
 }
 
 }  // namespace
@@ -378,8 +392,12 @@ ThermalEvaluation EvaluateThermalModels(const ThermalSeries& cleaned, SeriesClea
   for (const auto& f : ev.folds)
     if (f.train_rows.size() < 3)
       throw InputError("command line", 0, split_option,
-                       fmt::format("{}: fewer than 3 training rows ({} of {} rows left to train on)", f.name,
-                                   f.train_rows.size(), cleaned.Rows()));
+                       fmt::format("{}: fewer than 3 training rows ({} of {} rows left to train on){}", f.name,
+                                   f.train_rows.size(), cleaned.Rows(),
+                                   (!o.validate_rows.empty() || !o.validate_hours.empty()) && !o.train_after_validation
+                                       ? "; only rows before the validated ones are trained on (--train-after-validation "
+                                         "also uses those after)"
+                                       : ""));
   const Eigen::Index n = cleaned.Rows(), channels = cleaned.errors_um.cols();
   const bool pooled = ev.folds.size() > 1;
   ev.baseline_train = ResidualMetrics(cleaned, Eigen::MatrixXd(), ev.train_rows);
@@ -410,6 +428,8 @@ ThermalEvaluation EvaluateThermalModels(const ThermalSeries& cleaned, SeriesClea
     all.kind = ModelKind::kRidge;
     all.linear.selection.method = SelectionMethod::kAll;
     if (!models.empty()) all.ridge_lambda = models.front().ridge_lambda;
+    // With a sensor list the series holds only the listed sensors: "all" of them is the list.
+    for (const auto& m : models) all.sensors_listed = all.sensors_listed || m.sensors_listed;
     bool present = false;
     for (const auto& m : models) present = present || ModelLabel(m) == ModelLabel(all);
     if (!present) models.insert(models.begin(), all);

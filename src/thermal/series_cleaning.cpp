@@ -44,7 +44,8 @@ GapScan Scan(const Eigen::Ref<const Eigen::VectorXd>& v) {
   return g;
 }
 
-int FillInterior(Eigen::Ref<Eigen::VectorXd> v, const std::vector<double>& t) {
+// Fills the interior NaN runs of `v`; returns how many values, and the first filled row in *first.
+int FillInterior(Eigen::Ref<Eigen::VectorXd> v, const std::vector<double>& t, Eigen::Index* first = nullptr) {
   int filled = 0;
   const Eigen::Index n = v.size();
   Eigen::Index r = 0;
@@ -58,12 +59,24 @@ int FillInterior(Eigen::Ref<Eigen::VectorXd> v, const std::vector<double>& t) {
     if (start == 0 || r == n) continue;  // edges are never filled (callers refused them)
     const double t0 = t[static_cast<std::size_t>(start - 1)], t1 = t[static_cast<std::size_t>(r)];
     const double v0 = v(start - 1), v1 = v(r);
+    if (first && filled == 0) *first = start;
     for (Eigen::Index k = start; k < r; ++k) {
       v(k) = v0 + (v1 - v0) * (t[static_cast<std::size_t>(k)] - t0) / (t1 - t0);
       ++filled;
     }
   }
   return filled;
+}
+
+// Fills one column's short gaps and says so, per column (how many, from which line).
+void FillAndReport(Eigen::Ref<Eigen::VectorXd> v, const ThermalSeries& in, const std::string& what,
+                   SeriesCleaningReport* rep) {
+  Eigen::Index first = 0;
+  const int filled = FillInterior(v, in.time_s, &first);
+  if (filled == 0) return;
+  rep->interpolated_values += filled;
+  rep->warnings.push_back(fmt::format("{}: {} missing value(s) filled by linear interpolation in time (the first at "
+                                      "line {})", what, filled, in.LineOf(first)));
 }
 
 }  // namespace
@@ -186,7 +199,8 @@ ThermalSeries CleanSeries(const ThermalSeries& in, const SeriesCleaningOptions& 
   for (std::size_t k = 0; k < keep.size(); ++k) {
     out.temperature_names.push_back(in.temperature_names[static_cast<std::size_t>(keep[k])]);
     out.temperatures_c.col(static_cast<Eigen::Index>(k)) = in.temperatures_c.col(keep[k]);
-    rep.interpolated_values += FillInterior(out.temperatures_c.col(static_cast<Eigen::Index>(k)), in.time_s);
+    FillAndReport(out.temperatures_c.col(static_cast<Eigen::Index>(k)), in,
+                  fmt::format("temperature '{}'", out.temperature_names.back()), &rep);
   }
 
   // 4./5. Error channels.
@@ -210,7 +224,7 @@ ThermalSeries CleanSeries(const ThermalSeries& in, const SeriesCleaningOptions& 
                        fmt::format("error channel has a gap of {} rows, more than the {} that are interpolated; "
                                    "an error target is never invented",
                                    g.longest_interior, options.max_interpolated_gap_samples));
-    rep.interpolated_values += FillInterior(out.errors_um.col(col), in.time_s);
+    FillAndReport(out.errors_um.col(col), in, fmt::format("error channel '{}'", field), &rep);
     const double range = out.errors_um.col(col).maxCoeff() - out.errors_um.col(col).minCoeff();
     if (range < 1e-9)
       rep.warnings.push_back(fmt::format("error channel '{}' is constant: there is nothing to compensate", field));

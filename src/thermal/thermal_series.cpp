@@ -137,6 +137,16 @@ double MedianTimeStepS(const ThermalSeries& s) {
   return steps[steps.size() / 2];
 }
 
+double LongestExperimentS(const ThermalSeries& s) {
+  double longest = 0;
+  for (Eigen::Index r = 0, first = 0; r < s.Rows(); ++r)
+    if (r + 1 == s.Rows() || s.ExperimentOf(r + 1) != s.ExperimentOf(r)) {
+      longest = std::max(longest, s.time_s[static_cast<std::size_t>(r)] - s.time_s[static_cast<std::size_t>(first)]);
+      first = r + 1;
+    }
+  return longest;
+}
+
 ThermalSeries SelectTemperatureSensors(const ThermalSeries& s, const std::vector<std::string>& names) {
   ThermalSeries out = s;
   out.temperature_names = names;

@@ -150,7 +150,7 @@ std::vector<UserRecord> AccessDb::Users() const {
   return out;
 }
 
-void AccessDb::Record(const AuditEntry& e) {
+std::int64_t AccessDb::Record(const AuditEntry& e) {
   const double now = NowUnixS();
   std::lock_guard lock(mutex_);
   Statement st(db_,
@@ -166,6 +166,15 @@ void AccessDb::Record(const AuditEntry& e) {
   st.Bind(7, e.target);
   st.Bind(8, e.detail);
   st.Bind(9, e.outcome);
+  if (sqlite3_step(st.s) != SQLITE_DONE) throw InputError(path_, std::string("audit write failed: ") + sqlite3_errmsg(db_));
+  return sqlite3_last_insert_rowid(db_);
+}
+
+void AccessDb::SetDetail(std::int64_t id, const std::string& detail) {
+  std::lock_guard lock(mutex_);
+  Statement st(db_, "UPDATE audit SET detail = ?1 WHERE id = ?2", path_);
+  st.Bind(1, detail);
+  sqlite3_bind_int64(st.s, 2, static_cast<sqlite3_int64>(id));
   if (sqlite3_step(st.s) != SQLITE_DONE) throw InputError(path_, std::string("audit write failed: ") + sqlite3_errmsg(db_));
 }
 

@@ -13,6 +13,8 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/install_paths.hpp"
+#include "trueaxis/server/gated_http_server.hpp"
+#include "trueaxis/server/http_guard.hpp"
 #include "trueaxis/web/backend_json.hpp"
 #include "trueaxis/web/machine_query.hpp"
 #include "trueaxis/web/password_hash.hpp"
@@ -37,6 +39,9 @@ constexpr const char* kIdPattern = "([A-Za-z0-9_.\\-]{1,64})";
 
 double SteadyNowS() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+double UnixNowS() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
 // A request the client got wrong (400) or is not allowed to make (status given).
@@ -123,8 +128,7 @@ std::string StringField(const json& body, const char* name, std::size_t max_leng
 }
 json ParseBody(const httplib::Request& req) {
   if (req.body.empty()) return json::object();
-  const std::string type = req.get_header_value("Content-Type");
-  if (type.rfind("application/json", 0) != 0) throw HttpError(415, "the body must be application/json");
+  if (!server::IsJsonMediaType(req.get_header_value("Content-Type"))) throw HttpError(415, "the body must be application/json");
   json body = json::parse(req.body, nullptr, /*allow_exceptions=*/false);
   if (body.is_discarded()) throw HttpError(400, "the body is not valid JSON");
   if (!body.is_object()) throw HttpError(400, "the body must be a JSON object");
@@ -133,13 +137,12 @@ json ParseBody(const httplib::Request& req) {
 std::string Remote(const httplib::Request& req) { return fmt::format("{}:{}", req.remote_addr, req.remote_port); }
 
 // A POST from another site's page is refused: its Origin (sent by every browser on a POST) must
-// name this host.
-void CheckSameOrigin(const httplib::Request& req) {
+// be this server exactly — scheme, host and port.
+void CheckSameOrigin(const httplib::Request& req, bool tls) {
   const std::string origin = req.get_header_value("Origin");
   if (origin.empty()) return;
-  const auto scheme_end = origin.find("://");
-  const std::string host = scheme_end == std::string::npos ? origin : origin.substr(scheme_end + 3);
-  if (host != req.get_header_value("Host")) throw HttpError(403, "cross-origin request refused (Origin " + origin + ")");
+  if (!server::IsSameOrigin(origin, tls ? "https" : "http", req.get_header_value("Host")))
+    throw HttpError(403, "cross-origin request refused (Origin " + origin.substr(0, 200) + ")");
 }
 
 }  // namespace
@@ -156,7 +159,7 @@ struct WebServer::Call {
 
 WebServer::WebServer(MonitorBackend& backend, AccessDb& access, WebServerOptions options)
     : backend_(backend), access_(access), options_(std::move(options)), sessions_(options_.sessions),
-      limiter_(options_.login) {
+      limiter_(options_.login), refusals_(access) {
   if (options_.static_dir.empty()) options_.static_dir = DefaultStaticDir();
   if (options_.tls_cert_file.empty() != options_.tls_key_file.empty())
     throw InputError("--web-cert/--web-key", "give both the certificate and its key, or neither");
@@ -169,16 +172,33 @@ WebServer::WebServer(MonitorBackend& backend, AccessDb& access, WebServerOptions
       throw InputError(options_.tls_cert_file, "the certificate or its key (" + options_.tls_key_file +
                                                    ") could not be loaded (PEM? matching pair?)");
     server_ = std::move(ssl);
+    const int workers = std::max(2, options_.worker_threads);
+    server_->new_task_queue = [workers] { return new httplib::ThreadPool(static_cast<std::size_t>(workers)); };
   } else {
-    server_ = std::make_unique<httplib::Server>();
+    // A worker only for a request that has arrived whole: slow clients wait outside the pool.
+    server_ = std::make_unique<server::GatedHttpServer>(static_cast<std::size_t>(std::max(2, options_.worker_threads)),
+                                                        options_.read_timeout_s, options_.max_body_bytes);
   }
-  const int workers = std::max(2, options_.worker_threads);
-  server_->new_task_queue = [workers] { return new httplib::ThreadPool(static_cast<std::size_t>(workers)); };
   // One request per connection: an idle keep-alive connection would hold a worker thread.
   server_->set_keep_alive_max_count(1);
   server_->set_read_timeout(options_.read_timeout_s, 0);
   server_->set_write_timeout(options_.read_timeout_s, 0);
   server_->set_payload_max_length(options_.max_body_bytes);
+  // Before any body is read: a foreign Host (DNS rebinding), and a body cpp-httplib would read
+  // whole whatever the limit (chunked, no length) or one over the limit.
+  server_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    const std::string host = req.get_header_value("Host");
+    if (!server::IsOwnHost(host, options_.host, options_.host_names)) {
+      SendError(res, 403, "request: field 'Host': '" + host.substr(0, 200) +
+                              "' is not a name of this server (DNS rebinding?): give it with --web-host-name");
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    if (const auto refusal = server::CheckBodyFraming(req, options_.max_body_bytes)) {
+      SendError(res, refusal->status, refusal->message);
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
   // cpp-httplib 0.11 listens with a backlog of 5: a burst of browsers connecting at once (a shift
   // opening its pages) is then reset. The listening socket is captured here and Start() listens
   // again with the system's maximum (measured: bench/RESULTS.md, *Web front end*).
@@ -248,6 +268,10 @@ void WebServer::Stop() {
   if (!thread_.joinable()) return;
   server_->stop();
   thread_.join();
+  try {
+    refusals_.Flush();
+  } catch (const std::exception&) {  // the audit file went away: nothing left to do at stop
+  }
 }
 
 void WebServer::HandleLogin(const httplib::Request& req, httplib::Response& res) {
@@ -256,30 +280,50 @@ void WebServer::HandleLogin(const httplib::Request& req, httplib::Response& res)
   audit.remote = remote;
   audit.action = "login";
   try {
-    CheckSameOrigin(req);
+    CheckSameOrigin(req, tls());
     const json body = ParseBody(req);
     const std::string user = StringField(body, "user", 64);
     const std::string password = StringField(body, "password", 1024);
     audit.target = user;
-    const double now = SteadyNowS();
-    if (const double wait = limiter_.LockedForS(user, req.remote_addr, now); wait > 0) {
-      audit.outcome = "refused: locked out";
-      access_.Record(audit);
-      res.set_header("Retry-After", std::to_string(static_cast<int>(std::ceil(wait))));
-      return SendJson(res, 429, {{"error", fmt::format("too many failed logins: try again in {:.0f} s", std::ceil(wait))},
-                                 {"retry_after_s", std::ceil(wait)}});
+    // The attempt is reserved before the password is hashed: parallel guesses count at once.
+    LoginLimiter::Attempt attempt = limiter_.Reserve(user, req.remote_addr, SteadyNowS());
+    if (!attempt.granted()) {
+      using V = LoginLimiter::Verdict;
+      const double wait = std::max(1.0, std::ceil(attempt.retry_after_s()));
+      const std::string who = attempt.by_address() ? "address " + req.remote_addr : "user " + user;
+      std::string error;
+      switch (attempt.verdict()) {
+        case V::kBusy:
+          audit.outcome = "refused: busy checking other logins";
+          error = "the server is busy checking other logins: try again in a second";
+          break;
+        case V::kPending:
+          audit.outcome = "refused: other logins of this " + std::string(attempt.by_address() ? "address" : "name") +
+                          " are being checked";
+          error = audit.outcome.substr(9) + ": try again in a second";
+          break;
+        default:
+          audit.outcome = "refused: locked out";
+          error = fmt::format("too many failed logins: try again in {:.0f} s", wait);
+      }
+      // One audit row per burst with a count, not one per request.
+      refusals_.Refused(attempt.verdict() == V::kBusy ? "busy " + req.remote_addr : audit.outcome + " " + who, audit,
+                        UnixNowS());
+      res.set_header("Retry-After", fmt::format("{:.0f}", wait));
+      return SendJson(res, attempt.verdict() == V::kBusy ? 503 : 429, {{"error", error}, {"retry_after_s", wait}});
     }
     const auto record = access_.FindUser(user);
     // An unknown name costs the same hashing time as a wrong password (no user enumeration by timing).
     static const std::string dummy_hash = HashPassword(RandomToken(16));
     const bool ok = VerifyPassword(record ? record->password_hash : dummy_hash, password) && record;
+    const double now = SteadyNowS();
     if (!ok) {
-      limiter_.RecordFailure(user, req.remote_addr, now);
+      attempt.Failed(now);
       audit.outcome = "failed: wrong user name or password";
       access_.Record(audit);
       return SendError(res, 401, "wrong user name or password");
     }
-    limiter_.RecordSuccess(user);
+    attempt.Succeeded();
     const Session s = sessions_.Create(record->name, record->role, record->password_hash, now);
     std::string cookie = fmt::format("{}={}; Path=/; HttpOnly; SameSite=Strict", kCookieName, s.id);
     if (tls()) cookie += "; Secure";
@@ -321,7 +365,7 @@ void WebServer::Routes() {
       json answer;
       try {
         if (method == Method::kPost) {
-          CheckSameOrigin(req);
+          CheckSameOrigin(req, tls());
           if (!ConstantTimeEquals(req.get_header_value("X-CSRF-Token"), session->csrf_token))
             throw HttpError(403, "missing or wrong CSRF token (X-CSRF-Token)");
           call.body = ParseBody(req);

@@ -100,6 +100,31 @@ TEST(CampaignAdd, StampsTheFileOnTheCampaignClockWithTheLoggedTemperatures) {
   EXPECT_TRUE(states[0].history.HasTravel());
 }
 
+// The machine file's CTE (via the plan) is stamped on each file for the fit's ρ, unless the laser
+// file gives its own; without a plan nothing is invented.
+TEST(CampaignAdd, StampsThePlannedCteUnlessTheFileHasOne) {
+  const fs::path dir = Campaign("trueaxis_add_cte", 3600);
+  const auto none = AddToCampaign(Add(dir, LaserFile(dir, "cold.csv", "2026-11-28T07:10:00"), "cold"));
+  EXPECT_FALSE(measure::ReadMeasurementFile(none.written).Meta("cte_um_per_m_c"));
+  WriteTextFile((dir / "plan.json").string(),
+                R"({"format": "trueaxis-campaign-plan", "axes": [{"axis": "Y", "cte_um_per_m_c": 8},
+                    {"axis": "X", "cte_um_per_m_c": 11.5}]})");
+  const auto planned = AddToCampaign(Add(dir, LaserFile(dir, "warm.csv", "2026-11-28T07:20:00"), "warm"));
+  EXPECT_EQ(measure::ReadMeasurementFile(planned.written).Meta("cte_um_per_m_c"), "11.5");
+  fs::path own = LaserFile(dir, "warm2.csv", "2026-11-28T07:30:00");
+  WriteTextFile(own.string(), "# cte_um_per_m_c: 2.5\n" + ReadTextFile(own.string()));
+  const auto kept = AddToCampaign(Add(dir, own, "warm"));
+  EXPECT_EQ(measure::ReadMeasurementFile(kept.written).Meta("cte_um_per_m_c"), "2.5");
+  WriteTextFile((dir / "plan.json").string(), R"({"axes": [{"axis": "X", "cte_um_per_m_c": "steel"}]})");
+  try {
+    AddToCampaign(Add(dir, LaserFile(dir, "warm3.csv", "2026-11-28T07:40:00"), "warm"));
+    ADD_FAILURE() << "a CTE that is not a number was taken";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("plan.json"));
+    EXPECT_THAT(e.what(), HasSubstr("cte_um_per_m_c"));
+  }
+}
+
 TEST(CampaignAdd, AnEmptyLogCellStaysEmptyAndWarmTestsCountTheirRise) {
   const fs::path dir = Campaign("trueaxis_add_warm", 3600);
   AddToCampaign(Add(dir, LaserFile(dir, "a.csv", "2026-11-28T07:00:00"), "cold"));

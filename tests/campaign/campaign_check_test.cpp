@@ -170,6 +170,32 @@ TEST_F(CampaignCheckTest, MissingStatesAreSaid) {
   EXPECT_TRUE(Says(X(CheckCampaign(dir.string(), CheckOptions{})).missing, "no cold test"));
 }
 
+// The virtual campaign's files carry the screw's CTE: the room's soak holds beyond the measured
+// room range. Without it the check asks for it, as the fit would extrapolate a fitted ρ.
+TEST_F(CampaignCheckTest, AMissingCteIsSaidWithWhatItCosts) {
+  const fs::path dir = Copy("no_cte");
+  const auto with = CheckCampaign(dir.string(), CheckOptions{});
+  EXPECT_DOUBLE_EQ(X(with).cte_um_per_m_c, 11.5);
+  EXPECT_FALSE(Says(X(with).missing, "no CTE"));
+  EXPECT_NE(CheckReport(with).find("the room's soak still holds"), std::string::npos) << CheckReport(with);
+  const auto m = measure::ReadCampaignManifest((dir / "manifest.json").string());
+  for (const auto& e : m.measurements) {
+    const fs::path p = dir / e.file;
+    std::string text = ReadTextFile(p.string()), out;
+    for (std::size_t at = 0; at < text.size();) {
+      const std::size_t end = std::min(text.find('\n', at), text.size());
+      const std::string line = text.substr(at, end - at);
+      if (line.rfind("# cte_um_per_m_c", 0) != 0) out += line + "\n";
+      at = end + 1;
+    }
+    WriteTextFile(p.string(), out);
+  }
+  const auto without = CheckCampaign(dir.string(), CheckOptions{});
+  EXPECT_TRUE(std::isnan(X(without).cte_um_per_m_c));
+  EXPECT_TRUE(Says(X(without).missing, "no CTE of the axis's feedback"));
+  EXPECT_NE(CheckReport(without).find("outside, it extrapolates"), std::string::npos) << CheckReport(without);
+}
+
 TEST_F(CampaignCheckTest, FileProblemsAreNamed) {
   const fs::path dir = Copy("problems");
   auto m = measure::ReadCampaignManifest((dir / "manifest.json").string());

@@ -1,7 +1,9 @@
 // `campaign plan`: the schedule is the virtual campaign's, the folder skeleton is what `campaign
 // log/add/check` and the fit read, and the real-machine file refuses what would make a wrong plan.
+#include "trueaxis/campaign/campaign_folder.hpp"
 #include "trueaxis/campaign/campaign_plan.hpp"
 
+#include <cmath>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -100,6 +102,12 @@ TEST(CampaignPlan, WritesTheFolderTheOtherCommandsFill) {
   EXPECT_NE(md.find("| 2026-05-01 | 03:00 | X | ambient |"), std::string::npos);  // day 60
   EXPECT_NE(md.find("0.5 °C"), std::string::npos);
   EXPECT_NE(std::find(files.begin(), files.end(), "plan.json"), files.end());
+  // The machine file's CTE reaches plan.json, where `campaign add` stamps it on the files.
+  EXPECT_DOUBLE_EQ(machine.axes[0].cte_um_per_m_c, 11.5);
+  const auto planned = OpenCampaignFolder(o.out_dir).PlannedCteUmPerMC("X");
+  ASSERT_TRUE(planned);
+  EXPECT_DOUBLE_EQ(*planned, 11.5);
+  EXPECT_FALSE(OpenCampaignFolder(o.out_dir).PlannedCteUmPerMC("B"));
   // A campaign is never overwritten.
   EXPECT_THROW(WriteCampaignFolder(plan), InputError);
   fs::remove_all(dir);
@@ -127,6 +135,8 @@ TEST(CampaignMachine, RefusesWhatWouldMakeAWrongPlan) {
   ExpectRefused("[machine]\ncontroller = \"mazak\"\n" + axis + sensors, "machine.controller", "mazak");
   ExpectRefused(head + axis + sensors + "[[sensor]]\nname = \"x_head\"\nlocation = \"x_head\"\n", "sensor[2].location",
                 "unknown location");
+  ExpectRefused(head + axis + "cte_um_per_m_c = 11500\n" + sensors, "axis[0].cte_um_per_m_c", "");
+  EXPECT_TRUE(std::isnan(ParseCampaignMachineToml(head + axis + sensors, "m.toml").axes[0].cte_um_per_m_c));
   // Machine coordinates: negative limits are kept, the reference defaults to the fixed end.
   const auto m = ParseCampaignMachineToml(
       head + "[[axis]]\nname = \"x\"\nmin_mm = -850\nmax_mm = 0\nlead_mm = 12\nfixed_end = \"max\"\n" + sensors, "m.toml");

@@ -106,6 +106,36 @@ TEST_F(ServerClientTest, ClientReadsTheCncStateThroughThePmcWindow) {
   EXPECT_EQ(axes[0].servo_direction, -1);
 }
 
+// The optional programmed-direction register (input register 8): one bit per axis and direction,
+// written by the terminal from its CNC link and read back by ModbusCncLink; 0 (a CNC that does not
+// tell, or an older terminal whose reserved register reads 0) is "not known".
+TEST_F(ServerClientTest, ProgrammedDirectionsTravelInTheirRegister) {
+  hw::AxisState x{300.0, +1, false}, y{10.0, -1, false}, z{0.0, 0, false};
+  x.programmed_direction = -1;  // standing after a move back: the servo register still shows +
+  y.programmed_direction = +1;
+  cnc->SetAxis(0, x);
+  cnc->SetAxis(1, y);
+  cnc->SetAxis(2, z);
+  ModbusCncLink link(LinkOptions());
+  std::vector<hw::AxisState> axes(3);
+  hw::CncState state;
+  ASSERT_TRUE(WaitFor([&] { return link.Read(axes, state) && axes[0].programmed_direction == -1; })) << link.last_error();
+  EXPECT_EQ(axes[0].servo_direction, 1);
+  EXPECT_EQ(axes[1].programmed_direction, 1);
+  EXPECT_EQ(axes[2].programmed_direction, 0);
+  RawClient raw(port, pmc::kDefaultUnitId);
+  ASSERT_TRUE(raw.connected);
+  std::uint16_t bits = 0;
+  ASSERT_EQ(modbus_read_input_registers(raw.ctx, pmc::kIrProgrammedDirection, 1, &bits), 1);
+  EXPECT_EQ(bits, (1u << 1) | (1u << (8 + 0)));  // Y towards +, X towards −
+  // Both bits of an axis set: inconsistent, read as not known.
+  EXPECT_EQ(pmc::ProgrammedDirection(static_cast<std::uint16_t>((1u << 2) | (1u << 10)), 2), 0);
+  x.programmed_direction = 0;  // the CNC stops telling
+  cnc->SetAxis(0, x);
+  ASSERT_TRUE(WaitFor([&] { return link.Read(axes, state) && axes[0].programmed_direction == 0; }));
+  EXPECT_EQ(axes[1].programmed_direction, 1);
+}
+
 TEST_F(ServerClientTest, CompensationWrittenByTheClientReachesTheCncLink) {
   ModbusCncLink link(LinkOptions());
   const std::vector<double> corr = {12.3, -4.56, 0.1};

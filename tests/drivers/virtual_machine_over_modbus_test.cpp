@@ -52,6 +52,7 @@ struct Snapshot {
   double commanded_mm[2] = {0, 0};
   double correction_um[2] = {0, 0};
   double time_s = 0;
+  double move_x_to_mm = std::nan("");  // a move the machine thread commands at its next advance
 };
 
 TEST(VirtualMachineOverModbus, CompensationWrittenOverTheWireMovesTheTable) {
@@ -72,8 +73,10 @@ TEST(VirtualMachineOverModbus, CompensationWrittenOverTheWireMovesTheTable) {
     so.port = std::uniform_int_distribution<int>(20000, 59999)(rng);
     auto s = std::make_unique<ModbusMachineServer>(&vm, &vm, so);
     s->SetAdvance([&](double elapsed_s) {
-      vm.Advance(elapsed_s);  // real time, time scale 1
       std::lock_guard<std::mutex> l(mu);
+      if (std::isfinite(snap.move_x_to_mm)) vm.CommandMove(0, snap.move_x_to_mm, 600);
+      snap.move_x_to_mm = std::nan("");
+      vm.Advance(elapsed_s);  // real time, time scale 1
       for (std::size_t a = 0; a < 2; ++a) {
         snap.actual_mm[a] = vm.ActualMm(a);
         snap.commanded_mm[a] = vm.CommandedMm(a);
@@ -115,6 +118,27 @@ TEST(VirtualMachineOverModbus, CompensationWrittenOverTheWireMovesTheTable) {
   EXPECT_EQ(after.commanded_mm[0], before.commanded_mm[0]);
   // And the PMC window reports what the machine applies.
   ASSERT_TRUE(testing::WaitFor([&] { return link.Read(axes, state) && std::abs(link.applied_um()[0] - 25.0) < 1e-9; }));
+
+  // The programmed direction: not known before the first move; after a move towards + and one
+  // back towards −, the window says − while the axis stands, whatever the compensation does.
+  EXPECT_EQ(axes[0].programmed_direction, 0);
+  const double from_mm = get().commanded_mm[0];
+  const auto move_x = [&](double to_mm) {
+    {
+      std::lock_guard<std::mutex> l(mu);
+      snap.move_x_to_mm = to_mm;
+    }
+    return testing::WaitFor([&] { return std::abs(get().commanded_mm[0] - to_mm) < 1e-9; }) &&
+           testing::WaitFor([&] { return link.Read(axes, state) && std::abs(axes[0].position_mm - to_mm) < 1e-6 && !axes[0].moving; });
+  };
+  ASSERT_TRUE(move_x(from_mm + 3));
+  EXPECT_EQ(axes[0].programmed_direction, +1);
+  ASSERT_TRUE(move_x(from_mm + 1));
+  EXPECT_EQ(axes[0].programmed_direction, -1);
+  EXPECT_EQ(axes[1].programmed_direction, 0);  // Y never moved
+  ASSERT_TRUE(link.WriteCompensation(std::vector<double>{30.0, -13.0}));  // a nudge towards +
+  ASSERT_TRUE(testing::WaitFor([&] { return link.Read(axes, state) && std::abs(link.applied_um()[0] - 30.0) < 1e-9; }));
+  EXPECT_EQ(axes[0].programmed_direction, -1);
 
   // The machine's sensors arrive as ADAM-6015 channels.
   ModbusTemperatureSourceOptions to;

@@ -544,7 +544,8 @@ namespace trueaxis::model {
 namespace {
 
 // `fit` on a small virtual campaign (sim campaign, one axis) prints the residual block: per state
-// in-sample, a finding in plain words and the key sensors' shares; the HTML report has its section.
+// held out (each dry state predicted by the gains fitted without it), a finding in plain words and
+// the key sensors' shares; the HTML report has its section.
 TEST_F(CliFit, FitPrintsWhatTheResidualShowsForACampaign) {
   const std::string machine = std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc400_small.toml";
   auto c = Cli("sim campaign --quiet --machine " + machine + " --out " + P("camp") +
@@ -560,14 +561,15 @@ TEST_F(CliFit, FitPrintsWhatTheResidualShowsForACampaign) {
   for (const auto& f : files) args += " " + f;
   auto r = Cli("fit --out " + P("m.json") + " --report " + P("fit.html") + args);
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_THAT(r.out, HasSubstr("residual (in-sample; noise levels: offset"));
+  EXPECT_THAT(r.out, HasSubstr("residual (cross-validated; noise levels: offset"));
+  EXPECT_THAT(r.out, HasSubstr("held-out residual"));
   EXPECT_THAT(r.out, HasSubstr("key sensor share of the thermal correction:"));
   EXPECT_TRUE(r.out.find("no structure:") != std::string::npos || r.out.find("slope: in ") != std::string::npos ||
               r.out.find("offset: in ") != std::string::npos)
       << r.out;
   auto full = Cli("fit --full --out " + P("m2.json") + args);
   ASSERT_EQ(full.code, 0) << full.out;
-  EXPECT_THAT(full.out, HasSubstr("residual shape per state (in-sample"));
+  EXPECT_THAT(full.out, HasSubstr("residual shape per state (cross-validated"));
   EXPECT_THAT(full.out, HasSubstr("warm-01"));
   const std::string html = ReadTextFile(P("fit.html"));
   EXPECT_THAT(html, HasSubstr("What the residual shows"));

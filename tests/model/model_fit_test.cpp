@@ -416,6 +416,46 @@ TEST(ModelFit, NoHeatedStateAndNoCteGivesRhoFromCteMetadataWhenPresent) {
   EXPECT_THAT(res.summary.axes[0].rho_source, HasSubstr("cte"));
 }
 
+// A machine calibrated in one season: the room's changes within it fit a ρ that carries how the
+// structure lagged the room on those days, and another season extrapolates it. With the CTE of the
+// axis's feedback known, ρ is the physical soak −cte/1000; the fitted value is kept for the check,
+// and a CTE far from what the room changes show is warned about (the laser's material compensation
+// on takes most of the soak out of the files).
+TEST(ModelFit, RhoIsTheFeedbacksSoakWhenTheCteIsKnown) {
+  SyntheticMachine sm;
+  sm.rho = -0.0095;  // what one season's room changes show
+  auto states = sm.MakeStates(sm.DefaultStates());
+  states[0].measurement.metadata.push_back({"cte_um_per_m_c", "11.5"});
+  auto res = FitCompositeModel(states, {});
+  const auto& s = res.summary.axes[0];
+  EXPECT_DOUBLE_EQ(res.model.axes[0].rho_um_per_mm_per_c, -0.0115) << s.rho_source;
+  EXPECT_TRUE(s.rho_from_cte);
+  EXPECT_THAT(s.rho_source, HasSubstr("cte_um_per_m_c = 11.5"));
+  EXPECT_NEAR(s.rho_fitted_for_check, -0.0095, 0.001) << res.summary.FullReport();
+  EXPECT_THAT(res.summary.FullReport(), HasSubstr("room temperatures of the calibration"));
+  EXPECT_THAT(res.summary.warnings, ::testing::Not(::testing::Contains(HasSubstr("check the CTE"))));
+
+  FitOptions fitted;
+  fitted.fit_rho_with_cte = true;
+  auto res_fit = FitCompositeModel(states, fitted);
+  EXPECT_NEAR(res_fit.model.axes[0].rho_um_per_mm_per_c, -0.0095, 0.001) << res_fit.summary.axes[0].rho_source;
+  EXPECT_FALSE(res_fit.summary.axes[0].rho_from_cte);
+
+  // The option wins over the file; a CTE the room changes contradict is warned about.
+  FitOptions scale;
+  scale.cte_um_per_m_c = 30;
+  auto res_scale = FitCompositeModel(states, scale);
+  EXPECT_DOUBLE_EQ(res_scale.model.axes[0].rho_um_per_mm_per_c, -0.030);
+  EXPECT_THAT(res_scale.summary.axes[0].rho_source, HasSubstr("fit --cte 30"));
+  EXPECT_THAT(res_scale.summary.warnings, ::testing::Contains(HasSubstr("check the CTE")));
+
+  // Without a CTE the fitted ρ is used, and the fit says it extrapolates to other seasons.
+  auto plain = sm.MakeStates(sm.DefaultStates());
+  auto res_plain = FitCompositeModel(plain, {});
+  EXPECT_NEAR(res_plain.model.axes[0].rho_um_per_mm_per_c, -0.0095, 0.001);
+  EXPECT_THAT(res_plain.summary.warnings, ::testing::Contains(HasSubstr("another season")));
+}
+
 TEST(ModelFit, PredictionResidualIsMeasuredMinusPredicted) {
   SyntheticMachine sm;
   auto states = sm.MakeStates(sm.DefaultStates());

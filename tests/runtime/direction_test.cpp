@@ -2,6 +2,7 @@
 // models an axis is compensated with after a move, also after a move too short for the loop to
 // see the CNC's `moving` flag (a laser cycle's overrun of a few mm at rapid feed).
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -14,8 +15,10 @@ using testing::TestModel;
 
 struct DirectionRig : OneAxisRig {
   DirectionRig() { comp->PublishModel(TestModel(1.0, {"X"}), "test"); }
-  const CycleStatus& Sample(double position_mm, int servo_direction, bool moving, int cycles = 1) {
+  const CycleStatus& Sample(double position_mm, int servo_direction, bool moving, int cycles = 1,
+                            int programmed_direction = 0) {
     cnc.axes[0] = {position_mm, servo_direction, moving};
+    cnc.axes[0].programmed_direction = programmed_direction;
     const CycleStatus* s = nullptr;
     for (int i = 0; i < cycles; ++i) {
       t += 0.01;
@@ -59,13 +62,130 @@ TEST(Direction, WithoutADirectionRegisterThePositionChangeDecides) {
   EXPECT_EQ(r.comp->LastStatus().axes[0].direction, Direction::kForward);
 }
 
-// The direction the CNC reports wins over the sign of the change: out 5 mm and back 3 mm between
-// two samples ends with a reverse approach.
-TEST(Direction, TheCncsDirectionWinsOverTheNetPositionChange) {
+// The CNC's programmed direction wins: a whole overrun done between two reads (the axis stands on
+// the target again, no position change, the servo register still +), out 5 mm and back 3 mm (the
+// position says forward from the turning point), and standing with the compensation's nudges.
+TEST(Direction, TheProgrammedDirectionFromTheLinkWins) {
   DirectionRig r;
   r.ForwardAt300();
-  r.Sample(302, -1, false, 2);
+  r.Sample(300, +1, false, 1, -1);  // 300 → 305 → 300 between two reads: only the program tells
   EXPECT_EQ(r.comp->LastStatus().axes[0].direction, Direction::kReverse);
+  r.Sample(300, +1, false, 2, +1);
+  ASSERT_EQ(r.comp->LastStatus().axes[0].direction, Direction::kForward);
+  r.Sample(302, -1, false, 1, -1);  // out to 305 and back to 302 between two reads
+  EXPECT_EQ(r.comp->LastStatus().axes[0].direction, Direction::kReverse);
+  for (int i = 0; i < 20; ++i) {  // standing: nudges of the position and a flickering servo register
+    r.Sample(302 + (i % 2 ? 0.003 : -0.003), i % 2 ? +1 : -1, false, 1, -1);
+    ASSERT_EQ(r.comp->LastStatus().axes[0].direction, Direction::kReverse) << "sample " << i;
+  }
+  // It also wins over a servo direction the runtime takes at any report.
+  OneAxisRig any;
+  CompensatorOptions o;
+  o.direction_only_while_moving = false;
+  any.comp = Compensator::ForHardware(o, any.cnc, any.temps, {});
+  any.comp->PublishModel(TestModel(1.0, {"X"}), "test");
+  any.cnc.axes[0] = {250, +1, false};
+  any.cnc.axes[0].programmed_direction = -1;
+  EXPECT_EQ(any.comp->RunCycle(any.cnc, any.temps, 0.01).axes[0].direction, Direction::kReverse);
+}
+
+// A reversal the loop saw only as its sum: a creep back from the turning point in steps below the
+// threshold (no `moving` flag), which two successive reads never show, still switches the model
+// once it has gone back by more than direction_min_move_um.
+TEST(Direction, AReversalCountsFromTheTurningPoint) {
+  DirectionRig r;
+  r.ForwardAt300();
+  r.Sample(300.004, 0, false);  // 4 µm farther forward: the turning point moves with it
+  for (int k = 1; k <= 5; ++k) {  // back by 0.8 µm per read: 0.8, 1.6, 2.4, ... µm from the turning point
+    r.Sample(300.004 - 0.0008 * k, 0, false);
+    EXPECT_EQ(r.comp->LastStatus().axes[0].direction, k <= 2 ? Direction::kForward : Direction::kReverse)
+        << 0.8 * k << " µm back";
+  }
+}
+
+// A laser cycle as the CNC runs it (ISO 230-2 up and down): from below the first target by the
+// overrun, every target going up with a dwell, past the last by the overrun and back onto it,
+// every target coming down, below the first by the overrun and back. The loop reads every 0.1 s;
+// the 5 mm overrun at 2000 mm/min takes 0.15 s each way, so the loop sees one or two reads of each
+// leg, at a phase that varies from run to run.
+//
+// The CNC reports its commanded position, `moving` and the servo direction while the program moves
+// the axis, and a servo direction register that, standing, holds where the MOTOR last moved — the
+// compensation's own moves included (a CNC's moving-direction signal when the correction goes
+// through the servo). It applies each new correction as a ramp (60 µm/s). When the loop's one read
+// of an overrun's return leg switches the model, the reversal value it writes is still being ramped
+// in when the axis arrives on the target, so the register shows the ramp's direction, not the
+// approach. At the end of every dwell the model in force must be the approach's direction.
+TEST(Direction, ALaserCyclesShortOverrunsSwitchTheModelAtEveryPhase) {
+  struct Move {
+    double from_mm, to_mm, start_s, end_s;
+    bool record;  // a dwell for a reading follows
+    int Dir() const { return to_mm > from_mm ? +1 : -1; }
+  };
+  const double feed_mm_s = 2000.0 / 60, overrun_mm = 5, dwell_s = 2, period_s = 0.1, ramp_um_s = 60;
+  ASSERT_LT(overrun_mm / feed_mm_s, 2 * period_s);  // the loop sees at most two reads of an overrun leg
+  std::vector<double> targets;
+  for (double x = 20; x <= 520; x += 100) targets.push_back(x);
+  std::vector<Move> moves;
+  double at_mm = targets.front() - overrun_mm, t_s = 1;
+  const auto go = [&](double to_mm, bool record) {
+    const double end_s = t_s + std::fabs(to_mm - at_mm) / feed_mm_s;
+    moves.push_back({at_mm, to_mm, t_s, end_s, record});
+    at_mm = to_mm;
+    t_s = end_s + (record ? dwell_s : 0);
+  };
+  for (int run = 0; run < 2; ++run) {
+    for (double x : targets) go(x, true);
+    go(targets.back() + overrun_mm, false);
+    for (auto it = targets.rbegin(); it != targets.rend(); ++it) go(*it, true);
+    go(targets.front() - overrun_mm, false);
+  }
+  int dwells = 0, wrong_runs = 0;
+  for (int phase = 0; phase < 10; ++phase) {
+    DirectionRig r;
+    r.comp->PublishModel(TestModel(3.0, {"X"}), "test");  // a reversal value of 18 µm
+    r.Sample(targets.front() - overrun_mm, +1, false, 3);
+    double applied_um = r.cnc.cnc_value_um[0], ramp_to_um = applied_um, ramp_end_s = 0;
+    int ramp_dir = 0, motor_dir = +1, wrong = 0;
+    for (double prev = 0.9, t = prev + 0.01 * phase; t < moves.back().end_s + 1; prev = t, t += period_s) {
+      // The program at t, and the last programmed motion within (prev, t].
+      double x_mm = moves.front().from_mm, program_end_s = -1;
+      int program_dir = 0;
+      bool moving = false;
+      for (const Move& mv : moves) {
+        if (mv.start_s >= t) break;
+        x_mm = t >= mv.end_s ? mv.to_mm : mv.from_mm + mv.Dir() * feed_mm_s * (t - mv.start_s);
+        moving = t < mv.end_s;
+        if (mv.end_s > prev) program_end_s = std::min(mv.end_s, t), program_dir = mv.Dir();
+      }
+      // The register: whichever of the program and the correction's ramp moved the motor last.
+      const double ramp_in_s = ramp_end_s > prev ? std::min(ramp_end_s, t) : -1;
+      if (moving) motor_dir = program_dir;
+      else if (ramp_in_s > program_end_s) motor_dir = ramp_dir;
+      else if (program_end_s > 0) motor_dir = program_dir;
+      r.cnc.axes[0] = {x_mm, motor_dir, moving};
+      r.t = t;
+      const CycleStatus& s = r.comp->RunCycle(r.cnc, r.temps, t);
+      // The ramp towards the correction just written, from where it has got to.
+      applied_um = ramp_end_s > t ? ramp_to_um - ramp_dir * ramp_um_s * (ramp_end_s - t) : ramp_to_um;
+      if (r.cnc.cnc_value_um[0] != ramp_to_um) {
+        ramp_to_um = r.cnc.cnc_value_um[0];
+        ramp_dir = ramp_to_um > applied_um ? +1 : -1;
+        ramp_end_s = t + std::fabs(ramp_to_um - applied_um) / ramp_um_s;
+      }
+      for (const Move& mv : moves) {
+        if (!mv.record || t < mv.end_s || t >= mv.end_s + dwell_s || t + period_s < mv.end_s + dwell_s) continue;
+        ++dwells;  // the dwell's last read
+        const Direction approach = mv.Dir() > 0 ? Direction::kForward : Direction::kReverse;
+        if (s.axes[0].direction != approach) ++wrong;
+        EXPECT_EQ(s.axes[0].direction, approach) << "phase " << phase << ": target " << mv.to_mm << " approached "
+                                                 << (mv.Dir() > 0 ? "forward" : "in reverse");
+      }
+    }
+    wrong_runs += wrong > 0;
+  }
+  EXPECT_EQ(wrong_runs, 0) << "of 10 runs";
+  EXPECT_EQ(dwells, 10 * 2 * 2 * static_cast<int>(targets.size()));  // every reading was checked
 }
 
 // Standing still, position noise of an encoder count or two and the CNC's direction register

@@ -9,9 +9,13 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <fstream>
+#include <thread>
+#include <vector>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
@@ -178,6 +182,37 @@ TEST(ShopHttpApiGuard, BodiesAndFieldsAreBoundedAndNeverEchoed) {
   EXPECT_EQ(StatusOf(r), 200) << r.substr(0, 300);
 }
 
+// A length given and the body chunked anyway: cpp-httplib read the chunks whole (1 MiB, or any
+// size), past the 64 KiB limit and the Content-Length guard.
+TEST(ShopHttpApiGuard, AChunkedBodyIsRefusedEvenWithAContentLength) {
+  ApiFixture f;
+  ASSERT_NE(f.vshop, nullptr);
+  const std::string head = "POST /api/machines/vm-0000/acknowledge HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+                           "Content-Type: application/json\r\nContent-Length: 40\r\nTransfer-Encoding: chunked\r\n\r\n";
+  const std::string body = R"({"user": "chunked"})";
+  // A valid body in one chunk, sent with the headers: refused as it arrives, nothing acknowledged.
+  auto r = Raw(f.api->port(), head + fmt::format("{:x}\r\n{}\r\n0\r\n\r\n", body.size(), body));
+  EXPECT_EQ(StatusOf(r), 411) << r.substr(0, 300);
+  EXPECT_NE(BodyOf(r).find("field 'Transfer-Encoding'"), std::string::npos) << r.substr(0, 300);
+  // 64 MiB of chunks: the server stops taking them at the headers.
+  const int fd = Connect(f.api->port());
+  ASSERT_GE(fd, 0);
+  timeval tv{5, 0};
+  ::setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
+  auto send_all = [fd](const std::string& s) { return ::send(fd, s.data(), s.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(s.size()); };
+  std::size_t sent = 0;
+  const std::string piece = "10000\r\n" + std::string(0x10000, ' ') + "\r\n";
+  for (bool ok = send_all(head); ok && sent < (64u << 20);)
+    if ((ok = send_all(piece))) sent += 0x10000;
+  ::close(fd);
+  EXPECT_LT(sent, 64u << 20) << "the whole chunked body was taken";
+  // A declared length over the limit is refused before the body is read.
+  r = Raw(f.api->port(), "POST /api/machines/vm-0000/acknowledge HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+                         "Content-Type: application/json\r\nContent-Length: 99999999999\r\n\r\n");
+  EXPECT_EQ(StatusOf(r), 413) << r;
+  EXPECT_EQ(StatusOf(f.Post("/api/machines/vm-0000/acknowledge", R"({"user": "x"})")), 200) << "a body with its length works";
+}
+
 // Finding 5: a few idle connections held every worker for seconds.
 TEST(ShopHttpApiGuard, IdleConnectionsDoNotStallTheApi) {
   ApiFixture f;
@@ -193,6 +228,30 @@ TEST(ShopHttpApiGuard, IdleConnectionsDoNotStallTheApi) {
   EXPECT_EQ(res->status, 200);
   for (int fd : idle)
     if (fd >= 0) ::close(fd);
+}
+
+// Clients that trickle their headers held a worker each for as long as they trickled.
+TEST(ShopHttpApiGuard, SlowHeadersDoNotStallTheApi) {
+  ApiFixture f;
+  ASSERT_NE(f.vshop, nullptr);
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> loris;
+  for (int i = 0; i < 40; ++i)
+    loris.emplace_back([&, port = f.api->port()] {
+      const int fd = Connect(port);
+      const std::string part = "GET /api/stats HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ";
+      for (std::size_t k = 0; fd >= 0 && !stop.load() && ::send(fd, &part[k % part.size()], 1, MSG_NOSIGNAL) == 1; ++k)
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      if (fd >= 0) ::close(fd);
+    });
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  httplib::Client client("127.0.0.1", f.api->port());
+  client.set_read_timeout(5);  // a bound: before, no answer while they trickled
+  auto res = client.Get("/api/stats");
+  stop = true;
+  for (auto& t : loris) t.join();
+  ASSERT_TRUE(res) << httplib::to_string(res.error());
+  EXPECT_EQ(res->status, 200);
 }
 
 // Finding 6: an audit log that cannot be appended to lost every model change silently.

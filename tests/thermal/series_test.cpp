@@ -72,7 +72,7 @@ TEST(ThermalSeriesCsv, BadInputNamesLineAndField) {
   ExpectError("time_s,t_a_c,e_x_um\n0,20,1um\n", 2, "e_x_um");
   ExpectError("time_s,t_a_c,e_x_um\n0,900,1\n", 2, "t_a_c");              // implausible °C
   ExpectError("time_s,t_a_c,e_x_um\n0,20,1\n15,20,1e15\n", 3, "e_x_um");  // 1e15 µm: coefficients near 1e296
-  ExpectError("time_s,t_a_c,e_x_um\n0,293.5,1\n", 2, "t_a_c");            // kelvin
+  ExpectError("time_s,t_a_c,e_x_um\n0,293.5,1\n", 1, "t_a_c");            // kelvin: the column, at its header
   ExpectError("time_s,t_a_c,e_x_um\n1e300,20,1\n", 2, "time_s");
   ExpectError("time_s,spindle_rpm,t_a_c,e_x_um\n0,-5,20,1\n", 2, "spindle_rpm");
   ExpectError("# only a comment\n", 0, "");

@@ -7,7 +7,11 @@
 #include <sys/time.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <string>
+#include <thread>
+#include <vector>
 
 namespace trueaxis::web::testing {
 
@@ -21,10 +25,12 @@ class RawSocket {
     a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     timeval tv{5, 0};
     ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    ::setsockopt(fd_, SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
     connected_ = ::connect(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
   }
   ~RawSocket() { ::close(fd_); }
   bool connected() const { return connected_; }
+  void CloseWrite() { ::shutdown(fd_, SHUT_WR); }
   bool Send(const std::string& bytes) { return ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(bytes.size()); }
   // Everything until the server closes (or 5 s pass).
   std::string ReadAll() {
@@ -45,5 +51,30 @@ inline std::string RawExchange(int port, const std::string& request) {
   if (!s.connected() || !s.Send(request)) return "";
   return s.ReadAll();
 }
+
+// `n` connections that trickle a request a byte every 100 ms and never finish it (slow-loris),
+// until destroyed or the server closes them.
+class SlowClients {
+ public:
+  SlowClients(int port, int n) {
+    for (int i = 0; i < n; ++i)
+      threads_.emplace_back([this, port] {
+        RawSocket s(port);
+        const std::string part = "GET /api/session HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ";
+        for (std::size_t k = 0; !stop_.load() && s.Send(std::string(1, part[k % part.size()])); ++k)
+          std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      });
+  }
+  ~SlowClients() { Stop(); }
+  void Stop() {
+    stop_ = true;
+    for (auto& t : threads_)
+      if (t.joinable()) t.join();
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::vector<std::thread> threads_;
+};
 
 }  // namespace trueaxis::web::testing

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -105,24 +106,58 @@ TEST(SessionStore, MemoryIsBounded) {
 TEST(LoginLimiter, LocksANameAfterNFailuresThenLetsItTryAgain) {
   LoginLimiter lim(LoginLimits{3, 60, 30, 10, 1000});
   EXPECT_EQ(lim.LockedForS("u", "a", 0), 0);
-  lim.RecordFailure("u", "a", 0);
-  lim.RecordFailure("u", "a", 1);
+  lim.Reserve("u", "a", 0).Failed(0);
+  lim.Reserve("u", "a", 1).Failed(1);
   EXPECT_EQ(lim.LockedForS("u", "a", 1), 0);
-  lim.RecordFailure("u", "a", 2);
+  lim.Reserve("u", "a", 2).Failed(2);
   EXPECT_NEAR(lim.LockedForS("u", "a", 2), 30, 1e-9);
   EXPECT_EQ(lim.LockedForS("v", "b", 2), 0) << "another name from another address";
   EXPECT_EQ(lim.LockedForS("u", "a", 33), 0);
   // Failures spread beyond the window do not add up.
   LoginLimiter slow(LoginLimits{3, 60, 30, 10, 1000});
-  for (int i = 0; i < 6; ++i) slow.RecordFailure("u", "a", i * 61.0);
+  for (int i = 0; i < 6; ++i) slow.Reserve("u", "a", i * 61.0).Failed(i * 61.0);
   EXPECT_EQ(slow.LockedForS("u", "a", 400), 0);
 }
 
 TEST(LoginLimiter, OneAddressTryingManyNamesIsLockedToo) {
   LoginLimiter lim(LoginLimits{5, 60, 30, 4, 1000});
-  for (int i = 0; i < 4; ++i) lim.RecordFailure("name" + std::to_string(i), "10.0.0.9", i);
+  for (int i = 0; i < 4; ++i) lim.Reserve("name" + std::to_string(i), "10.0.0.9", i).Failed(i);
   EXPECT_GT(lim.LockedForS("fresh-name", "10.0.0.9", 5), 0);
   EXPECT_EQ(lim.LockedForS("fresh-name", "10.0.0.10", 5), 0);
+}
+
+TEST(LoginLimiter, AttemptsInProgressCountBeforeTheirPasswordIsChecked) {
+  LoginLimiter lim(LoginLimits{3, 60, 30, 10, 1000, 8});
+  std::vector<LoginLimiter::Attempt> checking;
+  for (int i = 0; i < 3; ++i) checking.push_back(lim.Reserve("u", "a", 0));
+  for (const auto& a : checking) EXPECT_TRUE(a.granted());
+  auto fourth = lim.Reserve("u", "a", 0);
+  EXPECT_EQ(fourth.verdict(), LoginLimiter::Verdict::kPending) << "three guesses are being checked already";
+  EXPECT_GT(fourth.retry_after_s(), 0);
+  for (auto& a : checking) a.Failed(1);
+  EXPECT_NEAR(lim.LockedForS("u", "a", 1), 30, 1e-9);
+  EXPECT_EQ(lim.hashes_in_flight(), 0);
+  // A success among them clears the name; an attempt dropped unfinished counts as failed.
+  LoginLimiter ok(LoginLimits{3, 60, 30, 10, 1000, 8});
+  { auto dropped = ok.Reserve("u", "a", 0); }
+  ok.Reserve("u", "a", 0).Failed(0);
+  ok.Reserve("u", "a", 0).Succeeded();
+  EXPECT_TRUE(ok.Reserve("u", "a", 0).granted());
+  LoginLimiter drop(LoginLimits{2, 60, 30, 10, 1000, 8});
+  { auto dropped = drop.Reserve("u", "a", 0); }
+  drop.Reserve("u", "a", 0).Failed(0);
+  EXPECT_GT(drop.LockedForS("u", "a", 0), 0);
+}
+
+TEST(LoginLimiter, PasswordChecksInFlightAreBounded) {
+  LoginLimiter lim(LoginLimits{5, 60, 30, 20, 1000, 2});
+  auto a = lim.Reserve("u1", "a", 0), b = lim.Reserve("u2", "a", 0);
+  EXPECT_TRUE(a.granted() && b.granted());
+  auto c = lim.Reserve("u3", "a", 0);
+  EXPECT_EQ(c.verdict(), LoginLimiter::Verdict::kBusy);
+  EXPECT_EQ(c.retry_after_s(), 1);
+  a.Failed(0);
+  EXPECT_TRUE(lim.Reserve("u3", "a", 0).granted()) << "a finished check frees its place";
 }
 
 TEST(AlarmBook, OpensClosesAndAcknowledgesOnce) {

@@ -5,6 +5,7 @@
 // room), the room temperatures the model will be able to vouch for, what is missing and what to
 // measure for it — and file problems: a file the manifest lists but is missing or unreadable, a test
 // without its time on the campaign clock, a test with no temperatures in the log at its time.
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -41,6 +42,9 @@ struct AxisCoverage {
   std::set<std::string> coolants;          // of the coolant and coolant_rest tests
   std::vector<SensorRange> ranges;         // key sensors (nut, bearing, motor, structure, bed, room) over the axis's tests
   double room_min_c = 0, room_max_c = 0;   // NaN when no room reading
+  // The CTE of the axis's feedback its files carry (`# cte_um_per_m_c:`, stamped by `campaign add`
+  // from the machine file); NaN when none does: the fit then fits the room's soak from these tests.
+  double cte_um_per_m_c = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::string> missing;        // what to measure, one line each
 };
 

@@ -2,6 +2,7 @@
 // A campaign folder on disk (docs/campaign.md "Output directory"): manifest.json, the temperature
 // log it names and the measurement files it lists — what `trueaxis campaign log` and
 // `trueaxis campaign add` read and extend, and what `trueaxis fit` reads.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,10 @@ struct CampaignFolder {
   CampaignClock Clock() const;
   nlohmann::ordered_json& Measurements();  // the "measurements" array (created when absent)
   void Save() const;                       // writes manifest.json (a temporary file renamed over it)
+  // The axis's cte_um_per_m_c from plan.json (`campaign plan`'s copy of the machine file), when the
+  // folder has a plan that gives one; nullopt otherwise. InputError naming plan.json when it is
+  // not JSON or the value is not a number.
+  std::optional<double> PlannedCteUmPerMC(const std::string& axis) const;
 };
 
 // Reads DIR/manifest.json; InputError(manifest, 0, field, …) when it is missing, not JSON, or not a

@@ -7,6 +7,7 @@
 // from `min_mm` to `max_mm`, which may be negative as on most controllers), or the virtual machine's
 // file (docs/machine-file.md; axes from 0 to travel_mm, no controller: programs for every one).
 #include <optional>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +26,10 @@ struct CampaignAxis {
   double lead_mm = 0;
   bool fixed_at_min = true;  // the fixed (thrust) bearing at the min_mm end
   double reference_mm = 0;   // where the laser is zeroed (default: the fixed end)
+  // CTE of the axis's position feedback, µm/m/°C (the ball screw's with a rotary encoder, the
+  // scale's with a linear scale); NaN: not given. Stamped on the laser files by `campaign add`, it
+  // gives the fit the room's physical soak ρ = −cte/1000, which holds in every season.
+  double cte_um_per_m_c = std::numeric_limits<double>::quiet_NaN();
   double TravelMm() const { return max_mm - min_mm; }
 };
 

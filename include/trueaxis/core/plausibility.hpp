@@ -44,4 +44,33 @@ std::optional<std::string> ImplausibleCteUmPerMC(double value);
 // (−5 … 0: Invar, carbon fibre; below: a sign error more likely).
 std::optional<std::string> UnusualCteUmPerMC(double value);
 
+// Units of a whole recording (a thermal drift recording: temperatures in °C, errors in µm, time in
+// s), judged from its columns together, which say more than one value can. Each returns nothing
+// when the recording reads as labelled, else the reason and the unit it more likely is in:
+//  - temperatures: a machine tool's coolest sensor (ambient, bed, column) sits near room
+//    temperature, so a recording whose coolest sensor has a median above 45 °C reads like °F (a
+//    15 … 30 °C shop is 59 … 86 °F; spindle and motor sensors may well be hotter, hence the
+//    coolest) up to 150, and one in 223 … 423 like kelvin (others fit no unit: refused per value);
+//  - an error channel: a thermal drift worth compensating moves by micrometres, so a channel whose
+//    values all lie within ±0.2 with an RMS below 0.05 (not all zero) reads like mm (0.2 mm is
+//    200 µm);
+//  - time: machine structures warm by a few °C/h (a spindle warm-up 5 … 20 °C/h); a sensor whose
+//    range over the whole recording comes faster than 60 °C/h reads like time in minutes.
+inline constexpr double kMaxPlausibleCoolestSensorC = 45;
+inline constexpr double kMinKelvinLikeTemperature = 223;
+inline constexpr double kMaxKelvinLikeTemperature = 423;
+inline constexpr double kMaxMillimetreLikeErrorAbs = 0.2;
+inline constexpr double kMaxMillimetreLikeErrorRms = 0.05;
+inline constexpr double kMaxPlausibleRecordingRateCPerH = 60;
+
+enum class SuspectedUnit { kNone, kFahrenheit, kKelvin, kMillimetre, kMinutes };
+struct UnitSuspicion {
+  SuspectedUnit unit = SuspectedUnit::kNone;
+  std::string why;  // empty when unit is kNone
+  explicit operator bool() const { return unit != SuspectedUnit::kNone; }
+};
+UnitSuspicion SuspectTemperatureUnit(double coolest_median_c);
+UnitSuspicion SuspectErrorUnit(double max_abs_um, double rms_um);
+UnitSuspicion SuspectTimeUnit(double largest_range_c, double duration_s);
+
 }  // namespace trueaxis

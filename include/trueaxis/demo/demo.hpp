@@ -13,6 +13,7 @@
 //  4. ISO 230-2 evaluation of every measurement and one HTML report.
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,9 @@ struct DemoOptions {
   // The gains' fitted envelope (FitOptions::tan_beta_margin). false (with the coolant memory off):
   // the model before issue 10's coolant work, the baseline of bench/results/zoo.md.
   bool fitted_envelope = true;
+  // ρ fitted from the campaign's room temperatures although the machine's CTE is known
+  // (model::FitOptions::fit_rho_with_cte), for comparison with the default physical soak.
+  bool rho_fit = false;
   // The campaign's stop under coolant after its coolant warm-up (sim::CampaignOptions::coolant_rest).
   bool coolant_rest = true;
   // Ridge on the gains of the keys after the nut (model::FitOptions::secondary_key_ridge); 0: the
@@ -81,6 +85,11 @@ struct DemoOptions {
   // The hours of the day the campaign's ambient days measure the idle machine at
   // (sim::CampaignOptions::ambient_hours); empty: the campaign's default.
   std::vector<double> ambient_hours;
+  // The days after the first on which the campaign measures the idle machine at another room
+  // temperature (sim::CampaignOptions::ambient_day_offsets); unset: the campaign's default (two
+  // other seasons). A short list (e.g. {1, 2}) calibrates in one season only, as a user whose
+  // whole campaign falls in one month; the other day then shows what the model does in another.
+  std::optional<std::vector<int>> ambient_day_offsets;
   // The working day over MODBUS TCP on 127.0.0.1: the virtual machine behind
   // a ModbusMachineServer (PMC window + ADAM-6015 modules, docs/protocols.md),
   // the compensator on ModbusCncLink / ModbusTemperatureSource. Each cycle is a

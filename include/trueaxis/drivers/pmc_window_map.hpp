@@ -31,6 +31,9 @@ inline constexpr int kIrCoolant = 4;           // CoolantState code 0 off, 1 flo
 inline constexpr int kIrStatus = 5;            // bit field, kStatus*
 inline constexpr int kIrReadAgeMs = 6;         // ms since the machine was last read OK (saturates 65535)
 inline constexpr int kIrWriteCount = 7;        // uint16 count of compensation vectors forwarded to the CNC (wraps)
+inline constexpr int kIrProgrammedDirection = 8;  // bits: bit a = axis a's programmed motion is towards +,
+                                                  //   bit 8 + a = towards −; neither (a terminal that
+                                                  //   does not know; older terminals read 0) = not known
 inline constexpr int kIrAxisBase = 16;         // first per-axis block
 inline constexpr int kIrAxisStride = 8;        // registers per axis
 inline constexpr int kIrAxisPositionHi = 0;    // int32 machine position, 0.1 µm
@@ -54,6 +57,20 @@ inline constexpr int kHrEnable = 0;            // PMC enable bit, 0/1 (anded wit
 inline constexpr int kHrCompensationBase = 16; // per axis: int32 correction, 0.1 µm, hi word first
 inline constexpr int kHrCompensationStride = 2;
 inline constexpr int kHoldingRegisterCount = kHrCompensationBase + kHrCompensationStride * static_cast<int>(kMaxAxes);
+
+// Axis `axis`'s bits of the programmed-direction register for `direction` (+1, −1; 0: none).
+inline constexpr std::uint16_t ProgrammedDirectionBits(std::size_t axis, int direction) {
+  return direction > 0 ? static_cast<std::uint16_t>(1u << axis)
+         : direction < 0 ? static_cast<std::uint16_t>(1u << (8 + axis))
+                         : std::uint16_t{0};
+}
+// Axis `axis`'s programmed direction in the register's `bits`: +1, −1, or 0 (neither bit, or both:
+// not known).
+inline constexpr int ProgrammedDirection(std::uint16_t bits, std::size_t axis) {
+  const bool plus = (bits >> axis) & 1u, minus = (bits >> (8 + axis)) & 1u;
+  return plus == minus ? 0 : plus ? 1 : -1;
+}
+static_assert(kMaxAxes <= 8, "the programmed-direction register holds 8 axes");
 
 inline constexpr int InputAxisRegister(std::size_t axis, int field) {
   return kIrAxisBase + kIrAxisStride * static_cast<int>(axis) + field;

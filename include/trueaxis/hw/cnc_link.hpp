@@ -31,6 +31,11 @@ struct AxisState {
   // distance counter): the motion-heat input of a thermal model. NaN when the CNC does not
   // report it (the MODBUS terminal then sums it from the positions it reads, docs/protocols.md).
   double travel_mm = std::numeric_limits<double>::quiet_NaN();
+  // The direction of the CNC's programmed (commanded) motion of the axis: +1 towards +, -1 towards
+  // -, of the move under way or, at standstill, of the last one; never changed by the
+  // compensation's own offset. 0: the CNC does not tell (the runtime then judges the direction
+  // from the moving flag, the servo direction and the position, docs/runtime.md step 4).
+  int programmed_direction = 0;
 };
 
 struct CncState {

@@ -8,7 +8,8 @@
 //   in   C.L.eoffset   float  ← axis.L.eoffset, the offset applied now (mm). The direction and the
 //                             moving flag come from the PROGRAMMED motion, pos-cmd − eoffset between
 //                             reads: the offset's own µm moves must never flip the direction model
-//                             (it would limit-cycle by the reversal value, docs/runtime.md)
+//                             (it would limit-cycle by the reversal value, docs/runtime.md); it is
+//                             reported as the programmed direction, held while the axis stands
 //   out  C.L.eoffset-counts  s32    → axis.L.eoffset-counts
 //   in   C.L.eoffset-request float  ← axis.L.eoffset-request: the offset LinuxCNC holds (mm)
 //   out  C.L.eoffset-scale   float  → axis.L.eoffset-scale (mm per count = δ / 1000)

@@ -130,10 +130,21 @@ struct FitOptions {
   // Ambient sensor for the ρ·ΔT_env term. Empty: the first sensor named
   // ambient/air/env/environment/room present in every file; "none": no ambient term.
   std::string ambient_sensor;
-  // ρ (µm per mm per °C) in the seed's form ΔEr = ρ·ΔT_env·(Px − P0). NaN: fitted
-  // when the room temperature varies by ≥ min_ambient_range_c over the states,
-  // else −cte/1000 from `# cte_um_per_m_c:` metadata, else 0 (warned).
+  // ρ (µm per mm per °C) in the seed's form ΔEr = ρ·ΔT_env·(Px − P0). NaN: −cte/1000 when the CTE
+  // of the axis's feedback is known (cte_um_per_m_c, else the cold file's `# cte_um_per_m_c:`): a
+  // machine soaked in a warmer room grows by its feedback's expansion, in every season, while a ρ
+  // fitted on one season's daily swings carries how the structure lagged the room on those days
+  // and misses other seasons (bench/results/zoo.md, one-season campaigns). Without the CTE: fitted
+  // when the room temperature varies by ≥ min_ambient_range_c over the states (warned: it
+  // extrapolates to other seasons), else 0 (warned).
   double rho_um_per_mm_per_c = std::numeric_limits<double>::quiet_NaN();
+  // CTE of the axis's position feedback, µm/m/°C: the ball screw's with a rotary encoder (steel
+  // about 11.5), the scale's with a linear scale; for laser files that do not record it. NaN: the
+  // cold file's `# cte_um_per_m_c:`.
+  double cte_um_per_m_c = std::numeric_limits<double>::quiet_NaN();
+  // Fit ρ from the room's changes over the states even when the CTE is known (the rule before the
+  // physical soak; for comparison, or a machine whose structure does not soak as its feedback).
+  bool fit_rho_with_cte = false;
   double min_ambient_range_c = 1.0;
 
   // Fallback models (AxisModel::fallbacks): an axis with key sensors is fitted again without each

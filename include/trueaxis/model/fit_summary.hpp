@@ -92,6 +92,12 @@ struct AxisFitSummary {
   std::string reference_source;          // "option", "metadata", "fitted ...", "default ..."
   double rho_um_per_mm_per_c = 0;
   std::string rho_source;
+  bool rho_from_cte = false;  // ρ = −cte/1000, the physical soak (holds in every season)
+  // ρ the calibration's room changes alone would fit, when ρ came from the CTE (NaN otherwise).
+  double rho_fitted_for_check = kNaN;
+  // The room temperatures the fit saw (°C; NaN without an ambient sensor): the model's ρ holds
+  // beyond them when it is the physical soak (from the CTE), its fitted terms do not.
+  std::array<double, 2> room_range_c{kNaN, kNaN};
   std::vector<std::string> coolant_notes;  // how each coolant entry was fitted
   std::vector<std::string> fallback_notes; // the fallback models (FitOptions::fallback_models), in order
   std::vector<FallbackFitStats> fallbacks; // ... those fitted, as data

@@ -61,13 +61,15 @@ struct CompensatorOptions {
   // commanded motion). At standstill the compensation output itself moves the
   // motor by a few µm and a CNC reports that as a direction; following it would
   // flip between the forward and reverse models (a limit cycle of the reversal
-  // value). Set false for a CNC that never reports `moving`.
+  // value). Set false for a CNC that never reports `moving`. A programmed
+  // direction the CNC link gives (hw::AxisState::programmed_direction) is
+  // taken always.
   bool direction_only_while_moving = true;
-  // A move the loop did not see (`moving` never set in a snapshot: a few mm at rapid feed between
-  // two reads) is still a move: a change of the axis position between two CNC snapshots by more
-  // than this (µm, in the model's frame; above the position noise, a few encoder counts), beyond
-  // what the compensation itself changed meanwhile, switches the direction model — to the CNC's
-  // direction where it reports one, else to the direction of the change (docs/runtime.md step 4).
+  // Without a programmed or moving direction the position decides: a position back from the
+  // turning point (the farthest reached in the held direction since the model last switched) by
+  // more than this (µm, in the model's frame; above the position noise peak to peak, a few encoder
+  // counts), beyond what the compensation itself changed since, is a reversal — however few reads
+  // saw the move (docs/runtime.md step 4).
   double direction_min_move_um = 2.0;
   // Model sensor name → temperature channel name (absent: same name).
   std::map<std::string, std::string> channel_map;

@@ -165,13 +165,16 @@ struct StepState {
   int good_reads_in_row = 0;
   hw::CncState machine;                    // from the last good CNC read
   std::vector<Direction> direction;        // per axis, held while stopped
-  // Per axis, what the direction rule compares the next CNC snapshot with: the model position at
-  // the last good read (NaN: none yet), the output the CNC held then, and how much that output had
-  // changed since the read before (a CNC may show the compensation in its position a cycle late).
+  // Per axis, what the direction rule (docs/runtime.md step 4) compares the next CNC snapshot
+  // with: the output the CNC held at the last good read, and the turning point — the farthest
+  // model position reached in the held direction since the model last switched (NaN: none yet),
+  // with the output the CNC held at that read and at the read before it (a CNC may show the
+  // compensation in its position a cycle late).
   struct LastRead {
-    double position_mm = std::numeric_limits<double>::quiet_NaN();
     double held_um = 0;
-    double held_step_um = 0;
+    double turn_position_mm = std::numeric_limits<double>::quiet_NaN();
+    double turn_held_um = 0;
+    double turn_held_before_um = 0;
   };
   std::vector<LastRead> last_read;
   std::vector<OutputShaperState> shaper;   // per axis: what the CNC holds

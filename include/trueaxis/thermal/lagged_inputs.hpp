@@ -18,15 +18,28 @@ namespace trueaxis::thermal {
 inline constexpr double kLagResetGapFactor = 10.0;
 
 // Machine-tool structures have thermal time constants from minutes to hours; the default grid
-// covers 10 min … 4.5 h in factors of 3 (only those up to a third of the recording are used).
+// covers 10 min … 4.5 h in factors of 3 (only those up to a third of the longest experiment are used).
 std::vector<double> DefaultLagGridS();
 
 std::string LaggedName(const std::string& sensor, double tau_s);
 // true and the parts when `name` is a lagged input's name.
 bool ParseLaggedName(const std::string& name, std::string* sensor, double* tau_s);
 
-// The series with, for every raw sensor and every τ in `taus_s` (τ ≤ a third of the recording's
-// duration; others are skipped and listed in `skipped`), a lagged column appended.
+// The rows whose lagged inputs have not yet forgotten where they started: within kLagSettleTaus ×
+// the longest τ among `inputs` of the series' start, of each experiment's start or of a lag reset
+// after a gap. There a lag assumes the machine was at rest before (a cold start); on a file cut
+// out of a longer recording the prediction differs from that of the whole recording.
+inline constexpr double kLagSettleTaus = 3.0;  // e^-3: 5 % of the start value left
+struct LagStartUp {
+  double longest_tau_s = 0;  // 0: no lagged input
+  double settle_s = 0;       // kLagSettleTaus × longest_tau_s
+  Eigen::Index rows = 0;     // rows within settle_s of a start
+  int starts = 0;            // lag starts (series start, experiments, resets)
+};
+LagStartUp LagStartUpRows(const ThermalSeries& series, const std::vector<std::string>& inputs);
+
+// The series with, for every raw sensor and every τ in `taus_s` (τ ≤ a third of the longest
+// experiment's duration; others are skipped and listed in `skipped`), a lagged column appended.
 ThermalSeries AddLaggedTemperatures(const ThermalSeries& series, const std::vector<double>& taus_s,
                                     std::vector<double>* skipped = nullptr);
 

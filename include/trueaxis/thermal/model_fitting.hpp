@@ -30,6 +30,7 @@ struct ThermalFitOptions {
   double ridge_lambda = 1e-3;     // used by ridge and by the hysteresis sub-models
   PsoBpOptions network;
   HysteresisFitOptions hysteresis;  // its sub_model is taken from `linear` + ridge_lambda
+  bool sensors_listed = false;      // the user named the inputs (--sensors-list): labelled so, not "all sensors"
 
   bool IsValid(std::string* why) const;
 };
@@ -87,8 +88,9 @@ struct EvaluationOptions {
   // constant speed) the split is in time with f = 0.3 — never silently in-sample.
   double validate_last_fraction = 0;
   // Other splits (each replaces the block options; at most one may be given):
-  std::string validate_rows;         // "A-B[,C-D]": validate these data rows (0-based), train on the rest
-  std::string validate_hours;        // "A-B": validate the rows whose time_s lies in [A, B] hours
+  std::string validate_rows;         // "A-B[,C-D]": validate these data rows (0-based), train on the rows before
+  std::string validate_hours;        // "A-B": validate the rows whose time_s lies in [A, B] hours (same)
+  bool train_after_validation = false;  // rows/hours splits: also train on the rows after the validated ones
   std::string validate_experiments;  // "1,3" (0-based) or "each" (leave-one-experiment-out); a
                                      // series of several experiments defaults to "each"
   // Adds ridge on all sensors to the models (unless one is asked for): the reference a sensor

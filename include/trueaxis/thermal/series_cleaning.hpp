@@ -16,7 +16,8 @@
 //     axis at 27.6 °C): then they are kept, with a warning.
 //  4. Interior runs of at most max_interpolated_gap_samples missing values
 //     (temperatures and errors) are filled by linear interpolation in time
-//     and counted in the report.
+//     and counted in the report, with a warning per column (how many, from
+//     which line).
 //  5. An error channel with a gap that rule 4 cannot fill is refused with
 //     InputError (the target of a fit is never invented); a constant error
 //     channel only gets a warning.

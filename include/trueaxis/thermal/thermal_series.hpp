@@ -68,6 +68,9 @@ ThermalSeries ConcatenateExperiments(const std::vector<ThermalSeries>& parts, st
 // sample interval, robust to gaps and to the joins between experiments.
 double MedianTimeStepS(const ThermalSeries& series);
 
+// The duration of the longest single experiment in s (the whole series when it is one).
+double LongestExperimentS(const ThermalSeries& series);
+
 // Keeps only the named temperature sensors, in that order (InputError naming the sensor when absent).
 ThermalSeries SelectTemperatureSensors(const ThermalSeries& series, const std::vector<std::string>& names);
 

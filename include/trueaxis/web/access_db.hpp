@@ -56,7 +56,8 @@ class AccessDb {
   std::optional<UserRecord> FindUser(const std::string& name) const;
   std::vector<UserRecord> Users() const;
 
-  void Record(const AuditEntry& entry);  // id and time are set here
+  std::int64_t Record(const AuditEntry& entry);  // id and time are set here; returns the id
+  void SetDetail(std::int64_t id, const std::string& detail);  // of a row already written
   std::vector<AuditEntry> RecentAudit(std::size_t limit) const;  // newest first
 
  private:

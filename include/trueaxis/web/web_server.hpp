@@ -5,7 +5,9 @@
 //
 //   POST /api/login → session cookie (HttpOnly, SameSite=Strict, Secure with TLS) + CSRF token
 //   every /api call → session checked (idle + absolute timeout), role checked per endpoint,
-//   every POST → CSRF token (X-CSRF-Token) and same-origin checked, every operation audited.
+//   every POST → CSRF token (X-CSRF-Token) and same-origin checked, every operation audited;
+//   every request → Host checked (DNS rebinding), a body only with Content-Length within the limit
+//   (server/http_guard.hpp, shared with the control API).
 //
 // Live values are fetched by short polling with a sequence number (`/live?after=N`): a viewer
 // holds a worker thread only while its request runs and connections are closed after each
@@ -16,10 +18,12 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "trueaxis/web/access_db.hpp"
 #include "trueaxis/web/login_limiter.hpp"
 #include "trueaxis/web/monitor_backend.hpp"
+#include "trueaxis/web/refusal_audit.hpp"
 #include "trueaxis/web/session_store.hpp"
 
 namespace httplib {
@@ -32,6 +36,7 @@ namespace trueaxis::web {
 
 struct WebServerOptions {
   std::string host = "127.0.0.1";  // loopback unless told otherwise
+  std::vector<std::string> host_names;  // other names browsers reach this server by (Host header)
   int port = 8080;                 // 0: any free port (tests)
   std::string static_dir;          // the pages; "" = DefaultStaticDir()
   std::string chartjs_file = "/usr/share/javascript/chart.js/chart.min.js";  // Debian libjs-chart.js
@@ -82,6 +87,7 @@ class WebServer {
   WebServerOptions options_;
   SessionStore sessions_;
   LoginLimiter limiter_;
+  RefusalAudit refusals_;
   std::map<std::string, StaticFile> static_files_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
