@@ -10,6 +10,7 @@
 #include "command.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/install_paths.hpp"
+#include "trueaxis/core/progress.hpp"
 #include "trueaxis/demo/demo.hpp"
 
 namespace {
@@ -26,10 +27,19 @@ void Run(Options& o) {
   o.demo.period_s = (o.period_ms > 0 ? o.period_ms : (o.demo.modbus ? 100 : 10)) / 1000.0;
   if (!std::filesystem::exists(o.demo.machine_file))
     throw trueaxis::InputError(o.demo.machine_file, 0, "--machine", "machine file not found");
-  if (!o.quiet) o.demo.progress = [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
+  // The demo's steps and results stay; the campaign's events are the status line on a terminal
+  // (quiet in a log), the working day's states a line each.
+  auto progress = trueaxis::ProgressLine::OnStderr("demo");
+  if (!o.quiet)
+    o.demo.progress = [&progress](const std::string& line) {
+      if (line.rfind("[demo] ", 0) == 0) progress.Note(line.substr(7));
+      else if (line.rfind("[campaign] ", 0) == 0) progress.Status(line.substr(11));
+      else progress.Event(line);
+    };
   std::string why;
   if (!o.demo.IsValid(&why)) throw trueaxis::InputError("command line", why);
   const auto result = trueaxis::demo::RunDemo(o.demo);
+  progress.Finish();
   fmt::print("{}", result.BriefReport());
   fmt::print("report: {}\n", result.report_path);
 }

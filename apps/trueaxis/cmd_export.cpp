@@ -147,6 +147,7 @@ ResampleOptions ResampleOf(const ExportArgs& a, TableFormat f) {
   // FANUC tables are relative to the reference position by construction.
   o.zero_at_reference = a.zero_at_reference || f == TableFormat::kFanuc;
   o.reference_position_mm = a.reference_mm;
+  o.reference_on_grid = f == TableFormat::kFanuc;  // FANUC counts its points from the reference
   o.thermal = ThermalOf(a);
   // SINUMERIK models the thermal line itself (temperature compensation), unless asked to freeze it.
   o.thermal_in_table = f != TableFormat::kSinumerik || a.siemens_thermal_in_table;

@@ -20,6 +20,7 @@
 #include "command.hpp"
 #include "measurement_input.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/progress.hpp"
 #include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/model/fit_report.hpp"
@@ -227,7 +228,10 @@ void RunFit(const FitCliOptions& o) {
   read_paths.push_back(o.out);
   RefuseOutputOverInput(o.report, read_paths, "--report");
   fo.created_utc = UtcNow();  // the clock is read here, at the edge, not by the fit
+  auto progress = ProgressLine::OnStderr("fit");
+  fo.progress = [&](std::size_t done, std::size_t total, const std::string& what) { progress.Step(done, total, what); };
   auto result = model::FitCompositeModel(states, fo);
+  progress.Finish();
   auto& m = result.model;
   if (prev) {
     m.revision = prev->revision + 1;

@@ -9,6 +9,7 @@
 #include "command.hpp"
 #include "sim_command.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/progress.hpp"
 #include "trueaxis/sim/campaign.hpp"
 
 namespace {
@@ -53,7 +54,9 @@ void Run(const Options& o) {
   c.coolant_prewarm_h = o.coolant_prewarm_h;
   c.coolant_visit = *trueaxis::sim::ParseCoolantVisit(o.coolant_visit);
   c.min_warmup_per_test = o.warmup_per_test;
-  if (!o.quiet) c.progress = [](const std::string& line) { fmt::print(stderr, "{}\n", line); };
+  // On a terminal one status line, rewritten per event; in a log every event on its own line.
+  auto progress = trueaxis::ProgressLine::OnStderr("campaign");
+  if (!o.quiet) c.progress = [&progress](const std::string& line) { progress.Event(line); };
   std::string why;
   if (!c.IsValid(&why)) throw trueaxis::InputError("command line", why);
   for (const auto& a : o.axes)
@@ -66,7 +69,8 @@ void Run(const Options& o) {
     // overrun longer than an axis' travel): bad input, not a crash.
     throw trueaxis::InputError(o.machine, e.what());
   }
-  fmt::print(stderr, "{}\n", summary.BriefReport());
+  progress.Finish();
+  fmt::print(stderr, "{}", trueaxis::WrapLines(summary.BriefReport()));
   fmt::print("{}\n", o.out);
 }
 

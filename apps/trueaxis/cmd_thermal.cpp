@@ -13,6 +13,7 @@
 #include "command.hpp"
 #include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/progress.hpp"
 #include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/text_file.hpp"
@@ -432,7 +433,9 @@ void Setup(CLI::App& app) {
                     "for leave-one-experiment-out (the default with several files)");
     cmd->add_option("--report", *report, "write an HTML report (plots of measured vs predicted, residuals, sensors)");
     cmd->add_option("--markdown", *markdown, "write the metrics table as Markdown");
-    cmd->callback([o, models, train, validate, last, rows, hours, experiments, report, markdown, after] {
+    auto verbose = std::make_shared<bool>(false);
+    cmd->add_flag("--verbose", *verbose, "also print each model's coefficients and fit notes");
+    cmd->callback([o, models, train, validate, last, rows, hours, experiments, report, markdown, after, verbose] {
       RefuseOutputOverInput(*report, o->series, "--report");
       std::vector<std::string> read_or_written = o->series;
       read_or_written.push_back(*report);
@@ -451,16 +454,25 @@ void Setup(CLI::App& app) {
         throw InputError("command line", 0, "--train-after-validation", "applies to --validate-rows or --validate-hours");
       for (const auto& m : SplitList(*models)) eo.models.push_back(MakeFitOptions(*o, ParseKind(m, "--models")));
       if (eo.models.empty()) throw InputError("command line", 0, "--models", "no model given");
+      auto progress = ProgressLine::OnStderr("thermal evaluate");
+      eo.progress = [&](std::size_t done, std::size_t total, const std::string& what) { progress.Step(done, total, what); };
       ThermalEvaluation ev = EvaluateThermalModels(s, rep, eo);
+      progress.Finish();
+      // Every line wrapped under 120 characters (a model may read hundreds of lagged inputs).
       const auto inputs = s.temperature_names.size();
       const auto sensors = BaseSensors(s.temperature_names).size();
-      fmt::print("series: {} ({} rows, {} sensors{}, {} channels)\n", s.source, s.Rows(), sensors,
-                 inputs > sensors ? fmt::format(" ({} inputs with lags)", inputs) : std::string(), s.error_names.size());
-      fmt::print("{}", ev.SplitDescription());
-      for (const auto& m : ev.models)
-        fmt::print("\n[{}] fitted in {:.2f} s; inputs: {}\n{}{}", m.name, m.fit_seconds,
-                   fmt::join(m.model->InputSensors(), ", "), m.model->Describe(), m.fit_report);
-      fmt::print("\n{}", ev.BriefReport());
+      fmt::print("{}", WrapLines(fmt::format("series: {} ({} rows, {} sensors{}, {} channels)", s.source, s.Rows(), sensors,
+                                             inputs > sensors ? fmt::format(" ({} inputs with lags)", inputs) : std::string(),
+                                             s.error_names.size())));
+      fmt::print("{}", WrapLines(ev.SplitDescription()));
+      for (const auto& m : ev.models) {
+        const auto used = m.model->InputSensors();
+        fmt::print("\n{}", WrapLines(fmt::format("[{}] fitted in {:.2f} s; {} input{}: {}", m.name, m.fit_seconds,
+                                                 used.size(), used.size() == 1 ? "" : "s", fmt::join(used, ", "))));
+        if (*verbose) fmt::print("{}", WrapLines(m.model->Describe() + m.fit_report));
+      }
+      if (!*verbose) fmt::print("\n(--verbose: each model's coefficients and fit notes)\n");
+      fmt::print("\n{}", WrapLines(ev.BriefReport()));
       if (!markdown->empty()) WriteTextFile(*markdown, ev.SplitDescription() + "\n" + ev.MarkdownTable());
       if (!report->empty()) {
         WriteThermalReport(ev, *report);

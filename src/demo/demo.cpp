@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "trueaxis/core/duration_text.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/drivers/modbus_cnc_link.hpp"
 #include "trueaxis/drivers/modbus_machine_server.hpp"
@@ -25,6 +26,7 @@
 #include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/station/history_logger.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
+#include "trueaxis/sim/ambient_profile.hpp"
 #include "trueaxis/sim/campaign.hpp"
 #include "trueaxis/station/machine_connection.hpp"
 #include "trueaxis/core/text_file.hpp"
@@ -70,15 +72,42 @@ bool DemoOptions::IsValid(std::string* why) const {
   return compensator.IsValid(why);
 }
 
+std::string DemoResult::DaySpans() const {
+  // "2026-04-01T07:00:00" → date "2026-04-01", time "07:00".
+  auto span = [](double from_s, double to_s) {
+    const std::string a = sim::FormatIsoTime(from_s), b = sim::FormatIsoTime(to_s);
+    const std::string to = a.substr(0, 10) == b.substr(0, 10) ? b.substr(11, 5) : b.substr(0, 10) + " " + b.substr(11, 5);
+    return fmt::format("{} {}–{} ({})", a.substr(0, 10), a.substr(11, 5), to, FormatDuration(to_s - from_s));
+  };
+  return span(day_start_s, day_end_s) + " and " + span(other_day_start_s, other_day_end_s);
+}
+
+bool StateResult::UnderMustLine() const {
+  const double a_off = eval_off.axis.A_um, a_on = eval_on.axis.A_um;
+  const double r_off = eval_off.axis.R_um, r_on = eval_on.axis.R_um;
+  return a_on <= std::max(0.2 * a_off, 2 * r_on) && a_on < a_off && r_on <= 2 * r_off + 2;
+}
+
+bool StateResult::AtGoal() const {
+  return eval_on.axis.A_um <= std::max(0.1 * eval_off.axis.A_um, 1.3 * eval_on.axis.R_um);
+}
+
 std::string DemoResult::BriefReport() const {
-  std::string s = fmt::format("{:<14} {:<4} {:>10} {:>12} {:>12} {:>8}\n", "state", "axis", "nut rise", "A off (µm)",
-                              "A on (µm)", "factor");
-  for (const auto& r : states)
-    s += fmt::format("{:<14} {:<4} {:>11} {:>12.2f} {:>12.2f} {:>7.1f}×\n", r.state, r.axis,
-                     std::isnan(r.nut_rise_c) ? std::string("no reading") : fmt::format("{:+.2f} °C", r.nut_rise_c),
-                     r.eval_off.axis.A_um, r.eval_on.axis.A_um, r.Factor());
-  s += fmt::format("loop: {}; machine time {:.1f} h; wall {:.1f} s (campaign {:.1f} s, fit {:.1f} s, day {:.1f} s)\n",
-                   loop_stats.BriefReport(), machine_time_h, wall_s, campaign_wall_s, fit_wall_s, day_wall_s);
+  std::string s = fmt::format("{:<14} {:<4} {:>10} {:>12} {:>12} {:>8}  {}\n", "state", "axis", "nut rise", "A off (µm)",
+                              "A on (µm)", "factor", "verdict");
+  int must = 0, goal = 0;
+  for (const auto& r : states) {
+    must += r.UnderMustLine();
+    goal += r.AtGoal();
+    s += fmt::format("{:<14} {:<4} {:>11} {:>12.1f} {:>12.1f} {:>7.1f}×  {}\n", r.state, r.axis,
+                     std::isnan(r.nut_rise_c) ? std::string("no reading") : fmt::format("{:+.1f} °C", r.nut_rise_c),
+                     r.eval_off.axis.A_um, r.eval_on.axis.A_um, r.Factor(),
+                     r.AtGoal() ? "goal" : r.UnderMustLine() ? "must" : "MISSED the must line");
+  }
+  s += fmt::format("{} of {} tests under the must line, {} at the goal (docs/concepts.md)\n", must, states.size(), goal);
+  s += fmt::format("days: {}; compensated {} of machine time\n", DaySpans(), FormatDuration(compensated_s));
+  s += fmt::format("loop: {}\nwall time {:.1f} s (campaign {:.1f} s, fit {:.1f} s, day {:.1f} s)\n",
+                   loop_stats.BriefReport(), wall_s, campaign_wall_s, fit_wall_s, day_wall_s);
   std::string bounds;
   for (std::size_t i = 0; i < machine_axes.size() && i < bound_um.size(); ++i) {
     const std::uint64_t n = i < clamped_cycles.size() ? clamped_cycles[i] : 0;
@@ -149,9 +178,14 @@ class DayObserver : public runtime::CycleObserver {
       if (s.axes[i].prediction.tan_beta_limited) ++result_.extrapolated_cycles[i];
       if (s.axes[i].prediction.ambient_extrapolated) ++result_.room_extrapolated_cycles[i];
     }
-    if (s.alarms != last_alarms_ && result_.alarm_log.size() < 200)
-      result_.alarm_log.push_back(fmt::format("{} {}", vm_.IsoTime(), s.alarms ? runtime::AlarmNames(s.alarms) : "cleared"));
+    if (s.alarms != last_alarms_) {
+      ++result_.alarm_changes;
+      if (result_.alarm_log.size() < 200)
+        result_.alarm_log.push_back(fmt::format("{} {}", vm_.IsoTime(), s.alarms ? runtime::AlarmNames(s.alarms) : "cleared"));
+      tally_.Update(s.alarms, vm_.UnixTimeS());
+    }
     last_alarms_ = s.alarms;
+    last_cycle_unix_s_ = vm_.UnixTimeS();
     const double t = vm_.TimeS();
     if (t < next_sample_s_) return;
     next_sample_s_ = t + 60;
@@ -170,13 +204,19 @@ class DayObserver : public runtime::CycleObserver {
     }
   }
   void SetDayStart(double t_s, bool other_day) {
+    // The machine stood switched off since the last cycle: an alarm active then ended there.
+    if (last_cycle_unix_s_ > 0) tally_.Pause(last_cycle_unix_s_);
+    last_alarms_ = 0;
     day_start_s_ = t_s;
     next_sample_s_ = 0;
     other_day_ = other_day;
   }
   std::uint32_t alarms() const { return alarms_; }
+  std::vector<AlarmSummaryRow> AlarmSummary() const { return tally_.Rows(last_cycle_unix_s_); }
 
  private:
+  AlarmTally tally_;
+  double last_cycle_unix_s_ = 0;
   sim::VirtualMachine& vm_;
   DemoResult& result_;
   station::HistoryLogger* history_;
@@ -260,6 +300,7 @@ class WorkingDay {
     // The working day starts at 07:00, `day_offset` days after the campaign's first day.
     IdleUntil(o_.day_offset * 86400.0);
     observer_->SetDayStart(vm_.TimeS(), false);
+    result_.day_start_s = vm_.UnixTimeS();
     // The day's machine log, as the campaign's temperature_log.csv: motion and temperatures.
     machine_log_ = sim::MachineLogHeader(vm_);
     vm_.SetLogger(30, [this](const sim::VirtualMachine& vm) { machine_log_ += sim::MachineLogRow(vm); });
@@ -276,6 +317,7 @@ class WorkingDay {
     if (!fast) MeasureState("afternoon", axes);
     StopAll();
     vm_.SetCoolant(CoolantState::kOff);
+    result_.day_end_s = vm_.UnixTimeS();
     // Another day: the machine soaked at another season's air, mid-morning.
     const double day_h = (vm_.TimeS() - o_.day_offset * 86400.0) / 3600.0;
     for (const auto& f : day_faults_) {  // in the months between: the sensor was replaced
@@ -284,11 +326,16 @@ class WorkingDay {
     }
     IdleUntil(o_.other_day_offset * 86400.0 + 3 * 3600.0);
     observer_->SetDayStart(vm_.TimeS() - day_h * 3600.0 - 3600.0, true);  // plotted after a 1 h gap
+    result_.other_day_start_s = vm_.UnixTimeS();
     Progress(fmt::format("another day {}: machine soaked at {:.1f} °C air", vm_.IsoTime(), vm_.AmbientC()));
     Step(60);
     MeasureState("other day", axes);
+    result_.other_day_end_s = vm_.UnixTimeS();
     result_.loop_stats = runner_->Stats();
+    result_.compensated_s = static_cast<double>(result_.loop_stats.cycles) * o_.period_s;
+    result_.period_s = o_.period_s;
     result_.alarms_seen = observer_->alarms();
+    result_.alarm_summary = observer_->AlarmSummary();
     vm_.SetLogger(0, nullptr);
     WriteTextFile((std::filesystem::path(result_.out_dir) / "day" / "machine_log.csv").string(), machine_log_);
   }
@@ -298,7 +345,6 @@ class WorkingDay {
     if (server_) server_->Stop();
   }
 
-  double MachineTimeS() const { return vm_.TimeS(); }
 
  private:
   // The machine file's [[day_fault]]s, at their hours after the day's start (the machine applies
@@ -634,7 +680,6 @@ DemoResult RunDemo(const DemoOptions& o) {
     day.Run(axes, [&](double unix_s) {
       writer.PushModelChange(unix_s, model_sha, std::to_string(fit.model.revision), "demo: fitted from " + result.campaign_dir);
     });
-    result.machine_time_h = day.MachineTimeS() / 3600.0;
     writer.Close();
   }
   result.day_wall_s = since(t_day);

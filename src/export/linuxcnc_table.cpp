@@ -65,6 +65,9 @@ std::string LinuxCncIniSnippet(const CompensationTable& t, const LinuxCncOptions
         t.backlash_um / 1000.0, t.backlash_um / 2000.0);
   s += fmt::format("# file: {} points {}…{} mm, values in machine units (mm), trims = corrections\n", t.size(),
                    FormatShortest(t.position_mm.front()), FormatShortest(t.position_mm.back()));
+  // The file itself holds no comments (LinuxCNC stops reading at the first one): what it was made
+  // from, and the temperatures a thermal model was frozen at, go here.
+  for (const auto& p : t.provenance) s += "# " + p + "\n";
   return s;
 }
 

@@ -47,6 +47,8 @@ double NiceSpacing(double span_mm, int max_points) {
 }
 
 std::string Num(double v) { return FormatShortest(std::round(v * 1e9) / 1e9); }
+// A correction as a user reads it: to 0.1 µm (the table's file keeps every digit).
+std::string Um(double v) { return fmt::format("{:.1f}", v + 0.0); }
 
 }  // namespace
 
@@ -76,12 +78,32 @@ std::vector<double> MakeGrid(const ResampleOptions& o, double valid_min, double 
       spacing = NiceSpacing(hi - lo, o.max_points);
     }
   }
+  double outside_tol = 1e-6;  // how far the grid may reach past where the source is valid (mm)
   if (std::isnan(start)) {
-    // Align on the reference point when it lies in the range, stay inside [lo, hi].
-    if (!std::isnan(reference) && reference >= lo - kTol && reference <= hi + kTol)
+    const bool on_reference = !std::isnan(reference) && reference >= lo - kTol && reference <= hi + kTol &&
+                              (!std::isnan(o.reference_position_mm) || o.reference_on_grid);
+    if (on_reference) {
+      // Align on the reference point given (or one the format counts from), inside [lo, hi].
       start = reference - std::floor((reference - lo) / spacing + kTol) * spacing;
-    else
-      start = lo;
+    } else {
+      // Round positions: the first multiple of the spacing (else of 1, 0.1, 0.01 mm) in the range
+      // that keeps as many points as starting at the range's low end; else the low end to 0.001 mm
+      // (at most 0.0005 mm beyond where the source is valid: a position, not an extrapolation).
+      auto points_from = [&](double from) { return std::floor((hi - from) / spacing + kTol) + 1; };
+      const double most = points_from(lo);
+      for (double unit : {spacing, 1.0, 0.1, 0.01}) {
+        if (unit > spacing + kTol) continue;  // whole mm on a 0.5 mm grid would skip points
+        const double from = std::ceil(lo / unit - kTol) * unit;
+        if (points_from(from) >= most) {
+          start = from;
+          break;
+        }
+      }
+      if (std::isnan(start)) {
+        start = std::round(lo * 1000) / 1000;
+        outside_tol = 5e-4 + kTol;
+      }
+    }
   }
   if (count == 0) count = static_cast<int>(std::floor((hi - start) / spacing + kTol)) + 1;
   if (count < 2)
@@ -93,7 +115,7 @@ std::vector<double> MakeGrid(const ResampleOptions& o, double valid_min, double 
                                  "choose a larger --spacing or a smaller --range",
                                  count, Num(spacing), Num(start), o.max_points));
   const double end = start + spacing * (count - 1);
-  if (start < valid_min - 1e-6 || end > valid_max + 1e-6)
+  if (start < valid_min - outside_tol || end > valid_max + outside_tol)
     throw InputError(source, 0, std::isnan(o.start_mm) ? "--count" : "--start",
                      fmt::format("the table {}…{} mm reaches beyond where the source is valid ({}…{} mm); "
                                  "a table must not extrapolate the model",
@@ -235,6 +257,10 @@ ResampleResult ResampleModel(const model::AxisModel& axis, const ResampleOptions
   }
   std::string temps;
   for (const auto& [name, value] : o.thermal.temperatures_c) temps += fmt::format(" {}={}", name, Num(value));
+  if (key_given == 0 && !axis.key_sensors.empty()) {  // the cold state: the keys at the model's baseline
+    temps += " cold (no --temp): keys at the model's baseline";
+    for (std::size_t i = 0; i < key.size(); ++i) temps += fmt::format(" {}={:.2f}", axis.key_sensors[i], key[i]);
+  }
   if (axis.HasMotionHeat() && std::none_of(o.thermal.temperatures_c.begin(), o.thermal.temperatures_c.end(),
                                            [](const auto& t) { return t.first == model::kMotionHeatName; }))
     temps += fmt::format(" {}=0 (at rest)", model::kMotionHeatName);
@@ -322,9 +348,14 @@ std::string ResampleResult::BriefReport() const {
   std::string s = fmt::format("axis {}: {} points {}…{} mm{}, {}, correction {}…{} um", t.axis, t.size(),
                               Num(t.position_mm.front()), Num(t.position_mm.back()),
                               std::isnan(step) ? std::string(" (not equidistant)") : fmt::format(" step {} mm", Num(step)),
-                              t.bidirectional ? "bidirectional" : fmt::format("unidirectional, backlash {} um", Num(t.backlash_um)),
-                              Num(lo), Num(hi));
-  if (zero_shift_um != 0) s += fmt::format(", zeroed at reference (shift {} um)", Num(zero_shift_um));
+                              t.bidirectional ? "bidirectional" : fmt::format("unidirectional, backlash {:.1f} um", t.backlash_um),
+                              Um(lo), Um(hi));
+  if (zero_shift_um != 0) s += fmt::format(", zeroed at reference (shift {} um)", Um(zero_shift_um));
+  // Does the table cover the travel the source is valid for? Beyond its ends a controller holds the end values.
+  if (t.size() > 0 && valid_max_mm > valid_min_mm &&
+      (t.position_mm.front() > valid_min_mm + 1e-3 || t.position_mm.back() < valid_max_mm - 1e-3))
+    s += fmt::format("; covers {}…{} mm of the {}…{} mm the source is valid for (the end values hold beyond)",
+                     Num(t.position_mm.front()), Num(t.position_mm.back()), Num(valid_min_mm), Num(valid_max_mm));
   return s;
 }
 

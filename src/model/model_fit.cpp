@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -1715,7 +1716,7 @@ namespace {
 // model. A reduced fit that keeps no key (no other sensor explains the heat) is left out, and so is
 // the second of two with the same keys. Its warnings repeat the main fit's and are dropped.
 void FitFallbacks(const std::string& axis, const std::vector<const FitState*>& states, const FitOptions& options,
-                  AxisModel& am, AxisFitSummary& sum) {
+                  AxisModel& am, AxisFitSummary& sum, const std::function<void(const std::string&)>& tell) {
   std::vector<std::string> lost = am.key_sensors;
   if (!am.ambient_sensor.empty()) lost.push_back(am.ambient_sensor);
   std::vector<std::pair<double, AxisModel>> found;
@@ -1735,6 +1736,7 @@ void FitFallbacks(const std::string& axis, const std::vector<const FitState*>& s
     // Without the room sensor, the model's keys as they are have nothing to stand for the room (the
     // re-chosen keys can take the bed or another slow sensor for it): only the re-chosen fallback.
     const int variants = sensor == am.ambient_sensor ? 1 : 2;
+    tell("fallback models without " + sensor);
     for (int variant = 0; variant < variants; ++variant) {
       FitOptions fo = options;
       fo.fallback_models = false;
@@ -1768,6 +1770,7 @@ void FitFallbacks(const std::string& axis, const std::vector<const FitState*>& s
                                        how, fmt::join(fb.key_sensors, ", "),
                                        fb.ambient_sensor.empty() ? ", no room term" : "", fs.thermal_cv_rms_um,
                                        sum.thermal_cv_rms_um));
+      sum.fallbacks.push_back({sensor, partners, how, fb.key_sensors, !fb.ambient_sensor.empty(), fs.thermal_cv_rms_um, false});
       fb.replaces = sensor;
       pair.emplace_back(std::isfinite(fs.thermal_cv_rms_um) ? fs.thermal_cv_rms_um : 1e300, std::move(fb));
     }
@@ -1777,6 +1780,8 @@ void FitFallbacks(const std::string& axis, const std::vector<const FitState*>& s
   std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   for (std::size_t i = 0; i < found.size(); ++i) {
     if (i < static_cast<std::size_t>(options.max_fallback_models)) {
+      for (auto& f : sum.fallbacks)
+        if (f.without == found[i].second.replaces && f.key_sensors == found[i].second.key_sensors) f.kept = true;
       am.fallbacks.push_back(std::move(found[i].second));
     } else {
       sum.fallback_notes.push_back(fmt::format("not kept (at most {} fallbacks, the best by CV): keys {}",
@@ -1825,14 +1830,21 @@ FitResult FitCompositeModel(const std::vector<FitState>& states, const FitOption
                                  s.axis.empty() ? options.default_axis : s.axis, s.temperature_log,
                                  s.temperature_log_sha256, s.start_time_s});
   }
-  for (const auto& axis : order) {
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const auto& axis = order[i];
+    if (options.progress)
+      options.progress(i, order.size(), fmt::format("axis {} ({} of {}): the model", axis, i + 1, order.size()));
     AxisFitSummary sum;
     AxisFitter fitter(axis, by_axis[axis], options, res.summary.warnings);
     AxisModel am = fitter.Fit(sum);
-    if (options.fallback_models && !am.key_sensors.empty()) FitFallbacks(axis, by_axis[axis], options, am, sum);
+    if (options.fallback_models && !am.key_sensors.empty())
+      FitFallbacks(axis, by_axis[axis], options, am, sum, [&](const std::string& what) {
+        if (options.progress) options.progress(i, order.size(), fmt::format("axis {} ({} of {}): {}", axis, i + 1, order.size(), what));
+      });
     res.model.axes.push_back(std::move(am));
     res.summary.axes.push_back(std::move(sum));
   }
+  if (options.progress) options.progress(order.size(), order.size(), "done");
   res.model.fit_summary = res.summary.ToJson();
   return res;
 }

@@ -26,6 +26,8 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
 tr:nth-child(even) td { background: #fafafa; }
 .note { color: #666; font-size: 0.9em; }
 pre { white-space: pre-wrap; overflow-wrap: anywhere; font-size: 0.85em; }  /* fit text stays on the page */
+details { margin: 8px 0 16px 0; }
+summary { cursor: pointer; color: #0b3d61; font-weight: bold; }
 svg.chart { display: block; margin: 8px 0 16px 0; border: 1px solid #eee; max-width: 100%; height: auto; }
 @media print { body { max-width: none; } svg.chart { page-break-inside: avoid; } }
 )";
@@ -121,6 +123,21 @@ HtmlPage& HtmlPage::AddChart(const SvgChart& chart) {
   return *this;
 }
 
+HtmlPage& HtmlPage::BeginDetails(std::string_view summary, bool open) {
+  blocks_.push_back(std::string(open ? "<details open>" : "<details>") + "<summary>" + EscapeHtml(summary) +
+                    "</summary>\n");
+  ++open_details_;
+  return *this;
+}
+
+HtmlPage& HtmlPage::EndDetails() {
+  if (open_details_ > 0) {
+    blocks_.push_back("</details>\n");
+    --open_details_;
+  }
+  return *this;
+}
+
 HtmlPage& HtmlPage::AddRawHtml(std::string html) {
   blocks_.push_back(std::move(html));
   return *this;
@@ -132,6 +149,7 @@ std::string HtmlPage::Render() const {
   out += "<title>" + EscapeHtml(title_) + "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n";
   out += "<h1>" + EscapeHtml(title_) + "</h1>\n";
   for (const auto& b : blocks_) out += b;
+  for (int i = 0; i < open_details_; ++i) out += "</details>\n";
   out += "</body>\n</html>\n";
   return out;
 }

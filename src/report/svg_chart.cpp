@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -25,6 +26,53 @@ constexpr std::array<const char*, 3> kDashes = {"", " stroke-dasharray=\"6 4\"",
 constexpr double kLeft = 70, kRightBare = 20, kTop = 36, kBottom = 52;
 
 std::string Num(double v) { return fmt::format("{:.2f}", v); }
+
+// Legend text metrics: an average character of the 12 px sans-serif font, the row of one series,
+// and each further line of a wrapped label.
+constexpr double kCharPx = 6.6, kLegendRowPx = 17, kLegendLinePx = 14;
+
+bool Utf8Continuation(char c) { return (static_cast<unsigned char>(c) & 0xC0) == 0x80; }
+
+std::size_t Utf8Length(std::string_view s) {
+  return static_cast<std::size_t>(std::count_if(s.begin(), s.end(), [](char c) { return !Utf8Continuation(c); }));
+}
+
+}  // namespace
+
+std::vector<std::string> WrapLabel(std::string_view label, std::size_t max_chars) {
+  max_chars = std::max<std::size_t>(max_chars, 1);
+  std::vector<std::string> lines;
+  std::string line;
+  auto push_word = [&](std::string_view word) {
+    // A word longer than a line is split at whole UTF-8 characters.
+    while (Utf8Length(word) > max_chars) {
+      std::size_t cut = 0;
+      for (std::size_t n = 0; cut < word.size() && n < max_chars; ++n) {
+        ++cut;
+        while (cut < word.size() && Utf8Continuation(word[cut])) ++cut;
+      }
+      if (!line.empty()) lines.push_back(std::move(line)), line.clear();
+      lines.emplace_back(word.substr(0, cut));
+      word.remove_prefix(cut);
+    }
+    if (word.empty()) return;
+    if (!line.empty() && Utf8Length(line) + 1 + Utf8Length(word) > max_chars) lines.push_back(std::move(line)), line.clear();
+    if (!line.empty()) line += ' ';
+    line += word;
+  };
+  std::size_t i = 0;
+  while (i < label.size()) {
+    while (i < label.size() && label[i] == ' ') ++i;
+    std::size_t j = i;
+    while (j < label.size() && label[j] != ' ') ++j;
+    if (j > i) push_word(label.substr(i, j - i));
+    i = j;
+  }
+  if (!line.empty() || lines.empty()) lines.push_back(std::move(line));
+  return lines;
+}
+
+namespace {
 
 void CheckSameLength(const std::string& label, std::size_t a, std::size_t b) {
   if (a != b)
@@ -118,17 +166,27 @@ SvgChart& SvgChart::AddVerticalLine(std::string label, double x, SeriesStyle sty
 }
 
 std::string SvgChart::Render() const {
-  const double w = options_.width_px, h = options_.height_px;
+  const double w = options_.width_px;
+  double h = options_.height_px;
   std::vector<std::size_t> labelled;
   if (options_.show_legend)
     for (std::size_t k = 0; k < series_.size(); ++k)
       if (!series_[k].label.empty()) labelled.push_back(k);
   std::size_t longest = 0;
-  for (auto k : labelled) longest = std::max(longest, series_[k].label.size());
-  // Legend beside the plot: as wide as its longest label, at most 40 % of the chart.
+  for (auto k : labelled) longest = std::max(longest, Utf8Length(series_[k].label));
+  // Legend beside the plot: as wide as its longest label, at most 40 % of the chart; a longer
+  // label wraps onto further lines (never cut), and the chart grows taller when the legend needs it.
   const double legend_w =
-      labelled.empty() ? 0 : std::min(0.4 * w, 40 + 6.6 * static_cast<double>(std::min<std::size_t>(longest, 60)));
+      labelled.empty() ? 0 : std::min(0.4 * w, 40 + kCharPx * static_cast<double>(std::min<std::size_t>(longest, 60)));
+  const std::size_t max_chars = static_cast<std::size_t>(std::max(4.0, std::floor((legend_w - 40) / kCharPx + 1e-6)));
+  std::vector<std::vector<std::string>> legend_lines;
+  double legend_h = 6;
+  for (auto k : labelled) {
+    legend_lines.push_back(WrapLabel(series_[k].label, max_chars));
+    legend_h += kLegendRowPx + kLegendLinePx * static_cast<double>(legend_lines.back().size() - 1);
+  }
   const double kRight = labelled.empty() ? kRightBare : legend_w + 14;
+  if (!labelled.empty()) h = std::max(h, kTop + legend_h + kBottom);
   const double pw = w - kLeft - kRight, ph = h - kTop - kBottom;
   constexpr double kInf = std::numeric_limits<double>::infinity();
   double xmin = kInf, xmax = -kInf, ymin = kInf, ymax = -kInf;
@@ -155,9 +213,9 @@ std::string SvgChart::Render() const {
   std::string out = fmt::format(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"chart\" width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\" "
       "font-family=\"sans-serif\" font-size=\"12\" role=\"img\" aria-label=\"{2}\">\n",
-      options_.width_px, options_.height_px, EscapeHtml(options_.title));
+      options_.width_px, static_cast<int>(std::ceil(h)), EscapeHtml(options_.title));
   out += fmt::format("<rect x=\"0\" y=\"0\" width=\"{}\" height=\"{}\" fill=\"#ffffff\"/>\n", options_.width_px,
-                     options_.height_px);
+                     static_cast<int>(std::ceil(h)));
   if (!options_.title.empty())
     out += fmt::format("<text x=\"{}\" y=\"20\" text-anchor=\"middle\" font-size=\"14\" font-weight=\"bold\">{}</text>\n",
                        Num(w / 2), EscapeHtml(options_.title));
@@ -313,17 +371,15 @@ std::string SvgChart::Render() const {
   out += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#666\"/>\n", Num(kLeft),
                      Num(kTop), Num(pw), Num(ph));
 
-  // Legend: right of the plot area, one row per labelled series.
+  // Legend: right of the plot area, one row per labelled series, long labels wrapped.
   if (!labelled.empty()) {
-    const double lw = legend_w;
-    const double lh = 6 + 17 * static_cast<double>(labelled.size());
     const double lx = kLeft + pw + 10, ly = kTop;
     out += fmt::format("<g class=\"legend\"><rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"#fff\" "
                        "stroke=\"#bbb\"/>",
-                       Num(lx), Num(ly), Num(lw), Num(lh));
+                       Num(lx), Num(ly), Num(legend_w), Num(legend_h));
     double row = ly + 15;
-    const std::size_t max_chars = static_cast<std::size_t>(std::max(4.0, (lw - 40) / 6.6));
-    for (auto k : labelled) {
+    for (std::size_t n = 0; n < labelled.size(); ++n) {
+      const std::size_t k = labelled[n];
       const auto& s = series_[k];
       const auto& c = colors[k];
       if (s.kind == Kind::kBand)
@@ -334,16 +390,14 @@ std::string SvgChart::Render() const {
       else
         out += fmt::format("<line x1=\"{0}\" y1=\"{2}\" x2=\"{1}\" y2=\"{2}\" stroke=\"{3}\" stroke-width=\"2\"{4}/>",
                            Num(lx + 6), Num(lx + 28), Num(row - 4), c, dashes[k]);
-      // A label longer than the legend is shortened with an ellipsis; the full text is the tooltip.
-      std::string shown = s.label;
-      if (shown.size() > max_chars) {
-        std::size_t cut = max_chars - 1;
-        while (cut > 0 && (static_cast<unsigned char>(shown[cut]) & 0xC0) == 0x80) --cut;  // whole UTF-8 characters
-        shown = shown.substr(0, cut) + "…";
-      }
-      out += fmt::format("<text x=\"{}\" y=\"{}\"><title>{}</title>{}</text>", Num(lx + 34), Num(row),
-                         EscapeHtml(s.label), EscapeHtml(shown));
-      row += 17;
+      const auto& lines = legend_lines[n];
+      out += fmt::format("<text x=\"{}\" y=\"{}\">", Num(lx + 34), Num(row));
+      for (std::size_t i = 0; i < lines.size(); ++i)
+        out += i == 0 ? fmt::format("<tspan>{}</tspan>", EscapeHtml(lines[i]))
+                      : fmt::format("<tspan x=\"{}\" dy=\"{}\">{}</tspan>", Num(lx + 34), Num(kLegendLinePx),
+                                    EscapeHtml(lines[i]));
+      out += "</text>";
+      row += kLegendRowPx + kLegendLinePx * static_cast<double>(lines.size() - 1);
     }
     out += "</g>\n";
   }

@@ -22,8 +22,8 @@ bool LoopOptions::IsValid(std::string* why) const {
 }
 
 std::string LoopStats::BriefReport() const {
-  std::string s = fmt::format("{} cycles, {} overruns, cycle time mean {:.1f} µs max {:.1f} µs", cycles, overruns,
-                              mean_cycle_s * 1e6, max_cycle_s * 1e6);
+  std::string s = fmt::format("{} cycles, {} overruns, cycle time p50 {:.1f} µs p99 {:.1f} µs max {:.1f} µs (cycle {})",
+                              cycles, overruns, p50_cycle_s * 1e6, p99_cycle_s * 1e6, max_cycle_s * 1e6, max_cycle_number);
   if (io_workers)
     s += fmt::format("; CNC I/O {} calls max {:.1f} ms, temperature I/O {} calls max {:.1f} ms", cnc_io.calls,
                      cnc_io.max_call_s * 1e3, temperature_io.calls, temperature_io.max_call_s * 1e3);
@@ -156,6 +156,10 @@ LoopStats LoopRunner::Stats() const {
   s.overruns = p.overruns;
   s.max_cycle_s = p.max_call_s;
   s.mean_cycle_s = p.mean_call_s;
+  s.p50_cycle_s = p.p50_call_s;
+  s.p99_cycle_s = p.p99_call_s;
+  s.max_cycle_number = p.max_call_number;
+  s.long_cycles = p.long_calls;
   s.io_workers = io_workers_.load();
   s.cnc_io = cnc_worker_.Stats();
   s.temperature_io = temperature_worker_.Stats();

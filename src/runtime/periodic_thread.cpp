@@ -1,5 +1,8 @@
 #include "trueaxis/runtime/periodic_thread.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace trueaxis::runtime {
 
 PeriodicThread::PeriodicThread(double period_s, Clock::time_point epoch, std::function<void(double)> body)
@@ -23,11 +26,22 @@ void PeriodicThread::Stop() {
   running_.store(false);
 }
 
+namespace {
+constexpr double kHistogramFloorS = 1e-7;
+}  // namespace
+
 void PeriodicThread::Account(double call_s, bool overrun) {
-  calls_.fetch_add(1, std::memory_order_relaxed);
+  const std::uint64_t number = calls_.fetch_add(1, std::memory_order_relaxed) + 1;
   if (overrun) overruns_.fetch_add(1, std::memory_order_relaxed);
+  if (call_s > period_s_) long_calls_.fetch_add(1, std::memory_order_relaxed);
+  const double decades = call_s > kHistogramFloorS ? std::log10(call_s / kHistogramFloorS) : 0.0;
+  const int bin = std::clamp(static_cast<int>(decades * kBinsPerDecade), 0, kBins - 1);
+  histogram_[static_cast<std::size_t>(bin)].fetch_add(1, std::memory_order_relaxed);
   // single writer: plain load/store is enough
-  if (call_s > max_call_s_.load(std::memory_order_relaxed)) max_call_s_.store(call_s, std::memory_order_relaxed);
+  if (call_s > max_call_s_.load(std::memory_order_relaxed)) {
+    max_call_s_.store(call_s, std::memory_order_relaxed);
+    max_call_number_.store(number, std::memory_order_relaxed);
+  }
   total_call_s_.store(total_call_s_.load(std::memory_order_relaxed) + call_s, std::memory_order_relaxed);
 }
 
@@ -53,6 +67,25 @@ PeriodicStats PeriodicThread::Stats() const {
   s.overruns = overruns_.load();
   s.max_call_s = max_call_s_.load();
   s.mean_call_s = s.calls ? total_call_s_.load() / static_cast<double>(s.calls) : 0;
+  s.max_call_number = max_call_number_.load();
+  s.long_calls = long_calls_.load();
+  // Percentiles: the upper edge of the bin holding the q-th call, never above the longest call.
+  std::array<std::uint64_t, kBins> counts;
+  std::uint64_t total = 0;
+  for (std::size_t b = 0; b < counts.size(); ++b) total += counts[b] = histogram_[b].load(std::memory_order_relaxed);
+  auto percentile = [&](double q) {
+    if (total == 0) return 0.0;
+    const auto rank = static_cast<std::uint64_t>(std::ceil(q * static_cast<double>(total)));
+    std::uint64_t seen = 0;
+    for (std::size_t b = 0; b < counts.size(); ++b) {
+      seen += counts[b];
+      if (seen >= rank)
+        return std::min(s.max_call_s, kHistogramFloorS * std::pow(10.0, static_cast<double>(b + 1) / kBinsPerDecade));
+    }
+    return s.max_call_s;
+  };
+  s.p50_call_s = percentile(0.5);
+  s.p99_call_s = percentile(0.99);
   return s;
 }
 

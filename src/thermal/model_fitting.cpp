@@ -434,25 +434,36 @@ ThermalEvaluation EvaluateThermalModels(const ThermalSeries& cleaned, SeriesClea
     for (const auto& m : models) present = present || ModelLabel(m) == ModelLabel(all);
     if (!present) models.insert(models.begin(), all);
   }
+  // Progress: one fit per model, plus one per fold where the folds are pooled.
+  const std::size_t fits_per_model = 1 + (pooled ? ev.folds.size() : 0);
+  std::size_t fits_done = 0;
+  auto tell = [&](const std::string& what) {
+    if (o.progress) o.progress(fits_done, models.size() * fits_per_model, what);
+  };
   for (const auto& fo : models) {
     ModelEvaluation me;
     me.name = ModelLabel(fo);
     const auto t0 = std::chrono::steady_clock::now();
+    tell(fmt::format("{}: fitting on the training rows", me.name));
     me.model = FitThermalModel(SelectRows(cleaned, ev.train_rows), fo, &me.fit_report);
+    ++fits_done;
     if (fo.kind == ModelKind::kAuto) me.name += fmt::format(" ({})", me.model->Kind());
     me.fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     me.predicted_um = PredictSeries(*me.model, cleaned);
     me.train = ResidualMetrics(cleaned, me.predicted_um, ev.train_rows);
     if (pooled) {
       for (const auto& f : ev.folds) {
+        tell(fmt::format("{}: fold {}", me.name, f.name));
         auto fold_model = FitThermalModel(SelectRows(cleaned, f.train_rows), fo, nullptr);
         const Eigen::MatrixXd p = PredictSeries(*fold_model, cleaned);
         for (Eigen::Index r : f.validate_rows) me.predicted_um.row(r) = p.row(r);
+        ++fits_done;
       }
     }
     me.validate = ResidualMetrics(cleaned, me.predicted_um, ev.validate_rows);
     ev.models.push_back(std::move(me));
   }
+  if (o.progress) o.progress(fits_done, fits_done, "done");
   return ev;
 }
 

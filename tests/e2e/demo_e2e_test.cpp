@@ -12,16 +12,19 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <regex>
 #include <sstream>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "trueaxis/core/duration_text.hpp"
 #include "trueaxis/demo/demo.hpp"
 #include "trueaxis/measure/measurement_file.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/runtime/compensator.hpp"
+#include "trueaxis/sim/ambient_profile.hpp"
 #include "trueaxis/store/history_db.hpp"
 
 namespace trueaxis::demo {
@@ -137,6 +140,62 @@ TEST_F(DemoE2E, WritesReportModelMeasurementsAndHistory) {
   store::HistoryDb db(r.history_path, store::HistoryDb::Mode::kReadOnly);
   EXPECT_FALSE(db.QueryCompensation({}, {"X"}).empty());
   EXPECT_EQ(db.QueryModelChanges({}).size(), 1u);
+}
+
+// The report a metrology engineer reads at a glance: the first screen says what was achieved and
+// the verdict; figures to 0.1 µm (never 4 decimals); the days as spans with durations (not the
+// machine clock's offset); the alarms summarised with their log folded away; legends whole.
+TEST_F(DemoE2E, ReportSaysAtAGlanceWhatWasAchieved) {
+  const DemoResult& r = *result_;
+  std::stringstream in;
+  in << std::ifstream(r.report_path).rdbuf();
+  const std::string html = in.str();
+  const auto achieved = html.find("What compensation achieved");
+  ASSERT_NE(achieved, std::string::npos);
+  EXPECT_LT(achieved, html.find("<svg"));
+  EXPECT_LT(achieved, html.find("Positioning accuracy per state"));
+  int must = 0;
+  for (const auto& s : r.states) must += s.UnderMustLine();
+  EXPECT_NE(html.find(fmt::format("{} of {} tests under the must line", must, r.states.size())), std::string::npos);
+  EXPECT_LT(html.find("Verdict: "), html.find("<svg"));
+  // No figure in µm with 4 decimals or more, and the A values as the table shows them, to 0.1 µm.
+  // (a coefficient per millimetre, "ρ -0.01191 µm/mm/°C" in the fit's text, is not a figure in µm)
+  std::smatch long_figure;
+  EXPECT_FALSE(std::regex_search(html, long_figure, std::regex(R"re(\d\.\d{4,}\s*(µm|um)(?![/\w]))re")))
+      << long_figure.str();
+  const auto& cold = r.states.front();
+  EXPECT_NE(html.find(fmt::format("<td class=\"num\">{:.1f}</td>", cold.eval_off.axis.A_um)), std::string::npos);
+  // The days: spans with their duration ("07:00–20:31 (13:31 h)"), no clock offset in hours.
+  EXPECT_TRUE(std::regex_search(html, std::regex(R"re(\d\d:\d\d–\d\d:\d\d \(\d+:\d\d h\))re"))) << r.DaySpans();
+  EXPECT_EQ(html.find("machine time</td><td class=\"num\">"), std::string::npos);
+  EXPECT_NE(html.find(FormatDuration(r.compensated_s) + " of machine time"), std::string::npos);
+  // The loop: percentiles, the longest cycle and what counts as an overrun.
+  EXPECT_NE(html.find("p50 "), std::string::npos);
+  EXPECT_NE(html.find("p99 "), std::string::npos);
+  EXPECT_NE(html.find("cycles longer than the period"), std::string::npos);
+  EXPECT_NE(html.find("An overrun is a cycle that ends after the next deadline"), std::string::npos);
+  // Alarms: one summary row per alarm; the raw log only inside a folded section.
+  for (const auto& a : r.alarm_summary) {
+    const auto row = html.find("<td>" + a.alarm + "</td><td class=\"num\">" + std::to_string(a.times) + "</td>");
+    ASSERT_NE(row, std::string::npos) << a.alarm;
+    const std::string cells = html.substr(row, html.find("</tr>", row) - row);
+    EXPECT_NE(cells.find(">" + FormatDuration(a.total_s) + "</td>"), std::string::npos) << cells;
+    EXPECT_NE(cells.find(">" + sim::FormatIsoTime(a.first_raised_s) + "</td>"), std::string::npos) << cells;
+  }
+  if (r.alarm_summary.empty()) EXPECT_NE(html.find("No alarm was raised"), std::string::npos);
+  if (!r.alarm_log.empty()) {
+    const auto log = html.find(r.alarm_log.front());
+    ASSERT_NE(log, std::string::npos);
+    EXPECT_GT(log, html.rfind("<details>", log));
+  }
+  // Fallback models as a table, not a text dump; the fit's text only folded.
+  EXPECT_NE(html.find("Fallback models: fitted without one sensor each"), std::string::npos);
+  const auto fit_text = html.find("<summary>the fit&#39;s own summary (text)</summary>");
+  ASSERT_NE(fit_text, std::string::npos);
+  EXPECT_EQ(html.find("<pre>", html.rfind("</details>", fit_text)), html.find("<pre>", fit_text));
+  // Legends are never cut.
+  EXPECT_EQ(html.find("…"), std::string::npos);
+  EXPECT_NE(html.find("<tspan>coolant on (5) / off (0)</tspan>"), std::string::npos);
 }
 
 // Each day file carries its start on day/machine_log.csv's clock (as the campaign's files do on

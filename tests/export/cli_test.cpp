@@ -68,6 +68,8 @@ TEST_F(ExportCli, LinuxCncMatchesTheGoldenFileAndReadsBack) {
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_EQ(ReadTextFile(Path("x_comp.txt")), ReadTextFile(kGolden + "x_comp_type1.txt"));
   EXPECT_NE(r.out.find("COMP_FILE_TYPE = 1"), std::string::npos) << r.out;
+  // The INI lines say at which temperatures the thermal part was frozen (the file itself cannot).
+  EXPECT_NE(r.out.find("# thermal state: coolant off, nut=30 bearing=26"), std::string::npos) << r.out;
   const auto back = Cli("export --read " + Path("x_comp.txt") + " --format linuxcnc --axis X");
   ASSERT_EQ(back.code, 0) << back.out;
   EXPECT_NE(back.out.find("400,-48.1000,-54.6000"), std::string::npos) << back.out;
@@ -225,6 +227,11 @@ TEST_F(ExportThermalCli, EveryFormatHoldsMinusThePredictedErrorAndReadsBack) {
                                        {"heidenhain", "X.CMA"}, {"csv", "x.csv"}}) {
       const auto w = Cli(base_ + temps + " --format " + format + " --out " + Path(file));
       ASSERT_EQ(w.code, 0) << format << ": " << w.out;
+      if (format == "linuxcnc")  // the INI lines name the temperatures the model was frozen at
+        EXPECT_NE(w.out.find(temps.find("30") != std::string::npos ? "# thermal state: frozen at a=30 b=22"
+                                                                  : "# thermal state: frozen at a=25 b=20"),
+                  std::string::npos)
+            << w.out;
       EXPECT_NE(w.out.find("the table is one offset"), std::string::npos) << w.out;
       const auto r = Cli("export --read " + Path(file) + " --format " + format + " --axis X");
       ASSERT_EQ(r.code, 0) << format << ": " << r.out;

@@ -179,5 +179,35 @@ TEST(Resample, MeasurementMeansPerTargetAndDirection) {
   EXPECT_EQ(FieldOf([&] { ResampleMeasurement(m, {}); }), "direction");
 }
 
+// A derived grid sits on round positions, not on a fitted reference point such as 10.335306 mm,
+// and still covers the travel the source is valid for.
+TEST(Resample, DerivedGridSitsOnRoundPositionsAndCoversTheTravel) {
+  ResampleOptions o;
+  o.spacing_mm = 5;
+  // The travel 5.335306…840.335306 mm is a whole number of steps: a grid from a round start would
+  // lose the last point, so the positions are rounded to 0.001 mm instead.
+  auto g = MakeGrid(o, 5.335306, 840.335306, 10.335306, "m.json");
+  ASSERT_EQ(g.size(), 168u);
+  EXPECT_DOUBLE_EQ(g.front(), 5.335);
+  EXPECT_DOUBLE_EQ(g.back(), 840.335);
+  for (double x : g) EXPECT_NEAR(x * 1000, std::round(x * 1000), 1e-6) << x;
+  // Where the travel allows, multiples of the spacing (as many points as from the travel's start).
+  o.spacing_mm = 10;
+  g = MakeGrid(o, 0.4, 800.2, 10.335306, "m.json");
+  ASSERT_EQ(g.size(), 80u);
+  EXPECT_DOUBLE_EQ(g.front(), 10);
+  EXPECT_DOUBLE_EQ(g.back(), 800);
+  // Whole millimetres when multiples of the spacing would lose a point.
+  g = MakeGrid(o, 3.2, 803.7, 10.335306, "m.json");
+  ASSERT_EQ(g.size(), 81u);
+  EXPECT_DOUBLE_EQ(g.front(), 3.2);  // 0.1 mm: 4 mm would leave 80 points
+  // A reference point given (or one the format counts from) is a grid point.
+  o.reference_position_mm = 10.335306;
+  EXPECT_DOUBLE_EQ(MakeGrid(o, 0.4, 800.2, 10.335306, "m.json").front(), 10.335306);
+  o.reference_position_mm = ResampleOptions::kNaN;
+  o.reference_on_grid = true;
+  EXPECT_DOUBLE_EQ(MakeGrid(o, 0.4, 800.2, 10.335306, "m.json").front(), 10.335306);
+}
+
 }  // namespace
 }  // namespace trueaxis::exporter

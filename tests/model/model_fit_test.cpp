@@ -714,6 +714,31 @@ TEST(ModelFit, FallbackModelsDoWithoutEachKeyAndStillPredictTheHeat) {
   int not_kept = 0;
   for (const auto& n : capped.summary.axes[0].fallback_notes) not_kept += n.rfind("not kept", 0) == 0 ? 1 : 0;
   EXPECT_EQ(not_kept, static_cast<int>(a.fallbacks.size()) - 1);
+  // The same fits as data (the demo report's fallback table): one kept, the kept one the model's.
+  const auto& stats = capped.summary.axes[0].fallbacks;
+  EXPECT_EQ(stats.size(), a.fallbacks.size());
+  int kept = 0;
+  for (const auto& f : stats) {
+    EXPECT_TRUE(std::isfinite(f.cv_rms_um)) << f.without;
+    if (f.kept) {
+      ++kept;
+      EXPECT_EQ(f.key_sensors, capped.model.axes[0].fallbacks[0].key_sensors);
+      EXPECT_EQ(f.without, capped.model.axes[0].fallbacks[0].replaces);
+    }
+  }
+  EXPECT_EQ(kept, 1);
+  // Progress: told once per axis and per lost sensor's fallbacks, ending with "done".
+  std::vector<std::string> told;
+  one.max_fallback_models = 1;
+  one.progress = [&](std::size_t done, std::size_t total, const std::string& what) {
+    EXPECT_LE(done, total);
+    told.push_back(what);
+  };
+  FitCompositeModel(states, one);
+  ASSERT_GE(told.size(), 3u);
+  EXPECT_THAT(told.front(), HasSubstr("axis "));
+  EXPECT_THAT(told[1], HasSubstr("fallback models without"));
+  EXPECT_EQ(told.back(), "done");
   one.max_fallback_models = static_cast<int>(AxisModel::kMaxFallbacks) + 1;
   EXPECT_FALSE(one.IsValid(nullptr));
 

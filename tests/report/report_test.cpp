@@ -199,4 +199,49 @@ TEST(SvgChartStyle, LegendOutsideThePlotAndVerticalMarker) {
   EXPECT_NE(svg.find("validation starts"), std::string::npos);
 }
 
+// Legend labels are never cut: a long label wraps onto further lines of the legend (every word
+// visible, no ellipsis), and a legend taller than the plot makes the chart taller.
+TEST(SvgChartStyle, LongLegendLabelsWrapInsteadOfBeingCut) {
+  tr::SvgChartOptions o;
+  o.height_px = 150;
+  tr::SvgChart chart(o);
+  const std::string coolant = "coolant on (5) / off (0), the state the machine reported each minute";
+  const std::string ri = "R_i (bidirectional repeatability at each target, ISO 230-2) — µm";
+  chart.AddLine(coolant, {0, 1}, {0, 5});
+  chart.AddLine(ri, {0, 1}, {1, 2});
+  for (int k = 0; k < 6; ++k) chart.AddLine("series " + std::to_string(k), {0, 1}, {static_cast<double>(k), k + 1.0});
+  const std::string svg = chart.Render();
+  EXPECT_EQ(svg.find("…"), std::string::npos);
+  // The visible text of each legend entry: its tspans, joined.
+  std::vector<std::string> entries;
+  const std::regex text_re(R"re(<text x="[0-9.]+" y="[0-9.]+">((?:<tspan[^>]*>[^<]*</tspan>)+)</text>)re");
+  const std::regex tspan_re(R"re(<tspan[^>]*>([^<]*)</tspan>)re");
+  int wrapped = 0;
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), text_re); it != std::sregex_iterator(); ++it) {
+    const std::string inner = (*it)[1].str();
+    std::string joined;
+    int lines = 0;
+    for (auto t = std::sregex_iterator(inner.begin(), inner.end(), tspan_re); t != std::sregex_iterator(); ++t, ++lines)
+      joined += (joined.empty() ? "" : " ") + (*t)[1].str();
+    if (lines > 1) ++wrapped;
+    entries.push_back(joined);
+  }
+  ASSERT_EQ(entries.size(), 8u);
+  EXPECT_EQ(entries[0], coolant);
+  EXPECT_EQ(entries[1], ri);
+  EXPECT_EQ(wrapped, 2);
+  // Eight entries, two of them on several lines, do not fit 150 px: the chart grew.
+  std::smatch height;
+  ASSERT_TRUE(std::regex_search(svg, height, std::regex(R"re(class="chart" width="[0-9]+" height="([0-9]+)")re")));
+  EXPECT_GT(std::stoi(height[1]), 150);
+}
+
+TEST(SvgChartStyle, WrapLabelCountsCharactersNotBytesAndSplitsLongWords) {
+  // 10 two-byte characters fit a 10-character line.
+  EXPECT_EQ(tr::WrapLabel("µµµµµµµµµµ", 10), std::vector<std::string>{"µµµµµµµµµµ"});
+  EXPECT_EQ(tr::WrapLabel("ab cd ef", 5), (std::vector<std::string>{"ab cd", "ef"}));
+  EXPECT_EQ(tr::WrapLabel("abcdefgh", 3), (std::vector<std::string>{"abc", "def", "gh"}));
+  EXPECT_EQ(tr::WrapLabel("ααααα", 2), (std::vector<std::string>{"αα", "αα", "α"}));
+}
+
 }  // namespace

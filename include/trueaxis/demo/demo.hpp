@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "trueaxis/analysis/evaluation.hpp"
+#include "trueaxis/demo/alarm_tally.hpp"
 #include "trueaxis/measure/measurement.hpp"
 #include "trueaxis/model/fit_options.hpp"
 #include "trueaxis/runtime/compensator_options.hpp"
@@ -117,6 +118,11 @@ struct StateResult {
   measure::Measurement off, on;
   analysis::Evaluation eval_off, eval_on;
   double Factor() const { return eval_on.axis.A_um > 0 ? eval_off.axis.A_um / eval_on.axis.A_um : 0; }
+  // The pass marks of a held-out test (docs/concepts.md, "Must line, goal"): must — A_on ≤
+  // max(20 % of A_off, 2 × R_on), compensation made the axis better (A_on < A_off) and did not
+  // scatter it (R_on ≤ 2 × R_off + 2 µm); goal — A_on ≤ max(10 % of A_off, 1.3 × R_on).
+  bool UnderMustLine() const;
+  bool AtGoal() const;
 };
 
 struct DaySample {                 // the day, one sample per minute of machine time
@@ -136,7 +142,12 @@ struct DemoResult {
   std::vector<DaySample> day;
   std::string fit_brief;
   runtime::LoopStats loop_stats;
-  double machine_time_h = 0;
+  // The simulated days the compensator ran (ISO date/time, machine clock) and how long it ran in
+  // all (cycles × period): the machine stood switched off in between.
+  double day_start_s = 0, day_end_s = 0, other_day_start_s = 0, other_day_end_s = 0;  // Unix s
+  std::string DaySpans() const;  // "2026-04-01 07:00–20:31 (13:31 h) and 2026-11-07 10:00–11:38 (1:38 h)"
+  double compensated_s = 0;
+  double period_s = 0;
   double wall_s = 0, campaign_wall_s = 0, fit_wall_s = 0, day_wall_s = 0;
   std::uint32_t alarms_seen = 0;
   // Per machine axis (parallel to machine_axes): the compensation bound used and how it was
@@ -158,7 +169,9 @@ struct DemoResult {
   std::vector<std::string> sensor_faults;
   std::uint64_t day_cycles = 0;
   std::string interface_used;      // "in-process CncLink" or "MODBUS TCP 127.0.0.1:<port>"
-  std::vector<std::string> alarm_log;  // "<date> <alarms>" at each change
+  std::vector<std::string> alarm_log;  // "<date> <alarms>" at each change (the first 200)
+  std::size_t alarm_changes = 0;       // every change, also those beyond the log's 200
+  std::vector<AlarmSummaryRow> alarm_summary;  // per alarm: how often, how long, when
   std::string BriefReport() const;  // the before/after table as text
 };
 

@@ -4,8 +4,11 @@
 //
 // Grid: start/spacing/count, each given or derived. Derived spacing is the
 // smallest 1-2-5 step whose grid fits `max_points` over the axis range; a
-// derived grid is aligned so the reference point is a grid point, and stays
-// inside the range the model is valid for (no extrapolation). A grid the
+// derived grid sits on round positions (multiples of the spacing, else of 1,
+// 0.1, 0.01 mm, keeping every point the range allows; else the range's end to
+// 0.001 mm), or on the reference point when one is given (or the format counts
+// from it), and stays inside the range the model is valid for (no
+// extrapolation; a 0.001 mm rounding may reach 0.0005 mm past it). A grid the
 // options make impossible is an InputError naming the option; nothing is
 // silently clipped.
 //
@@ -43,6 +46,9 @@ struct ResampleOptions {
   bool bidirectional = true;   // false: mean curve + one backlash value
   bool zero_at_reference = false;
   double reference_position_mm = kNaN;  // NaN: the model's Px (first target for a measurement)
+  // A derived grid is aligned on the reference point when it is given above or this is true (a
+  // format that counts its points from the reference, FANUC); otherwise on round positions.
+  bool reference_on_grid = false;
   ThermalFreeze thermal;
   bool thermal_in_table = true;  // false: table = geometric part, thermal line in table.thermal_*
 

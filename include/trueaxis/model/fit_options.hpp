@@ -1,6 +1,8 @@
 #pragma once
 // Options of the automatic composite-model fit (Ceres-style: defaults that
 // work, IsValid() says what is wrong). See model_fit.hpp for the method.
+#include <cstddef>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -161,6 +163,10 @@ struct FitOptions {
   // Stamped into the model as created_utc: the caller's clock (the fit itself reads none, so the
   // same inputs give the same model). Empty: left empty.
   std::string created_utc;
+
+  // Told what the fit is doing (`done` of `total` model fits, and which), e.g. for a progress line;
+  // the fit's result does not depend on it. Empty: nothing told.
+  std::function<void(std::size_t done, std::size_t total, const std::string& what)> progress;
 
   bool IsValid(std::string* why) const;
 };

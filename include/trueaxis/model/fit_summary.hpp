@@ -54,6 +54,17 @@ struct DirectionFitStats {
   double table_loro_rms_um = kNaN, polynomial_loro_rms_um = kNaN;
 };
 
+// One fallback model fitted without a sensor (FitOptions::fallback_models), as a table row.
+struct FallbackFitStats {
+  std::string without;                 // the sensor it does without
+  std::vector<std::string> partners;   // its redundant probes, left out with it
+  std::string how;                     // "keys re-chosen" or "the model's other keys"
+  std::vector<std::string> key_sensors;
+  bool room_term = true;
+  double cv_rms_um = kNaN;             // its LOSO CV RMS
+  bool kept = false;                   // among the fallbacks the model keeps (the best by CV)
+};
+
 struct AxisFitSummary {
   std::string axis;
   std::string cold_source;
@@ -89,6 +100,7 @@ struct AxisFitSummary {
   std::array<double, 2> room_range_c{kNaN, kNaN};
   std::vector<std::string> coolant_notes;  // how each coolant entry was fitted
   std::vector<std::string> fallback_notes; // the fallback models (FitOptions::fallback_models), in order
+  std::vector<FallbackFitStats> fallbacks; // ... those fitted, as data
   std::vector<StateFitStats> states;
   // The residual's shape per state, structure no sensor follows, key sensors' shares (fit_diagnostics.hpp).
   ResidualDiagnosis diagnosis;

@@ -52,6 +52,10 @@ class HtmlPage {
   HtmlPage& AddKeyValueTable(const std::vector<std::pair<std::string, std::string>>& rows,
                              std::string caption = "");
   HtmlPage& AddChart(const SvgChart& chart);
+  // A folded section (<details>): the blocks added until EndDetails() show when the reader opens
+  // it; `open`: unfolded at first. A section left open is closed by Render().
+  HtmlPage& BeginDetails(std::string_view summary, bool open = false);
+  HtmlPage& EndDetails();
   // Markup inserted verbatim (caller is responsible for escaping).
   HtmlPage& AddRawHtml(std::string html);
 
@@ -61,6 +65,7 @@ class HtmlPage {
  private:
   std::string title_;
   std::vector<std::string> blocks_;
+  int open_details_ = 0;
 };
 
 }  // namespace trueaxis::report

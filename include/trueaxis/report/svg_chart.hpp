@@ -13,9 +13,12 @@
 // Series are drawn in the order added (add bands first so lines sit on top).
 // NaN values are skipped (a line is broken there). Colours default to a
 // fixed palette by series index, so the same call order gives the same look.
+// Legend labels are never cut: a label wider than the legend wraps onto
+// further lines, and the chart grows taller when the legend needs the room.
 // All text is XML-escaped. Mismatched vector lengths throw std::invalid_argument.
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace trueaxis::report {
@@ -82,5 +85,9 @@ class SvgChart {
 std::vector<double> NiceTicks(double lo, double hi, int target_count);
 // Text of a tick value with just enough decimals for the given step.
 std::string FormatTick(double value, double step);
+// A legend label broken at spaces into lines of at most `max_chars` characters (UTF-8 characters,
+// not bytes); a word longer than a line is split at a character. Nothing is dropped: every
+// character of the label but the spaces broken at is on some line, in order.
+std::vector<std::string> WrapLabel(std::string_view label, std::size_t max_chars);
 
 }  // namespace trueaxis::report

@@ -47,6 +47,11 @@ struct LoopStats {
   std::uint64_t overruns = 0;
   double max_cycle_s = 0;   // longest cycle (step + observer, + inline I/O for an in-process plant)
   double mean_cycle_s = 0;
+  double p50_cycle_s = 0, p99_cycle_s = 0;  // PeriodicStats::p50_call_s
+  std::uint64_t max_cycle_number = 0;       // which cycle was the longest (1 = the first)
+  // Cycles that took longer than the period. In real time each is an overrun; in simulated time
+  // (StepSimulated) there is no deadline, so no overrun is counted, but these would have been.
+  std::uint64_t long_cycles = 0;
   bool io_workers = false;  // the I/O ran on its own workers
   PeriodicStats cnc_io;     // the CNC worker's calls (write + read), when io_workers
   PeriodicStats temperature_io;

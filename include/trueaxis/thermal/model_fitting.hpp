@@ -2,6 +2,7 @@
 // One entry point to fit any thermal model kind by name, and the
 // train/validate evaluation run behind `trueaxis thermal evaluate`
 // (docs/thermal-models.md).
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -95,6 +96,8 @@ struct EvaluationOptions {
   // Adds ridge on all sensors to the models (unless one is asked for): the reference a sensor
   // selection must beat.
   bool all_sensors_reference = true;
+  // Told before each model fit (`done` of `total`, and which), e.g. for a progress line. Empty: nothing.
+  std::function<void(std::size_t done, std::size_t total, const std::string& what)> progress;
 };
 
 ThermalEvaluation EvaluateThermalModels(const ThermalSeries& cleaned, SeriesCleaningReport cleaning,
