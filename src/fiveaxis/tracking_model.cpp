@@ -1,6 +1,8 @@
 // Seed 004 tracking-error model: derivatives, prediction, feed-forward choice, JSON.
 #include "trueaxis/fiveaxis/tracking_model.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <limits>
 
@@ -128,7 +130,14 @@ FeedForwardChoice ChooseFeedForward(const TrackingErrorModel& model, const std::
   double sum = 0;
   int count = 0;
   for (int a = 0; a < kAxisCount; ++a) {
-    const auto r = ModelRegressors(Column(command, a), dt_s, model.derivative_window_s, model.axes[a].friction_band);
+    choice.per_axis[a] = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<double> column = Column(command, a);
+    // An axis that stands, or moves only by the numerical noise of the inverse kinematics (a rotary
+    // axis held at 0° by atan2 of tiny numbers), takes no part: its kf would be noise's.
+    if (column.empty() || *std::max_element(column.begin(), column.end()) - *std::min_element(column.begin(), column.end()) <
+                              kStandingAxisRange)
+      continue;
+    const auto r = ModelRegressors(column, dt_s, model.derivative_window_s, model.axes[a].friction_band);
     const auto& ax = model.axes[a];
     double num = 0, den = 0;
     for (std::size_t i = 0; i < command.size(); ++i) {
@@ -140,8 +149,7 @@ FeedForwardChoice ChooseFeedForward(const TrackingErrorModel& model, const std::
       num += e0 * (e1 - e0);
       den += (e1 - e0) * (e1 - e0);
     }
-    choice.per_axis[a] = std::numeric_limits<double>::quiet_NaN();
-    if (den <= 1e-30) continue;  // axis does not move
+    if (den <= 1e-30) continue;  // the axis's error does not depend on kf
     choice.per_axis[a] = -num / den;
     sum += choice.per_axis[a];
     ++count;

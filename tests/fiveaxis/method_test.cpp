@@ -76,6 +76,12 @@ TEST(FiveAxisIdentification, FeedForwardIsTheMeanOverMovingAxes) {
   for (int a = 0; a < kAxisCount - 1; ++a) EXPECT_NEAR(c.per_axis[a], 0.9 + 0.02 * a, 1e-9);
   EXPECT_TRUE(std::isnan(c.per_axis[kRot]));
   EXPECT_NEAR(c.averaged, (0.9 + 0.92 + 0.94 + 0.96) / 4, 1e-9);
+  // C moving only by numerical noise (1e-9°, as the inverse kinematics' atan2 of tiny numbers
+  // gives) still stands: its kf would be the noise's.
+  for (std::size_t i = 0; i < cmd.size(); ++i) cmd[i][kRot] = 1e-9 * std::sin(0.7 * i);
+  const FeedForwardChoice noisy = ChooseFeedForward(model, cmd, 0.0005);
+  EXPECT_TRUE(std::isnan(noisy.per_axis[kRot]));
+  EXPECT_NEAR(noisy.averaged, c.averaged, 1e-12);
 }
 
 ToolPath Square() {  // a 20 mm square with sharp corners, tool vertical

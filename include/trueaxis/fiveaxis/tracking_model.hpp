@@ -70,6 +70,8 @@ std::vector<AxisVector> PredictTrackingError(const TrackingErrorModel& model, co
 // Seed 004's feed-forward coefficient: per moving axis the kf that minimises
 // the model's tracking error over that axis's reference command (e is linear
 // in kf, so a closed form), then the mean over the axes.
+// An axis whose command spans less than this (mm or degrees) stands for ChooseFeedForward.
+inline constexpr double kStandingAxisRange = 1e-6;
 struct FeedForwardChoice {
   std::array<double, kAxisCount> per_axis{};  // NaN for an axis that does not move
   double averaged = 0;
