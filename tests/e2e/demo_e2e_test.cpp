@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "support/cli_runner.hpp"
 #include "trueaxis/core/duration_text.hpp"
 #include "trueaxis/demo/demo.hpp"
 #include "trueaxis/measure/measurement_file.hpp"
@@ -507,6 +508,17 @@ TEST(DemoCli, KeysSeedOrAutoReachTheFit) {
                           "/examples/machines/vmc850.toml --out " + out.string() + " > /dev/null 2>&1";
   EXPECT_EQ(std::system(bad.c_str()), 2 << 8);  // refused as a usage error (exit 2), not a failed demo
   fs::remove_all(out);
+}
+
+// The one-season study's options are checked before anything runs (exit 2, the field named).
+TEST(DemoCli, BadCampaignDaysAreRefusedBeforeTheDemoRuns) {
+  const fs::path out = fs::temp_directory_path() / "trueaxis_demo_bad_days";
+  const std::string cmd = std::string(TRUEAXIS_CLI_PATH) + " demo --fast --quiet --ambient-days 0 --machine " +
+                          TRUEAXIS_SOURCE_DIR + "/examples/machines/vmc850.toml --out " + out.string() + " 2>&1";
+  const auto r = trueaxis::testing::RunShell(cmd);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("ambient_day_offsets"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out / "campaign"));
 }
 
 TEST(DemoCli, BadMachineFileIsAnInputError) {

@@ -157,6 +157,22 @@ TEST_F(CliFit, FitWritesModelReportAndPredictUsesIt) {
   EXPECT_EQ(lost_point.code, 2) << lost_point.out;
 }
 
+// The room term from the feedback's CTE on the command line: ρ = −cte/1000, a CTE the room changes
+// contradict is warned about, an absurd one refused; --rho-fit fits it from the room instead.
+TEST_F(CliFit, CteOptionGivesTheSoakAndRhoFitTheRoomsFit) {
+  auto r = Cli("fit --out " + P("cte.json") + " --cte 30" + AllFiles());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NEAR(ReadModelFile(P("cte.json")).axes[0].rho_um_per_mm_per_c, -0.030, 1e-12);
+  EXPECT_THAT(r.out, HasSubstr("check the CTE"));
+  auto fitted = Cli("fit --out " + P("fitted.json") + " --cte 30 --rho-fit" + AllFiles());
+  ASSERT_EQ(fitted.code, 0) << fitted.out;
+  EXPECT_GT(std::abs(ReadModelFile(P("fitted.json")).axes[0].rho_um_per_mm_per_c + 0.030), 0.005) << fitted.out;
+  auto absurd = Cli("fit --out " + P("absurd.json") + " --cte 11500" + AllFiles());
+  EXPECT_EQ(absurd.code, 2) << absurd.out;
+  EXPECT_THAT(absurd.out, HasSubstr("cte_um_per_m_c"));
+  EXPECT_FALSE(fs::exists(P("absurd.json")));
+}
+
 TEST_F(CliFit, TheSameFileTwiceIsRefusedNotCountedTwice) {
   const auto files = AllFiles();
   const auto first = files.substr(0, files.find(".csv") + 4);
