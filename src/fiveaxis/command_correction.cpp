@@ -1,9 +1,33 @@
 // Command correction through the kinematics (seed 004).
 #include "trueaxis/fiveaxis/command_correction.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace trueaxis::fiveaxis {
+namespace {
+
+// The end point is a constraint: over the second half of the final rest (the
+// samples equal to the last command) the correction fades out with a raised
+// cosine, so the corrected command stands exactly on the programmed end.
+// ExtendRestUntilSettled makes that rest long enough for the correction to
+// have decayed before it fades.
+void FadeOutAtEnd(const std::vector<AxisVector>& command, std::vector<AxisVector>& corrected) {
+  const std::size_t n = command.size();
+  if (n < 2) return;
+  std::size_t rest_start = n - 1;
+  while (rest_start > 0 && command[rest_start - 1] == command.back()) --rest_start;
+  const std::size_t rest = n - 1 - rest_start;
+  const std::size_t fade = std::max<std::size_t>(1, rest / 2);
+  for (std::size_t k = 0; k <= fade && k < n; ++k) {
+    const std::size_t i = n - 1 - k;  // k samples before the end
+    const double keep = 0.5 * (1.0 - std::cos(std::numbers::pi * static_cast<double>(k) / static_cast<double>(fade)));
+    for (int a = 0; a < kAxisCount; ++a) corrected[i][a] = command[i][a] + keep * (corrected[i][a] - command[i][a]);
+  }
+}
+
+}  // namespace
 
 std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErrorModel& model,
                                         const std::vector<AxisVector>& command, double dt_s, double kf, int iterations,
@@ -47,7 +71,27 @@ std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErr
       corrected[i] = kin.Inverse(virtual_tip[i], virtual_rotary[i][0], virtual_rotary[i][1]);
     }
   }
+  FadeOutAtEnd(command, corrected);
   return corrected;
+}
+
+double ExtendRestUntilSettled(std::vector<AxisVector>& joints, const TrackingErrorModel& model, double dt_s, double kf,
+                              double settle_tolerance, double max_extra_s) {
+  if (joints.empty()) return 0;
+  const std::size_t chunk = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(0.05 / dt_s)));
+  const std::size_t max_extra = static_cast<std::size_t>(std::lround(max_extra_s / dt_s));
+  std::size_t added = 0;
+  while (true) {
+    // The error over the last chunk: a Laguerre transient may cross zero, so one sample is not enough.
+    const std::vector<AxisVector> error = PredictTrackingError(model, joints, dt_s, kf);
+    double worst = 0;
+    for (std::size_t i = error.size() - std::min(error.size(), chunk); i < error.size(); ++i)
+      for (double e : error[i]) worst = std::max(worst, std::abs(e));
+    if (worst <= settle_tolerance || added >= max_extra) break;
+    joints.insert(joints.end(), chunk, joints.back());
+    added += chunk;
+  }
+  return static_cast<double>(added) * dt_s;
 }
 
 ToolPath CommandsToProgram(const std::vector<AxisVector>& joints, const Kinematics& kin, double dt_s,

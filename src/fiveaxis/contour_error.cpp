@@ -1,6 +1,8 @@
 // Contour error by forward kinematics and a tracked nearest-point search.
 #include "trueaxis/fiveaxis/contour_error.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 
@@ -88,6 +90,11 @@ ContourErrors EvaluateContour(const ToolPath& path, const Kinematics& kin, const
   if (!actual.empty()) {
     out.rms_um = std::sqrt(sum2 / actual.size());
     out.rms_urad = std::sqrt(sum2_angle / actual.size());
+    const PathVertex& end = path.vertices.back();
+    const ToolPose at_end = kin.Forward(actual.back());
+    out.end_point_um = (at_end.tip_mm - end.tip_mm).norm() * 1e3;
+    const Eigen::Vector3d end_axis = kin.ToolAxis(end.tilt_deg, end.rot_deg);
+    out.end_orientation_urad = std::atan2(at_end.axis.cross(end_axis).norm(), at_end.axis.dot(end_axis)) * 1e6;
   }
   return out;
 }

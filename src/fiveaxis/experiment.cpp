@@ -31,6 +31,10 @@ Experiment RunExperiment(const FiveAxisMachine& m, const TrackingErrorModel& mod
   const double dt = x.trajectory.dt_s;
   x.feed_forward = ChooseFeedForward(model, x.trajectory.joints, dt);
   const double kf = x.feed_forward.averaged;
+  // Every run stands at the end until the drives have settled (as the model
+  // predicts them), so each run's end point is judged at rest and the
+  // correction has room to fade out onto the programmed end.
+  x.end_rest_added_s = ExtendRestUntilSettled(x.trajectory.joints, model, dt, kf);
 
   x.without_ff = SimulateRun(m, x.trajectory.joints, 0.0);
   x.without_ff.label = "no FF";
@@ -45,9 +49,12 @@ Experiment RunExperiment(const FiveAxisMachine& m, const TrackingErrorModel& mod
   // The corrected program as the CNC would run it: read back, interpolated, simulated.
   const ToolPath replay = ParseGcodeProgram(x.corrected_gcode, "corrected program", m);
   // No rest added: the program's first block reaches the second sample, so
-  // with the start sample in front the replay lines up with the original.
+  // with the start sample in front the replay lines up with the original,
+  // final rest included (the program holds it as blocks at the end point).
   std::vector<AxisVector> replay_joints = Interpolate(replay, m, 0.0).joints;
   replay_joints.insert(replay_joints.begin(), VertexJoints(replay, kin).front());
+  if (replay_joints.size() < x.trajectory.joints.size())
+    replay_joints.resize(x.trajectory.joints.size(), replay_joints.back());
   x.corrected = SimulateRun(m, replay_joints, kf);
   x.corrected.label = "FF + correction";
 

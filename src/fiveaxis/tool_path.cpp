@@ -40,7 +40,7 @@ ToolPath Sample(const std::string& name, const Kinematics& kin, double feed_mm_p
 
 }  // namespace
 
-std::vector<std::string> TestPathNames() { return {"cone", "s-shape", "inclined-circle"}; }
+std::vector<std::string> TestPathNames() { return {"cone", "s-shape", "inclined-circle", "helix", "inclined-pocket"}; }
 
 ToolPath MakeTestPath(const std::string& name, const Kinematics& kin, double feed) {
   if (name == "cone") {
@@ -85,7 +85,44 @@ ToolPath MakeTestPath(const std::string& name, const Kinematics& kin, double fee
       axis = incline * Eigen::Vector3d::UnitZ();
     });
   }
-  throw InputError("command line", 0, "--path", fmt::format("'{}' is not cone, s-shape or inclined-circle", name));
+  if (name == "helix") {
+    // Three turns of a Ø60 mm helix descending 15 mm (helical entry), the
+    // tool leaning 20° outwards: the rotary axis turns 1080° at constant speed
+    // while the tilt holds — long, winding, with no rest to settle in.
+    const double radius = 30, turns = 3, drop = 15, lean = 20 * kDeg;
+    const double length = std::hypot(2 * kPi * radius * turns, drop);
+    return Sample(name, kin, feed, length, [&](double u, Eigen::Vector3d& tip, Eigen::Vector3d& axis) {
+      const double phi = 2 * kPi * turns * u;
+      const Eigen::Vector3d radial(std::cos(phi), std::sin(phi), 0);
+      tip = Eigen::Vector3d(0, 0, 20 - drop * u) + radius * radial;
+      axis = (std::cos(lean) * Eigen::Vector3d::UnitZ() + std::sin(lean) * radial).normalized();
+    });
+  }
+  if (name == "inclined-pocket") {
+    // A 60 × 40 mm pocket outline in a plane inclined 25° about X and 15°
+    // about Y, tool normal to the plane: four sharp corners (exact stops),
+    // the linear axes moving together on every side.
+    const Eigen::Matrix3d incline = (Eigen::AngleAxisd(15 * kDeg, Eigen::Vector3d::UnitY()) *
+                                     Eigen::AngleAxisd(25 * kDeg, Eigen::Vector3d::UnitX()))
+                                        .toRotationMatrix();
+    const Eigen::Vector3d axis = incline * Eigen::Vector3d::UnitZ();
+    const Kinematics::RotaryAngles angles = kin.AnglesFor(axis, {});
+    ToolPath path;
+    path.name = name;
+    const double corners[5][2] = {{-30, -20}, {30, -20}, {30, 20}, {-30, 20}, {-30, -20}};
+    for (int i = 0; i < 5; ++i) {
+      PathVertex v;
+      v.tip_mm = Eigen::Vector3d(0, 0, 10) + incline * Eigen::Vector3d(corners[i][0], corners[i][1], 0);
+      v.tilt_deg = angles.tilt_deg;
+      v.rot_deg = angles.rot_deg;
+      v.move = i == 0 ? MoveKind::kStart : MoveKind::kFeed;
+      v.feed_mm_per_min = feed;
+      path.vertices.push_back(v);
+    }
+    return path;
+  }
+  throw InputError("command line", 0, "--path",
+                   fmt::format("'{}' is not a test path (cone, s-shape, inclined-circle, helix, inclined-pocket)", name));
 }
 
 void CheckAxisRanges(const ToolPath& path, const FiveAxisMachine& m, const std::string& source) {

@@ -303,5 +303,77 @@ TEST(FiveAxisExperiment, CorrectionReducesTheContourError) {
   }
 }
 
+// The end point is a constraint: the corrected program of a program with
+// sharp corners and a final step ends exactly where the original ends, and
+// the re-run of the written program stands there once the drives settle.
+TEST(FiveAxisExperiment, CorrectedProgramEndsOnTheProgrammedEndPoint) {
+  for (const char* machine : {"table_ac.toml", "head_bc.toml"}) {
+    const FiveAxisMachine m = Machine(machine);
+    const Kinematics kin(m.kinematics);
+    const TrackingErrorModel model = IdentifyTrackingModel(m, AxisTestOptions{}, VirtualMachineRunner(m));
+    const ToolPath path = std::string(machine) == "table_ac.toml"
+                              ? ReadProgramFile(std::string(TRUEAXIS_SOURCE_DIR) + "/examples/fiveaxis/pocket_corner.nc", m, 0)
+                              : MakeTestPath("inclined-pocket", kin, 3000);
+    const Experiment x = RunExperiment(m, model, path);
+    const PathVertex& programmed = path.vertices.back();
+    const PathVertex& corrected = x.corrected_program.vertices.back();
+    EXPECT_LT((corrected.tip_mm - programmed.tip_mm).norm(), 1e-6) << machine;  // 1 nm
+    EXPECT_NEAR(corrected.tilt_deg, programmed.tilt_deg, 1e-6) << machine;
+    EXPECT_NEAR(corrected.rot_deg, programmed.rot_deg, 1e-6) << machine;
+    EXPECT_LT(x.corrected.contour.end_point_um, 0.1) << machine;
+    EXPECT_GT(x.end_rest_added_s, 0.0) << machine << ": the default 50 ms rest does not let the model settle";
+    // The correction still does its work along the path.
+    EXPECT_LT(x.corrected.contour.rms_um, 0.5 * x.with_ff.contour.rms_um) << machine;
+  }
+}
+
+TEST(FiveAxisCorrection, RestIsLengthenedUntilThePredictedErrorDecays) {
+  const FiveAxisMachine m = Machine("head_bc.toml");
+  const Kinematics kin(m.kinematics);
+  const TrackingErrorModel model = IdentifyTrackingModel(m, AxisTestOptions{}, VirtualMachineRunner(m));
+  Trajectory t = Interpolate(MakeTestPath("inclined-pocket", kin, 3000), m);
+  const std::size_t before = t.joints.size();
+  const double added_s = ExtendRestUntilSettled(t.joints, model, t.dt_s, 1.0, 1e-7);
+  EXPECT_NEAR(added_s, static_cast<double>(t.joints.size() - before) * t.dt_s, 1e-12);
+  EXPECT_GT(added_s, 0.0);
+  for (std::size_t i = before; i < t.joints.size(); ++i) EXPECT_EQ(t.joints[i], t.joints[before - 1]);
+  const auto error = PredictTrackingError(model, t.joints, t.dt_s, 1.0);
+  for (int a = 0; a < kAxisCount; ++a) EXPECT_LE(std::abs(error.back()[a]), 1e-7) << a;
+}
+
+// A run that stops 2 µm beside the end point: the contour error there is
+// about the distance to the path's last segment, the end point error 2 µm.
+TEST(FiveAxisContour, EndPointIsTheLastSampleAgainstTheLastVertex) {
+  const FiveAxisMachine m = Machine("table_ac.toml");
+  const Kinematics kin(m.kinematics);
+  const ToolPath path = MakeTestPath("inclined-pocket", kin, 3000);
+  std::vector<AxisVector> actual = Interpolate(path, m).joints;
+  EXPECT_LT(EvaluateContour(path, kin, actual).end_point_um, 1e-6);
+  // 2 µm back along the last side (still on the path) and 1 µm off it.
+  const Eigen::Vector3d along = (path.vertices[path.vertices.size() - 2].tip_mm - path.vertices.back().tip_mm).normalized();
+  const Eigen::Vector3d normal = kin.ToolAxis(path.vertices.back().tilt_deg, path.vertices.back().rot_deg);
+  const PathVertex& end = path.vertices.back();
+  actual.back() = kin.Inverse(end.tip_mm + 0.002 * along + 0.001 * normal, end.tilt_deg, end.rot_deg);
+  const ContourErrors c = EvaluateContour(path, kin, actual);
+  EXPECT_NEAR(c.end_point_um, std::sqrt(5.0), 1e-6);
+  EXPECT_NEAR(c.position_um.back(), 1.0, 1e-6);
+}
+
+TEST(FiveAxisPaths, HelixWindsThreeTurnsAndThePocketHasFourSharpCorners) {
+  const FiveAxisMachine m = Machine("table_ac.toml");
+  const Kinematics kin(m.kinematics);
+  const ToolPath helix = MakeTestPath("helix", kin, 3000);
+  EXPECT_NEAR(std::abs(helix.vertices.back().rot_deg - helix.vertices.front().rot_deg), 1080.0, 1.0);
+  EXPECT_NEAR(helix.vertices.front().tip_mm.z() - helix.vertices.back().tip_mm.z(), 15.0, 1e-9);
+  const ToolPath pocket = MakeTestPath("inclined-pocket", kin, 3000);
+  ASSERT_EQ(pocket.vertices.size(), 5u);
+  EXPECT_LT((pocket.vertices.front().tip_mm - pocket.vertices.back().tip_mm).norm(), 1e-9);
+  for (const PathVertex& v : pocket.vertices) {
+    EXPECT_EQ(v.tilt_deg, pocket.vertices.front().tilt_deg);
+    EXPECT_EQ(v.rot_deg, pocket.vertices.front().rot_deg);
+  }
+  EXPECT_THROW(MakeTestPath("spiral", kin, 3000), InputError);
+}
+
 }  // namespace
 }  // namespace trueaxis::fiveaxis

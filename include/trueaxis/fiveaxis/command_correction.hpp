@@ -8,7 +8,9 @@
 // is seed 004's correction; further passes predict the error of the corrected
 // command itself, their updates low-passed without phase (time constant
 // update_filter_s), and converge towards the command whose predicted motion
-// is the programmed one (docs/fiveaxis.md, "Correction").
+// is the programmed one (docs/fiveaxis.md, "Correction"). The end point is a
+// constraint: the correction fades out over the final rest, so the corrected
+// command ends exactly where the programmed one ends.
 #include <vector>
 
 #include "trueaxis/fiveaxis/tool_path.hpp"
@@ -19,6 +21,13 @@ namespace trueaxis::fiveaxis {
 std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErrorModel& model,
                                         const std::vector<AxisVector>& command, double dt_s, double kf, int iterations = 6,
                                         double update_filter_s = 0.005);
+
+// Lengthens the rest after the last move until the model's predicted tracking
+// error under kf has decayed below settle_tolerance (mm or deg, every axis),
+// by at most max_extra_s: the correction of a path decays with it, so it can
+// fade out before the end. Returns the rest added (s).
+double ExtendRestUntilSettled(std::vector<AxisVector>& joints, const TrackingErrorModel& model, double dt_s, double kf,
+                              double settle_tolerance = 1e-7, double max_extra_s = 2.0);
 
 // The joint commands as a program (tool tip + rotary angles by forward
 // kinematics), one inverse-time block per `samples_per_block` servo periods.

@@ -22,6 +22,10 @@ struct ContourErrors {
   std::vector<double> orientation_urad;
   std::vector<double> path_mm;         // arc length of the nearest point
   double rms_um = 0, max_um = 0, rms_urad = 0, max_urad = 0;
+  // The last sample's tip and tool axis against the path's last vertex: how
+  // far off the programmed end point the run stands (a contour error measures
+  // distance from the path, not where along it the run ends).
+  double end_point_um = 0, end_orientation_urad = 0;
 };
 
 class NearestPointTracker {

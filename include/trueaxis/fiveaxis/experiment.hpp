@@ -38,6 +38,7 @@ struct Experiment {
   ToolPath path;
   Trajectory trajectory;
   FeedForwardChoice feed_forward;
+  double end_rest_added_s = 0;  // rest added at the end until the drives settle (ExtendRestUntilSettled)
   SimulatedRun without_ff, with_ff, corrected;
   ToolPath corrected_program;
   std::string corrected_gcode;
