@@ -93,7 +93,10 @@ std::string ScoreTable(const ToolEvaluation& ev, const ToolTable& table) {
                      t ? t->name : "", sc.samples, sc.curve_spread_um, cell(ToolModelKind::kNone),
                      cell(ToolModelKind::kOne), cell(ToolModelKind::kIntervals), cell(ToolModelKind::kLag),
                      cell(ToolModelKind::kTwoBody), cell(ToolModelKind::kZones), cell(ToolModelKind::kBest),
-                     m == ev.models.end() ? "-" : ToolModelKindName(m->second.best), red(ToolModelKind::kIntervals),
+                     m == ev.models.end()                      ? "-"
+                     : !m->second.fallback_from_tools.empty() ? "fallback"
+                                                              : ToolModelKindName(m->second.best),
+                     red(ToolModelKind::kIntervals),
                      red(ToolModelKind::kBest));
   }
   return s;
@@ -263,6 +266,14 @@ void RunOffset(const OffsetArgs& a) {
   std::vector<int> lines;
   const auto rows = ReadTvSeries(a.series, &lines);
   CheckTvAgainstTraining(model, rows, lines, a.series);
+  if (!model.fallback_from_tools.empty()) {
+    std::string from;
+    for (int f : model.fallback_from_tools) from += fmt::format("{}T{}", from.empty() ? "" : ", ", f);
+    std::fprintf(stderr,
+                 "warning: %s: tool %d's model is a stand-in built from %s (it cut too little on its training day); "
+                 "record it cutting and fit again\n",
+                 a.models.c_str(), a.tool, from.c_str());
+  }
   ToolErrorPredictor p(model, kind);
   double e = 0;
   for (const auto& r : rows) e = p.Push(r.time_s, r.tv_c, r.restart);

@@ -465,6 +465,7 @@ nlohmann::json ToolErrorModel::ToJson() const {
           {"training", {{"rows", training_rows}, {"sample_s", training.sample_s}, {"noise_c", training.noise_c}}}};
   if (std::isfinite(training_tv_from_c) && std::isfinite(training_tv_to_c))
     out["training"]["tv_range_c"] = {training_tv_from_c, training_tv_to_c};
+  if (!fallback_from_tools.empty()) out["fallback_from_tools"] = fallback_from_tools;
   return out;
 }
 
@@ -548,6 +549,15 @@ ToolErrorModel ToolErrorModel::FromJson(const nlohmann::json& j, const std::stri
   if (j.contains("best")) m.best = kind_of("best");
   if (j.contains("best_without_zones")) m.best_without_zones = kind_of("best_without_zones");
   if (m.best == ToolModelKind::kZones && m.zone_um_per_c.empty()) throw InputError(source, 0, "best", "zones without zone coefficients");
+  if (j.contains("fallback_from_tools")) {
+    const auto& f = j.at("fallback_from_tools");
+    if (!f.is_array() || f.empty()) throw InputError(source, 0, "fallback_from_tools", "must be a non-empty array of tool numbers");
+    for (const auto& v : f) {
+      if (!v.is_number_integer() || v.get<int>() < 1)
+        throw InputError(source, 0, "fallback_from_tools", "must hold tool numbers (integers >= 1)");
+      m.fallback_from_tools.push_back(v.get<int>());
+    }
+  }
   if (j.contains("training") && j.at("training").is_object()) {
     m.training_rows = j.at("training").value("rows", 0);
     m.training.sample_s = j.at("training").value("sample_s", 0.0);

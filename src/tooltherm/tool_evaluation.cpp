@@ -5,18 +5,38 @@
 
 #include <fmt/format.h>
 
+#include "trueaxis/tooltherm/tool_fallback.hpp"
+
 namespace trueaxis::tooltherm {
 
 std::map<int, ToolErrorModel> FitToolModels(const ToolTable& table, const ToolDayRecording& training,
                                             std::vector<std::string>* warnings) {
   std::map<int, ToolErrorModel> models;
+  std::map<int, int> too_few;  // tool → its training rows
   for (const auto& t : table.tools) {
     const auto rows = ToolRecordsOf(training, t.number);
-    if (rows.size() < 20) {
-      if (warnings) warnings->push_back(fmt::format("tool {}: {} training samples, no model", t.number, rows.size()));
+    if (rows.size() < kMinToolTrainingRows) {
+      too_few[t.number] = static_cast<int>(rows.size());
       continue;
     }
     models.emplace(t.number, FitToolErrorModel(t.number, rows, table.standard_temp_c, warnings));
+  }
+  // A tool that cut too little gets a flagged stand-in from the others (tool_fallback.hpp).
+  const std::map<int, ToolErrorModel> fitted = models;
+  for (const auto& [number, rows] : too_few) {
+    ToolErrorModel fallback;
+    const bool made = FallbackModelFromOtherTools(*table.Find(number), fitted, table, rows, &fallback);
+    if (made) models.emplace(number, fallback);
+    if (!warnings) continue;
+    std::string from;
+    for (int f : fallback.fallback_from_tools) from += fmt::format("{}T{}", from.empty() ? "" : ", ", f);
+    warnings->push_back(
+        made ? fmt::format("tool {}: {} training samples (a model needs {}): a stand-in from the geometry and the models of "
+                           "{} ({:+.2f} µm/°C), flagged — record this tool cutting to fit its own",
+                           number, rows, kMinToolTrainingRows, from, fallback.one.per_c_um)
+             : fmt::format("tool {}: {} training samples (a model needs {}) and no other tool to build a stand-in from: "
+                           "no model, not compensated",
+                           number, rows, kMinToolTrainingRows));
   }
   return models;
 }

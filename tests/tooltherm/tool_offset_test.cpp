@@ -1,11 +1,13 @@
 #include "trueaxis/tooltherm/tool_offset.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/tooltherm/tool_evaluation.hpp"
+#include "trueaxis/tooltherm/tool_fallback.hpp"
 
 namespace trueaxis::tooltherm {
 namespace {
@@ -94,6 +96,71 @@ TEST(ToolDay, SameSeedSameDayAndTheCompensationHelps) {
   const ToolEvaluation ev = EvaluateToolModels(table, a, RunToolDay(table, o));
   for (const auto& sc : ev.tools)
     if (sc.samples > 50) EXPECT_LT(sc.rms_um[static_cast<std::size_t>(ToolModelKind::kIntervals)], sc.rms_um[0]) << sc.tool;
+}
+
+// A tool that did not cut on its training day gets a stand-in from the other
+// tools scaled by its geometry, flagged, and it compensates most of that
+// tool's error on another day; alone, a tool gets no model and a warning.
+TEST(ToolModels, AToolWithoutTrainingGetsAFlaggedStandInFromTheOthers) {
+  const ToolTable table = RandomToolTable(3, 7);
+  ToolDayOptions o;
+  o.hours = 4;
+  o.sample_s = 5;
+  o.program = ToolDayProgramKind::kBlocks;
+  o.sensor = TvSensor::kPyrometer;
+  ToolDayRecording training = RunToolDay(table, o);
+  const int missing = table.tools[1].number;
+  std::erase_if(training.samples, [&](const ToolDaySample& s) { return s.tool == missing; });
+  o.seed = 2;
+  const ToolDayRecording test = RunToolDay(table, o);
+
+  std::vector<std::string> warnings;
+  const auto models = FitToolModels(table, training, &warnings);
+  ASSERT_TRUE(models.count(missing));
+  const ToolErrorModel& stand_in = models.at(missing);
+  std::vector<int> own;  // the tools fitted on their own data
+  for (const auto& [number, m] : models)
+    if (m.fallback_from_tools.empty()) own.push_back(number);
+  ASSERT_FALSE(own.empty());
+  EXPECT_EQ(stand_in.fallback_from_tools, own);
+  EXPECT_EQ(stand_in.training_rows, 0);
+  bool warned = false;
+  for (const auto& w : warnings) warned |= w.find("stand-in") != std::string::npos && w.find(std::to_string(missing)) != std::string::npos;
+  EXPECT_TRUE(warned);
+  // Scaled by the gauge length's free growth: the slope per µm of growth is the others' median.
+  std::vector<double> ratios;
+  for (int number : own) ratios.push_back(models.at(number).one.per_c_um / GaugeGrowthUmPerC(*table.Find(number)));
+  std::sort(ratios.begin(), ratios.end());
+  const std::size_t n = ratios.size();
+  const double median = n % 2 ? ratios[n / 2] : 0.5 * (ratios[n / 2 - 1] + ratios[n / 2]);
+  EXPECT_NEAR(stand_in.one.per_c_um, median * GaugeGrowthUmPerC(table.tools[1]), 1e-12);
+
+  const ToolEvaluation ev = EvaluateToolModels(table, training, test);
+  for (const auto& sc : ev.tools)
+    if (sc.tool == missing) {
+      ASSERT_GT(sc.samples, 50);
+      EXPECT_LT(sc.rms_um[static_cast<std::size_t>(ToolModelKind::kBest)], 0.5 * sc.rms_um[0]);
+    }
+
+  // The flag survives the model file; a broken flag is refused naming the field.
+  const ToolErrorModel back = ToolErrorModel::FromJson(stand_in.ToJson(), "models.json");
+  EXPECT_EQ(back.fallback_from_tools, stand_in.fallback_from_tools);
+  nlohmann::json bad = stand_in.ToJson();
+  bad["fallback_from_tools"] = {0};
+  try {
+    ToolErrorModel::FromJson(bad, "models.json");
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "fallback_from_tools");
+  }
+
+  // Alone on its day: nothing to build a stand-in from.
+  ToolTable alone;
+  alone.tools = {table.tools[1]};
+  warnings.clear();
+  EXPECT_TRUE(FitToolModels(alone, training, &warnings).empty());
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("not compensated"), std::string::npos);
 }
 
 }  // namespace

@@ -110,6 +110,10 @@ struct ToolErrorModel {
   double training_tv_from_c = std::numeric_limits<double>::quiet_NaN();
   double training_tv_to_c = std::numeric_limits<double>::quiet_NaN();
 
+  // Not empty: this tool had too little training and the model was built from these tools'
+  // models (tool_fallback.hpp); a stand-in, flagged wherever it is used.
+  std::vector<int> fallback_from_tools;
+
   // The Tv range the model was trained on (°C): training_tv_from/to_c, else (older files) the
   // union of its fitted intervals' ranges; nullopt when neither is known.
   std::optional<std::pair<double, double>> TrainingTvRangeC() const;

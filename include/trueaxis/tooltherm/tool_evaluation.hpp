@@ -30,6 +30,10 @@ struct ToolEvaluation {
   std::vector<std::string> warnings;
 };
 
+// Fewer rows than this on the training day: the tool gets a flagged stand-in (tool_fallback.hpp).
+inline constexpr std::size_t kMinToolTrainingRows = 20;
+
+// Every tool's models; a tool with too little training gets FallbackModelFromOtherTools (warned).
 std::map<int, ToolErrorModel> FitToolModels(const ToolTable& table, const ToolDayRecording& training,
                                             std::vector<std::string>* warnings);
 

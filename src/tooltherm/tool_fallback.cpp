@@ -1,0 +1,57 @@
+// A flagged stand-in model for a tool with too little training, from the other tools.
+#include "trueaxis/tooltherm/tool_fallback.hpp"
+
+#include <algorithm>
+#include <vector>
+
+namespace trueaxis::tooltherm {
+namespace {
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+double GaugeGrowthUmPerC(const ToolDescription& tool) {
+  const ToolMaterial* body = FindToolMaterial(tool.material);
+  const ToolMaterial* holder = FindToolMaterial(tool.holder_material);
+  if (!body || !holder) return 0;
+  return 1e3 * (body->expansion_per_k * tool.length_mm + holder->expansion_per_k * tool.holder_length_mm);
+}
+
+bool FallbackModelFromOtherTools(const ToolDescription& tool, const std::map<int, ToolErrorModel>& fitted,
+                                 const ToolTable& table, int training_rows, ToolErrorModel* out) {
+  const double growth = GaugeGrowthUmPerC(tool);
+  if (!(growth > 0)) return false;
+  std::vector<double> slope_per_growth, intercept, lag_tau;
+  std::vector<int> from;
+  for (const auto& [number, m] : fitted) {
+    const ToolDescription* other = table.Find(number);
+    if (!other || !m.fallback_from_tools.empty()) continue;  // only tools fitted on their own data
+    const double g = GaugeGrowthUmPerC(*other);
+    if (!(g > 0)) continue;
+    slope_per_growth.push_back(m.one.per_c_um / g);
+    intercept.push_back(m.one.intercept_um);
+    lag_tau.push_back(m.lag_tau_s);
+    from.push_back(number);
+  }
+  if (from.empty()) return false;
+  ToolErrorModel m;
+  m.tool = tool.number;
+  m.standard_temp_c = table.standard_temp_c;
+  m.one = {Median(intercept), Median(slope_per_growth) * growth};
+  m.lag_tau_s = Median(lag_tau);
+  m.lag = m.one;
+  m.two_body_intercept_um = m.one.intercept_um;
+  m.two_body_tv_um_per_c = m.one.per_c_um;
+  m.best = m.best_without_zones = ToolModelKind::kOne;
+  m.training_rows = training_rows;
+  m.fallback_from_tools = from;
+  *out = m;
+  return true;
+}
+
+}  // namespace trueaxis::tooltherm
