@@ -23,7 +23,7 @@ struct Options {
   std::string machine, axis, out;
   std::uint64_t seed = 1;
   int day = 0;
-  int samples_per_lead = 1;
+  std::string samples_per_lead = "auto";
   std::vector<double> feeds = {1000, 5000, 10000, 20000, 40000};
   bool markdown = false;
   cli::FineCliOptions fine;
@@ -54,7 +54,7 @@ void Run(const Options& o) {
   po.cycle = o.fine.Cycle();
   po.interpolator = o.fine.Interpolator();
   po.homing = o.fine.Homing();
-  po.samples_per_lead = o.samples_per_lead;
+  po.samples_per_lead = cli::ParseSamplesPerLead(o.samples_per_lead);
   po.verify_day = o.day;
   po.feeds_mm_min = o.feeds;
   if (!o.out.empty()) std::filesystem::create_directories(o.out);
@@ -79,14 +79,13 @@ void Run(const Options& o) {
 void Setup(CLI::App& app) {
   auto o = std::make_shared<Options>();
   CLI::App* cmd = cli::PitchCommand(app)->add_subcommand(
-      "proof", "Pitch-table before/after on the virtual machine: fine calibration, once-per-lead table, re-homing, verification");
+      "proof", "Pitch-table before/after on the virtual machine: fine calibration, pitch table, re-homing, verification");
   cmd->add_option("--machine", o->machine, "Machine description (TOML)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--axis", o->axis, "Axis (default: every axis)");
   cmd->add_option("--seed", o->seed, "Run seed")->capture_default_str();
   cmd->add_option("--day", o->day, "0: verified right after the calibration (re-homed); N: N days later")
       ->capture_default_str()->check(CLI::Range(0, 3650));
-  cmd->add_option("--samples-per-lead", o->samples_per_lead, "table samples per lead (1: once per lead)")
-      ->capture_default_str()->check(CLI::Range(1, 64));
+  cmd->add_option("--samples-per-lead", o->samples_per_lead, cli::kSamplesPerLeadHelp)->capture_default_str();
   cmd->add_option("--feeds", o->feeds, "feeds of the following-error comparison, mm/min")->delimiter(',')->capture_default_str();
   cmd->add_option("--out", o->out, "write <AXIS>_fine_before.csv, <AXIS>_fine_after.csv, <AXIS>.pitch.csv here");
   cmd->add_flag("--markdown", o->markdown, "one markdown table row per axis (bench/results/pitch.md)");

@@ -25,7 +25,7 @@ struct Options {
   std::string measurement, model, axis, out;
   double lead_mm = 0;
   double reference_mm = std::nan("");
-  int samples_per_lead = 1;
+  std::string samples_per_lead = "auto";
   int harmonics = 2;
   cli::MeasurementInputOptions input;
 };
@@ -34,13 +34,20 @@ void Run(const Options& o) {
   if (o.measurement.empty() == o.model.empty())
     throw InputError("command line", 0, "--measurement", "give exactly one of --measurement or --model (with --axis)");
   RefuseOutputOverInput(o.out, {o.measurement, o.model, o.input.column_map}, "--out");
+  int samples_per_lead = cli::ParseSamplesPerLead(o.samples_per_lead);
   pitch::PitchErrorTable table;
   if (!o.measurement.empty()) {
     const auto m = o.input.Read(o.measurement);
     pitch::TableFromMeasurementOptions to;
     to.lead_mm = o.lead_mm;
-    to.samples_per_lead = o.samples_per_lead;
+    to.samples_per_lead = samples_per_lead;
     to.reference_mm = o.reference_mm;
+    if (samples_per_lead == 0) {
+      const pitch::SamplesPerLeadChoice choice = pitch::ChooseSamplesPerLead(m, to);
+      to.samples_per_lead = choice.samples_per_lead;
+      fmt::print("table: {}\n", choice.Describe());
+      if (!choice.within_tolerance) fmt::print(stderr, "warning: {}: {}\n", o.measurement, choice.Describe());
+    }
     table = pitch::TableFromMeasurement(m, to);
     if (!o.axis.empty()) table.axis = o.axis;
     analysis::DecompositionOptions d;
@@ -59,17 +66,22 @@ void Run(const Options& o) {
     const auto cm = model::ReadModelFile(o.model);
     const auto* axis = cm.FindAxis(o.axis);
     if (!axis) throw InputError(o.model, 0, "--axis", fmt::format("the model has no axis '{}'", o.axis));
-    table = pitch::TableFromModel(*axis, o.lead_mm, o.samples_per_lead, {}, o.model);
+    if (samples_per_lead == 0) {
+      // A model holds no laser run to choose from: once per lead, unless told.
+      samples_per_lead = 1;
+      fmt::print("table: once per lead (from a model; --samples-per-lead N for a finer table)\n");
+    }
+    table = pitch::TableFromModel(*axis, o.lead_mm, samples_per_lead, {}, o.model);
   }
   pitch::WritePitchErrorFile(table, o.out);
-  fmt::print("axis {}: {} samples every {} mm ({} per lead of {} mm), {}…{} mm -> {}\n", table.axis, table.size(),
+  fmt::print("axis {}: {} samples every {:.4g} mm ({} per lead of {} mm), {}…{} mm -> {}\n", table.axis, table.size(),
              table.SpacingMm(), table.samples_per_lead, table.lead_mm, table.position_mm.front(), table.position_mm.back(),
              o.out);
 }
 
 void Setup(CLI::App& app) {
   auto o = std::make_shared<Options>();
-  CLI::App* cmd = cli::PitchCommand(app)->add_subcommand("table", "Write a pitch error file (once per lead) from a fine laser run or a fitted model");
+  CLI::App* cmd = cli::PitchCommand(app)->add_subcommand("table", "Write a pitch error file (samples per lead fitted to the screw) from a fine laser run or a fitted model");
   cmd->add_option("--measurement", o->measurement, "laser run (canonical CSV, ecmc .dat or a mapped laser export) with targets at lead spacing or finer")
       ->check(CLI::ExistingFile);
   cli::AddMeasurementInputOptions(cmd, o->input);
@@ -77,8 +89,7 @@ void Setup(CLI::App& app) {
   cmd->add_option("--axis", o->axis, "axis name (required with --model; overrides the run's)");
   cmd->add_option("--lead-mm", o->lead_mm, "screw lead (default: the run's lead_mm metadata)")->check(CLI::PositiveNumber);
   cmd->add_option("--reference-mm", o->reference_mm, "grid origin (default: the run's reference_mm, else its first target)");
-  cmd->add_option("--samples-per-lead", o->samples_per_lead, "samples per lead (1: once per lead)")
-      ->capture_default_str()->check(CLI::Range(1, 64));
+  cmd->add_option("--samples-per-lead", o->samples_per_lead, cli::kSamplesPerLeadHelp)->capture_default_str();
   cmd->add_option("--harmonics", o->harmonics, "lead harmonics tried by the decomposition")->capture_default_str()->check(CLI::Range(0, 8));
   cmd->add_option("--out", o->out, "pitch error file to write")->required();
   cmd->callback([o, cmd] {

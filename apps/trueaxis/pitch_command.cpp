@@ -23,6 +23,20 @@ std::size_t MachineAxis(const sim::MachineDescription& machine, const std::strin
   return static_cast<std::size_t>(i);
 }
 
+int ParseSamplesPerLead(const std::string& text) {
+  if (text == "auto") return 0;
+  std::size_t used = 0;
+  int n = 0;
+  try {
+    n = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || used == 0 || n < 1 || n > 64)
+    throw InputError("command line", 0, "--samples-per-lead", fmt::format("'{}' is neither auto nor a whole number 1…64", text));
+  return n;
+}
+
 void FineCliOptions::Add(CLI::App* cmd) {
   cmd->add_option("--per-lead", per_lead, "targets every lead/N (4 resolves the lead's first harmonic)")
       ->capture_default_str()->check(CLI::Range(1, 64));

@@ -20,6 +20,13 @@ namespace trueaxis::cli {
 // Index of the named axis of the machine (empty: the first axis); InputError otherwise.
 std::size_t MachineAxis(const sim::MachineDescription& machine, const std::string& machine_path, const std::string& axis);
 
+// `--samples-per-lead auto|N` of `pitch table` and `pitch proof`: 0 for auto (chosen from the
+// laser run, pitch::ChooseSamplesPerLead), else N in 1…64; InputError naming the option otherwise.
+int ParseSamplesPerLead(const std::string& text);
+inline constexpr const char* kSamplesPerLeadHelp =
+    "table samples per lead: auto (the fewest that fit the run's mean deviations within its scatter, 1 sigma, at "
+    "least 0.5 um) or 1..64 (1: once per lead, seed 002)";
+
 // Options shared by `sim fine` and `pitch proof` (fine cycle, interpolator, homing).
 struct FineCliOptions {
   int per_lead = 4;

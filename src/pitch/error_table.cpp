@@ -215,4 +215,40 @@ double MaxInterpolationErrorUm(const PitchErrorTable& table, const measure::Meas
   return worst;
 }
 
+SamplesPerLeadChoice ChooseSamplesPerLead(const measure::Measurement& m, const TableFromMeasurementOptions& base,
+                                          double tolerance_um) {
+  SamplesPerLeadChoice choice;
+  // Default: the run's own scatter, one σ (R↑ and R↓ are 4 s; the bidirectional R would add the reversal).
+  const analysis::AxisResult iso = analysis::Evaluate(m).axis;
+  choice.tolerance_um = std::isfinite(tolerance_um) ? tolerance_um : std::max(0.5, 0.25 * std::max(iso.R_up_um, iso.R_down_um));
+  bool any = false;
+  for (int n = 1; n <= 64; ++n) {
+    TableFromMeasurementOptions o = base;
+    o.samples_per_lead = n;
+    PitchErrorTable table;
+    try {
+      table = TableFromMeasurement(m, o);
+    } catch (const InputError&) {
+      if (!any) throw;  // not even once per lead: the run's own error says why
+      break;            // the targets are further apart than this spacing: the densest is the last one
+    }
+    any = true;
+    choice.samples_per_lead = n;
+    choice.interpolation_error_um = MaxInterpolationErrorUm(table, m);
+    if (choice.interpolation_error_um <= choice.tolerance_um) return choice;
+  }
+  choice.within_tolerance = false;
+  return choice;
+}
+
+std::string SamplesPerLeadChoice::Describe() const {
+  return within_tolerance
+             ? fmt::format("{} sample(s) per lead: the fewest whose table meets the run's mean deviations within {:.3f} um "
+                           "(max {:.3f} um)",
+                           samples_per_lead, tolerance_um, interpolation_error_um)
+             : fmt::format("{} samples per lead, as dense as the run's targets allow, still {:.3f} um from its mean "
+                           "deviations (tolerance {:.3f} um): measure with targets closer together",
+                           samples_per_lead, interpolation_error_um, tolerance_um);
+}
+
 }  // namespace trueaxis::pitch

@@ -94,8 +94,9 @@ std::string PitchComparison::Dominant() const {
 }
 
 std::string PitchProofResult::Report() const {
-  std::string s = fmt::format("{} axis {}: travel {} mm, lead {} mm, table {} points (once per {} mm), verified at {} targets\n",
+  std::string s = fmt::format("{} axis {}: travel {} mm, lead {} mm, table {} points (once per {:.4g} mm), verified at {} targets\n",
                               machine, axis, travel_mm, lead_mm, table.size(), table.SpacingMm(), c.after.targets);
+  if (samples_choice) s += "  table: " + samples_choice->Describe() + "\n";
   auto line = [](const char* what, const PositioningFigures& b, const PositioningFigures& a) {
     return fmt::format("  {:<22} max error {:7.3f} -> {:6.3f} um   error band 3s {:6.3f} -> {:6.3f} um   "
                        "A {:7.3f} -> {:6.3f}  E {:7.3f} -> {:6.3f}  R {:6.3f} -> {:6.3f}  B {:6.3f} -> {:6.3f} um\n",
@@ -131,6 +132,10 @@ PitchProofResult RunPitchProof(const sim::MachineDescription& machine, std::size
   to.lead_mm = ad.lead_mm;
   to.samples_per_lead = o.samples_per_lead;
   to.reference_mm = ad.reference_mm;
+  if (o.samples_per_lead == 0) {
+    r.samples_choice = ChooseSamplesPerLead(r.before_run, to);
+    to.samples_per_lead = r.samples_choice->samples_per_lead;
+  }
   r.table = TableFromMeasurement(r.before_run, to);
   so.day = o.verify_day;
   so.table = &r.table;

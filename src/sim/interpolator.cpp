@@ -64,26 +64,44 @@ void CncInterpolator::Write(double correction_um) {
   applied_um_ = correction_um;
 }
 
-// One interpolation cycle: set point from x_from to x_to (commanded) and the
-// correction from the one applied now to c_to, linearly over fine sub-steps.
-void CncInterpolator::Cycle(double x_from, double x_to, double c_to, double dt_s, int dir, MoveStats* stats) {
+// One interpolation cycle: set point from x_from to x_to (commanded), in fine
+// sub-steps. kAhead evaluates the correction at every sub-step's set point
+// (what the drive's fine interpolator is about to reach; in the first cycle
+// after a reversal blended from the correction applied now, while the play is
+// taken up); the other modes move it linearly from the one applied now to c_to.
+// The following error is sampled at every sub-step's end and middle (the drive
+// moves linearly between sub-step set points, so the middle shows the chord),
+// in the first cycle after a reversal at the ends only.
+void CncInterpolator::Cycle(double x_from, double x_to, double c_to, double dt_s, int dir, bool reversing,
+                            MoveStats* stats) {
   const double c_from = applied_um_;
   const int n = o_.fine_steps;
   const double feed = std::abs(x_to - x_from) / dt_s * 60.0;
+  const bool every_step = o_.mode == FeedForward::kAhead && x_to != x_from;
+  double x_before = x_from, c_before = c_from;
   for (int j = 1; j <= n; ++j) {
     const double f = static_cast<double>(j) / n;
     const double x = x_from + (x_to - x_from) * f;
-    Write(c_from + (c_to - c_from) * f);
+    double c = c_from + (c_to - c_from) * f;
+    if (every_step) c = reversing ? c_from + (Correction(x, dir) - c_from) * f : Correction(x, dir);
+    Write(c);
     if (feed > 0) vm_.CommandMove(axis_, x, feed);
     vm_.Advance(dt_s / n);
     if (stats) {
-      const double following = applied_um_ - Correction(vm_.CommandedMm(axis_), dir);
-      const double position = vm_.ErrorUm(axis_);
-      ++stats->samples;
-      stats->sum_sq_following += following * following;
-      stats->max_abs_following_um = std::max(stats->max_abs_following_um, std::abs(following));
-      stats->max_abs_position_error_um = std::max(stats->max_abs_position_error_um, std::abs(position));
+      // Across a reversal the blend is deliberate (the play is being taken up): only the sub-step's end counts.
+      const int count = reversing ? 1 : 2;
+      const double samples[2] = {c - Correction(vm_.CommandedMm(axis_), dir),
+                                 0.5 * (c_before + c) - Correction(0.5 * (x_before + x), dir)};
+      for (int k = 0; k < count; ++k) {
+        const double following = samples[k];
+        ++stats->samples;
+        stats->sum_sq_following += following * following;
+        stats->max_abs_following_um = std::max(stats->max_abs_following_um, std::abs(following));
+      }
+      stats->max_abs_position_error_um = std::max(stats->max_abs_position_error_um, std::abs(vm_.ErrorUm(axis_)));
     }
+    x_before = x;
+    c_before = c;
   }
   if (stats) ++stats->cycles;
 }
@@ -103,7 +121,7 @@ MoveStats CncInterpolator::MoveTo(double target_mm, double feed_mm_min) {
     // kAhead: the interval about to be travelled; kLate: the position already
     // reached, with the direction known when it was reached.
     const double c_next = o_.mode == FeedForward::kLate ? Correction(x, dir_) : Correction(x_next, dir);
-    Cycle(x, x_next, c_next, o_.cycle_s * d / step, dir, &stats);
+    Cycle(x, x_next, c_next, o_.cycle_s * d / step, dir, dir != dir_, &stats);
     dir_ = dir;
     x = x_next;
   }
@@ -117,7 +135,7 @@ void CncInterpolator::Dwell(double dwell_s) {
   // One cycle brings the correction to that of the position reached (kLate's
   // last step), then the axis simply stands.
   const double first = std::min(dwell_s, o_.cycle_s);
-  Cycle(x, x, Correction(x, dir_), first, dir_, nullptr);
+  Cycle(x, x, Correction(x, dir_), first, dir_, false, nullptr);
   if (dwell_s > first) vm_.Advance(dwell_s - first);
 }
 

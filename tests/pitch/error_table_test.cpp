@@ -57,7 +57,7 @@ TEST(PitchLookup, DirectionChoosesTheCurveAcrossTheReversal) {
   EXPECT_GT(std::abs(up - down), 4);
 }
 
-measure::Measurement SyntheticRun(double step, double travel, double lead) {
+measure::Measurement SyntheticRun(double step, double travel, double lead, double harmonic_um = 2) {
   measure::Measurement m;
   m.source = "synthetic.csv";
   m.SetMeta("lead_mm", std::to_string(lead));
@@ -71,7 +71,7 @@ measure::Measurement SyntheticRun(double step, double travel, double lead) {
         p.direction = d;
         p.target_mm = x;
         // error: a lead harmonic + a slope; reverse 3 µm lower; runs differ by 0.1 µm
-        p.deviation_um = 2 * std::sin(2 * M_PI * x / lead) + 0.01 * x - (d == Direction::kReverse ? 3 : 0) + 0.1 * run;
+        p.deviation_um = harmonic_um * std::sin(2 * M_PI * x / lead) + 0.01 * x - (d == Direction::kReverse ? 3 : 0) + 0.1 * run;
         m.points.push_back(p);
       }
   return m;
@@ -94,6 +94,31 @@ TEST(PitchTableFromMeasurement, SamplesTheMeanAtEveryLeadPoint) {
   TableFromMeasurementOptions four;
   four.samples_per_lead = 4;
   EXPECT_NEAR(MaxInterpolationErrorUm(TableFromMeasurement(m, four), m), 0.0, 1e-9);
+}
+
+// The table that fits the screw: a lead harmonic well above the run's scatter
+// needs more than once per lead, and exactly as many as bring the table within
+// the tolerance; a screw without one stays once per lead.
+TEST(PitchTableFromMeasurement, SamplesPerLeadAreTheFewestThatFitTheRun) {
+  const auto m = SyntheticRun(1.25, 100, 5);
+  const SamplesPerLeadChoice c = ChooseSamplesPerLead(m, {});
+  EXPECT_TRUE(c.within_tolerance);
+  EXPECT_DOUBLE_EQ(c.tolerance_um, 0.5);  // the runs' scatter (0.07 µm) is below the floor
+  EXPECT_GT(c.samples_per_lead, 1);
+  EXPECT_LE(c.interpolation_error_um, c.tolerance_um);
+  TableFromMeasurementOptions fewer;
+  fewer.samples_per_lead = c.samples_per_lead - 1;
+  EXPECT_GT(MaxInterpolationErrorUm(TableFromMeasurement(m, fewer), m), c.tolerance_um);
+  EXPECT_NE(c.Describe().find(std::to_string(c.samples_per_lead) + " sample(s) per lead"), std::string::npos);
+
+  EXPECT_EQ(ChooseSamplesPerLead(SyntheticRun(1.25, 100, 5, 0.0), {}).samples_per_lead, 1);
+  // A tolerance no table of this run can meet: the densest the targets allow, said so.
+  // Targets every 1.5 mm: at most 3 samples per lead of 5 mm, whose knots miss the targets.
+  const SamplesPerLeadChoice tight = ChooseSamplesPerLead(SyntheticRun(1.5, 100, 5, 2.0), {}, 1e-6);
+  EXPECT_FALSE(tight.within_tolerance);
+  EXPECT_EQ(tight.samples_per_lead, 3);
+  EXPECT_GT(tight.interpolation_error_um, 1e-6);
+  EXPECT_NE(tight.Describe().find("measure with targets closer together"), std::string::npos);
 }
 
 TEST(PitchTableFromMeasurement, RefusesACoarseRunThatWouldAlias) {

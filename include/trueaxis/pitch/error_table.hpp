@@ -67,6 +67,22 @@ struct TableFromMeasurementOptions {
 // read off a coarse ISO run (the lead's harmonics alias).
 PitchErrorTable TableFromMeasurement(const measure::Measurement& m, const TableFromMeasurementOptions& options);
 
+// The table that fits the screw: the fewest samples per lead (1, 2, 3, …, as
+// dense as the run's targets allow) whose table reproduces the run's mean
+// deviations at every target within the tolerance — by default the run's own
+// scatter, one σ (a quarter of the unidirectional repeatability R↑/R↓ = 4s),
+// at least 0.5 µm (below that the table would fit the run's noise). A screw whose lead harmonics are strong needs more than
+// once per lead (its periodic error falls between once-per-lead samples).
+struct SamplesPerLeadChoice {
+  int samples_per_lead = 1;
+  double interpolation_error_um = 0;  // MaxInterpolationErrorUm of the chosen table
+  double tolerance_um = 0;
+  bool within_tolerance = true;       // false: the densest table the run allows, still over the tolerance
+  std::string Describe() const;       // one line for the user
+};
+SamplesPerLeadChoice ChooseSamplesPerLead(const measure::Measurement& m, const TableFromMeasurementOptions& base,
+                                          double tolerance_um = std::numeric_limits<double>::quiet_NaN());
+
 // From a fitted model (docs/model-file.md): its geometric + thermal error at
 // the frozen state of `freeze` (cold by default), on the grid through the
 // model's reference point.

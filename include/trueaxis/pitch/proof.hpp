@@ -10,6 +10,7 @@
 // once-per-lead table cannot see) against the repeatability (3σ).
 // Also the following error of the correction vs feed, ahead and late.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -68,7 +69,7 @@ std::vector<FollowingPoint> FollowingErrorVsFeed(const sim::MachineDescription& 
 struct PitchProofOptions {
   std::uint64_t seed = 1;
   FineCycleOptions cycle;            // per_lead 4: measured at lead/4
-  int samples_per_lead = 1;          // the table: once per lead
+  int samples_per_lead = 1;          // the table: once per lead; 0: ChooseSamplesPerLead from the calibration run
   int verify_day = 0;                // 0: re-homed and verified right after the calibration (the floor);
                                      // N: N days later, 07:00 (adds the drift of another day)
   sim::HomingMethod homing = sim::HomingMethod::kSwitchAndIndex;
@@ -80,6 +81,7 @@ struct PitchProofResult {
   std::string machine, axis;
   double lead_mm = 0, travel_mm = 0;
   PitchErrorTable table;
+  std::optional<SamplesPerLeadChoice> samples_choice;  // when chosen from the run (samples_per_lead 0)
   measure::Measurement before_run, after_run;
   PitchComparison c;
   double homing_shift_um = 0;         // reference error after re-homing − on the calibration day (truth)
