@@ -118,6 +118,33 @@ def sample_ramp(duration_s, until=None):
     return samples
 
 
+def pin_signal(pin):
+    """The signal `pin` is netted to ('' when none), from `halcmd -s show pin`."""
+    out = subprocess.check_output(["halcmd", "-s", "show", "pin", pin], text=True)
+    for line in out.splitlines():
+        words = line.split()
+        if pin in words:
+            i = words.index(pin)
+            return words[i + 2] if len(words) > i + 2 and words[i + 1] in ("<==", "==>", "<=>") else ""
+    failures.append(f"halcmd show pin {pin}: no such pin")
+    return ""
+
+
+# The machine's own signals in sim.hal and the pins trueaxis.hal (examples/run/linuxcnc.hal) nets onto them.
+CONFIG_SIGNALS = {"machine-is-enabled": ("motion.motion-enabled", "trueaxis.machine-on"),
+                  "coolant-flood": ("iocontrol.0.coolant-flood", "trueaxis.coolant-flood"),
+                  "coolant-mist": ("iocontrol.0.coolant-mist", "trueaxis.coolant-mist")}
+
+
+def check_config_signals():
+    """The snippet reused the configuration's signals: each trueaxis input sits on the signal the
+    configuration already drives from the controller's pin (not on a signal of its own)."""
+    for signal, (writer, reader) in CONFIG_SIGNALS.items():
+        for pin in (writer, reader):
+            got = pin_signal(pin)
+            check(got == signal, f"{pin} is on signal '{got}', not the configuration's '{signal}'")
+
+
 # ---- scenarios -------------------------------------------------------------------------------
 
 def scenario_hal():
@@ -128,7 +155,9 @@ def scenario_hal():
         setp(f"trueaxis.temp.{k}", v)
     setp("trueaxis.temp.ambient", 20.0)
     setp("trueaxis.enable", 1)
+    check_config_signals()
     machine_on_and_home()
+    check(getp("trueaxis.machine-on") == 1, "trueaxis.machine-on did not follow the machine on (machine-is-enabled)")
     quantum_um = 0.1
     worst = 0.0
     for x, d, nut, bearing in [(300, 1, 20, 20), (300, 1, 30, 22), (120, -1, 30, 22), (50, 1, 25, 21), (380, -1, 27, 24)]:

@@ -45,6 +45,30 @@ def kill_session(marker, group_leader):
             pass
 
 
+EXAMPLE_HAL = os.path.join(SOURCE, "examples/run/linuxcnc.hal")
+# The test's own loadusr: the programs of this build, the scenario's run configuration.
+TEST_LOADUSR = ("loadusr -Wn trueaxis $(TRUEAXIS_HAL) --config $(TRUEAXIS_RUN_CONFIG) "
+                "--temperatures $(TRUEAXIS_TEMPERATURES)$(TRUEAXIS_HAL_EXTRA)")
+
+
+def trueaxis_hal_from_example(axes):
+    """The integrator's snippet (examples/run/linuxcnc.hal) as the simulator's trueaxis.hal: its
+    loadusr line replaced by the test's, the pin blocks of axes the test's run configurations do not
+    have left out. Every other line, the nets onto the machine's own signals included, is the
+    example's; sim.hal already has those signals, so a snippet that made a second signal on one of
+    their pins would stop LinuxCNC at start."""
+    out, loads = [], 0
+    for line in open(EXAMPLE_HAL).read().splitlines():
+        if line.startswith("loadusr "):
+            line, loads = TEST_LOADUSR, loads + 1
+        elif any(f"trueaxis.{l}." in line for l in "abcuvwxyz" if l not in axes):
+            continue
+        out.append(line)
+    if loads != 1:
+        raise RuntimeError(f"{EXAMPLE_HAL}: expected one loadusr line, found {loads}")
+    return "\n".join(out) + "\n"
+
+
 def ini_without_trueaxis(ini):
     return "\n".join(l for l in ini.splitlines() if l.strip() != "HALFILE = trueaxis.hal") + "\n"
 
@@ -102,6 +126,7 @@ def main():
     os.chmod(work, 0o755)
     config = os.path.join(work, "config")
     shutil.copytree(os.path.join(HERE, "sim"), config)
+    open(os.path.join(config, "trueaxis.hal"), "w").write(trueaxis_hal_from_example("x"))
     ini_path = os.path.join(config, "trueaxis_sim.ini")
     ini = open(ini_path).read()
     marker = "trueaxis-lcnc-" + uuid.uuid4().hex
@@ -110,7 +135,8 @@ def main():
                TRUEAXIS_LCNC_DRIVER=os.path.join(HERE, "lcnc_driver.py"),
                TRUEAXIS_LCNC_RESULT=os.path.join(work, "result.json"), TRUEAXIS_CLI=a.cli, TRUEAXIS_HAL=a.hal,
                TRUEAXIS_PLANT=a.plant, TRUEAXIS_MODEL=os.path.join(SOURCE, "tests/export/golden/example_model.json"),
-               TRUEAXIS_RUN_CONFIG=os.path.join(HERE, "sim/trueaxis_run.toml"), TRUEAXIS_TEMPERATURES="hal")
+               TRUEAXIS_RUN_CONFIG=os.path.join(HERE, "sim/trueaxis_run.toml"), TRUEAXIS_TEMPERATURES="hal",
+               TRUEAXIS_HAL_EXTRA="")
     terminal = None
     if a.scenario == "compfile":
         ini = ini_without_trueaxis(ini)
