@@ -5,7 +5,7 @@ LinuxCNC's launcher starts it once the machine is up; it drives the machine thro
 `linuxcnc` Python module (estop reset, machine on, home, MDI, programs), reads and sets HAL pins,
 checks one scenario and writes its verdict as JSON to $TRUEAXIS_LCNC_RESULT:
   {"scenario": ..., "failures": ["..."], "figures": {...}}
-When it exits, LinuxCNC shuts down. Scenarios: hal, enable, lost_terminal, compfile, closed_loop.
+When it exits, LinuxCNC shuts down. Scenarios: hal, enable, lost_terminal, compfile, closed_loop, campaign.
 """
 import json
 import os
@@ -356,6 +356,35 @@ def scenario_closed_loop():
         figures[f"cycle_{'on' if on else 'off'}_wall_s"] = round(time.time() - t0, 1)
         figures[f"readings_{'on' if on else 'off'}"] = int(getp("taplant.laser-readings"))
     check(figures.get("readings_on") == 2 * len(targets) * int(runs), "one reading per target, run and direction")
+
+
+def scenario_campaign():
+    """trueaxis-hal --campaign logs while LinuxCNC moves X: the driver sets the temperature pins, moves
+    X through known targets (standing at each, so the log's 10 Hz reads catch every turn), runs the
+    coolant for a while, and reports what it did; the harness checks temperature_log.csv against it."""
+    temps = {"x_nut": 20.0, "x_bearing": 20.5, "ambient": 19.5}  # as sensors.hal starts them
+    log = os.path.join(os.environ["TRUEAXIS_CAMPAIGN_DIR"], "temperature_log.csv")
+    machine_on_and_home()
+    # The first row is in (the log starts once its pins are netted): from here every move is logged.
+    wait_for(lambda: os.path.exists(log) and len(open(log).read().splitlines()) >= 2, 20, "the campaign log's first row")
+    check(getp("trueaxis.machine-on") == 1, "trueaxis.machine-on did not follow the machine on")
+    stat.poll()
+    x, path, nut_set = stat.joint_actual_position[0], 0.0, [temps["x_nut"]]
+    figures["start_x_mm"] = x
+    for k, target in enumerate([100.0, 300.0, 50.0, 250.0, 120.0]):
+        temps["x_nut"] = 20.0 + 0.5 * (k + 1)
+        subprocess.check_call(["halcmd", "sets", "t-x_nut", str(temps["x_nut"])])
+        nut_set.append(temps["x_nut"])
+        mdi(f"G0 X{target}")
+        path += abs(target - x)
+        x = target
+        time.sleep(0.4)
+        if k == 2:
+            mdi("M8")
+            time.sleep(2.5)  # at least two rows with the flood coolant on
+            mdi("M9")
+    time.sleep(2.5)  # the last position and temperatures in at least two rows
+    figures.update(path_mm=path, last_x_mm=x, temperatures_c=temps, x_nut_set_c=nut_set, targets_mm=[100.0, 300.0, 50.0, 250.0, 120.0])
 
 
 def main():
