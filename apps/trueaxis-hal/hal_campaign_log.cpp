@@ -62,7 +62,9 @@ void AddCampaignOptions(CLI::App& app, station::CampaignLogOptions& o) {
   app.add_option("--campaign", o.dir,
                  "Log the campaign instead of compensating: every temperature and LinuxCNC's state into "
                  "DIR/temperature_log.csv, and when the next warm-up test is due (as `trueaxis campaign log`)");
-  app.add_option("--campaign-period-s", o.period_s, "--campaign: seconds between two rows")->capture_default_str();
+  app.add_option("--campaign-period-s", o.period_s, "--campaign: seconds between two rows")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 3600.0));
   app.add_option("--campaign-duration-s", o.duration_s, "--campaign: stop after this many seconds (0: until unloaded)")
       ->capture_default_str();
   app.add_option("--campaign-axis", o.axes,
