@@ -108,10 +108,13 @@ def offset_at_joint_um(x_mm):
 
 
 def sample_ramp(duration_s, until=None):
-    """(t, correction-um, axis.x.eoffset µm) every ~2 ms."""
+    """(t, correction-um, axis.x.eoffset µm, t after the reads) every ~2 ms: the pins were read
+    somewhere between the two times (a loaded machine can stall this process between them)."""
     samples, t0 = [], time.time()
     while time.time() - t0 < duration_s:
-        samples.append((time.time() - t0, getp("trueaxis.x.correction-um"), getp("axis.x.eoffset") * 1000.0))
+        t = time.time() - t0
+        corr, eoffset_um = getp("trueaxis.x.correction-um"), getp("axis.x.eoffset") * 1000.0
+        samples.append((t, corr, eoffset_um, time.time() - t0))
         if until and until(samples[-1]):
             break
         time.sleep(0.002)
@@ -207,9 +210,10 @@ def ramp_checks(samples, start_um, end_um, max_step_um, period_s, what):
     check(abs(values[-1] - end_um) < 0.11, f"{what}: ends at {values[-1]:.3f} µm, not {end_um:.3f}")
     distinct = len(set(values))
     check(distinct >= 5, f"{what}: {distinct} distinct values — a jump, not a ramp")
-    # Between two samples Δt apart the limiter allows max_step per cycle (+1 cycle, +1 count).
+    # Between two samples Δt apart the limiter allows max_step per cycle (+1 cycle, +1 count); Δt is
+    # the longest the two reads can be apart (from before the first to after the second).
     worst_rate = 0.0
-    for (t1, v1, _), (t2, v2, _) in zip(samples, samples[1:]):
+    for (t1, v1, _, _), (_, v2, _, t2) in zip(samples, samples[1:]):
         allowed = max_step_um * ((t2 - t1) / period_s + 1) + 0.1
         worst_rate = max(worst_rate, abs(v2 - v1) / allowed)
     check(worst_rate <= 1.0, f"{what}: a step of {worst_rate:.2f}× what the limiter allows")
