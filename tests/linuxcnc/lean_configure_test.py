@@ -7,8 +7,9 @@ the HAL programs do not link (OpenCV, libpqxx, Paho MQTT, cpp-httplib, GoogleTes
 hidden — find_package of them disabled, their pkg-config files removed from pkg-config's path — and
 with CMake's trace on. Fails when the configure fails, when it asks (find_package, pkg_check_modules,
 find_library, find_path, find_program) for anything outside the libraries trueaxis-hal links, when
-the default build target is more than src/linuxcnc (the HAL programs and what they link), or when
-trueaxis-hal is not a target. With --build it also builds trueaxis-hal there (slow: the modules it
+the default build target is more than src/linuxcnc (the HAL programs and what they link), when
+trueaxis-hal is not a target, or when a run-in-place LinuxCNC tree named by $EMC2_HOME (as its
+scripts/rip-environment sets it) is not where hal.h and liblinuxcnchal are taken from. With --build it also builds trueaxis-hal there (slow: the modules it
 links, from scratch)."""
 import argparse
 import json
@@ -67,6 +68,8 @@ def main() -> int:
     ap.add_argument("--source", required=True)
     ap.add_argument("--cmake", default="cmake")
     ap.add_argument("--ninja", default="ninja")
+    ap.add_argument("--hal-include-dir", default="/usr/include/linuxcnc", help="the folder of hal.h this build uses")
+    ap.add_argument("--hal-library", default="/usr/lib/liblinuxcnchal.so", help="the liblinuxcnchal this build uses")
     ap.add_argument("--build", action="store_true", help="also build trueaxis-hal (slow)")
     ap.add_argument("--keep", action="store_true")
     a = ap.parse_args()
@@ -110,6 +113,24 @@ def main() -> int:
         for unwanted in ("trueaxis", "src/server/libtrueaxis_server.a", "src/web/libtrueaxis_web.a"):
             if unwanted in targets:
                 failures.append(f"the lean build defines {unwanted}")
+        # A run-in-place LinuxCNC: hal.h in TREE/include, liblinuxcnchal in TREE/lib, found through
+        # $EMC2_HOME as scripts/rip-environment sets it (here a tree of links to the packages' files).
+        tree = work / "linuxcnc-rip"
+        hal_dir, lib = pathlib.Path(a.hal_include_dir), pathlib.Path(a.hal_library)
+        if (hal_dir / "hal.h").exists() and lib.exists():
+            (tree / "lib").mkdir(parents=True)
+            (tree / "include").symlink_to(hal_dir)
+            (tree / "lib" / lib.name).symlink_to(lib)
+            r = subprocess.run([a.cmake, "-S", str(source), "-B", str(work / "build-rip"), "-G", "Ninja",
+                                f"-DCMAKE_MAKE_PROGRAM={a.ninja}", "-DTRUEAXIS_ONLY_HAL=ON"],
+                               env=dict(env, EMC2_HOME=str(tree)), capture_output=True, text=True)
+            want = f"LinuxCNC HAL: {tree}/include/hal.h, {tree}/lib/{lib.name}"
+            print(f"run-in-place tree via EMC2_HOME: {'found' if want in r.stdout else 'NOT found'}")
+            if r.returncode != 0 or want not in r.stdout:
+                failures.append(f"with EMC2_HOME={tree} the configure did not take the tree's hal.h and library "
+                                f"(expected '{want}'):\n{r.stdout[-2000:]}{r.stderr[-2000:]}")
+        else:
+            failures.append(f"no {hal_dir}/hal.h or {lib} to build the run-in-place tree from")
         if a.build and not failures:
             b = subprocess.run([a.ninja, "-C", str(build), "trueaxis-hal"], capture_output=True, text=True)
             if b.returncode != 0:
