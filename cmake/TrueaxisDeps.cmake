@@ -9,19 +9,26 @@ find_package(nlohmann_json 3.10 REQUIRED)
 find_package(fmt REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(tomlplusplus REQUIRED)
-pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
+if(NOT TRUEAXIS_ONLY_HAL)
+  pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
+endif()
 find_package(SQLite3 REQUIRED)
 pkg_check_modules(MODBUS REQUIRED IMPORTED_TARGET libmodbus)
 pkg_check_modules(SODIUM REQUIRED IMPORTED_TARGET libsodium)
 pkg_check_modules(XLSXWRITER REQUIRED IMPORTED_TARGET xlsxwriter)
 pkg_check_modules(MINIZIP REQUIRED IMPORTED_TARGET minizip)
 find_package(pugixml REQUIRED)
-if(TRUEAXIS_BUILD_TESTS)
+if(TRUEAXIS_BUILD_TESTS AND NOT TRUEAXIS_ONLY_HAL)
   find_package(GTest REQUIRED)
 endif()
-if(TRUEAXIS_BUILD_BENCH)
+if(TRUEAXIS_BUILD_BENCH AND NOT TRUEAXIS_ONLY_HAL)
   find_package(benchmark REQUIRED)
 endif()
+# TRUEAXIS_ONLY_HAL (docs/linuxcnc.md "Install on a LinuxCNC machine"): the HAL programs and the
+# modules they link, nothing else — LinuxCNC required, every other optional feature off, no
+# cpp-httplib (only the workshop server and the web front end use it: their modules are left out),
+# no GoogleTest/benchmark. The test linuxcnc.lean_configure checks what this configure asks for.
+set(TRUEAXIS_HAL_SKIPPED_MODULES server web)
 
 # Optional features (docs/building.md). Each TRUEAXIS_WITH_<NAME> is
 #   AUTO (default): built when its library is found, else left out, said once here;
@@ -41,13 +48,18 @@ set(TRUEAXIS_FEATURE_POSTGRES_PACKAGES libpqxx-dev)
 set(TRUEAXIS_FEATURE_MQTT_DOC "live values on an MQTT broker (Eclipse Paho C++)")
 set(TRUEAXIS_FEATURE_MQTT_PACKAGES libpaho-mqttpp-dev libpaho-mqtt-dev)
 set(TRUEAXIS_FEATURE_LINUXCNC_DOC "LinuxCNC HAL component trueaxis-hal and its plant (hal.h, liblinuxcnchal)")
-set(TRUEAXIS_FEATURE_LINUXCNC_PACKAGES linuxcnc-uspace-dev)
+set(TRUEAXIS_FEATURE_LINUXCNC_PACKAGES "linuxcnc-uspace-dev (or -DTRUEAXIS_LINUXCNC_DIR=<LinuxCNC tree>)")
 
 foreach(feature ${TRUEAXIS_FEATURES})
   set(TRUEAXIS_WITH_${feature} AUTO CACHE STRING "Build ${TRUEAXIS_FEATURE_${feature}_DOC}: AUTO, ON or OFF")
   set_property(CACHE TRUEAXIS_WITH_${feature} PROPERTY STRINGS AUTO ON OFF)
   string(TOUPPER "${TRUEAXIS_WITH_${feature}}" want)
-  if(TRUEAXIS_ALL_FEATURES)
+  if(TRUEAXIS_ONLY_HAL)
+    set(want OFF)
+    if(feature STREQUAL "LINUXCNC")
+      set(want ON)
+    endif()
+  elseif(TRUEAXIS_ALL_FEATURES)
     set(want ON)
   elseif(NOT want MATCHES "^(AUTO|ON|OFF)$")
     message(FATAL_ERROR "TRUEAXIS_WITH_${feature}='${TRUEAXIS_WITH_${feature}}': give AUTO, ON or OFF")
@@ -107,10 +119,25 @@ set(TRUEAXIS_FOUND_MQTT ${found})
 
 set(found OFF)
 if(NOT TRUEAXIS_WANT_LINUXCNC STREQUAL OFF)
-  find_path(LINUXCNC_HAL_INCLUDE_DIR hal.h PATHS /usr/include/linuxcnc NO_DEFAULT_PATH)
-  find_library(LINUXCNC_HAL_LIBRARY linuxcnchal)
+  # hal.h and liblinuxcnchal: from TRUEAXIS_LINUXCNC_DIR when given (a run-in-place tree — its
+  # include/ and lib/ — or an installed prefix; defaults to $EMC2_HOME, which LinuxCNC's
+  # scripts/rip-environment sets), else from LinuxCNC's pkg-config file when it has one, else
+  # the packages' /usr/include/linuxcnc (docs/linuxcnc.md).
+  set(TRUEAXIS_LINUXCNC_DIR "$ENV{EMC2_HOME}" CACHE PATH
+      "LinuxCNC tree or prefix holding include/hal.h (or include/linuxcnc/hal.h) and lib/liblinuxcnchal.so")
+  if(TRUEAXIS_LINUXCNC_DIR)
+    find_path(LINUXCNC_HAL_INCLUDE_DIR hal.h PATHS ${TRUEAXIS_LINUXCNC_DIR}/include/linuxcnc
+              ${TRUEAXIS_LINUXCNC_DIR}/include NO_DEFAULT_PATH)
+    find_library(LINUXCNC_HAL_LIBRARY linuxcnchal PATHS ${TRUEAXIS_LINUXCNC_DIR}/lib NO_DEFAULT_PATH)
+  else()
+    pkg_check_modules(LINUXCNC_PC QUIET linuxcnc)
+    find_path(LINUXCNC_HAL_INCLUDE_DIR hal.h HINTS ${LINUXCNC_PC_INCLUDE_DIRS}
+              PATHS /usr/include/linuxcnc /usr/local/include/linuxcnc NO_DEFAULT_PATH)
+    find_library(LINUXCNC_HAL_LIBRARY linuxcnchal HINTS ${LINUXCNC_PC_LIBRARY_DIRS})
+  endif()
   if(LINUXCNC_HAL_INCLUDE_DIR AND LINUXCNC_HAL_LIBRARY)
     set(found ON)
+    message(STATUS "LinuxCNC HAL: ${LINUXCNC_HAL_INCLUDE_DIR}/hal.h, ${LINUXCNC_HAL_LIBRARY}")
   endif()
 endif()
 set(TRUEAXIS_FOUND_LINUXCNC ${found})

@@ -3,16 +3,19 @@
 # Only what is missing is installed; safe to run repeatedly. Needs root (or sudo).
 set -euo pipefail
 
-# Usage: scripts/install-deps.sh [--demo | --all]
+# Usage: scripts/install-deps.sh [--demo | --hal | --all]
 #   --demo  what `scripts/demo.sh` needs: the compiler and build tools and the core libraries
 #           (the optional features — vision, PostgreSQL, MQTT, LinuxCNC — are then left out of the build)
+#   --hal   what the lean build of the LinuxCNC HAL programs needs (cmake -DTRUEAXIS_ONLY_HAL=ON,
+#           docs/linuxcnc.md): the demo's libraries without cpp-httplib and Chart.js, with linuxcnc-uspace-dev
 #   --all   (default) everything the tests need: every optional feature, the servers and tools the
 #           tests start (PostgreSQL, mosquitto, LinuxCNC, headless Chromium), clang for the fuzzers
 profile=all
 case "${1:-}" in
   --demo) profile=demo ;;
+  --hal) profile=hal ;;
   --all|"") profile=all ;;
-  *) echo "usage: $0 [--demo | --all]" >&2; exit 2 ;;
+  *) echo "usage: $0 [--demo | --hal | --all]" >&2; exit 2 ;;
 esac
 
 PACKAGES=(
@@ -22,6 +25,13 @@ PACKAGES=(
   libxlsxwriter-dev libminizip-dev libpugixml-dev
   libjs-chart.js                                  # web: Chart.js served from the box (no CDN on the shop network)
 )
+if [ "$profile" = hal ]; then
+  lean=(linuxcnc-uspace-dev)
+  for p in "${PACKAGES[@]}"; do
+    case "$p" in libcpp-httplib-dev|libjs-chart.js) ;; *) lean+=("$p") ;; esac
+  done
+  PACKAGES=("${lean[@]}")
+fi
 if [ "$profile" = all ]; then
   PACKAGES+=(
     libgtest-dev libgmock-dev libbenchmark-dev

@@ -1,4 +1,4 @@
-// trueaxis-hal --config RUN.toml [--name trueaxis] [--temperatures modbus|hal]
+// trueaxis-hal --config RUN.toml [--name trueaxis] [--temperatures modbus|hal] [--campaign DIR]
 // A LinuxCNC userspace HAL component: the real-time compensator of `trueaxis run` (the same
 // runtime::Step, limiter, fault policies and model file) with LinuxCNC as the CNC — positions,
 // velocities, coolant and an enable from HAL pins, the correction out to the axes' external
@@ -17,11 +17,11 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "hal_campaign_log.hpp"
 #include "trueaxis/core/input_error.hpp"
-#include "trueaxis/hw/no_temperature_source.hpp"
 #include "trueaxis/linuxcnc/hal_cnc_link.hpp"
 #include "trueaxis/linuxcnc/hal_component.hpp"
-#include "trueaxis/linuxcnc/hal_temperature_source.hpp"
+#include "trueaxis/linuxcnc/hal_temperatures.hpp"
 #include "trueaxis/linuxcnc/status_pins.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/runtime/compensator.hpp"
@@ -71,21 +71,8 @@ int Run(const Options& o) {
 
   linuxcnc::HalComponent hal(o.name);
   linuxcnc::HalCncLink link(hal, AxisInterfaces(c));
-  std::unique_ptr<hw::TemperatureSource> raw;
-  station::ModbusClients modbus;
-  if (c.modbus.channel_names.empty()) {
-    raw = std::make_unique<hw::NoTemperatureSource>();  // a geometric-only model: no channels to read
-  } else if (o.temperatures == "hal") {
-    raw = std::make_unique<linuxcnc::HalTemperatureSource>(hal, c.modbus.channel_names);
-  } else {
-    modbus = station::MakeModbusClients(c.modbus, c.source);
-    std::string why;
-    if (!modbus.temperatures->Configure(&why)) throw InputError(c.source, 0, "machine", why);
-    if (!modbus.temperatures->Activate(&why))
-      fmt::print(stderr, "warning: RTD modules at {}:{} not reachable yet ({}); the loop keeps trying\n", c.modbus.host,
-                 c.modbus.port, why);
-  }
-  hw::TemperatureSource* source = raw ? raw.get() : modbus.temperatures.get();
+  linuxcnc::HalTemperatures temperatures = linuxcnc::OpenHalTemperatures(hal, c, o.temperatures == "hal");
+  hw::TemperatureSource* source = temperatures.source;
   std::unique_ptr<signal::MonitoredTemperatureSource> monitored;
   if (c.signal_processing) {  // the one temperature pipeline, as in `trueaxis run`
     const auto t0 = std::chrono::steady_clock::now();
@@ -160,8 +147,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--ramp-out-s", o.ramp_out_s, "At stop, wait at most this long for the correction to ramp to zero")
       ->capture_default_str();
+  station::CampaignLogOptions campaign;
+  hal_app::AddCampaignOptions(app, campaign);
   CLI11_PARSE(app, argc, argv);
   try {
+    if (!campaign.dir.empty()) return hal_app::RunHalCampaignLog(o.config, o.name, o.temperatures == "hal", campaign);
     return Run(o);
   } catch (const InputError& e) {
     fmt::print(stderr, "trueaxis-hal: {}\n", e.what());

@@ -13,7 +13,8 @@ std::string HalAxisLetter(const std::string& axis_name) {
   return s;
 }
 
-HalCncLink::HalCncLink(HalComponent& component, std::vector<runtime::AxisInterface> interfaces) {
+HalCncLink::HalCncLink(HalComponent& component, std::vector<runtime::AxisInterface> interfaces)
+    : prefix_(component.name() + ".") {
   for (auto& it : interfaces) {
     const std::string l = HalAxisLetter(it.axis);
     Axis a;
@@ -77,6 +78,14 @@ bool HalCncLink::WriteCompensation(std::span<const double> correction_um) {
 void HalCncLink::ReleaseOffsets() {
   const double zero[32] = {};
   WriteCompensation(std::span<const double>(zero, std::min<std::size_t>(axes_.size(), 32)));
+}
+
+std::vector<std::string> HalCncLink::StatePinsNotNetted() const {
+  std::vector<std::string> out;
+  for (const auto& a : axes_)
+    if (!a.pos_fb.Linked()) out.push_back(prefix_ + HalAxisLetter(a.interface.axis) + ".pos-fb");
+  if (!machine_on_.Linked()) out.push_back(prefix_ + "machine-on");
+  return out;
 }
 
 }  // namespace trueaxis::linuxcnc

@@ -5,7 +5,7 @@ LinuxCNC's launcher starts it once the machine is up; it drives the machine thro
 `linuxcnc` Python module (estop reset, machine on, home, MDI, programs), reads and sets HAL pins,
 checks one scenario and writes its verdict as JSON to $TRUEAXIS_LCNC_RESULT:
   {"scenario": ..., "failures": ["..."], "figures": {...}}
-When it exits, LinuxCNC shuts down. Scenarios: hal, enable, lost_terminal, compfile, closed_loop.
+When it exits, LinuxCNC shuts down. Scenarios: hal, enable, lost_terminal, compfile, closed_loop, campaign.
 """
 import json
 import os
@@ -108,14 +108,44 @@ def offset_at_joint_um(x_mm):
 
 
 def sample_ramp(duration_s, until=None):
-    """(t, correction-um, axis.x.eoffset µm) every ~2 ms."""
+    """(t, correction-um, axis.x.eoffset µm, t after the reads) every ~2 ms: the pins were read
+    somewhere between the two times (a loaded machine can stall this process between them)."""
     samples, t0 = [], time.time()
     while time.time() - t0 < duration_s:
-        samples.append((time.time() - t0, getp("trueaxis.x.correction-um"), getp("axis.x.eoffset") * 1000.0))
+        t = time.time() - t0
+        corr, eoffset_um = getp("trueaxis.x.correction-um"), getp("axis.x.eoffset") * 1000.0
+        samples.append((t, corr, eoffset_um, time.time() - t0))
         if until and until(samples[-1]):
             break
         time.sleep(0.002)
     return samples
+
+
+def pin_signal(pin):
+    """The signal `pin` is netted to ('' when none), from `halcmd -s show pin`."""
+    out = subprocess.check_output(["halcmd", "-s", "show", "pin", pin], text=True)
+    for line in out.splitlines():
+        words = line.split()
+        if pin in words:
+            i = words.index(pin)
+            return words[i + 2] if len(words) > i + 2 and words[i + 1] in ("<==", "==>", "<=>") else ""
+    failures.append(f"halcmd show pin {pin}: no such pin")
+    return ""
+
+
+# The machine's own signals in sim.hal and the pins trueaxis.hal (examples/run/linuxcnc.hal) nets onto them.
+CONFIG_SIGNALS = {"machine-is-enabled": ("motion.motion-enabled", "trueaxis.machine-on"),
+                  "coolant-flood": ("iocontrol.0.coolant-flood", "trueaxis.coolant-flood"),
+                  "coolant-mist": ("iocontrol.0.coolant-mist", "trueaxis.coolant-mist")}
+
+
+def check_config_signals():
+    """The snippet reused the configuration's signals: each trueaxis input sits on the signal the
+    configuration already drives from the controller's pin (not on a signal of its own)."""
+    for signal, (writer, reader) in CONFIG_SIGNALS.items():
+        for pin in (writer, reader):
+            got = pin_signal(pin)
+            check(got == signal, f"{pin} is on signal '{got}', not the configuration's '{signal}'")
 
 
 # ---- scenarios -------------------------------------------------------------------------------
@@ -128,7 +158,9 @@ def scenario_hal():
         setp(f"trueaxis.temp.{k}", v)
     setp("trueaxis.temp.ambient", 20.0)
     setp("trueaxis.enable", 1)
+    check_config_signals()
     machine_on_and_home()
+    check(getp("trueaxis.machine-on") == 1, "trueaxis.machine-on did not follow the machine on (machine-is-enabled)")
     quantum_um = 0.1
     worst = 0.0
     for x, d, nut, bearing in [(300, 1, 20, 20), (300, 1, 30, 22), (120, -1, 30, 22), (50, 1, 25, 21), (380, -1, 27, 24)]:
@@ -178,9 +210,10 @@ def ramp_checks(samples, start_um, end_um, max_step_um, period_s, what):
     check(abs(values[-1] - end_um) < 0.11, f"{what}: ends at {values[-1]:.3f} µm, not {end_um:.3f}")
     distinct = len(set(values))
     check(distinct >= 5, f"{what}: {distinct} distinct values — a jump, not a ramp")
-    # Between two samples Δt apart the limiter allows max_step per cycle (+1 cycle, +1 count).
+    # Between two samples Δt apart the limiter allows max_step per cycle (+1 cycle, +1 count); Δt is
+    # the longest the two reads can be apart (from before the first to after the second).
     worst_rate = 0.0
-    for (t1, v1, _), (t2, v2, _) in zip(samples, samples[1:]):
+    for (t1, v1, _, _), (_, v2, _, t2) in zip(samples, samples[1:]):
         allowed = max_step_um * ((t2 - t1) / period_s + 1) + 0.1
         worst_rate = max(worst_rate, abs(v2 - v1) / allowed)
     check(worst_rate <= 1.0, f"{what}: a step of {worst_rate:.2f}× what the limiter allows")
@@ -327,6 +360,35 @@ def scenario_closed_loop():
         figures[f"cycle_{'on' if on else 'off'}_wall_s"] = round(time.time() - t0, 1)
         figures[f"readings_{'on' if on else 'off'}"] = int(getp("taplant.laser-readings"))
     check(figures.get("readings_on") == 2 * len(targets) * int(runs), "one reading per target, run and direction")
+
+
+def scenario_campaign():
+    """trueaxis-hal --campaign logs while LinuxCNC moves X: the driver sets the temperature pins, moves
+    X through known targets (standing at each, so the log's 10 Hz reads catch every turn), runs the
+    coolant for a while, and reports what it did; the harness checks temperature_log.csv against it."""
+    temps = {"x_nut": 20.0, "x_bearing": 20.5, "ambient": 19.5}  # as sensors.hal starts them
+    log = os.path.join(os.environ["TRUEAXIS_CAMPAIGN_DIR"], "temperature_log.csv")
+    machine_on_and_home()
+    # The first row is in (the log starts once its pins are netted): from here every move is logged.
+    wait_for(lambda: os.path.exists(log) and len(open(log).read().splitlines()) >= 2, 20, "the campaign log's first row")
+    check(getp("trueaxis.machine-on") == 1, "trueaxis.machine-on did not follow the machine on")
+    stat.poll()
+    x, path, nut_set = stat.joint_actual_position[0], 0.0, [temps["x_nut"]]
+    figures["start_x_mm"] = x
+    for k, target in enumerate([100.0, 300.0, 50.0, 250.0, 120.0]):
+        temps["x_nut"] = 20.0 + 0.5 * (k + 1)
+        subprocess.check_call(["halcmd", "sets", "t-x_nut", str(temps["x_nut"])])
+        nut_set.append(temps["x_nut"])
+        mdi(f"G0 X{target}")
+        path += abs(target - x)
+        x = target
+        time.sleep(0.4)
+        if k == 2:
+            mdi("M8")
+            time.sleep(2.5)  # at least two rows with the flood coolant on
+            mdi("M9")
+    time.sleep(2.5)  # the last position and temperatures in at least two rows
+    figures.update(path_mm=path, last_x_mm=x, temperatures_c=temps, x_nut_set_c=nut_set, targets_mm=[100.0, 300.0, 50.0, 250.0, 120.0])
 
 
 def main():

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """One headless LinuxCNC session for CTest (tests/linuxcnc/CMakeLists.txt, docs/linuxcnc.md).
 
-  linuxcnc_test.py --scenario hal|enable|lost_terminal|compfile|closed_loop --hal BIN --plant BIN --cli BIN
+  linuxcnc_test.py --scenario hal|enable|lost_terminal|compfile|closed_loop|campaign --hal BIN --plant BIN --cli BIN
 
 Copies the simulator configuration (tests/linuxcnc/sim) into a fresh folder, adapts it to the
 scenario, starts LinuxCNC (`linuxcnc` under `script`: the launcher wants a terminal) with
@@ -45,6 +45,30 @@ def kill_session(marker, group_leader):
             pass
 
 
+EXAMPLE_HAL = os.path.join(SOURCE, "examples/run/linuxcnc.hal")
+# The test's own loadusr: the programs of this build, the scenario's run configuration.
+TEST_LOADUSR = ("loadusr -Wn trueaxis $(TRUEAXIS_HAL) --config $(TRUEAXIS_RUN_CONFIG) "
+                "--temperatures $(TRUEAXIS_TEMPERATURES)$(TRUEAXIS_HAL_EXTRA)")
+
+
+def trueaxis_hal_from_example(axes):
+    """The integrator's snippet (examples/run/linuxcnc.hal) as the simulator's trueaxis.hal: its
+    loadusr line replaced by the test's, the pin blocks of axes the test's run configurations do not
+    have left out. Every other line, the nets onto the machine's own signals included, is the
+    example's; sim.hal already has those signals, so a snippet that made a second signal on one of
+    their pins would stop LinuxCNC at start."""
+    out, loads = [], 0
+    for line in open(EXAMPLE_HAL).read().splitlines():
+        if line.startswith("loadusr "):
+            line, loads = TEST_LOADUSR, loads + 1
+        elif any(f"trueaxis.{l}." in line for l in "abcuvwxyz" if l not in axes):
+            continue
+        out.append(line)
+    if loads != 1:
+        raise RuntimeError(f"{EXAMPLE_HAL}: expected one loadusr line, found {loads}")
+    return "\n".join(out) + "\n"
+
+
 def ini_without_trueaxis(ini):
     return "\n".join(l for l in ini.splitlines() if l.strip() != "HALFILE = trueaxis.hal") + "\n"
 
@@ -76,6 +100,64 @@ def analyze_a(cli, path):
     return out["A_um"], out["R_um"]
 
 
+CAMPAIGN_SENSORS_C = {"x_nut": 20.0, "x_bearing": 20.5, "ambient": 19.5}  # sim/trueaxis_campaign.toml's channels
+
+
+def check_campaign_log(cli, campaign_dir, figures):
+    """The log trueaxis-hal --campaign wrote while the driver moved X: the fit's layout (the header of
+    `trueaxis campaign log`), X's positions and travelled path, the coolant and the temperature pins as
+    the driver set them, and `trueaxis campaign check` reads the folder."""
+    import csv
+    failures = []
+    path = os.path.join(campaign_dir, "temperature_log.csv")
+    if not os.path.exists(path):
+        return [f"no {path}: trueaxis-hal --campaign wrote no log"]
+    rows = list(csv.DictReader(open(path)))
+    header = open(path).readline().strip().split(",")
+    want = ["time_s", "date", "coolant", "x_mm", "x_travel_mm", "t_x_nut_c", "t_x_bearing_c", "t_ambient_c"]
+    if header != want:
+        failures.append(f"{path}: header {header}, the fit's layout is {want}")
+        return failures
+    figures["rows"] = len(rows)
+    if len(rows) < 6:
+        return failures + [f"{path}: {len(rows)} rows, expected one a second over the session"]
+    times = [float(r["time_s"]) for r in rows]
+    if any(b <= a for a, b in zip(times, times[1:])):
+        failures.append(f"{path}: time_s does not increase: {times}")
+    # Every row holds a reading the sensors had: none from before the pins were netted (0 °C).
+    for n, start in CAMPAIGN_SENSORS_C.items():
+        had = {start} | ({figures["temperatures_c"][n]} if n != "x_nut" else set(figures["x_nut_set_c"]))
+        bad = [r[f"t_{n}_c"] for r in rows if float(r[f"t_{n}_c"]) not in had]
+        if bad:
+            failures.append(f"t_{n}_c {bad}: values the sensor never had (it had {sorted(had)})")
+    travel = [float(r["x_travel_mm"]) for r in rows]
+    if any(b < a for a, b in zip(travel, travel[1:])):
+        failures.append(f"{path}: X_travel_mm decreases: {travel}")
+    figures["logged_travel_mm"] = travel[-1]
+    if abs(travel[-1] - figures["path_mm"]) > 0.5:
+        failures.append(f"x_travel_mm {travel[-1]:.1f} mm, LinuxCNC moved X {figures['path_mm']:.1f} mm")
+    last = rows[-1]
+    if abs(float(last["x_mm"]) - figures["last_x_mm"]) > 1e-3:
+        failures.append(f"last x_mm {last['x_mm']}, X stands at {figures['last_x_mm']}")
+    xs = [float(r["x_mm"]) for r in rows]
+    span = figures["targets_mm"] + [figures["start_x_mm"]]
+    if min(xs) < min(span) - 1e-3 or max(xs) > max(span) + 1e-3:
+        failures.append(f"x_mm outside the positions X moved between ({min(span)}…{max(span)} mm): {xs}")
+    for name, value in figures["temperatures_c"].items():
+        if abs(float(last[f"t_{name}_c"]) - value) > 1e-6:
+            failures.append(f"last t_{name}_c {last[f't_{name}_c']}, the sensor's signal t-{name} was {value}")
+    coolant = [r["coolant"] for r in rows]
+    if "flood" not in coolant or coolant[-1] != "off":
+        failures.append(f"coolant column {coolant}: flood while M8 was on, off at the end expected")
+    r = subprocess.run([cli, "campaign", "check", campaign_dir], capture_output=True, text=True)
+    figures["campaign_check_exit"] = r.returncode
+    import re
+    m = re.search(r"temperature log (\d+) rows", r.stdout)
+    if r.returncode != 0 or not m or int(m.group(1)) != len(rows):
+        failures.append(f"trueaxis campaign check {campaign_dir}: exit {r.returncode}\n{r.stdout[-1500:]}{r.stderr[-1500:]}")
+    return failures
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--scenario", required=True)
@@ -102,6 +184,7 @@ def main():
     os.chmod(work, 0o755)
     config = os.path.join(work, "config")
     shutil.copytree(os.path.join(HERE, "sim"), config)
+    open(os.path.join(config, "trueaxis.hal"), "w").write(trueaxis_hal_from_example("x"))
     ini_path = os.path.join(config, "trueaxis_sim.ini")
     ini = open(ini_path).read()
     marker = "trueaxis-lcnc-" + uuid.uuid4().hex
@@ -110,7 +193,8 @@ def main():
                TRUEAXIS_LCNC_DRIVER=os.path.join(HERE, "lcnc_driver.py"),
                TRUEAXIS_LCNC_RESULT=os.path.join(work, "result.json"), TRUEAXIS_CLI=a.cli, TRUEAXIS_HAL=a.hal,
                TRUEAXIS_PLANT=a.plant, TRUEAXIS_MODEL=os.path.join(SOURCE, "tests/export/golden/example_model.json"),
-               TRUEAXIS_RUN_CONFIG=os.path.join(HERE, "sim/trueaxis_run.toml"), TRUEAXIS_TEMPERATURES="hal")
+               TRUEAXIS_RUN_CONFIG=os.path.join(HERE, "sim/trueaxis_run.toml"), TRUEAXIS_TEMPERATURES="hal",
+               TRUEAXIS_HAL_EXTRA="")
     terminal = None
     if a.scenario == "compfile":
         ini = ini_without_trueaxis(ini)
@@ -141,6 +225,16 @@ def main():
             f"loadusr -Wn taplant {a.plant} {' '.join(plant_args)} --out {plant_out}\n" + PLANT_NETS)
         # The in-process reference: same machine, seed, state, laser cycle and compensator.
         reference = subprocess.check_output([a.plant] + plant_args + ["--out", plant_out, "--reference", run_config]).decode()
+    elif a.scenario == "campaign":
+        campaign_dir = os.path.join(work, "campaign")
+        env.update(TRUEAXIS_RUN_CONFIG=os.path.join(HERE, "sim/trueaxis_campaign.toml"), TRUEAXIS_CAMPAIGN_DIR=campaign_dir,
+                   TRUEAXIS_HAL_EXTRA=f" --campaign {campaign_dir} --campaign-period-s 1")
+        # The temperature sensors as a machine's analog inputs: signals netted to the temperature pins,
+        # set to their first reading (the log starts 2 s after the nets); the driver changes them (halcmd sets).
+        ini = ini.replace("HALFILE = trueaxis.hal", "HALFILE = trueaxis.hal\nHALFILE = sensors.hal")
+        open(os.path.join(config, "sensors.hal"), "w").write("".join(
+            f"net t-{n} => trueaxis.temp.{n}\nsets t-{n} {v}\n"
+            for n, v in CAMPAIGN_SENSORS_C.items()))
     elif a.scenario == "lost_terminal":
         env["TRUEAXIS_RUN_CONFIG"] = os.path.join(HERE, "sim/trueaxis_run_modbus.toml")
         env["TRUEAXIS_TEMPERATURES"] = "modbus"
@@ -220,6 +314,10 @@ def main():
                 if abs(lc[n][0] - ref[n][0]) > tol:
                     result["failures"].append(f"A {n}: LinuxCNC {lc[n][0]:.2f} µm vs in process {ref[n][0]:.2f} µm differ "
                                               f"by more than the repeatability {tol:.2f} µm")
+    if a.scenario == "campaign":
+        result["failures"] += check_campaign_log(a.cli, campaign_dir, result["figures"])
+        if "X: no cold test yet (campaign add" not in output:  # the warm-up watch, live in LinuxCNC's output
+            result["failures"].append("no warm-up line for X in trueaxis-hal's output")
     print(json.dumps({"scenario": a.scenario, "wall_s": round(wall, 1), "figures": result["figures"]}))
     if a.figures_out:
         json.dump(result["figures"], open(a.figures_out, "w"), indent=1)

@@ -52,6 +52,10 @@ class HalCncLink : public hw::CncLink {
   // Every eoffset to zero counts (the component stops: LinuxCNC ramps the offsets out).
   void ReleaseOffsets();
   bool CncEnable() const { return enable_.Get() && machine_on_.Get(); }
+  bool MachineOn() const { return machine_on_.Get(); }
+  // The inputs a record of the machine needs (each axis's pos-fb, machine-on) not netted yet, by
+  // pin name ("trueaxis.x.pos-fb").
+  std::vector<std::string> StatePinsNotNetted() const;
 
   // A programmed move of less than this between two reads is "standing" (mm): above the noise of
   // reading pos-cmd and eoffset a servo period apart.
@@ -69,6 +73,7 @@ class HalCncLink : public hw::CncLink {
     bool has_last = false;
     int last_direction = 0;  // of the last programmed move (+1/−1; 0 before the first): reported while standing
   };
+  std::string prefix_;  // "<component>."
   std::vector<Axis> axes_;
   Pin<bool> enable_, machine_on_, flood_, mist_;
 };

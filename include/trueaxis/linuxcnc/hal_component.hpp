@@ -16,13 +16,18 @@ template <typename T>
 class Pin {
  public:
   Pin() = default;
-  explicit Pin(volatile T** slot) : slot_(slot) {}
+  // Right after the pin is created: *slot points at the pin's own storage (HAL's "dummysig").
+  explicit Pin(volatile T** slot) : slot_(slot), unlinked_(*slot) {}
   bool valid() const { return slot_ != nullptr; }
   T Get() const { return **slot_; }
   void Set(T value) const { **slot_ = value; }
+  // The pin is netted to a signal: HAL re-points the slot at the signal's value (and back at the
+  // pin's own storage on unlink). An input never netted reads what setp put there, 0 by default.
+  bool Linked() const { return *slot_ != unlinked_; }
 
  private:
   volatile T** slot_ = nullptr;
+  volatile T* unlinked_ = nullptr;
 };
 
 class HalComponent {

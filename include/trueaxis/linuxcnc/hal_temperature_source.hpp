@@ -17,8 +17,11 @@ class HalTemperatureSource : public hw::TemperatureSource {
   std::size_t ChannelCount() const override { return names_.size(); }
   std::string ChannelName(std::size_t channel) const override { return names_[channel]; }
   bool Read(std::span<hw::RawTemperature> out) override;
+  // The temperature pins not netted yet, by pin name ("trueaxis.temp.x_nut").
+  std::vector<std::string> PinsNotNetted() const;
 
  private:
+  std::string prefix_;  // "<component>.temp."
   std::vector<std::string> names_;
   std::vector<Pin<double>> value_;
   std::vector<Pin<bool>> fault_;
