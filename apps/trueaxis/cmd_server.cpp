@@ -65,13 +65,13 @@ std::string Summary(const server::Shop& shop, double wall_s, double since_s, std
                      st.faults, st.overruns);
 }
 
-// --mtconnect HOST:PORT (port 0: any free one, printed at start).
+// --mtconnect [HOST:]PORT, 127.0.0.1 when no host is given (port 0: any free one, printed at start).
 server::MtconnectOptions MtconnectListen(const std::string& listen, server::MtconnectOptions o) {
-  static const std::regex form(R"((.+):([0-9]{1,5}))");
+  static const std::regex form(R"((?:(.+):)?([0-9]{1,5}))");
   std::smatch m;
   if (!std::regex_match(listen, m, form) || std::stoi(m[2].str()) > 65535)
-    throw InputError("command line", 0, "--mtconnect", "'" + listen + "' is not HOST:PORT (e.g. 127.0.0.1:5000)");
-  o.bind = m[1].str();
+    throw InputError("command line", 0, "--mtconnect", "'" + listen + "' is not [HOST:]PORT (e.g. 127.0.0.1:5000)");
+  if (m[1].matched) o.bind = m[1].str();
   if (o.bind.size() > 2 && o.bind.front() == '[' && o.bind.back() == ']') o.bind = o.bind.substr(1, o.bind.size() - 2);
   o.port = std::stoi(m[2].str());
   return o;
@@ -85,6 +85,8 @@ void RunServer(const ServerOptions& o) {
   cli::CheckSecondsOption(o.status_interval_s, "--status-interval-s", "none");
   if (o.http_port_given && (o.http_port < 0 || o.http_port > 65535))
     throw InputError("command line", 0, "--http-port", fmt::format("{} is out of range: 1 to 65535 (0: no API)", o.http_port));
+  const server::MtconnectOptions mtc = o.mtconnect.empty() ? o.mtconnect_options : MtconnectListen(o.mtconnect, o.mtconnect_options);
+  if (!o.mtconnect.empty()) server::CheckMtconnectOptions(mtc);
   server::ShopConfig config = server::ReadShopConfig(o.config);  // InputError: file, line, field
   if (o.http_port_given) config.http_port = o.http_port;
   // Another server on the port, or a bind address that is not this computer's: say which setting.
@@ -96,8 +98,6 @@ void RunServer(const ServerOptions& o) {
   };
   if (std::string error; config.http_port > 0 && !server::CanListen(config.http_bind, config.http_port, &error))
     throw http_error(error);  // before the history is opened: a refused server records nothing
-  server::MtconnectOptions mtc = o.mtconnect.empty() ? o.mtconnect_options : MtconnectListen(o.mtconnect, o.mtconnect_options);
-  if (!o.mtconnect.empty()) server::CheckMtconnectOptions(mtc);
   if (std::string error; !o.mtconnect.empty() && !server::CanListen(mtc.bind, mtc.port, &error))
     throw InputError("command line", 0, "--mtconnect", error);
   std::unique_ptr<store::HistoryWriter> history;
@@ -151,6 +151,9 @@ void RunServer(const ServerOptions& o) {
              api ? fmt::format(", API http://{}:{}/api/machines", config.http_bind, api->port()) : "",
              mqtt ? fmt::format(", MQTT {} ({}/{}/…)", config.mqtt.broker, config.mqtt.topic_root, config.mqtt.shop) : "");
   if (mtconnect) fmt::print("MTConnect agent: http://{}:{}/probe\n", mtc.bind, mtconnect->port());
+  if (mtconnect && !server::IsLoopbackAddress(mtc.bind))
+    fmt::print(stderr, "note: the MTConnect agent (read only, no authentication) listens on {}:{}: every computer that reaches "
+               "this address reads the machines' values\n", mtc.bind, mtconnect->port());
   std::fflush(stdout);
   const auto t0 = std::chrono::steady_clock::now();
   auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
@@ -266,7 +269,7 @@ void Setup(CLI::App& app) {
   cmd->add_flag("--quiet", o->quiet, "No status lines");
   cli::AddWebOptions(cmd, o->web, "--web");
   cmd->add_option("--mtconnect", o->mtconnect,
-                  "Serve every machine as an MTConnect 1.3 agent (/probe, /current, /sample) on HOST:PORT, e.g. 127.0.0.1:5000");
+                  "Serve every machine as an MTConnect 1.3 agent (/probe, /current, /sample) on [HOST:]PORT (host 127.0.0.1 unless given)");
   cmd->add_option("--mtconnect-period-s", o->mtconnect_options.period_s, "How often the MTConnect agent takes the shop's values")
       ->capture_default_str();
   cmd->add_option("--mtconnect-buffer", o->mtconnect_options.buffer_size, "Observations the MTConnect agent holds (bufferSize)")

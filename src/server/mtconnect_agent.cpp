@@ -117,6 +117,26 @@ std::string HostName() {
   return name;
 }
 
+// The query of a request target, each parameter split at its first '=': an XPath such as
+// path=//DataItem[@type="POSITION"] is usually sent with its '=' as is (cpp-httplib's own parser
+// splits such a parameter at the wrong '=').
+std::multimap<std::string, std::string> Query(const std::string& target) {
+  std::multimap<std::string, std::string> params;
+  const auto q = target.find('?');
+  if (q == std::string::npos) return params;
+  for (std::size_t i = q + 1; i <= target.size();) {
+    const std::size_t end = std::min(target.find('&', i), target.size());
+    const std::string part = target.substr(i, end - i);
+    if (!part.empty()) {
+      const auto eq = part.find('=');
+      params.emplace(httplib::detail::decode_url(part.substr(0, eq), true),
+                     eq == std::string::npos ? "" : httplib::detail::decode_url(part.substr(eq + 1), true));
+    }
+    i = end + 1;
+  }
+  return params;
+}
+
 struct QueryError {
   std::string code, message;
 };
@@ -319,7 +339,7 @@ struct MtconnectAgent::Impl {
       }
       return httplib::Server::HandlerResponse::Unhandled;
     });
-    http.Get(".*", [this, reply](const httplib::Request& req, httplib::Response& res) { reply(res, Respond(req.path, req.params)); });
+    http.Get(".*", [this, reply](const httplib::Request& req, httplib::Response& res) { reply(res, Respond(req.path, Query(req.target))); });
     http.set_error_handler(httplib::Server::HandlerWithResponse([this, reply](const httplib::Request&, httplib::Response& res) {
       if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
       reply(res, Error(res.status, "INVALID_REQUEST", "bad request"));
