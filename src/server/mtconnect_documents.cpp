@@ -60,6 +60,7 @@ void DataItems(pugi::xml_node parent, const DeviceModel& model, const Component&
       n.append_attribute("units") = d.units.c_str();
       n.append_attribute("nativeUnits") = d.units.c_str();
     }
+    if (d.type == "POSITION") n.append_attribute("coordinateSystem") = "MACHINE";  // as the CNC reports it
   }
 }
 
@@ -93,9 +94,7 @@ void BuildDevices(const DeviceModel& model, const HeaderInfo& header, int device
     n.append_attribute("id") = self.id.c_str();
     n.append_attribute("name") = dev.name.c_str();
     n.append_attribute("uuid") = dev.uuid.c_str();
-    pugi::xml_node desc = n.append_child("Description");
-    desc.append_attribute("manufacturer") = "trueaxis";
-    desc.text() = "A machine tool of the workshop server: positions, temperatures and the thermal compensation trueaxis applies";
+    n.append_child("Description").text() = "A machine tool of the workshop server: positions, temperatures and the thermal compensation trueaxis applies";
     DataItems(n, model, self);
     Components(n, model, dev, 0);
   }
