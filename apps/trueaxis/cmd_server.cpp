@@ -274,6 +274,8 @@ void Setup(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--mtconnect-buffer", o->mtconnect_options.buffer_size, "Observations the MTConnect agent holds (bufferSize)")
       ->capture_default_str();
+  cmd->add_option("--mtconnect-host-name", o->mtconnect_options.host_names,
+                  "A name dashboards use for this computer, besides its host name and addresses (repeatable)");
   cmd->require_subcommand(0, 1);
 
   auto url = std::make_shared<std::string>("http://127.0.0.1:8650");

@@ -324,7 +324,7 @@ struct MtconnectAgent::Impl {
       res.set_content(r.body, "text/xml");
     };
     http.set_pre_routing_handler([this, reply](const httplib::Request& req, httplib::Response& res) {
-      if (const std::string host = req.get_header_value("Host"); !IsOwnHost(host, options.bind)) {
+      if (const std::string host = req.get_header_value("Host"); !IsOwnHost(host, options.bind, options.host_names)) {
         reply(res, Error(403, "UNAUTHORIZED", "the Host '" + XmlSafe(host) + "' is not this server's name (DNS rebinding?)"));
         return httplib::Server::HandlerResponse::Handled;
       }

@@ -87,6 +87,7 @@ TEST(MtconnectAgent, OnlyChangesAreNewObservationsAndOtherHostsAreRefused) {
   Shop shop(ConfigFor(*vshop, WriteModel(dir + "/model.json")), nullptr);  // not started: its values stand still
   MtconnectOptions o;
   o.port = 0;
+  o.host_names = {"mtc.shop.example"};
   MtconnectAgent agent(shop, o);
   const auto next_of = [&] {
     pugi::xml_document doc;
@@ -109,6 +110,9 @@ TEST(MtconnectAgent, OnlyChangesAreNewObservationsAndOtherHostsAreRefused) {
   EXPECT_EQ(res->status, 403);
   EXPECT_NE(res->body.find("UNAUTHORIZED"), std::string::npos);
   res = client.Get("/probe", {{"Host", "localhost:5000"}});
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 200);
+  res = client.Get("/probe", {{"Host", "MTC.shop.example:5000"}});  // a name given with --mtconnect-host-name
   ASSERT_TRUE(res);
   EXPECT_EQ(res->status, 200);
   EXPECT_EQ(res->get_header_value("Content-Type"), "text/xml");

@@ -20,6 +20,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "trueaxis/server/shop.hpp"
 
@@ -31,6 +32,7 @@ struct MtconnectOptions {
   double period_s = 1.0;              // how often the publisher looks at the shop
   std::size_t buffer_size = 131072;   // observations held (bufferSize)
   std::string sender;                 // Header sender ("": this computer's host name)
+  std::vector<std::string> host_names;  // further names clients use for this computer (Host check)
 };
 
 // InputError naming the option (--mtconnect, --mtconnect-period-s, --mtconnect-buffer) that is out of range.
