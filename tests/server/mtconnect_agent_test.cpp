@@ -73,7 +73,13 @@ TEST(MtconnectAgent, AStoppedTerminalMakesOnlyItsOwnMachineUnavailable) {
   ASSERT_TRUE(doc.load_string(res->body.c_str()));
   std::vector<std::string> history;
   for (const auto& n : doc.select_nodes("//Availability")) history.push_back(n.node().text().get());
-  EXPECT_EQ(history, (std::vector<std::string>{"UNAVAILABLE", "AVAILABLE", "UNAVAILABLE"})) << res->body.substr(0, 3000);
+  // UNAVAILABLE at the start, AVAILABLE once connected, UNAVAILABLE at the end; only changes are
+  // observations, so no value follows itself (a link that flapped under load adds pairs, no repeats).
+  ASSERT_GE(history.size(), 3u) << res->body.substr(0, 3000);
+  EXPECT_EQ(history.front(), "UNAVAILABLE");
+  EXPECT_EQ(history[1], "AVAILABLE");
+  EXPECT_EQ(history.back(), "UNAVAILABLE");
+  for (std::size_t i = 1; i < history.size(); ++i) EXPECT_NE(history[i], history[i - 1]) << i;
   vshop->SetFault(1, TerminalFault::kNone);  // back: AVAILABLE again once the server reconnects
   EXPECT_TRUE(WaitFor([&] { return CurrentAvailability(client).by_device["vm-0001"] == "AVAILABLE"; }));
   agent.Stop();
@@ -149,7 +155,7 @@ TEST(MtconnectAgent, TheServersAgentPassesAnIndependentClientsChecks) {
   if (pid == 0) {
     freopen(out.c_str(), "w", stdout);
     execl(TRUEAXIS_CLI_PATH, TRUEAXIS_CLI_PATH, "server", "--config", (dir + "/shop.toml").c_str(), "--quiet", "--duration-s", "120",
-          "--mtconnect", "127.0.0.1:0", "--mtconnect-period-s", "0.05", "--mtconnect-buffer", "1500", nullptr);
+          "--mtconnect", "127.0.0.1:0", "--mtconnect-period-s", "0.05", "--mtconnect-buffer", "2500", nullptr);
     _exit(127);
   }
   std::string url;

@@ -19,7 +19,7 @@ import xml.etree.ElementTree as ET
 DEVICES = "urn:mtconnect.org:MTConnectDevices:1.3"
 STREAMS = "urn:mtconnect.org:MTConnectStreams:1.3"
 ERROR = "urn:mtconnect.org:MTConnectError:1.3"
-DEADLINE_S = 30
+DEADLINE_S = 60
 
 
 def q(ns, tag):
