@@ -290,6 +290,8 @@ struct MtconnectAgent::Impl {
       int device = -1;
       std::string request = "probe";
       const auto is_request = [](const std::string& p) { return p == "probe" || p == "current" || p == "sample"; };
+      if (!parts.empty() && (parts[0] == "assets" || parts[0] == "asset"))
+        return Error(400, "UNSUPPORTED", "this agent publishes no assets: probe, current or sample");
       if (parts.size() == 1 && is_request(parts[0])) {
         request = parts[0];
       } else if (!parts.empty() && parts.size() <= 2) {

@@ -130,6 +130,10 @@ TEST(MtconnectAgent, OnlyChangesAreNewObservationsAndOtherHostsAreRefused) {
   ASSERT_TRUE(res);
   EXPECT_EQ(res->status, 400);
   EXPECT_NE(res->body.find("UNSUPPORTED"), std::string::npos);
+  res = client.Get("/assets");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 400);
+  EXPECT_NE(res->body.find("UNSUPPORTED"), std::string::npos);
   res = client.Get("/a/b/c");
   ASSERT_TRUE(res);
   EXPECT_EQ(res->status, 404);
