@@ -271,9 +271,9 @@ struct MtconnectAgent::Impl {
     const auto from = Unsigned(params, "from");
     const auto wanted = Wanted(device, Param(params, "path"));
     std::vector<Observation> found;
-    BufferRange range = buffer.range();
+    BufferRange range;
     std::uint64_t next = 0;
-    if (!buffer.Sample(from.value_or(range.first), count, wanted ? &*wanted : nullptr, found, &next, range))
+    if (!buffer.Sample(from, count, wanted ? &*wanted : nullptr, found, &next, range))
       throw QueryError{"OUT_OF_RANGE", fmt::format("'from' must be between firstSequence {} and nextSequence {} (it is {})", range.first,
                                                    range.next, from.value_or(0))};
     return {200, StreamsDocument(model, Header(), range, next, std::move(found), device)};

@@ -57,11 +57,12 @@ bool ObservationBuffer::Current(std::optional<std::uint64_t> at, const std::vect
   return true;
 }
 
-bool ObservationBuffer::Sample(std::uint64_t from, std::size_t count, const std::vector<bool>* wanted, std::vector<Observation>& out,
+bool ObservationBuffer::Sample(std::optional<std::uint64_t> from_sequence, std::size_t count, const std::vector<bool>* wanted, std::vector<Observation>& out,
                                std::uint64_t* next_sequence, BufferRange& range) const {
   out.clear();
   std::lock_guard lock(mutex_);
   range = RangeLocked();
+  const std::uint64_t from = from_sequence.value_or(range.first);
   if (from < range.first || from > range.next) return false;
   std::uint64_t s = from;
   for (; s < range.next && out.size() < count; ++s) {

@@ -61,6 +61,8 @@ TEST(MtconnectBuffer, NumbersEveryObservationAndDropsTheOldestOnceFull) {
   ASSERT_TRUE(buffer.Sample(next, 100, nullptr, out, &next, r));  // nothing new: empty, same nextSequence
   EXPECT_TRUE(out.empty());
   EXPECT_EQ(next, 7u);
+  ASSERT_TRUE(buffer.Sample(std::nullopt, 1, nullptr, out, &next, r));  // no `from`: the oldest held
+  EXPECT_EQ(Sequences(out), (std::vector<std::uint64_t>{3}));
   const std::vector<bool> only_b = {false, true};
   ASSERT_TRUE(buffer.Sample(3, 100, &only_b, out, &next, r));
   ASSERT_EQ(out.size(), 1u);

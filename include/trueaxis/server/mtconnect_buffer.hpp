@@ -47,9 +47,10 @@ class ObservationBuffer {
   // (first <= at <= last, else false). Items without any observation yet are left out.
   bool Current(std::optional<std::uint64_t> at, const std::vector<bool>* wanted, std::vector<Observation>& out,
                BufferRange& range) const;
-  // Up to `count` observations from sequence `from` on (range.first <= from <= range.next, else false)
-  // whose item is wanted (null: all); *next_sequence: the one after the last examined.
-  bool Sample(std::uint64_t from, std::size_t count, const std::vector<bool>* wanted, std::vector<Observation>& out,
+  // Up to `count` observations from sequence `from` on (range.first <= from <= range.next, else false;
+  // nullopt: the oldest held) whose item is wanted (null: all); *next_sequence: the one after the
+  // last examined.
+  bool Sample(std::optional<std::uint64_t> from, std::size_t count, const std::vector<bool>* wanted, std::vector<Observation>& out,
               std::uint64_t* next_sequence, BufferRange& range) const;
 
  private:
