@@ -23,6 +23,7 @@
 #include "optional_features.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/server/http_api.hpp"
+#include "trueaxis/server/mtconnect_agent.hpp"
 #include "trueaxis/server/shop.hpp"
 #include "trueaxis/server/shop_config.hpp"
 #include "trueaxis/store/history_writer.hpp"
@@ -45,6 +46,8 @@ struct ServerOptions {
   bool http_port_given = false;
   bool quiet = false;
   cli::WebCliOptions web;  // the browser front end over the whole shop (docs/web.md)
+  std::string mtconnect;   // HOST:PORT of the MTConnect agent ("" none)
+  server::MtconnectOptions mtconnect_options;
 };
 
 std::string Summary(const server::Shop& shop, double wall_s, double since_s, std::uint64_t cycles_before) {
@@ -62,6 +65,18 @@ std::string Summary(const server::Shop& shop, double wall_s, double since_s, std
                      st.faults, st.overruns);
 }
 
+// --mtconnect [HOST:]PORT, 127.0.0.1 when no host is given (port 0: any free one, printed at start).
+server::MtconnectOptions MtconnectListen(const std::string& listen, server::MtconnectOptions o) {
+  static const std::regex form(R"((?:(.+):)?([0-9]{1,5}))");
+  std::smatch m;
+  if (!std::regex_match(listen, m, form) || std::stoi(m[2].str()) > 65535)
+    throw InputError("command line", 0, "--mtconnect", "'" + listen + "' is not [HOST:]PORT (e.g. 127.0.0.1:5000)");
+  if (m[1].matched) o.bind = m[1].str();
+  if (o.bind.size() > 2 && o.bind.front() == '[' && o.bind.back() == ']') o.bind = o.bind.substr(1, o.bind.size() - 2);
+  o.port = std::stoi(m[2].str());
+  return o;
+}
+
 void RunServer(const ServerOptions& o) {
   g_stop.store(false);
   std::signal(SIGINT, OnServerStop);
@@ -70,6 +85,8 @@ void RunServer(const ServerOptions& o) {
   cli::CheckSecondsOption(o.status_interval_s, "--status-interval-s", "none");
   if (o.http_port_given && (o.http_port < 0 || o.http_port > 65535))
     throw InputError("command line", 0, "--http-port", fmt::format("{} is out of range: 1 to 65535 (0: no API)", o.http_port));
+  const server::MtconnectOptions mtc = o.mtconnect.empty() ? o.mtconnect_options : MtconnectListen(o.mtconnect, o.mtconnect_options);
+  if (!o.mtconnect.empty()) server::CheckMtconnectOptions(mtc);
   server::ShopConfig config = server::ReadShopConfig(o.config);  // InputError: file, line, field
   if (o.http_port_given) config.http_port = o.http_port;
   // Another server on the port, or a bind address that is not this computer's: say which setting.
@@ -81,6 +98,8 @@ void RunServer(const ServerOptions& o) {
   };
   if (std::string error; config.http_port > 0 && !server::CanListen(config.http_bind, config.http_port, &error))
     throw http_error(error);  // before the history is opened: a refused server records nothing
+  if (std::string error; !o.mtconnect.empty() && !server::CanListen(mtc.bind, mtc.port, &error))
+    throw InputError("command line", 0, "--mtconnect", error);
   std::unique_ptr<store::HistoryWriter> history;
   if (!config.history.empty()) {
     const auto parent = std::filesystem::path(config.history).parent_path();
@@ -121,6 +140,9 @@ void RunServer(const ServerOptions& o) {
   }
   std::unique_ptr<cli::LiveRelay> mqtt;
   if (!config.mqtt.broker.empty()) mqtt = cli::MakeShopMqttRelay(shop, config.mqtt);  // InputError, FeatureMissing
+  std::unique_ptr<server::MtconnectAgent> mtconnect;
+  if (!o.mtconnect.empty()) mtconnect = std::make_unique<server::MtconnectAgent>(shop, mtc);  // InputError: options out of range
+  if (std::string error; mtconnect && !mtconnect->Start(&error)) throw InputError("command line", 0, "--mtconnect", error);
   shop.Start();
   if (web_backend) web_backend->Start();
   if (mqtt) mqtt->Start();
@@ -128,6 +150,10 @@ void RunServer(const ServerOptions& o) {
              history ? history->path() : "off",
              api ? fmt::format(", API http://{}:{}/api/machines", config.http_bind, api->port()) : "",
              mqtt ? fmt::format(", MQTT {} ({}/{}/…)", config.mqtt.broker, config.mqtt.topic_root, config.mqtt.shop) : "");
+  if (mtconnect) fmt::print("MTConnect agent: http://{}:{}/probe\n", mtc.bind, mtconnect->port());
+  if (mtconnect && !server::IsLoopbackAddress(mtc.bind))
+    fmt::print(stderr, "note: the MTConnect agent (read only, no authentication) listens on {}:{}: every computer that reaches "
+               "this address reads the machines' values\n", mtc.bind, mtconnect->port());
   std::fflush(stdout);
   const auto t0 = std::chrono::steady_clock::now();
   auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
@@ -150,6 +176,7 @@ void RunServer(const ServerOptions& o) {
     fmt::print("mqtt: {} ({})\n", config.mqtt.broker, mqtt->StatsReport());
   }
   if (api) api->Stop();
+  if (mtconnect) mtconnect->Stop();
   shop.Stop();
   fmt::print("{}\n", Summary(shop, wall(), wall(), 0));
   for (const auto& m : shop.Snapshot()) {
@@ -241,6 +268,14 @@ void Setup(CLI::App& app) {
       cmd->add_option("--http-port", o->http_port, "HTTP control API port 1..65535, overriding the shop file's [http] port (0: off)");
   cmd->add_flag("--quiet", o->quiet, "No status lines");
   cli::AddWebOptions(cmd, o->web, "--web");
+  cmd->add_option("--mtconnect", o->mtconnect,
+                  "Serve every machine as an MTConnect 1.3 agent (/probe, /current, /sample) on [HOST:]PORT (host 127.0.0.1 unless given)");
+  cmd->add_option("--mtconnect-period-s", o->mtconnect_options.period_s, "How often the MTConnect agent takes the shop's values")
+      ->capture_default_str();
+  cmd->add_option("--mtconnect-buffer", o->mtconnect_options.buffer_size, "Observations the MTConnect agent holds (bufferSize)")
+      ->capture_default_str();
+  cmd->add_option("--mtconnect-host-name", o->mtconnect_options.host_names,
+                  "A name dashboards use for this computer, besides its host name and addresses (repeatable)");
   cmd->require_subcommand(0, 1);
 
   auto url = std::make_shared<std::string>("http://127.0.0.1:8650");
