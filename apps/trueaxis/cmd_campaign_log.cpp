@@ -46,7 +46,7 @@ struct Options {
   double duration_s = 0;
   double clock_scale = 0;  // 0: the manifest's (1 when it has none)
   std::vector<std::string> axes;
-  int max_warm = model::WarmUpRule{}.max_measurements;
+  int max_warm = sim::WarmUpRule{}.max_measurements;
   double warmup_per_test = 0.5;
   bool status = false;
 };
@@ -176,7 +176,7 @@ void Run(const Options& o) {
   std::fflush(stdout);
 
   const bool live = o.status || isatty(STDOUT_FILENO);
-  model::WarmUpRule rule;
+  sim::WarmUpRule rule;
   rule.max_measurements = o.max_warm;
   std::vector<hw::AxisState> axis_state(axes.size());
   std::vector<hw::RawTemperature> temps(sensors.size());
