@@ -279,6 +279,37 @@ double Correlation(const std::vector<ThermalPoint>& pts, const std::set<std::siz
 
 std::string JoinNames(const std::vector<std::string>& v) { return v.empty() ? "none" : fmt::format("{}", fmt::join(v, ", ")); }
 
+// What PrepareThermal's stages decide, one after the other, for one axis: each stage reads what the
+// stages before it chose and adds its own choice (the order of the members is the order of the stages).
+struct ThermalWork {
+  std::string amb;                 // the ambient sensor ("" for none)
+  std::optional<double> cte;       // µm/m/°C of the axis's feedback: option, else the cold file's metadata
+  std::string cte_source;          // where the CTE came from, for the notes
+  double px = kNaN;                // the reference point Px (mm) and why
+  std::string px_source;
+  std::vector<std::string> candidates;  // key-sensor candidates (columns of ThermalPoint::rise)
+  std::vector<double> base;             // each candidate's cold-state mean (°C)
+  double amb_base = kNaN;               // the ambient sensor's cold-state mean (°C)
+  // Each candidate's rise lagged by its own τ, `fall_factor` times longer while it falls (dry);
+  // the motion-heat input's τ (0: none yet) and its place in each point's rises, after the
+  // candidates: a key like the sensors, with M (m/min) as its rise.
+  double fall_factor = 1;
+  double motion_tau = 0;
+  std::size_t motion_col = 0;
+  std::vector<ThermalPoint> pts;        // the thermal points as the stages so far build them
+  std::set<std::size_t> off_states;     // the states the gains are fitted on (the dry ones; all with coolant memory)
+  double amb_lo = 0, amb_hi = 0;        // the room's rise over the dry states (the cold state is the 0 rise)
+  bool fit_rho = false;                 // ρ fitted jointly with the gains
+  std::optional<double> physical_rho;   // −cte/1000, replacing the fitted ρ for the final gains
+  double rho = 0;
+  std::string rho_source;
+  bool thermal = false;                 // a thermal part is (still) being fitted
+  std::vector<std::size_t> keys;        // the chosen keys: candidate columns (+ motion_col last)
+  std::vector<double> key_lag_s;        // each column's lag τ (s)
+  std::vector<double> plain_lag_s;      // the lag chosen before the fall factor (empty: none chosen)
+  std::array<double, kCoolantStateCount> key_loss{};  // the coolant memory's loss τ per coolant state
+};
+
 class AxisFitter {
  public:
   AxisFitter(std::string axis, std::vector<const FitState*> states, const FitOptions& o, std::vector<std::string>& warnings)
@@ -515,33 +546,80 @@ class AxisFitter {
                      room_range_c, fitted_rho, cte_source, cte_rho));
   }
 
+  // The thermal part of the axis (docs/model-file.md "How the fit works"), stage by stage; each
+  // stage is one decision, made on what the stages before it chose (ThermalWork).
   void PrepareThermal(AxisFitSummary& sum) {
-    const std::string amb = AmbientSensorName();
-    // Checked whether or not ρ comes from it: an absurd CTE is a broken file either way.
+    ThermalWork w;
+    w.amb = AmbientSensorName();
+    ResolveCte(w);
+    ReferenceFromOptionOrFile(w);
+    CheckThermalStatesHaveTemperatures();
+    ChooseCandidateSensors(w, sum);
+    SetColdBaselines(w);
+    w.motion_col = w.candidates.size();
+    motion_col_ = w.motion_col;
+    w.pts = BuildPoints(w, {});
+    if (std::isnan(w.px)) FitCommonPivot(w);
+    RecordReferencePoint(w, sum);
+    StageOneSlopes(w);
+    ChooseRho(w, sum);
+    RecordAmbientSensor(w, sum);
+    w.thermal = ThermalPartPossible(w);
+    ChooseKeySensors(w, sum);
+    ChooseKeyLags(w, sum);
+    ChooseKeyOffsets(w, sum);
+    ChooseMotionHeat(w, sum);
+    ChooseCoolantMemory(w, sum);
+    if (w.thermal) {
+      SolveFinalGains(w, sum);
+    } else if (!thermal_.empty() && sum.key_selection_reason.empty()) {
+      sum.key_selection_reason = "no thermal part fitted";
+    }
+    // No key sensor (none present everywhere, or none helped) does not stop ρ: the other-ambient
+    // states still determine it on their own.
+    if (w.fit_rho && !sum.thermal_fitted) {
+      w.rho = JointRho(w.pts, w.off_states, {}, form_);
+      ApplyPhysicalRho(w, sum);
+    }
+    model_.rho_um_per_mm_per_c = w.rho;
+    sum.rho_um_per_mm_per_c = w.rho;
+    sum.rho_source = w.rho_source;
+    if (thermal_.empty()) sum.key_selection_reason = "no heated states: nothing to select from";
+  }
+
+  // The CTE of the axis's feedback: the option wins over the files' metadata (a laser file that does
+  // not record it, or records the material's instead of the feedback's). The file's is checked
+  // whether or not ρ comes from it: an absurd CTE is a broken file either way.
+  void ResolveCte(ThermalWork& w) {
     const auto file_cte = ColdMetaNumber("cte_um_per_m_c", ImplausibleCteUmPerMC);
-    // The option wins over the files' metadata (a laser file that does not record it, or records the
-    // material's instead of the feedback's).
-    const std::optional<double> cte = std::isnan(o_.cte_um_per_m_c) ? file_cte : std::optional(o_.cte_um_per_m_c);
-    const std::string cte_source =
+    w.cte = std::isnan(o_.cte_um_per_m_c) ? file_cte : std::optional(o_.cte_um_per_m_c);
+    w.cte_source =
         !std::isnan(o_.cte_um_per_m_c)
             ? fmt::format("fit --cte {}", FormatShortest(o_.cte_um_per_m_c))
             : file_cte ? fmt::format("{} line {}: cte_um_per_m_c = {}", cold_.source, cold_.MetaLine("cte_um_per_m_c"),
                                      *cold_.Meta("cte_um_per_m_c"))
                        : std::string();
-    // Reference point from option or metadata first (needed even for a geometric-only model's ρ term).
-    double px = o_.reference_position_mm;
-    std::string px_source = "option";
-    if (std::isnan(px)) {
+  }
+
+  // Reference point from option or metadata first (needed even for a geometric-only model's ρ term);
+  // NaN when neither gives it (FitCommonPivot then fits it).
+  void ReferenceFromOptionOrFile(ThermalWork& w) {
+    w.px = o_.reference_position_mm;
+    w.px_source = "option";
+    if (std::isnan(w.px)) {
       if (auto v = ColdMetaNumber("reference_position_mm", ImplausiblePositionMm)) {
-        px = *v;
-        px_source = "metadata of the cold file";
+        w.px = *v;
+        w.px_source = "metadata of the cold file";
       }
     }
+  }
 
+  // Temperatures: every thermal state needs some, and then the cold state too (the baseline); and
+  // two targets for a slope.
+  void CheckThermalStatesHaveTemperatures() {
     if (thermal_.empty()) {
       Warn("no heated or ambient state was given: geometric-only model (no thermal part)");
     }
-    // Temperatures: every thermal state needs some, and then the cold state too (the baseline).
     for (auto* s : thermal_) {
       if (s->measurement.sensor_names.empty())
         throw InputError(s->path, 0, "t_<sensor>_c",
@@ -559,8 +637,12 @@ class AxisFitter {
       throw InputError(cold_.source, 0, "t_<sensor>_c",
                        "the cold state has no temperature columns, so there is no baseline for the temperature rises "
                        "of the heated states");
+  }
 
-    // Candidates: sensors in the cold state and in every thermal state.
+  // Candidates: sensors read in the cold state and in every thermal state, not the ambient, not
+  // excluded, not another axis's (own_axis_sensors_only); the forced keys instead when given.
+  void ChooseCandidateSensors(ThermalWork& w, AxisFitSummary& sum) {
+    const std::string& amb = w.amb;
     std::vector<std::string> candidates;
     const bool above_ambient = !amb.empty();
     // "x_nut" belongs to axis X; a one-letter prefix other than this axis' marks another axis' sensor.
@@ -619,41 +701,43 @@ class AxisFitter {
     if (!other_axis.empty())
       sum.candidate_note = fmt::format("sensors of other axes are not candidates (own_axis_sensors_only): {}",
                                        fmt::join(other_axis, ", "));
+    w.candidates = std::move(candidates);
+  }
 
-    std::vector<double> base;
-    for (const auto& n : candidates) base.push_back(MeanOfSensor(cold_, n));
-    const double amb_base = amb.empty() ? kNaN : MeanOfSensor(cold_, amb);
-    if (!amb.empty() && !std::isfinite(amb_base))
-      throw InputError(cold_.source, 0, fmt::format("t_{}_c", amb), "the ambient sensor has no reading in the cold state");
+  // The cold state's mean of each candidate and of the ambient sensor: the 0 of every rise.
+  void SetColdBaselines(ThermalWork& w) {
+    for (const auto& n : w.candidates) w.base.push_back(MeanOfSensor(cold_, n));
+    w.amb_base = w.amb.empty() ? kNaN : MeanOfSensor(cold_, w.amb);
+    if (!w.amb.empty() && !std::isfinite(w.amb_base))
+      throw InputError(cold_.source, 0, fmt::format("t_{}_c", w.amb), "the ambient sensor has no reading in the cold state");
+  }
 
-    // Thermal points; each candidate's rise lagged by its own τ (0: each point's own reading),
-    // `fall_factor` times longer while it falls (dry; chosen after τ below).
-    double fall_factor = 1;
-    // The motion-heat input (FitOptions::motion_lag_grid_s): its τ (0: none yet), and its place in
-    // each point's rises, after the candidates: a key like the sensors, with M (m/min) as its rise.
-    double motion_tau = 0;
-    const std::size_t motion_col = candidates.size();
-    motion_col_ = motion_col;
-    auto build_points = [&](const std::vector<double>& tau_s, const std::array<double, kCoolantStateCount>& loss_s = {}) {
+  // The thermal points of every thermal state: each candidate's rise through the dynamics chosen so
+  // far (its lag `tau_s`, w.fall_factor, the coolant loss `loss_s`), above the room when there is an
+  // ambient sensor, and the motion-heat input (w.motion_tau) as the last column. Lever arms not set.
+  std::vector<ThermalPoint> BuildPoints(const ThermalWork& w, const std::vector<double>& tau_s,
+                                        const std::array<double, kCoolantStateCount>& loss_s = {}) const {
+    const auto& candidates = w.candidates;
+    const auto& base = w.base;
     std::vector<ThermalPoint> pts;
     for (std::size_t si = 0; si < thermal_.size(); ++si) {
       const auto& m = thermal_[si]->measurement;
       std::vector<std::optional<std::size_t>> idx;
       for (const auto& n : candidates) idx.push_back(m.SensorIndex(n));
-      const auto amb_idx = amb.empty() ? std::nullopt : m.SensorIndex(amb);
+      const auto amb_idx = w.amb.empty() ? std::nullopt : m.SensorIndex(w.amb);
       std::vector<std::vector<double>> lagged(candidates.size());
       for (std::size_t j = 0; j < candidates.size(); ++j)
         if (idx[j] && j < tau_s.size() && tau_s[j] > 0) {
           KeySeriesDynamics d;
           d.tau_lag_s = tau_s[j];
-          d.fall_factor = fall_factor;
+          d.fall_factor = w.fall_factor;
           d.tau_loss_s = loss_s;
           d.baseline_c = base[j];
-          if (amb_idx) d.ambient_index = amb_idx, d.ambient_baseline_c = amb_base;
+          if (amb_idx) d.ambient_index = amb_idx, d.ambient_baseline_c = w.amb_base;
           d.coolant = thermal_[si]->coolant;
           lagged[j] = ObservedSensorSeries(m, *idx[j], d, &thermal_[si]->history);
         }
-      const std::vector<double> motion = MotionHeatAtPoints(m, thermal_[si]->history, motion_tau);
+      const std::vector<double> motion = MotionHeatAtPoints(m, thermal_[si]->history, w.motion_tau);
       for (std::size_t pi = 0; pi < m.points.size(); ++pi) {
         const auto& p = m.points[pi];
         ThermalPoint t;
@@ -663,7 +747,7 @@ class AxisFitter {
         t.r = p.deviation_um - model_.directions[t.dir].geometric.Evaluate(p.target_mm);
         double amb_shift = 0;
         if (amb_idx) {
-          t.amb_rise = p.temperatures_c[*amb_idx] - amb_base;
+          t.amb_rise = p.temperatures_c[*amb_idx] - w.amb_base;
           amb_shift = std::isfinite(t.amb_rise) ? t.amb_rise : kNaN;
         }
         for (std::size_t j = 0; j < candidates.size(); ++j) {
@@ -675,117 +759,139 @@ class AxisFitter {
       }
     }
     return pts;
-    };
-    std::vector<ThermalPoint> pts = build_points({});
+  }
 
-    // Px: the common pivot of the residual lines r_s(x) = a + b·x (both directions, every state).
-    if (std::isnan(px)) {
-      double num = 0, den = 0;
-      double max_abs_b = 0;
-      for (std::size_t si = 0; si < thermal_.size(); ++si)
-        for (int dir = 0; dir < 2; ++dir) {
-          double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
-          for (const auto& p : pts)
-            if (p.state == si && p.dir == dir) sx += p.x, sy += p.r, sxx += p.x * p.x, sxy += p.x * p.r, n += 1;
-          const double var = sxx - sx * sx / std::max(n, 1.0);
-          if (n < 2 || var <= 0) continue;
-          const double b = (sxy - sx * sy / n) / var;
-          const double a = (sy - b * sx) / n;
-          num += a * b;
-          den += b * b;
-          max_abs_b = std::max(max_abs_b, std::abs(b));
-        }
-      const double span = std::max(std::abs(cold_.Targets().back() - cold_.Targets().front()), 1e-9);
-      // A fan needs slopes: below 0.1 µm over the whole travel there is no pivot to find.
-      if (den > 0 && max_abs_b * span > 0.1) {
-        px = -num / den;
-        px_source = fmt::format("fitted: common pivot of {} residual lines (−Σ a·b / Σ b²)", 2 * thermal_.size());
-        const auto t = cold_.Targets();
-        if (px < t.front() - span || px > t.back() + span)
-          Warn(fmt::format("the fitted reference point Px = {:.1f} mm lies more than one travel outside the measured "
-                           "range [{}, {}] mm: the residual fans hardly pivot; consider giving --reference-mm",
-                           px, FormatShortest(t.front()), FormatShortest(t.back())));
-      } else {
-        const auto t = cold_.Targets();
-        px = std::abs(t.front()) <= std::abs(t.back()) ? t.front() : t.back();
-        px_source = thermal_.empty() ? "default: the measured end nearer machine zero (no heated state to fit it)"
+  // BuildPoints with the lever arms about the chosen Px: the points a trial of the later stages scores.
+  std::vector<ThermalPoint> BuildLeveredPoints(const ThermalWork& w, const std::vector<double>& tau_s,
+                                               const std::array<double, kCoolantStateCount>& loss_s = {}) const {
+    auto pts = BuildPoints(w, tau_s, loss_s);
+    for (auto& p : pts) p.lever_mm = w.px - p.x;
+    return pts;
+  }
+
+  // Px: the common pivot of the residual lines r_s(x) = a + b·x (both directions, every state);
+  // the measured end nearer machine zero when the states show no slope to pivot on.
+  void FitCommonPivot(ThermalWork& w) {
+    const auto& pts = w.pts;
+    double num = 0, den = 0;
+    double max_abs_b = 0;
+    for (std::size_t si = 0; si < thermal_.size(); ++si)
+      for (int dir = 0; dir < 2; ++dir) {
+        double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
+        for (const auto& p : pts)
+          if (p.state == si && p.dir == dir) sx += p.x, sy += p.r, sxx += p.x * p.x, sxy += p.x * p.r, n += 1;
+        const double var = sxx - sx * sx / std::max(n, 1.0);
+        if (n < 2 || var <= 0) continue;
+        const double b = (sxy - sx * sy / n) / var;
+        const double a = (sy - b * sx) / n;
+        num += a * b;
+        den += b * b;
+        max_abs_b = std::max(max_abs_b, std::abs(b));
+      }
+    const double span = std::max(std::abs(cold_.Targets().back() - cold_.Targets().front()), 1e-9);
+    // A fan needs slopes: below 0.1 µm over the whole travel there is no pivot to find.
+    if (den > 0 && max_abs_b * span > 0.1) {
+      w.px = -num / den;
+      w.px_source = fmt::format("fitted: common pivot of {} residual lines (−Σ a·b / Σ b²)", 2 * thermal_.size());
+      const auto t = cold_.Targets();
+      if (w.px < t.front() - span || w.px > t.back() + span)
+        Warn(fmt::format("the fitted reference point Px = {:.1f} mm lies more than one travel outside the measured "
+                         "range [{}, {}] mm: the residual fans hardly pivot; consider giving --reference-mm",
+                         w.px, FormatShortest(t.front()), FormatShortest(t.back())));
+    } else {
+      const auto t = cold_.Targets();
+      w.px = std::abs(t.front()) <= std::abs(t.back()) ? t.front() : t.back();
+      w.px_source = thermal_.empty() ? "default: the measured end nearer machine zero (no heated state to fit it)"
                                      : "default: the measured end nearer machine zero (the heated states show no "
                                        "slope to pivot on)";
-        if (!thermal_.empty()) Warn("the heated states show no thermal slope; Px set to the measured end nearer 0");
-      }
+      if (!thermal_.empty()) Warn("the heated states show no thermal slope; Px set to the measured end nearer 0");
     }
-    model_.reference_position_mm = px;
-    sum.reference_position_mm = px;
-    sum.reference_source = px_source;
-    for (auto& p : pts) p.lever_mm = px - p.x;
+  }
 
-    // Stage-1 diagnostics: each state's own slope about Px.
+  void RecordReferencePoint(ThermalWork& w, AxisFitSummary& sum) {
+    model_.reference_position_mm = w.px;
+    sum.reference_position_mm = w.px;
+    sum.reference_source = w.px_source;
+    for (auto& p : w.pts) p.lever_mm = w.px - p.x;
+  }
+
+  // Stage-1 diagnostics: each state's own slope about Px (reported, not fitted on).
+  void StageOneSlopes(const ThermalWork& w) {
     stage1_.assign(thermal_.size(), {kNaN, kNaN});
     for (std::size_t si = 0; si < thermal_.size(); ++si)
       for (int dir = 0; dir < 2; ++dir) {
         double num = 0, den = 0;
-        for (const auto& p : pts)
+        for (const auto& p : w.pts)
           if (p.state == si && p.dir == dir) num += p.r * p.lever_mm, den += p.lever_mm * p.lever_mm;
         if (den > 0) stage1_[si][dir] = num / den;
       }
+  }
 
-    // ρ and the ambient sensor.
-    std::set<std::size_t> off_states;
+  // ρ, the soak of the axis's feedback with the room: the option's; else the physical −cte/1000
+  // when the CTE is known (and fit_rho_with_cte not asked for); else fitted from the room's changes
+  // over the dry states when they vary enough; else 0. With the CTE and a room that varied, the
+  // keys, lags and pivots are still chosen with ρ fitted alongside (a subset of keys leans on it);
+  // the final gains are solved with the physical ρ (SolveFinalGains).
+  void ChooseRho(ThermalWork& w, AxisFitSummary& sum) {
     for (std::size_t si = 0; si < thermal_.size(); ++si)
-      if (thermal_[si]->coolant == CoolantState::kOff) off_states.insert(si);
-    double amb_lo = 0, amb_hi = 0;  // the cold state is the 0 rise
-    for (const auto& p : pts)
-      if (off_states.count(p.state) && std::isfinite(p.amb_rise))
-        amb_lo = std::min(amb_lo, p.amb_rise), amb_hi = std::max(amb_hi, p.amb_rise);
-    const bool rho_can_be_fitted = amb_hi - amb_lo >= o_.min_ambient_range_c && off_states.size() >= 2;
-    bool fit_rho = false;
-    std::optional<double> physical_rho;  // −cte/1000, replacing the fitted ρ for the final gains
-    double rho = 0;
-    std::string rho_source;
-    if (amb.empty()) {
-      rho_source = "no ambient sensor: no ambient adjustment";
+      if (thermal_[si]->coolant == CoolantState::kOff) w.off_states.insert(si);
+    for (const auto& p : w.pts)
+      if (w.off_states.count(p.state) && std::isfinite(p.amb_rise))
+        w.amb_lo = std::min(w.amb_lo, p.amb_rise), w.amb_hi = std::max(w.amb_hi, p.amb_rise);
+    const double amb_lo = w.amb_lo, amb_hi = w.amb_hi;
+    const bool rho_can_be_fitted = amb_hi - amb_lo >= o_.min_ambient_range_c && w.off_states.size() >= 2;
+    if (w.amb.empty()) {
+      w.rho_source = "no ambient sensor: no ambient adjustment";
     } else if (!std::isnan(o_.rho_um_per_mm_per_c)) {
-      rho = o_.rho_um_per_mm_per_c;
-      rho_source = "option";
-    } else if (cte && !(o_.fit_rho_with_cte && rho_can_be_fitted)) {
-      // The keys, lags and pivots are still chosen with ρ fitted alongside (a subset of keys leans on
-      // it, as before); the final gains are solved with the physical ρ (below).
-      rho = -*cte / 1000.0;
-      if (rho_can_be_fitted) fit_rho = true, physical_rho = rho;
+      w.rho = o_.rho_um_per_mm_per_c;
+      w.rho_source = "option";
+    } else if (w.cte && !(o_.fit_rho_with_cte && rho_can_be_fitted)) {
+      w.rho = -*w.cte / 1000.0;
+      if (rho_can_be_fitted) w.fit_rho = true, w.physical_rho = w.rho;
       sum.rho_from_cte = true;
-      rho_source = fmt::format("−cte/1000 from {} (the axis's feedback soaks with the room: the screw grows away "
-                               "from Px, in every season)",
-                               cte_source);
-      if (auto unusual = UnusualCteUmPerMC(*cte))
+      w.rho_source = fmt::format("−cte/1000 from {} (the axis's feedback soaks with the room: the screw grows away "
+                                 "from Px, in every season)",
+                                 w.cte_source);
+      if (auto unusual = UnusualCteUmPerMC(*w.cte))
         Warn(fmt::format("{}: cte_um_per_m_c {}; ρ = {} µm/mm/°C taken from it",
                          std::isnan(o_.cte_um_per_m_c)
                              ? fmt::format("{} line {}", cold_.source, cold_.MetaLine("cte_um_per_m_c"))
                              : std::string("fit --cte"),
-                         *unusual, FormatShortest(rho)));
+                         *unusual, FormatShortest(w.rho)));
     } else if (rho_can_be_fitted) {
-      fit_rho = true;
-      rho_source = fmt::format("fitted (room temperature varied by {:.2f} °C over the states)", amb_hi - amb_lo);
-      if (!cte)
+      w.fit_rho = true;
+      w.rho_source = fmt::format("fitted (room temperature varied by {:.2f} °C over the states)", amb_hi - amb_lo);
+      if (!w.cte)
         Warn(fmt::format("ρ is fitted from the room's changes over the calibration ({:.1f} °C); a room outside them, as "
                          "in another season, extrapolates that fit: give the CTE of the axis's feedback (the files' "
                          "'# cte_um_per_m_c:' or fit --cte) for the physical soak instead",
                          amb_hi - amb_lo));
     } else {
-      rho_source = "not determined (room temperature constant within the states, no cte metadata): ρ = 0";
+      w.rho_source = "not determined (room temperature constant within the states, no cte metadata): ρ = 0";
       Warn(fmt::format("ρ could not be determined: the room temperature varied by only {:.2f} °C and the cold file "
                        "has no '# cte_um_per_m_c:'; ρ = 0",
                        amb_hi - amb_lo));
     }
-    if (!amb.empty()) {
-      model_.ambient_sensor = amb;
-      model_.ambient_baseline_c = amb_base;
-      model_.key_rise_above_ambient = true;
-      if (const auto range = SensorRange(amb); range[0] <= range[1]) model_.ambient_fitted_range_c = range, sum.room_range_c = range;
-    }
+  }
 
-    // Gains.
-    const std::size_t n_off = off_states.size();
-    std::vector<std::size_t> keys;
+  // The fitted ρ checked against the CTE's, then replaced by it (ChooseRho: physical soak).
+  void ApplyPhysicalRho(ThermalWork& w, AxisFitSummary& sum) {
+    if (!w.physical_rho) return;
+    CheckCteAgainstRoom(w.rho, *w.physical_rho, w.cte_source, w.amb_hi - w.amb_lo, sum);
+    w.rho = *w.physical_rho;
+  }
+
+  void RecordAmbientSensor(const ThermalWork& w, AxisFitSummary& sum) {
+    if (w.amb.empty()) return;
+    model_.ambient_sensor = w.amb;
+    model_.ambient_baseline_c = w.amb_base;
+    model_.key_rise_above_ambient = true;
+    if (const auto range = SensorRange(w.amb); range[0] <= range[1]) model_.ambient_fitted_range_c = range, sum.room_range_c = range;
+  }
+
+  // A thermal part needs thermal states, enough dry ones (min_thermal_states) and a candidate.
+  bool ThermalPartPossible(const ThermalWork& w) {
+    const std::size_t n_off = w.off_states.size();
     bool thermal = !thermal_.empty();
     if (thermal && n_off < static_cast<std::size_t>(o_.min_thermal_states)) {
       Warn(fmt::format("only {} off-coolant heated/ambient state(s); the thermal part needs at least {}: "
@@ -793,395 +899,400 @@ class AxisFitter {
                        n_off, o_.min_thermal_states));
       thermal = false;
     }
-    if (thermal && candidates.empty()) {
+    if (thermal && w.candidates.empty()) {
       Warn("no temperature sensor is present in every state: geometric-only model");
       thermal = false;
     }
-    // ρ is informed only by the states at another room temperature, so leaving
-    // such a state out would leave ρ undetermined: for the selection ρ is held
-    // at a preliminary estimate (all candidates + ρ fitted jointly), then
-    // refitted jointly with the chosen keys.
-    auto joint_rho = [&](const std::vector<std::size_t>& with_keys) {
-      return JointRho(pts, off_states, with_keys, form_);
-    };
-    if (thermal && fit_rho) {
+    return thermal;
+  }
+
+  // ρ fitted with `keys` (fit_rho), else the ρ chosen: the ρ every CV of the later stages uses.
+  double RhoFor(const ThermalWork& w, const std::vector<ThermalPoint>& pts, const std::vector<std::size_t>& keys,
+                const GainForm& form) const {
+    return w.fit_rho ? JointRho(pts, w.off_states, keys, form) : w.rho;
+  }
+
+  // The key sensors: the forced ones, else forward stepwise selection by LOSO CV (SelectKeys).
+  // ρ is informed only by the states at another room temperature, so leaving such a state out
+  // would leave ρ undetermined: for the selection ρ is held at a preliminary estimate (all
+  // candidates + ρ fitted jointly), then refitted jointly with the chosen keys.
+  void ChooseKeySensors(ThermalWork& w, AxisFitSummary& sum) {
+    if (w.thermal && w.fit_rho) {
       std::vector<std::size_t> all_keys;
-      for (std::size_t j = 0; j < candidates.size(); ++j) all_keys.push_back(j);
-      rho = joint_rho(all_keys);
+      for (std::size_t j = 0; j < w.candidates.size(); ++j) all_keys.push_back(j);
+      w.rho = JointRho(w.pts, w.off_states, all_keys, form_);
     }
-    if (thermal) {
-      sum.no_thermal_cv_rms_um = CrossValidate(pts, off_states, {}, false, rho, form_);
-      sum.selection_steps.push_back({{}, sum.no_thermal_cv_rms_um, fit_rho ? "no key sensor (ρ term only)" : "no thermal term"});
-      if (!o_.key_sensors.empty()) {
-        for (std::size_t j = 0; j < candidates.size(); ++j) keys.push_back(j);
-        const double cv = CrossValidate(pts, off_states, keys, false, rho, form_);
-        sum.selection_steps.push_back({candidates, cv, "given in the options"});
-        sum.key_selection_reason = "key sensors given in the options, not selected from the data";
-      } else {
-        SelectKeys(pts, off_states, candidates, rho, keys, sum);
-      }
-      if (keys.empty()) {
-        Warn("no temperature sensor lowered the cross-validated error: thermal part omitted (geometric-only model)");
-        thermal = false;
-      }
+    if (!w.thermal) return;
+    sum.no_thermal_cv_rms_um = CrossValidate(w.pts, w.off_states, {}, false, w.rho, form_);
+    sum.selection_steps.push_back({{}, sum.no_thermal_cv_rms_um, w.fit_rho ? "no key sensor (ρ term only)" : "no thermal term"});
+    if (!o_.key_sensors.empty()) {
+      for (std::size_t j = 0; j < w.candidates.size(); ++j) w.keys.push_back(j);
+      const double cv = CrossValidate(w.pts, w.off_states, w.keys, false, w.rho, form_);
+      sum.selection_steps.push_back({w.candidates, cv, "given in the options"});
+      sum.key_selection_reason = "key sensors given in the options, not selected from the data";
+    } else {
+      SelectKeys(w.pts, w.off_states, w.candidates, w.rho, w.keys, sum);
     }
-    // Thermal lag: first one τ for all the axis' key sensors, from the grid, by the same LOSO CV;
-    // then each key's own τ in turn (coordinate descent over the grid, two passes: the nut and the
-    // bearing reach the screw on different time scales). Each step is kept only when it lowers the
-    // CV by min_lag_cv_improvement (τ = 0 everywhere leaves the points exactly as before).
-    std::vector<double> key_lag_s(candidates.size() + 1, 0.0);  // + the motion column's: never lagged again
-    std::vector<double> plain_lag_s;  // the lag chosen before the fall factor (empty: none chosen)
+    if (w.keys.empty()) {
+      Warn("no temperature sensor lowered the cross-validated error: thermal part omitted (geometric-only model)");
+      w.thermal = false;
+    }
+  }
+
+  // Thermal lag: first one τ for all the axis' key sensors, from the grid, by the same LOSO CV;
+  // then each key's own τ in turn (coordinate descent over the grid, two passes: the nut and the
+  // bearing reach the screw on different time scales); then a falling key's longer lag. Each step
+  // is kept only when it lowers the CV by min_lag_cv_improvement (τ = 0 everywhere leaves the
+  // points exactly as before).
+  void ChooseKeyLags(ThermalWork& w, AxisFitSummary& sum) {
+    const auto& candidates = w.candidates;
+    const auto& keys = w.keys;
+    auto& key_lag_s = w.key_lag_s;
+    key_lag_s.assign(candidates.size() + 1, 0.0);  // + the motion column's: never lagged again
     bool lag_grid = false;
     for (double tau : o_.key_lag_grid_s) lag_grid = lag_grid || tau > 0;
-    if (thermal && lag_grid) {
-      auto cv_of = [&](const std::vector<double>& taus, std::vector<ThermalPoint>* out) {
-        auto trial = build_points(taus);
-        for (auto& p : trial) p.lever_mm = px - p.x;
-        const double cv = CrossValidate(trial, off_states, keys, false,
-                                          fit_rho ? JointRho(trial, off_states, keys, form_) : rho,
-                                          form_);
-        if (out) *out = std::move(trial);
-        return cv;
-      };
-      const double cv0 =
-          CrossValidate(pts, off_states, keys, false, fit_rho ? joint_rho(keys) : rho, form_);
-      sum.lag_candidates.push_back({0, cv0});
-      double best_cv = cv0, best_tau = 0;
-      // With each τ, each factor of a falling key's longer lag (jointly: a longer fall pairs with a
-      // shorter rise); the factor is judged after the plain τ, below.
-      double best_fall_cv = std::numeric_limits<double>::infinity(), best_fall_tau = 0, best_fall = 1;
-      for (double tau : o_.key_lag_grid_s) {
-        if (!(tau > 0)) continue;
-        std::vector<double> taus(candidates.size(), 0.0);
-        for (auto k : keys) taus[k] = tau;
-        const double cv = cv_of(taus, nullptr);
-        sum.lag_candidates.push_back({tau, cv});
-        if (cv < best_cv) best_cv = cv, best_tau = tau;
-        for (double f : o_.key_lag_fall_grid) {
-          if (f == 1) continue;
-          fall_factor = f;
-          const double cv_f = cv_of(taus, nullptr);
-          if (cv_f < best_fall_cv) best_fall_cv = cv_f, best_fall_tau = tau, best_fall = f;
-        }
-        fall_factor = 1;
+    if (!(w.thermal && lag_grid)) return;
+    auto cv_of = [&](const std::vector<double>& taus, std::vector<ThermalPoint>* out) {
+      auto trial = BuildLeveredPoints(w, taus);
+      const double cv = CrossValidate(trial, w.off_states, keys, false, RhoFor(w, trial, keys, form_), form_);
+      if (out) *out = std::move(trial);
+      return cv;
+    };
+    const double cv0 = CrossValidate(w.pts, w.off_states, keys, false, RhoFor(w, w.pts, keys, form_), form_);
+    sum.lag_candidates.push_back({0, cv0});
+    double best_cv = cv0, best_tau = 0;
+    // With each τ, each factor of a falling key's longer lag (jointly: a longer fall pairs with a
+    // shorter rise); the factor is judged after the plain τ, below.
+    double best_fall_cv = std::numeric_limits<double>::infinity(), best_fall_tau = 0, best_fall = 1;
+    for (double tau : o_.key_lag_grid_s) {
+      if (!(tau > 0)) continue;
+      std::vector<double> taus(candidates.size(), 0.0);
+      for (auto k : keys) taus[k] = tau;
+      const double cv = cv_of(taus, nullptr);
+      sum.lag_candidates.push_back({tau, cv});
+      if (cv < best_cv) best_cv = cv, best_tau = tau;
+      for (double f : o_.key_lag_fall_grid) {
+        if (f == 1) continue;
+        w.fall_factor = f;
+        const double cv_f = cv_of(taus, nullptr);
+        if (cv_f < best_fall_cv) best_fall_cv = cv_f, best_fall_tau = tau, best_fall = f;
       }
-      const double gain = 1 - o_.min_lag_cv_improvement;
-      double cur_cv = cv0;
-      if (best_tau > 0 && best_cv <= gain * cv0) {
-        for (auto k : keys) key_lag_s[k] = best_tau;
-        cur_cv = best_cv;
-      }
-      std::string per_key;
-      if (keys.size() > 1 && o_.per_key_lag)
-        for (int pass = 0; pass < 2; ++pass)
-          for (auto k : keys)
-            for (double tau : o_.key_lag_grid_s) {
-              if (tau == key_lag_s[k]) continue;
-              auto trial = key_lag_s;
-              trial[k] = tau;
-              const double cv = cv_of(trial, nullptr);
-              if (cv <= gain * cur_cv) {
-                per_key += fmt::format("; {} τ {} → {} s: {:.3f} → {:.3f} µm", candidates[k],
-                                       FormatShortest(key_lag_s[k]), FormatShortest(tau), cur_cv, cv);
-                key_lag_s[k] = tau;
-                cur_cv = cv;
-              }
-            }
-      // A falling key lags longer (AxisModel::key_lag_fall_factor), kept by the same rule.
-      // (With each key's own τ, per_key_lag, one τ both ways: the factor is searched with one τ.)
-      std::string fall;
-      plain_lag_s = key_lag_s;  // the lag before a longer fall: the motion input is also tried on it
-      if (per_key.empty() && best_fall != 1 && best_fall_cv <= gain * cur_cv) {
-        fall = fmt::format("; with a falling key lagging {}× longer (τ = {} s rising): {:.3f} → {:.3f} µm",
-                           FormatShortest(best_fall), FormatShortest(best_fall_tau), cur_cv, best_fall_cv);
-        for (auto k : keys) key_lag_s[k] = best_fall_tau;
-        fall_factor = best_fall;
-        cur_cv = best_fall_cv;
-      }
-      if (cur_cv < cv0) {
-        cv_of(key_lag_s, &pts);
-        sum.lag_reason = fmt::format("{}{}{}", best_tau > 0 && best_cv <= gain * cv0
-                                                   ? fmt::format("τ = {} s lowers the LOSO CV from {:.3f} to {:.3f} µm",
-                                                                 FormatShortest(best_tau), cv0, best_cv)
-                                                   : std::string("one τ for all keys: none helps"),
-                                     per_key, fall);
-      } else {
-        sum.lag_reason = best_tau > 0 ? fmt::format("no lag: the best τ = {} s lowers the LOSO CV by less than {:.0f} % "
-                                                    "({:.3f} → {:.3f} µm)",
-                                                    FormatShortest(best_tau), 100 * o_.min_lag_cv_improvement, cv0, best_cv)
-                                      : "no lag: no τ of the grid lowers the LOSO CV";
-      }
-      double largest = 0;
-      for (auto k : keys) largest = std::max(largest, key_lag_s[k]);
-      sum.key_lag_s = largest;
+      w.fall_factor = 1;
     }
-    // Each key's own pivot (FitOptions::key_offsets): with the keys and lag chosen, kept when the
-    // same LOSO CV says it predicts held-out states better by min_cv_improvement.
-    if (thermal && !keys.empty()) {
-      GainForm with = form_, without = form_;
-      with.key_offsets = true;
-      without.key_offsets = false;
-      if (o_.key_offsets == FitOptions::KeyOffsets::kAuto) {
-        const double cv_without =
-            CrossValidate(pts, off_states, keys, false, fit_rho ? JointRho(pts, off_states, keys, without) : rho, without);
-        const double cv_with =
-            CrossValidate(pts, off_states, keys, false, fit_rho ? JointRho(pts, off_states, keys, with) : rho, with);
-        form_.key_offsets = cv_with < (1 - o_.min_cv_improvement) * cv_without;
-        sum.key_offsets_reason = fmt::format(
-            "{}: LOSO CV {:.3f} µm with them against {:.3f} µm with the common pivot Px alone (kept at ≥ {:.0f} % better)",
-            form_.key_offsets ? "each key's own pivot" : "one pivot Px for every key", cv_with, cv_without,
-            100 * o_.min_cv_improvement);
-      } else {
-        sum.key_offsets_reason = form_.key_offsets ? "each key's own pivot: given in the options"
-                                                   : "one pivot Px for every key: given in the options";
-      }
-      sum.key_offsets = form_.key_offsets;
+    const double gain = 1 - o_.min_lag_cv_improvement;
+    double cur_cv = cv0;
+    if (best_tau > 0 && best_cv <= gain * cv0) {
+      for (auto k : keys) key_lag_s[k] = best_tau;
+      cur_cv = best_cv;
     }
-    // The motion-heat input (motion_heat.hpp): the axis's lagged feed as one more key, its τ from the
-    // grid by the same LOSO CV, kept when it lowers the CV by min_cv_improvement. Only when every
-    // state's history has the axis's travel (a real machine's log may not: then the seed's form).
-    if (thermal && !keys.empty()) {
-      bool grid = false;
-      for (double t : o_.motion_lag_grid_s) grid = grid || t > 0;
-      std::vector<std::string> without_travel;
-      for (auto* s : thermal_)
-        if (!s->history.HasTravel()) without_travel.push_back(s->path);
-      if (o_.motion_heat == FitOptions::MotionHeat::kOff) {
-        sum.motion_reason = "not tried (off in the options)";
-      } else if (!grid) {
-        sum.motion_reason = "not tried (no motion τ grid)";
-      } else if (!without_travel.empty()) {
-        sum.motion_reason = fmt::format("not tried: {} of {} states have no travelled path of axis {} in their history "
-                                        "(the machine log's {}_travel_mm column; first: {})",
-                                        without_travel.size(), thermal_.size(), axis_name_, LowerAscii(axis_name_),
-                                        without_travel.front());
-      } else {
-        const double cv0 = CrossValidate(pts, off_states, keys, false, fit_rho ? joint_rho(keys) : rho, form_);
-        auto with = keys;
-        with.push_back(motion_col);
-        // The CV with M lagged by `tau`, on the keys' lag `lag` with fall factor `fall`.
-        auto motion_cv = [&](const std::vector<double>& lag, double fall, double tau) {
-          const double keep_fall = fall_factor, keep_tau = motion_tau;
-          fall_factor = fall, motion_tau = tau;
-          auto trial = build_points(lag);
-          for (auto& p : trial) p.lever_mm = px - p.x;
-          const double cv = CrossValidate(trial, off_states, with, false,
-                                          fit_rho ? JointRho(trial, off_states, with, form_) : rho, form_);
-          fall_factor = keep_fall, motion_tau = keep_tau;
-          return cv;
-        };
-        // (a) on the keys' lag as chosen; (b) when a longer fall was chosen, also on the plain lag
-        // with the fall factor chosen again alongside M: the longer fall and M both stand for the
-        // screw's heat after the nut stops, and the one chosen first would otherwise take it all.
-        double best_cv = std::numeric_limits<double>::infinity(), best_tau = 0, best_fall = fall_factor;
-        std::vector<double> best_lag = key_lag_s;
-        for (double tau : o_.motion_lag_grid_s) {
-          if (!(tau > 0)) continue;
-          double cv = motion_cv(key_lag_s, fall_factor, tau);
-          if (cv < best_cv) best_cv = cv, best_tau = tau, best_fall = fall_factor, best_lag = key_lag_s;
-          if (fall_factor != 1 && !plain_lag_s.empty())
-            for (double f : o_.key_lag_fall_grid) {
-              const double cv_b = motion_cv(plain_lag_s, f, tau);
-              cv = std::min(cv, cv_b);
-              if (cv_b < best_cv) best_cv = cv_b, best_tau = tau, best_fall = f, best_lag = plain_lag_s;
-            }
-          sum.motion_candidates.push_back({tau, cv});
-        }
-        const bool forced = o_.motion_heat == FitOptions::MotionHeat::kOn;
-        if (best_tau > 0 && (forced || best_cv <= (1 - o_.min_cv_improvement) * cv0)) {
-          const bool refall = best_fall != fall_factor || best_lag != key_lag_s;
-          motion_tau = best_tau;
-          fall_factor = best_fall;
-          key_lag_s = best_lag;
-          pts = build_points(key_lag_s);
-          for (auto& p : pts) p.lever_mm = px - p.x;
-          keys = with;
-          sum.motion_lag_s = best_tau;
-          if (refall)  // the lag's reason above describes the choice without M: say it changed
-            sum.lag_reason += fmt::format("; then, with the motion-heat input, τ {} s and a falling key {}× longer "
-                                          "(motion heat below)",
-                                          FormatShortest(key_lag_s[keys.front()]), FormatShortest(best_fall));
-          double largest = 0;
-          for (auto k : keys) largest = std::max(largest, key_lag_s[k]);
-          sum.key_lag_s = largest;
-          sum.motion_reason = fmt::format("the axis's feed lagged by τ = {} s as one more key lowers the LOSO CV from "
-                                          "{:.3f} to {:.3f} µm{}{}",
-                                          FormatShortest(best_tau), cv0, best_cv,
-                                          refall ? fmt::format(" (with the keys' lag {} s and a falling key {}× "
-                                                               "longer, chosen again alongside it)",
-                                                               FormatShortest(sum.key_lag_s), FormatShortest(best_fall))
-                                                 : std::string(),
-                                          forced ? " (on in the options)" : "");
-        } else {
-          sum.motion_reason = fmt::format("none: the best τ = {} s gives LOSO CV {:.3f} µm against {:.3f} µm without "
-                                          "(kept at ≥ {:.0f} % better)",
-                                          FormatShortest(best_tau), best_cv, cv0, 100 * o_.min_cv_improvement);
-        }
-      }
-    }
-    // The coolant's memory (thermal_state.hpp): the key states drawn to the room with a loss τ while
-    // a coolant runs, and ONE set of gains for every state, against today's table (own gains per
-    // coolant state). Judged by the same LOSO CV, now over the off AND the coolant states.
-    std::array<double, kCoolantStateCount> key_loss{};
-    shared_gains_ = false;
-    {
-      std::set<std::size_t> all_states = off_states;
-      std::map<CoolantState, std::set<std::size_t>> by_coolant;
-      for (std::size_t si = 0; si < thermal_.size(); ++si)
-        if (thermal_[si]->coolant != CoolantState::kOff) by_coolant[thermal_[si]->coolant].insert(si), all_states.insert(si);
-      bool any_lag = false;
-      for (auto k : keys) any_lag = any_lag || key_lag_s[k] > 0;
-      bool grid = false;
-      for (double t : o_.coolant_loss_grid_s) grid = grid || t >= 0;
-      if (thermal && any_lag && grid && !by_coolant.empty()) {
-        auto count = [&](const std::vector<ThermalPoint>& v, const std::set<std::size_t>& st) {
-          double n = 0;
-          for (const auto& p : v) n += st.count(p.state) && RowUsable(p, keys, false) ? 1 : 0;
-          return n;
-        };
-        GainFit off_fits[2];
-        for (int dir = 0; dir < 2; ++dir)
-          off_fits[dir] = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
-                                     keys, false, rho, form_);
-        const double cv_off = CrossValidate(pts, off_states, keys, false, rho, form_);
-        double ss = cv_off * cv_off * count(pts, off_states), n = count(pts, off_states);
-        for (const auto& [c, st] : by_coolant) {
-          const double cvc = CoolantCv(pts, keys, rho, off_fits, st, st.size() >= keys.size() + 1);
-          ss += cvc * cvc * count(pts, st), n += count(pts, st);
-        }
-        const double cv_table = n > 0 ? std::sqrt(ss / n) : kNaN;
-        double best_cv = std::numeric_limits<double>::infinity(), best_off_cv = kNaN;
-        std::array<double, kCoolantStateCount> best_loss{};
-        for (const auto& [c, st] : by_coolant) {
-          auto loss = best_loss;
-          for (double tau : o_.coolant_loss_grid_s) {
-            if (!(tau >= 0)) continue;
-            loss[static_cast<std::size_t>(c)] = tau;
-            auto trial = build_points(key_lag_s, loss);
-            for (auto& p : trial) p.lever_mm = px - p.x;
-            const double cv = CrossValidate(trial, all_states, keys, false, rho, form_);
-            if (cv < best_cv)
-              best_cv = cv, best_loss = loss, best_off_cv = CrossValidate(trial, all_states, keys, false, rho,
-                                                                         form_, &off_states);
-          }
-        }
-        std::string losses;
-        for (const auto& [c, st] : by_coolant)
-          losses += fmt::format("{}{} {} s", losses.empty() ? "" : ", ", CoolantStateName(c),
-                                FormatShortest(best_loss[static_cast<std::size_t>(c)]));
-        // One set of gains must also keep the dry states as good as their own gains do: it is a
-        // compromise over every state, and the dry states are most of a working day.
-        const double off_limit = (1 + o_.coolant_memory_off_tolerance) * cv_off;
-        if (best_cv < cv_table && best_off_cv <= off_limit) {
-          shared_gains_ = true;
-          key_loss = best_loss;
-          pts = build_points(key_lag_s, key_loss);
-          for (auto& p : pts) p.lever_mm = px - p.x;
-          off_states = all_states;
-          sum.coolant_notes.push_back(fmt::format(
-              "coolant memory: one set of gains for every state, the key states drawn to the room with loss τ {} "
-              "(LOSO CV over all {} states {:.3f} µm against {:.3f} µm with gains per coolant state; on the dry "
-              "states {:.3f} µm against their own gains' {:.3f} µm)",
-              losses, all_states.size(), best_cv, cv_table, best_off_cv, cv_off));
-        } else {
-          sum.coolant_notes.push_back(fmt::format(
-              "gains per coolant state: one set of gains with a coolant loss ({}) gives LOSO CV {:.3f} µm over all "
-              "states against {:.3f} µm, and {:.3f} µm on the dry states against their own gains' {:.3f} µm (limit "
-              "{:.3f} µm)",
-              losses, best_cv, cv_table, best_off_cv, cv_off, off_limit));
-        }
-      } else if (thermal && any_lag && !grid && !by_coolant.empty()) {
-        sum.coolant_notes.push_back(
-            "gains per coolant state; the coolant memory was not tried (no loss τ grid, the default; fit --coolant-loss-grid-s "
-            "0,600,1200,2400,4800,9600 tries it)");
-      }
-    }
-    if (thermal) {
-      GainFit fits[2];
-      if (fit_rho) rho = joint_rho(keys);
-      if (physical_rho) {
-        CheckCteAgainstRoom(rho, *physical_rho, cte_source, amb_hi - amb_lo, sum);
-        rho = *physical_rho;
-      }
-      for (int dir = 0; dir < 2; ++dir) {
-        fits[dir] = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
-                               keys, false, rho, form_);
-        if (!fits[dir].ok)
-          throw InputError(thermal_.front()->path, 0, "t_<sensor>_c",
-                           "the thermal gains cannot be determined from these states (too few usable points)");
-      }
-      sum.thermal_cv_rms_um = CrossValidate(pts, off_states, keys, false, rho, form_);
-      HeldOutResiduals(pts, off_states, keys, rho);
-      sum.thermal_fitted = true;
-      if (keys.size() > 1 && o_.secondary_key_ridge > 0) {
-        // Traceable: the shrunk gains next to what plain least squares would have given.
-        const auto plain = SolveGains(
-            pts, [&](const ThermalPoint& p) { return p.dir == 0 && off_states.count(p.state); }, keys, false, rho,
-            GainForm{0.0, form_.key_offsets});
-        std::vector<std::string> shrunk_names;
-        for (std::size_t j = 1; j < keys.size(); ++j)
-          shrunk_names.push_back(keys[j] < candidates.size() ? candidates[keys[j]] : std::string("motion heat"));
-        sum.key_selection_reason += fmt::format(
-            "; the gains of {} shrunk toward the {}-only fit (ridge λ {}, FitOptions::secondary_key_ridge): forward "
-            "{:.5f} µm/mm/°C, plain least squares {}",
-            JoinNames(shrunk_names), candidates[keys[0]], FormatShortest(form_.secondary_ridge),
-            fmt::join(fits[0].k, " / "), plain.ok ? fmt::format("{:.5f}", fmt::join(plain.k, " / ")) : std::string("–"));
-      }
-      for (auto k : keys) {
-        if (k == motion_col) continue;  // the motion input is not a sensor (always the last key)
-        model_.key_sensors.push_back(candidates[k]);
-        model_.baseline_temp_c.push_back(base[k]);
-      }
-      model_.motion_lag_s = motion_tau;
-      bool any_lag = false;
-      for (auto k : keys) any_lag = any_lag || key_lag_s[k] > 0;
-      if (any_lag) {
+    std::string per_key;
+    if (keys.size() > 1 && o_.per_key_lag)
+      for (int pass = 0; pass < 2; ++pass)
         for (auto k : keys)
-          if (k != motion_col) model_.key_lag_s.push_back(key_lag_s[k]);
-        model_.key_lag_fall_factor = fall_factor;
-      }
-      for (const auto& name : model_.key_sensors) model_.key_fitted_range_c.push_back(SensorRange(name));
-      sum.key_sensors = model_.key_sensors;
-      for (int dir = 0; dir < 2; ++dir) {
-        ThermalGains off;
-        off.k_um_per_mm_per_c = fits[dir].k;
-        model_.directions[dir].thermal.push_back(std::move(off));
-        if (form_.key_offsets) model_.key_shifts[dir].push_back({fits[dir].ko, fits[dir].ambient_offset});
-      }
-      if (shared_gains_) {
-        // Every coolant of the data is recorded, with 0 when the shared gains cover it without a
-        // loss: the file says which coolant states the one set of gains was fitted on.
-        for (std::size_t si = 0; si < thermal_.size(); ++si) {
-          const auto c = static_cast<std::size_t>(thermal_[si]->coolant);
-          if (thermal_[si]->coolant != CoolantState::kOff && model_.key_loss_s[c].empty())
-            model_.key_loss_s[c].assign(model_.key_sensors.size(), key_loss[c]);
+          for (double tau : o_.key_lag_grid_s) {
+            if (tau == key_lag_s[k]) continue;
+            auto trial = key_lag_s;
+            trial[k] = tau;
+            const double cv = cv_of(trial, nullptr);
+            if (cv <= gain * cur_cv) {
+              per_key += fmt::format("; {} τ {} → {} s: {:.3f} → {:.3f} µm", candidates[k],
+                                     FormatShortest(key_lag_s[k]), FormatShortest(tau), cur_cv, cv);
+              key_lag_s[k] = tau;
+              cur_cv = cv;
+            }
+          }
+    // A falling key lags longer (AxisModel::key_lag_fall_factor), kept by the same rule.
+    // (With each key's own τ, per_key_lag, one τ both ways: the factor is searched with one τ.)
+    std::string fall;
+    w.plain_lag_s = key_lag_s;  // the lag before a longer fall: the motion input is also tried on it
+    if (per_key.empty() && best_fall != 1 && best_fall_cv <= gain * cur_cv) {
+      fall = fmt::format("; with a falling key lagging {}× longer (τ = {} s rising): {:.3f} → {:.3f} µm",
+                         FormatShortest(best_fall), FormatShortest(best_fall_tau), cur_cv, best_fall_cv);
+      for (auto k : keys) key_lag_s[k] = best_fall_tau;
+      w.fall_factor = best_fall;
+      cur_cv = best_fall_cv;
+    }
+    if (cur_cv < cv0) {
+      cv_of(key_lag_s, &w.pts);
+      sum.lag_reason = fmt::format("{}{}{}", best_tau > 0 && best_cv <= gain * cv0
+                                                 ? fmt::format("τ = {} s lowers the LOSO CV from {:.3f} to {:.3f} µm",
+                                                               FormatShortest(best_tau), cv0, best_cv)
+                                                 : std::string("one τ for all keys: none helps"),
+                                   per_key, fall);
+    } else {
+      sum.lag_reason = best_tau > 0 ? fmt::format("no lag: the best τ = {} s lowers the LOSO CV by less than {:.0f} % "
+                                                  "({:.3f} → {:.3f} µm)",
+                                                  FormatShortest(best_tau), 100 * o_.min_lag_cv_improvement, cv0, best_cv)
+                                    : "no lag: no τ of the grid lowers the LOSO CV";
+    }
+    double largest = 0;
+    for (auto k : keys) largest = std::max(largest, key_lag_s[k]);
+    sum.key_lag_s = largest;
+  }
+
+  // Each key's own pivot (FitOptions::key_offsets): with the keys and lag chosen, kept when the
+  // same LOSO CV says it predicts held-out states better by min_cv_improvement.
+  void ChooseKeyOffsets(ThermalWork& w, AxisFitSummary& sum) {
+    if (!(w.thermal && !w.keys.empty())) return;
+    GainForm with = form_, without = form_;
+    with.key_offsets = true;
+    without.key_offsets = false;
+    if (o_.key_offsets == FitOptions::KeyOffsets::kAuto) {
+      const double cv_without = CrossValidate(w.pts, w.off_states, w.keys, false, RhoFor(w, w.pts, w.keys, without), without);
+      const double cv_with = CrossValidate(w.pts, w.off_states, w.keys, false, RhoFor(w, w.pts, w.keys, with), with);
+      form_.key_offsets = cv_with < (1 - o_.min_cv_improvement) * cv_without;
+      sum.key_offsets_reason = fmt::format(
+          "{}: LOSO CV {:.3f} µm with them against {:.3f} µm with the common pivot Px alone (kept at ≥ {:.0f} % better)",
+          form_.key_offsets ? "each key's own pivot" : "one pivot Px for every key", cv_with, cv_without,
+          100 * o_.min_cv_improvement);
+    } else {
+      sum.key_offsets_reason = form_.key_offsets ? "each key's own pivot: given in the options"
+                                                 : "one pivot Px for every key: given in the options";
+    }
+    sum.key_offsets = form_.key_offsets;
+  }
+
+  // The motion-heat input (motion_heat.hpp): the axis's lagged feed as one more key, its τ from the
+  // grid by the same LOSO CV, kept when it lowers the CV by min_cv_improvement. Only when every
+  // state's history has the axis's travel (a real machine's log may not: then the seed's form).
+  void ChooseMotionHeat(ThermalWork& w, AxisFitSummary& sum) {
+    if (!(w.thermal && !w.keys.empty())) return;
+    bool grid = false;
+    for (double t : o_.motion_lag_grid_s) grid = grid || t > 0;
+    std::vector<std::string> without_travel;
+    for (auto* s : thermal_)
+      if (!s->history.HasTravel()) without_travel.push_back(s->path);
+    if (o_.motion_heat == FitOptions::MotionHeat::kOff) {
+      sum.motion_reason = "not tried (off in the options)";
+      return;
+    }
+    if (!grid) {
+      sum.motion_reason = "not tried (no motion τ grid)";
+      return;
+    }
+    if (!without_travel.empty()) {
+      sum.motion_reason = fmt::format("not tried: {} of {} states have no travelled path of axis {} in their history "
+                                      "(the machine log's {}_travel_mm column; first: {})",
+                                      without_travel.size(), thermal_.size(), axis_name_, LowerAscii(axis_name_),
+                                      without_travel.front());
+      return;
+    }
+    const double cv0 = CrossValidate(w.pts, w.off_states, w.keys, false, RhoFor(w, w.pts, w.keys, form_), form_);
+    auto with = w.keys;
+    with.push_back(w.motion_col);
+    // The CV with M lagged by `tau`, on the keys' lag `lag` with fall factor `fall`.
+    auto motion_cv = [&](const std::vector<double>& lag, double fall, double tau) {
+      const double keep_fall = w.fall_factor, keep_tau = w.motion_tau;
+      w.fall_factor = fall, w.motion_tau = tau;
+      auto trial = BuildLeveredPoints(w, lag);
+      const double cv = CrossValidate(trial, w.off_states, with, false, RhoFor(w, trial, with, form_), form_);
+      w.fall_factor = keep_fall, w.motion_tau = keep_tau;
+      return cv;
+    };
+    // (a) on the keys' lag as chosen; (b) when a longer fall was chosen, also on the plain lag
+    // with the fall factor chosen again alongside M: the longer fall and M both stand for the
+    // screw's heat after the nut stops, and the one chosen first would otherwise take it all.
+    double best_cv = std::numeric_limits<double>::infinity(), best_tau = 0, best_fall = w.fall_factor;
+    std::vector<double> best_lag = w.key_lag_s;
+    for (double tau : o_.motion_lag_grid_s) {
+      if (!(tau > 0)) continue;
+      double cv = motion_cv(w.key_lag_s, w.fall_factor, tau);
+      if (cv < best_cv) best_cv = cv, best_tau = tau, best_fall = w.fall_factor, best_lag = w.key_lag_s;
+      if (w.fall_factor != 1 && !w.plain_lag_s.empty())
+        for (double f : o_.key_lag_fall_grid) {
+          const double cv_b = motion_cv(w.plain_lag_s, f, tau);
+          cv = std::min(cv, cv_b);
+          if (cv_b < best_cv) best_cv = cv_b, best_tau = tau, best_fall = f, best_lag = w.plain_lag_s;
         }
-      } else {
-        FitCoolant(pts, keys, rho, fits, sum);
-      }
-      SetTanBetaEnvelopes(pts, keys, sum);
-    } else if (!thermal_.empty() && sum.key_selection_reason.empty()) {
-      sum.key_selection_reason = "no thermal part fitted";
+      sum.motion_candidates.push_back({tau, cv});
     }
-    // No key sensor (none present everywhere, or none helped) does not stop ρ: the other-ambient
-    // states still determine it on their own.
-    if (fit_rho && !sum.thermal_fitted) {
-      rho = joint_rho({});
-      if (physical_rho) {
-        CheckCteAgainstRoom(rho, *physical_rho, cte_source, amb_hi - amb_lo, sum);
-        rho = *physical_rho;
+    const bool forced = o_.motion_heat == FitOptions::MotionHeat::kOn;
+    if (best_tau > 0 && (forced || best_cv <= (1 - o_.min_cv_improvement) * cv0)) {
+      const bool refall = best_fall != w.fall_factor || best_lag != w.key_lag_s;
+      w.motion_tau = best_tau;
+      w.fall_factor = best_fall;
+      w.key_lag_s = best_lag;
+      w.pts = BuildLeveredPoints(w, w.key_lag_s);
+      w.keys = with;
+      sum.motion_lag_s = best_tau;
+      if (refall)  // the lag's reason above describes the choice without M: say it changed
+        sum.lag_reason += fmt::format("; then, with the motion-heat input, τ {} s and a falling key {}× longer "
+                                      "(motion heat below)",
+                                      FormatShortest(w.key_lag_s[w.keys.front()]), FormatShortest(best_fall));
+      double largest = 0;
+      for (auto k : w.keys) largest = std::max(largest, w.key_lag_s[k]);
+      sum.key_lag_s = largest;
+      sum.motion_reason = fmt::format("the axis's feed lagged by τ = {} s as one more key lowers the LOSO CV from "
+                                      "{:.3f} to {:.3f} µm{}{}",
+                                      FormatShortest(best_tau), cv0, best_cv,
+                                      refall ? fmt::format(" (with the keys' lag {} s and a falling key {}× "
+                                                           "longer, chosen again alongside it)",
+                                                           FormatShortest(sum.key_lag_s), FormatShortest(best_fall))
+                                             : std::string(),
+                                      forced ? " (on in the options)" : "");
+    } else {
+      sum.motion_reason = fmt::format("none: the best τ = {} s gives LOSO CV {:.3f} µm against {:.3f} µm without "
+                                      "(kept at ≥ {:.0f} % better)",
+                                      FormatShortest(best_tau), best_cv, cv0, 100 * o_.min_cv_improvement);
+    }
+  }
+
+  // The coolant's memory (thermal_state.hpp): the key states drawn to the room with a loss τ while
+  // a coolant runs, and ONE set of gains for every state, against today's table (own gains per
+  // coolant state). Judged by the same LOSO CV, now over the off AND the coolant states; when kept,
+  // the gains are fitted on every state (w.off_states becomes all of them).
+  void ChooseCoolantMemory(ThermalWork& w, AxisFitSummary& sum) {
+    const auto& keys = w.keys;
+    const double rho = w.rho;
+    shared_gains_ = false;
+    std::set<std::size_t> all_states = w.off_states;
+    std::map<CoolantState, std::set<std::size_t>> by_coolant;
+    for (std::size_t si = 0; si < thermal_.size(); ++si)
+      if (thermal_[si]->coolant != CoolantState::kOff) by_coolant[thermal_[si]->coolant].insert(si), all_states.insert(si);
+    bool any_lag = false;
+    for (auto k : keys) any_lag = any_lag || w.key_lag_s[k] > 0;
+    bool grid = false;
+    for (double t : o_.coolant_loss_grid_s) grid = grid || t >= 0;
+    if (w.thermal && any_lag && !grid && !by_coolant.empty()) {
+      sum.coolant_notes.push_back(
+          "gains per coolant state; the coolant memory was not tried (no loss τ grid, the default; fit --coolant-loss-grid-s "
+          "0,600,1200,2400,4800,9600 tries it)");
+      return;
+    }
+    if (!(w.thermal && any_lag && grid && !by_coolant.empty())) return;
+    const auto& pts = w.pts;
+    const auto& off_states = w.off_states;
+    auto count = [&](const std::vector<ThermalPoint>& v, const std::set<std::size_t>& st) {
+      double n = 0;
+      for (const auto& p : v) n += st.count(p.state) && RowUsable(p, keys, false) ? 1 : 0;
+      return n;
+    };
+    GainFit off_fits[2];
+    for (int dir = 0; dir < 2; ++dir)
+      off_fits[dir] = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
+                                 keys, false, rho, form_);
+    const double cv_off = CrossValidate(pts, off_states, keys, false, rho, form_);
+    double ss = cv_off * cv_off * count(pts, off_states), n = count(pts, off_states);
+    for (const auto& [c, st] : by_coolant) {
+      const double cvc = CoolantCv(pts, keys, rho, off_fits, st, st.size() >= keys.size() + 1);
+      ss += cvc * cvc * count(pts, st), n += count(pts, st);
+    }
+    const double cv_table = n > 0 ? std::sqrt(ss / n) : kNaN;
+    double best_cv = std::numeric_limits<double>::infinity(), best_off_cv = kNaN;
+    std::array<double, kCoolantStateCount> best_loss{};
+    for (const auto& [c, st] : by_coolant) {
+      auto loss = best_loss;
+      for (double tau : o_.coolant_loss_grid_s) {
+        if (!(tau >= 0)) continue;
+        loss[static_cast<std::size_t>(c)] = tau;
+        auto trial = BuildLeveredPoints(w, w.key_lag_s, loss);
+        const double cv = CrossValidate(trial, all_states, keys, false, rho, form_);
+        if (cv < best_cv)
+          best_cv = cv, best_loss = loss, best_off_cv = CrossValidate(trial, all_states, keys, false, rho,
+                                                                     form_, &off_states);
       }
     }
-    model_.rho_um_per_mm_per_c = rho;
-    sum.rho_um_per_mm_per_c = rho;
-    sum.rho_source = rho_source;
-    if (thermal_.empty()) sum.key_selection_reason = "no heated states: nothing to select from";
+    std::string losses;
+    for (const auto& [c, st] : by_coolant)
+      losses += fmt::format("{}{} {} s", losses.empty() ? "" : ", ", CoolantStateName(c),
+                            FormatShortest(best_loss[static_cast<std::size_t>(c)]));
+    // One set of gains must also keep the dry states as good as their own gains do: it is a
+    // compromise over every state, and the dry states are most of a working day.
+    const double off_limit = (1 + o_.coolant_memory_off_tolerance) * cv_off;
+    if (best_cv < cv_table && best_off_cv <= off_limit) {
+      shared_gains_ = true;
+      w.key_loss = best_loss;
+      w.pts = BuildLeveredPoints(w, w.key_lag_s, w.key_loss);
+      w.off_states = all_states;
+      sum.coolant_notes.push_back(fmt::format(
+          "coolant memory: one set of gains for every state, the key states drawn to the room with loss τ {} "
+          "(LOSO CV over all {} states {:.3f} µm against {:.3f} µm with gains per coolant state; on the dry "
+          "states {:.3f} µm against their own gains' {:.3f} µm)",
+          losses, all_states.size(), best_cv, cv_table, best_off_cv, cv_off));
+    } else {
+      sum.coolant_notes.push_back(fmt::format(
+          "gains per coolant state: one set of gains with a coolant loss ({}) gives LOSO CV {:.3f} µm over all "
+          "states against {:.3f} µm, and {:.3f} µm on the dry states against their own gains' {:.3f} µm (limit "
+          "{:.3f} µm)",
+          losses, best_cv, cv_table, best_off_cv, cv_off, off_limit));
+    }
+  }
+
+  // The final gains with every choice made: ρ refitted with the keys (then the physical ρ when the
+  // CTE gives it), the gains per direction, the held-out residuals, the model's keys, lags and
+  // shifts, the coolant's gains (FitCoolant, unless one set covers every state) and the envelopes.
+  void SolveFinalGains(ThermalWork& w, AxisFitSummary& sum) {
+    const auto& keys = w.keys;
+    const auto& candidates = w.candidates;
+    const auto& pts = w.pts;
+    const auto& off_states = w.off_states;
+    GainFit fits[2];
+    if (w.fit_rho) w.rho = JointRho(pts, off_states, keys, form_);
+    ApplyPhysicalRho(w, sum);
+    const double rho = w.rho;
+    for (int dir = 0; dir < 2; ++dir) {
+      fits[dir] = SolveGains(pts, [&](const ThermalPoint& p) { return p.dir == dir && off_states.count(p.state); },
+                             keys, false, rho, form_);
+      if (!fits[dir].ok)
+        throw InputError(thermal_.front()->path, 0, "t_<sensor>_c",
+                         "the thermal gains cannot be determined from these states (too few usable points)");
+    }
+    sum.thermal_cv_rms_um = CrossValidate(pts, off_states, keys, false, rho, form_);
+    HeldOutResiduals(pts, off_states, keys, rho);
+    sum.thermal_fitted = true;
+    if (keys.size() > 1 && o_.secondary_key_ridge > 0) {
+      // Traceable: the shrunk gains next to what plain least squares would have given.
+      const auto plain = SolveGains(
+          pts, [&](const ThermalPoint& p) { return p.dir == 0 && off_states.count(p.state); }, keys, false, rho,
+          GainForm{0.0, form_.key_offsets});
+      std::vector<std::string> shrunk_names;
+      for (std::size_t j = 1; j < keys.size(); ++j)
+        shrunk_names.push_back(keys[j] < candidates.size() ? candidates[keys[j]] : std::string("motion heat"));
+      sum.key_selection_reason += fmt::format(
+          "; the gains of {} shrunk toward the {}-only fit (ridge λ {}, FitOptions::secondary_key_ridge): forward "
+          "{:.5f} µm/mm/°C, plain least squares {}",
+          JoinNames(shrunk_names), candidates[keys[0]], FormatShortest(form_.secondary_ridge),
+          fmt::join(fits[0].k, " / "), plain.ok ? fmt::format("{:.5f}", fmt::join(plain.k, " / ")) : std::string("–"));
+    }
+    for (auto k : keys) {
+      if (k == w.motion_col) continue;  // the motion input is not a sensor (always the last key)
+      model_.key_sensors.push_back(candidates[k]);
+      model_.baseline_temp_c.push_back(w.base[k]);
+    }
+    model_.motion_lag_s = w.motion_tau;
+    bool any_lag = false;
+    for (auto k : keys) any_lag = any_lag || w.key_lag_s[k] > 0;
+    if (any_lag) {
+      for (auto k : keys)
+        if (k != w.motion_col) model_.key_lag_s.push_back(w.key_lag_s[k]);
+      model_.key_lag_fall_factor = w.fall_factor;
+    }
+    for (const auto& name : model_.key_sensors) model_.key_fitted_range_c.push_back(SensorRange(name));
+    sum.key_sensors = model_.key_sensors;
+    for (int dir = 0; dir < 2; ++dir) {
+      ThermalGains off;
+      off.k_um_per_mm_per_c = fits[dir].k;
+      model_.directions[dir].thermal.push_back(std::move(off));
+      if (form_.key_offsets) model_.key_shifts[dir].push_back({fits[dir].ko, fits[dir].ambient_offset});
+    }
+    if (shared_gains_) {
+      // Every coolant of the data is recorded, with 0 when the shared gains cover it without a
+      // loss: the file says which coolant states the one set of gains was fitted on.
+      for (std::size_t si = 0; si < thermal_.size(); ++si) {
+        const auto c = static_cast<std::size_t>(thermal_[si]->coolant);
+        if (thermal_[si]->coolant != CoolantState::kOff && model_.key_loss_s[c].empty())
+          model_.key_loss_s[c].assign(model_.key_sensors.size(), w.key_loss[c]);
+      }
+    } else {
+      FitCoolant(pts, keys, rho, fits, sum);
+    }
+    SetTanBetaEnvelopes(pts, keys, sum);
   }
 
   void SelectKeys(const std::vector<ThermalPoint>& pts, const std::set<std::size_t>& off_states,
                   const std::vector<std::string>& candidates, double rho, std::vector<std::size_t>& keys,
                   AxisFitSummary& sum) {
-    const bool fit_rho = false;  // ρ is held fixed during the selection (see PrepareThermal)
+    const bool fit_rho = false;  // ρ is held fixed during the selection (see ChooseKeySensors)
     double cv_cur = sum.no_thermal_cv_rms_um;
     std::vector<std::string> reasons;
     const std::size_t n_states = off_states.size();
