@@ -17,8 +17,8 @@
 #include <fmt/format.h>
 
 #include "trueaxis/analysis/evaluation.hpp"
-#include "trueaxis/model/fit_input.hpp"
-#include "trueaxis/model/model_fit.hpp"
+#include "trueaxis/modelfit/fit_input.hpp"
+#include "trueaxis/modelfit/model_fit.hpp"
 #include "trueaxis/sim/campaign.hpp"
 #include "trueaxis/sim/machine_description.hpp"
 

@@ -23,8 +23,8 @@
 #include "trueaxis/core/progress.hpp"
 #include "trueaxis/core/output_path.hpp"
 #include "trueaxis/core/text_file.hpp"
-#include "trueaxis/model/fit_report.hpp"
-#include "trueaxis/model/model_fit.hpp"
+#include "trueaxis/modelfit/fit_report.hpp"
+#include "trueaxis/modelfit/model_fit.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/model/sha256.hpp"
 

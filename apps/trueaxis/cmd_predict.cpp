@@ -25,7 +25,7 @@
 #include "trueaxis/core/number_text.hpp"
 #include "trueaxis/model/composite_model.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
-#include "trueaxis/model/model_fit.hpp"
+#include "trueaxis/modelfit/model_fit.hpp"
 #include "trueaxis/model/model_json.hpp"
 
 namespace trueaxis::cli {

@@ -22,7 +22,7 @@ std::string WarmUpStatus::Text() const {
   return s;
 }
 
-WarmUpStatus WatchWarmUp(const model::WarmUpRule& rule, double min_warmup_per_test, const nlohmann::ordered_json& measurements,
+WarmUpStatus WatchWarmUp(const sim::WarmUpRule& rule, double min_warmup_per_test, const nlohmann::ordered_json& measurements,
                          const std::string& axis, std::span<const double> time_s, std::span<const double> nut_c,
                          std::span<const double> travel_mm, double period_s) {
   WarmUpStatus st;
@@ -56,7 +56,7 @@ WarmUpStatus WatchWarmUp(const model::WarmUpRule& rule, double min_warmup_per_te
   st.complete = st.taken >= rule.max_measurements;
   if (!std::isfinite(nut0)) return st;
   // 1-minute means of the nut after the cold test, outside the tests; warm-up seconds exclude them.
-  model::WarmUpCurve curve, before_last;
+  sim::WarmUpCurve curve, before_last;
   std::vector<double> since_last;  // 1-minute means since the last test's end
   const double last_start = warm.empty() ? cold_end : warm.back().start_s;
   const double last_end = warm.empty() ? cold_end : warm.back().end_s;
@@ -87,13 +87,13 @@ WarmUpStatus WatchWarmUp(const model::WarmUpRule& rule, double min_warmup_per_te
   if (curve.empty()) return st;
   st.has_nut = true;
   st.rise_c = curve.back().second;
-  st.next_rise_c = model::NextTestRise(rule, before_last, warm.empty() ? 0 : warm.back().rise_c, st.taken);
+  st.next_rise_c = sim::NextTestRise(rule, before_last, warm.empty() ? 0 : warm.back().rise_c, st.taken);
   const double last_duration = warm.empty() ? 0 : warm.back().end_s - warm.back().start_s;
   st.machining_left_s = std::max(0.0, min_warmup_per_test * last_duration - machined_s);
   if (st.complete) return st;
-  st.saturated = model::WarmUpSaturated(rule, since_last, period_s);
+  st.saturated = sim::WarmUpSaturated(rule, since_last, period_s);
   st.due = !st.saturated && std::abs(st.rise_c) >= st.next_rise_c && st.machining_left_s <= 0 &&
-           model::ThresholdTestAllowed(rule, st.taken);
+           sim::ThresholdTestAllowed(rule, st.taken);
   return st;
 }
 

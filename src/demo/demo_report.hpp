@@ -3,7 +3,7 @@
 // before/after table of ISO 230-2 values per state, error curves, and the
 // day's temperatures and corrections.
 #include "trueaxis/demo/demo.hpp"
-#include "trueaxis/model/model_fit.hpp"
+#include "trueaxis/modelfit/model_fit.hpp"
 #include "trueaxis/sim/machine_description.hpp"
 
 namespace trueaxis::demo {

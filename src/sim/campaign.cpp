@@ -18,7 +18,7 @@
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/measure/campaign_manifest.hpp"
 #include "trueaxis/measure/measurement_csv.hpp"
-#include "trueaxis/model/warmup_rule.hpp"
+#include "trueaxis/sim/warmup_rule.hpp"
 #include "trueaxis/sim/machine_log.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
 
@@ -275,7 +275,7 @@ class Campaign {
   void WarmUp(std::size_t axis, double nut0, const std::string& state, int max_measurements) {
     if (max_measurements <= 0) return;
     const double chunk_s = 10;
-    model::WarmUpRule rule;
+    WarmUpRule rule;
     rule.nut_step_c = o_.nut_step_c;
     rule.nut_step_growth = o_.nut_step_growth;
     rule.max_measurements = max_measurements;
@@ -283,10 +283,10 @@ class Campaign {
     rule.saturation_rise_c = o_.saturation_rise_c;
     std::vector<double> history;  // nut readings every chunk of warm-up time since the last test
     std::deque<double> minute;    // last minute, to average the sensor noise
-    double next = model::NextTestRise(rule, {}, 0, 0);
+    double next = NextTestRise(rule, {}, 0, 0);
     double warm_s = 0, warm_at_test_s = 0, last_test_s = 0;
     int taken = 0;
-    model::WarmUpCurve curve;  // (warm-up seconds, nut rise), never reset
+    WarmUpCurve curve;  // (warm-up seconds, nut rise), never reset
     StartWarmUpMotion();
     Progress(fmt::format("warm-up ({} coolant), nut start {:.2f} °C", CoolantStateName(vm_.coolant()), nut0));
     // Threshold measurements up to max_measurements − 1; the last one is
@@ -303,7 +303,7 @@ class Campaign {
       const double rise = nut - nut0;
       curve.emplace_back(warm_s, rise);
       // Settled, not still falling: a session over a warm machine first sees the nut drawn down to the coolant.
-      const bool saturated = model::WarmUpSaturated(rule, history, chunk_s);
+      const bool saturated = WarmUpSaturated(rule, history, chunk_s);
       const bool timeout = warm_s >= o_.max_warmup_hours * 3600;
       if (saturated || timeout) {
         Progress(saturated ? "thermal saturation reached" : "warm-up time cap reached");
@@ -312,13 +312,13 @@ class Campaign {
         break;
       }
       const bool machined_enough = state != "warm" || warm_s - warm_at_test_s >= o_.min_warmup_per_test * last_test_s;
-      if (std::abs(rise) >= next && machined_enough && model::ThresholdTestAllowed(rule, taken)) {  // up, or down to the coolant
+      if (std::abs(rise) >= next && machined_enough && ThresholdTestAllowed(rule, taken)) {  // up, or down to the coolant
         const double t0 = vm_.TimeS();
         MeasureAndWrite(axis, state);
         last_test_s = vm_.TimeS() - t0;
         warm_at_test_s = warm_s;
         ++taken;
-        next = model::NextTestRise(rule, curve, rise, taken);
+        next = NextTestRise(rule, curve, rise, taken);
         StartWarmUpMotion();
         history.clear();  // the measurement interrupted the warm-up: judge saturation afresh
         minute.clear();

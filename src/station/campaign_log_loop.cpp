@@ -102,7 +102,7 @@ std::size_t RunCampaignLog(const CampaignLogOptions& o, const CampaignLogChannel
   std::fflush(stdout);
 
   const bool live = o.status || isatty(STDOUT_FILENO);
-  model::WarmUpRule rule;
+  sim::WarmUpRule rule;
   rule.max_measurements = o.max_warm;
   std::vector<hw::AxisState> axis_state(axes.size());
   std::vector<hw::RawTemperature> temps(sensors.size());

@@ -16,7 +16,7 @@
 #include "trueaxis/measure/measurement_file.hpp"
 #include "trueaxis/campaign/campaign_add.hpp"
 #include "trueaxis/campaign/campaign_clock.hpp"
-#include "trueaxis/model/fit_input.hpp"
+#include "trueaxis/modelfit/fit_input.hpp"
 
 namespace trueaxis::campaign {
 namespace {

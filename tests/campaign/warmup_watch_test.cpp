@@ -13,7 +13,7 @@ namespace trueaxis::campaign {
 namespace {
 
 TEST(WarmUpWatch, SaysWhenTheNextTestIsDue) {
-  model::WarmUpRule rule;
+  sim::WarmUpRule rule;
   // The log: every 60 s, nut 20 °C until the cold test ends at 600 s, then +1 °C per hour; X moving.
   std::vector<double> t, nut, travel;
   for (int i = 0; i <= 240; ++i) {

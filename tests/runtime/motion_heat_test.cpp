@@ -1,4 +1,4 @@
-// The compensator feeds a model's motion-heat input (AxisModel::motion_lag_s, model/motion_heat.hpp)
+// The compensator feeds a model's motion-heat input (AxisModel::motion_lag_s, modelfit/motion_heat.hpp)
 // from the CNC's positions, cycle by cycle: the axis's feed through the model's lag, into tanβ.
 #include <cmath>
 

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "trueaxis/model/warmup_rule.hpp"
+#include "trueaxis/sim/warmup_rule.hpp"
 
 namespace trueaxis::campaign {
 
@@ -29,7 +29,7 @@ struct WarmUpStatus {
 // `measurements`: the manifest's array; `time_s` / `nut_c` / `travel_mm`: the log's rows (campaign
 // clock; the axis's nut sensor, NaN where not read; the summed travel of every axis), `period_s`
 // apart. `min_warmup_per_test`: R (docs/campaign.md step 2).
-WarmUpStatus WatchWarmUp(const model::WarmUpRule& rule, double min_warmup_per_test, const nlohmann::ordered_json& measurements,
+WarmUpStatus WatchWarmUp(const sim::WarmUpRule& rule, double min_warmup_per_test, const nlohmann::ordered_json& measurements,
                          const std::string& axis, std::span<const double> time_s, std::span<const double> nut_c,
                          std::span<const double> travel_mm, double period_s);
 

@@ -20,7 +20,7 @@
 #include "trueaxis/analysis/evaluation.hpp"
 #include "trueaxis/demo/alarm_tally.hpp"
 #include "trueaxis/measure/measurement.hpp"
-#include "trueaxis/model/fit_options.hpp"
+#include "trueaxis/modelfit/fit_options.hpp"
 #include "trueaxis/runtime/compensator_options.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
 #include "trueaxis/sim/campaign.hpp"

@@ -92,7 +92,7 @@ void WriteCampaignManifest(const CampaignManifest& manifest, const std::string& 
 
 // The header of temperature_log.csv: time_s,date,coolant,<axis>_mm…,<axis>_travel_mm…,t_<sensor>_c…
 // (axes in lower case), ending with '\n'. The fit reads time_s (campaign clock), coolant, the
-// travel columns and the t_<sensor>_c columns (model/fit_input.hpp).
+// travel columns and the t_<sensor>_c columns (modelfit/fit_input.hpp).
 std::string CampaignLogHeader(const std::vector<std::string>& axes, const std::vector<std::string>& sensors);
 
 }  // namespace trueaxis::measure

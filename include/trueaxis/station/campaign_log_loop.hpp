@@ -12,7 +12,7 @@
 
 #include "trueaxis/hw/cnc_link.hpp"
 #include "trueaxis/hw/temperature_source.hpp"
-#include "trueaxis/model/warmup_rule.hpp"
+#include "trueaxis/sim/warmup_rule.hpp"
 
 namespace trueaxis::station {
 
@@ -22,7 +22,7 @@ struct CampaignLogOptions {
   double duration_s = 0;           // wall-clock seconds, 0: until stopped
   double clock_scale = 0;          // campaign seconds per wall second; 0: the manifest's (1 when none)
   std::vector<std::string> axes;   // axes whose warm-up to watch; empty: every axis with an <axis>_nut sensor
-  int max_warm = model::WarmUpRule{}.max_measurements;
+  int max_warm = sim::WarmUpRule{}.max_measurements;
   double warmup_per_test = 0.5;
   bool status = false;             // a status line every row even when stdout is not a terminal
 };
