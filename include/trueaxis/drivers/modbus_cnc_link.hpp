@@ -21,6 +21,7 @@
 
 #include "trueaxis/drivers/modbus_connection.hpp"
 #include "trueaxis/drivers/pmc_window_map.hpp"
+#include "trueaxis/drivers/terminal_registers.hpp"
 #include "trueaxis/hw/cnc_link.hpp"
 
 namespace trueaxis::drivers {
@@ -52,7 +53,7 @@ class ModbusCncLink final : public hw::CncLink {
   bool Connect();
   bool connected() const { return connection_.connected(); }
   const std::string& last_error() const { return error_.empty() ? connection_.last_error() : error_; }
-  std::uint32_t last_heartbeat() const { return heartbeat_; }
+  std::uint32_t last_heartbeat() const { return heartbeat_.heartbeat; }
   std::uint64_t reconnects() const { return connection_.connect_count(); }
   // Compensation the CNC reports it applies now (µm), from the last Read().
   const std::vector<double>& applied_um() const { return applied_um_; }
@@ -66,9 +67,7 @@ class ModbusCncLink final : public hw::CncLink {
   std::vector<std::uint16_t> out_;     // compensation registers
   std::vector<double> applied_um_;
   std::string error_;                  // handshake errors (wrong layout/axis count)
-  std::uint32_t heartbeat_ = 0;
-  bool have_heartbeat_ = false;
-  std::chrono::steady_clock::time_point heartbeat_changed_{};
+  HeartbeatWatch heartbeat_;
 };
 
 }  // namespace trueaxis::drivers

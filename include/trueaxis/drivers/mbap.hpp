@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <span>
 
-namespace trueaxis::server::mbap {
+namespace trueaxis::drivers::mbap {
 
 inline constexpr std::size_t kHeaderBytes = 7;   // MBAP incl. unit id
 inline constexpr std::size_t kMaxFrameBytes = 260;
@@ -80,4 +80,4 @@ std::size_t EncodeBitsReply(std::uint8_t* out, const Request& request, const std
 std::size_t EncodeWriteReply(std::uint8_t* out, const ParsedRequest& request);  // FC 06 echo / FC 16 address+count
 std::size_t EncodeException(std::uint8_t* out, const Request& request, std::uint8_t code);
 
-}  // namespace trueaxis::server::mbap
+}  // namespace trueaxis::drivers::mbap

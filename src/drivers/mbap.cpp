@@ -1,6 +1,6 @@
-#include "trueaxis/server/mbap.hpp"
+#include "trueaxis/drivers/mbap.hpp"
 
-namespace trueaxis::server::mbap {
+namespace trueaxis::drivers::mbap {
 namespace {
 
 std::uint16_t U16(const std::uint8_t* p) { return static_cast<std::uint16_t>((p[0] << 8) | p[1]); }
@@ -164,4 +164,4 @@ std::size_t EncodeException(std::uint8_t* out, const Request& request, std::uint
   return Header(out, request.transaction, request.unit, 2);
 }
 
-}  // namespace trueaxis::server::mbap
+}  // namespace trueaxis::drivers::mbap

@@ -4,9 +4,9 @@
 
 #include <vector>
 
-#include "trueaxis/server/mbap.hpp"
+#include "trueaxis/drivers/mbap.hpp"
 
-namespace trueaxis::server::mbap {
+namespace trueaxis::drivers::mbap {
 namespace {
 
 TEST(Mbap, ReadRequestRoundTripsThroughTheServerSide) {
@@ -76,4 +76,4 @@ TEST(Mbap, BytesThatAreNotModbusTcpAreNotAFrame) {
 }
 
 }  // namespace
-}  // namespace trueaxis::server::mbap
+}  // namespace trueaxis::drivers::mbap
