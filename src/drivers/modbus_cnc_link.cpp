@@ -70,6 +70,7 @@ bool ModbusCncLink::EnsureReady(bool ignore_throttle) {
   }
   error_.clear();
   heartbeat_.Reset();
+  read_write_ = ReadWrite::kUnknown;  // the terminal behind the address may have changed
   return true;
 }
 
@@ -78,6 +79,11 @@ bool ModbusCncLink::Read(std::span<hw::AxisState> axes, hw::CncState& machine) {
   if (axes.size() < n) return false;
   if (!EnsureReady()) return false;
   if (!connection_.ReadInputRegisters(options_.unit_id, 0, static_cast<int>(window_.size()), window_.data())) return false;
+  return DecodeWindow(axes, machine);
+}
+
+bool ModbusCncLink::DecodeWindow(std::span<hw::AxisState> axes, hw::CncState& machine) {
+  const std::size_t n = AxisCount();
   const double now_s = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   const std::uint32_t hb = JoinUint32(&window_[pmc::kIrHeartbeatHi]);
   // A frozen heartbeat: the terminal answers, but its machine side has stopped.
@@ -94,6 +100,26 @@ bool ModbusCncLink::WriteCompensation(std::span<const double> correction_um) {
   if (!EncodeCommand(correction_um, out_.data())) return false;  // NaN or absurd: never sent
   if (!EnsureReady()) return false;
   return connection_.WriteRegisters(options_.unit_id, pmc::kHrCompensationBase, static_cast<int>(out_.size()), out_.data());
+}
+
+bool ModbusCncLink::WriteAndRead(std::span<const double> correction_um, std::span<hw::AxisState> axes,
+                                 hw::CncState& machine) {
+  const std::size_t n = AxisCount();
+  if (correction_um.size() != n || axes.size() < n) return false;
+  if (!EncodeCommand(correction_um, out_.data())) return false;  // NaN or absurd: never sent
+  if (!EnsureReady()) return false;
+  if (read_write_ != ReadWrite::kRefused) {
+    if (connection_.WriteAndReadRegisters(options_.unit_id, pmc::kHrCompensationBase, static_cast<int>(out_.size()),
+                                          out_.data(), pmc::kHrWindowCopyBase, static_cast<int>(window_.size()),
+                                          window_.data())) {
+      read_write_ = ReadWrite::kAnswered;
+      return DecodeWindow(axes, machine);
+    }
+    const int ex = connection_.last_exception();
+    if (ex != MODBUS_EXCEPTION_ILLEGAL_FUNCTION && ex != MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS) return false;
+    read_write_ = ReadWrite::kRefused;  // a terminal without FC 23 or without the window's copy
+  }
+  return WriteCompensation(correction_um) && Read(axes, machine);
 }
 
 }  // namespace trueaxis::drivers

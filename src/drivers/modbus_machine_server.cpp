@@ -150,7 +150,7 @@ struct ModbusMachineServer::Impl {
   // Returns 0 when the request may be applied, else the MODBUS exception code.
   // Validates writes before libmodbus applies them, so a refused write leaves
   // the register image untouched.
-  int ValidatePmc(const std::uint8_t* pdu, int pdu_len) {
+  int ValidatePmc(const std::uint8_t* request, int request_len, const std::uint8_t* pdu, int pdu_len) {
     RegisterWrite w;
     const int fc = pdu[0];
     if (fc == MODBUS_FC_WRITE_SINGLE_REGISTER) {
@@ -161,7 +161,14 @@ struct ModbusMachineServer::Impl {
       w = {U16(pdu + 1), U16(pdu + 3), pdu + 6};
       if (w.count < 1 || w.count > MODBUS_MAX_WRITE_REGISTERS || pdu[5] != 2 * w.count || pdu_len < 6 + 2 * w.count)
         return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
-    } else if (fc == MODBUS_FC_MASK_WRITE_REGISTER || fc == MODBUS_FC_WRITE_AND_READ_REGISTERS) {
+    } else if (fc == MODBUS_FC_WRITE_AND_READ_REGISTERS) {
+      // the write part as FC 16; the read part must be one libmodbus answers too (else it would
+      // refuse the request after this check had counted it as a client write)
+      mbap::ParsedRequest q;
+      if (!mbap::ParseRequest({request, static_cast<std::size_t>(request_len)}, &q)) return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
+      if (q.head.address + q.head.count > PmcHoldingImageLength(axis_count)) return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS;
+      w = {q.write_address, q.write_count, q.values};
+    } else if (fc == MODBUS_FC_MASK_WRITE_REGISTER) {
       return MODBUS_EXCEPTION_ILLEGAL_FUNCTION;  // not part of the window
     } else {
       return 0;  // reads, and writes to tables the window does not have (libmodbus answers those)
@@ -212,7 +219,8 @@ struct ModbusMachineServer::Impl {
   void AfterWrite(int module, const std::uint8_t* pdu) {
     const int fc = pdu[0];
     if (module < 0) {
-      if (fc == MODBUS_FC_WRITE_SINGLE_REGISTER || fc == MODBUS_FC_WRITE_MULTIPLE_REGISTERS) {
+      if (fc == MODBUS_FC_WRITE_SINGLE_REGISTER || fc == MODBUS_FC_WRITE_MULTIPLE_REGISTERS ||
+          fc == MODBUS_FC_WRITE_AND_READ_REGISTERS) {
         compensation_dirty = true;
         last_client_write = Clock::now();
         wake_machine.notify_one();
@@ -250,8 +258,8 @@ struct ModbusMachineServer::Impl {
     std::lock_guard<std::mutex> lock(mu);
     ++stats.requests;
     const int fc = pdu[0];
-    const bool supported = (fc >= 1 && fc <= 6) || fc == 15 || fc == 16;
-    const int min_pdu = (fc >= 1 && fc <= 6) ? 5 : (fc == 15 || fc == 16) ? 6 : 1;
+    const bool supported = (fc >= 1 && fc <= 6) || fc == 15 || fc == 16 || fc == 23;
+    const int min_pdu = (fc >= 1 && fc <= 6) ? 5 : (fc == 15 || fc == 16) ? 6 : fc == 23 ? 10 : 1;
     // Refuse here what libmodbus would refuse itself: its own refusal of an
     // unknown function sleeps for the response timeout and flushes the
     // socket, on the network thread. A short PDU it would read past.
@@ -262,7 +270,7 @@ struct ModbusMachineServer::Impl {
     }
     int module = -1;
     modbus_mapping_t* map = UnitMap(unit, &module);
-    int ex = map ? (module < 0 ? ValidatePmc(pdu, pdu_len) : ValidateRtd(module, pdu, pdu_len))
+    int ex = map ? (module < 0 ? ValidatePmc(req, len, pdu, pdu_len) : ValidateRtd(module, pdu, pdu_len))
                  : MODBUS_EXCEPTION_GATEWAY_TARGET;  // no such device behind this terminal
     if (ex != 0) {
       ++stats.exceptions;
@@ -408,6 +416,7 @@ struct ModbusMachineServer::Impl {
       if (pmc_map) PublishPmc(read_ok, temps_ok, state, now);
       if (temps) PublishTemperatures(temps_ok);
       if (pmc_map && WatchdogStep(elapsed_s, now)) compensation_dirty = true;
+      if (pmc_map) CopyWindowToHolding(pmc_map->tab_input_registers, pmc_map->tab_registers, axis_count);
       if (pmc_map && (compensation_dirty || retry_write)) {
         DecodeCommand(pmc_map->tab_registers + pmc::kHrCompensationBase, pending_um);
         compensation_dirty = false;
@@ -422,6 +431,7 @@ struct ModbusMachineServer::Impl {
       ++stats.compensation_writes;
     }
     EncodeWriteResult(ok, applied_um, pmc_map->tab_input_registers);
+    CopyWindowToHolding(pmc_map->tab_input_registers, pmc_map->tab_registers, axis_count);
     retry_write = !ok;  // next period, not at once: a CNC that refuses must not be hammered
   }
 
@@ -537,7 +547,7 @@ bool ModbusMachineServer::Start(std::string* error) {
   for (auto* m : s.rtd_maps) modbus_mapping_free(m);
   s.rtd_maps.clear();
   if (s.cnc) {
-    s.pmc_map = modbus_mapping_new(0, 0, PmcHoldingLength(s.axis_count),
+    s.pmc_map = modbus_mapping_new(0, 0, PmcHoldingImageLength(s.axis_count),
                                    pmc::InputWindowLength(s.axis_count));
     if (!s.pmc_map) return fail("cannot allocate the PMC register image");
     InitPmcImage(s.pmc_map->tab_input_registers, s.pmc_map->tab_registers, s.axis_count, options_.initial_enable);

@@ -7,10 +7,15 @@ namespace trueaxis::drivers {
 
 void InitPmcImage(std::uint16_t* ir, std::uint16_t* hr, std::size_t axis_count, bool enable) {
   std::fill(ir, ir + pmc::InputWindowLength(axis_count), std::uint16_t{0});
-  std::fill(hr, hr + PmcHoldingLength(axis_count), std::uint16_t{0});
+  std::fill(hr, hr + PmcHoldingImageLength(axis_count), std::uint16_t{0});
   ir[pmc::kIrLayoutVersion] = pmc::kLayoutVersion;
   ir[pmc::kIrAxisCount] = static_cast<std::uint16_t>(axis_count);
   hr[pmc::kHrEnable] = enable ? 1 : 0;
+  CopyWindowToHolding(ir, hr, axis_count);
+}
+
+void CopyWindowToHolding(const std::uint16_t* ir, std::uint16_t* hr, std::size_t axis_count) {
+  std::copy(ir, ir + pmc::InputWindowLength(axis_count), hr + pmc::kHrWindowCopyBase);
 }
 
 void EncodePmcState(const PmcExchange& e, std::uint16_t* ir, const std::uint16_t* hr) {

@@ -66,7 +66,7 @@ struct Terminal {
   Endpoint listener;
   std::vector<std::unique_ptr<Endpoint>> connections;
   std::uint16_t ir[pmc::kInputRegisterCount] = {};
-  std::uint16_t hr[pmc::kHoldingRegisterCount] = {};
+  std::uint16_t hr[pmc::kHoldingImageCount] = {};  // enable, command block, the window's copy
   std::vector<std::array<std::uint16_t, adam::kRegisterCount>> modules;
   std::vector<std::array<std::uint8_t, adam::kCoilCount>> coils;
   std::vector<hw::AxisState> axis_state;
@@ -212,6 +212,7 @@ struct VirtualShop::Impl {
     const bool ok = t.vm->WriteCompensation(t.command_um);
     if (ok) t.applied_um = t.command_um;
     drivers::EncodeWriteResult(ok, t.applied_um, t.ir);
+    drivers::CopyWindowToHolding(t.ir, t.hr, t.axes.size());
   }
 
   void TickMachine(Terminal& t, double now) {
@@ -247,6 +248,7 @@ struct VirtualShop::Impl {
     // The terminal's watchdog: no client write for watchdog_s → the command ramps to 0, forwarding each step.
     const drivers::CommandWatchdog watchdog{opt.watchdog_s, opt.watchdog_ramp_um_per_s};
     const bool ramped = watchdog.Step(t.ir, t.hr, t.axes.size(), now - t.last_client_write_s, elapsed);
+    drivers::CopyWindowToHolding(t.ir, t.hr, t.axes.size());
     if (ramped) {
       ++stats.watchdog_steps;
       Forward(t);
@@ -265,12 +267,13 @@ struct VirtualShop::Impl {
     };
     const bool known = h.function == mbap::kReadCoils || h.function == mbap::kReadHoldingRegisters ||
                        h.function == mbap::kReadInputRegisters || h.function == mbap::kWriteSingleRegister ||
-                       h.function == mbap::kWriteMultipleRegisters;
+                       h.function == mbap::kWriteMultipleRegisters || h.function == mbap::kReadWriteMultipleRegisters;
     if (!known) return refuse(mbap::kIllegalFunction);
     if (!parsed) return refuse(mbap::kIllegalDataValue);
     const int end = h.address + h.count;
     if (h.unit == opt.pmc_unit_id) {
-      const int hr_count = drivers::PmcHoldingLength(t.axes.size());
+      const int hr_writable = drivers::PmcHoldingLength(t.axes.size());
+      const int hr_count = drivers::PmcHoldingImageLength(t.axes.size());
       switch (h.function) {
         case mbap::kReadInputRegisters:
           if (end > pmc::InputWindowLength(t.axes.size())) return refuse(mbap::kIllegalDataAddress);
@@ -279,17 +282,22 @@ struct VirtualShop::Impl {
           if (end > hr_count) return refuse(mbap::kIllegalDataAddress);
           return mbap::EncodeRegistersReply(out, h, t.hr + h.address);
         case mbap::kWriteSingleRegister:
-        case mbap::kWriteMultipleRegisters: {
+        case mbap::kWriteMultipleRegisters:
+        case mbap::kReadWriteMultipleRegisters: {
+          // FC 23: the write part first, then the read part (the window's copy after the CNC took the command)
+          const bool read_write = h.function == mbap::kReadWriteMultipleRegisters;
+          if (read_write && end > hr_count) return refuse(mbap::kIllegalDataAddress);
           std::uint16_t candidate[pmc::kHoldingRegisterCount];
-          const int ex = drivers::CheckPmcWrite(t.hr, t.axes.size(), h.address, h.count,
+          const int ex = drivers::CheckPmcWrite(t.hr, t.axes.size(), read_write ? q.write_address : h.address,
+                                                read_write ? q.write_count : h.count,
                                                 [v = q.values](int i) { return mbap::WordAt(v, i); },
                                                 opt.max_compensation_um, candidate);
           if (ex != 0) return refuse(static_cast<std::uint8_t>(ex));
-          std::copy(candidate, candidate + hr_count, t.hr);
+          std::copy(candidate, candidate + hr_writable, t.hr);
           t.last_client_write_s = now;
           ++stats.compensation_writes;
           Forward(t);
-          return mbap::EncodeWriteReply(out, q);
+          return read_write ? mbap::EncodeRegistersReply(out, h, t.hr + h.address) : mbap::EncodeWriteReply(out, q);
         }
         default:
           return refuse(mbap::kIllegalFunction);

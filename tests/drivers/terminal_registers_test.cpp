@@ -17,7 +17,7 @@ constexpr std::size_t kAxes = pmc::kMaxAxes;
 
 struct Image {
   std::array<std::uint16_t, pmc::kInputRegisterCount> ir{};
-  std::array<std::uint16_t, pmc::kHoldingRegisterCount> hr{};
+  std::array<std::uint16_t, pmc::kHoldingImageCount> hr{};  // enable, command block, the window's copy
 };
 
 std::vector<hw::AxisState> SampleAxes() {
@@ -78,6 +78,11 @@ TEST(TerminalRegisters, PmcStateRoundTripsEveryField) {
         EXPECT_EQ(got[a].travel_mm, std::clamp(std::floor(axes[a].travel_mm), 0.0, 4294967295.0));
         EXPECT_EQ(applied[a], 0.0);  // nothing applied yet
       }
+      // the holding registers' copy (what an FC 23 reads) is the window, register for register
+      CopyWindowToHolding(img.ir.data(), img.hr.data(), kAxes);
+      for (int i = 0; i < pmc::InputWindowLength(kAxes); ++i)
+        EXPECT_EQ(img.hr[static_cast<std::size_t>(pmc::kHrWindowCopyBase + i)], img.ir[static_cast<std::size_t>(i)]) << i;
+      EXPECT_EQ(PmcHoldingImageLength(kAxes), pmc::kHoldingImageCount);
       // the int32 limits hold exactly; beyond them the value saturates
       EXPECT_DOUBLE_EQ(got[3].position_mm, -214748.3648);
       EXPECT_DOUBLE_EQ(got[4].position_mm, 214748.3647);

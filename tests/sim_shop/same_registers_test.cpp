@@ -14,6 +14,8 @@
 #include <thread>
 #include <vector>
 
+#include "drivers/modbus_test_server.hpp"
+#include "drivers/peers/pymodbus_peer.hpp"
 #include "trueaxis/drivers/modbus_cnc_link.hpp"
 #include "trueaxis/drivers/modbus_machine_server.hpp"
 #include "trueaxis/drivers/modbus_temperature_source.hpp"
@@ -27,15 +29,7 @@ namespace {
 namespace pmc = drivers::pmc;
 namespace adam = drivers::adam6015;
 
-template <class Pred>
-bool WaitFor(Pred pred, double timeout_s = 10.0) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-  while (std::chrono::steady_clock::now() < end) {
-    if (pred()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return pred();
-}
+using drivers::testing::WaitFor;
 
 // Every register a client can read from one terminal.
 struct Registers {
@@ -188,6 +182,42 @@ TEST(TerminalServers, AnswerTheSameRegistersForTheSameMachine) {
     EXPECT_NEAR(applied[1][x], command[x], 1e-9);
   }
   server->Stop();
+  shop->Stop();
+}
+
+TEST(TerminalServers, TheVirtualShopAnswersOneTransactionPerCycle) {
+  auto shop = StartFrozenShop();
+  ASSERT_NE(shop, nullptr);
+  const VirtualMachineInfo info = shop->Machines().at(0);
+  drivers::ModbusCncLinkOptions co;
+  co.endpoint.port = info.port;
+  co.endpoint.response_timeout_s = 1.0;
+  co.axis_names = info.axes;
+  drivers::ModbusCncLink link(co);
+  ASSERT_TRUE(link.Connect()) << link.last_error();
+  std::vector<hw::AxisState> st(info.axes.size());
+  hw::CncState machine;
+  const std::vector<double> command = {-3.3, 8.8, 0.1};
+  const auto before = shop->Stats().requests;
+  ASSERT_TRUE(link.WriteAndRead(command, st, machine)) << link.last_error();
+  EXPECT_EQ(shop->Stats().requests, before + 1);
+  EXPECT_TRUE(link.read_write_answered());
+  // the virtual shop hands the command to its machine before it answers the read part
+  for (std::size_t x = 0; x < command.size(); ++x) EXPECT_NEAR(link.applied_um()[x], command[x], 1e-9);
+  const std::vector<double> applied = shop->AppliedUm(0);
+  for (std::size_t x = 0; x < command.size(); ++x) EXPECT_NEAR(applied[x], command[x], 1e-9);
+
+  // an independent peer (pymodbus) reads the same window through FC 23 as through FC 04
+  const nlohmann::json j = trueaxis::testing::RunPymodbusPeer("--read-write " + std::to_string(info.port) + " 3 1.0 2.0 3.0");
+  ASSERT_FALSE(j.contains("error")) << j.dump();
+  const auto copy = j["copy"].get<std::vector<int>>(), window = j["window"].get<std::vector<int>>();
+  ASSERT_EQ(copy.size(), static_cast<std::size_t>(pmc::InputWindowLength(3)));
+  ASSERT_EQ(window.size(), copy.size());
+  // a frozen machine: the same registers, applied values included (only the heartbeat may move)
+  for (std::size_t i = 0; i < copy.size(); ++i)
+    if (i != pmc::kIrHeartbeatHi && i != pmc::kIrHeartbeatLo) EXPECT_EQ(copy[i], window[i]) << "register " << i;
+  EXPECT_EQ(copy[pmc::InputAxisRegister(2, pmc::kIrAxisAppliedLo)], 30);  // 3.0 µm = 30 counts
+  EXPECT_NEAR(shop->AppliedUm(0)[2], 3.0, 1e-9);
   shop->Stop();
 }
 

@@ -43,6 +43,13 @@ class ModbusCncLink final : public hw::CncLink {
   std::string AxisName(std::size_t axis) const override { return options_.axis_names.at(axis); }
   bool Read(std::span<hw::AxisState> axes, hw::CncState& machine) override;
   bool WriteCompensation(std::span<const double> correction_um) override;
+  // One MODBUS transaction where the terminal allows it: writes the command block and reads the
+  // window (its copy in holding registers 100…) with one FC 23. A terminal that refuses FC 23
+  // (exception 0x01 or 0x02: an older one) is asked with FC 16 then FC 04 from then on, until
+  // the next reconnect. True when the write and the read both succeeded (the read as Read()).
+  bool WriteAndRead(std::span<const double> correction_um, std::span<hw::AxisState> axes, hw::CncState& machine);
+  // The terminal answered FC 23 on this connection (false before the first WriteAndRead).
+  bool read_write_answered() const { return read_write_ == ReadWrite::kAnswered; }
 
   // Tries to connect now (ignores the reconnect throttle's first wait).
   // hw lifecycle: Configure checks the options; Activate connects (false while the terminal is not
@@ -60,6 +67,9 @@ class ModbusCncLink final : public hw::CncLink {
 
  private:
   bool EnsureReady(bool ignore_throttle = false);
+  bool DecodeWindow(std::span<hw::AxisState> axes, hw::CncState& machine);
+  enum class ReadWrite { kUnknown, kAnswered, kRefused };
+  ReadWrite read_write_ = ReadWrite::kUnknown;
   bool options_valid_ = false;
   ModbusCncLinkOptions options_;
   ModbusConnection connection_;

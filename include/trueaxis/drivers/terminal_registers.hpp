@@ -36,6 +36,11 @@ namespace trueaxis::drivers {
 inline constexpr int PmcHoldingLength(std::size_t axis_count) {
   return pmc::kHrCompensationBase + pmc::kHrCompensationStride * static_cast<int>(axis_count);
 }
+// Holding registers a terminal answers reads of: enable, command block, reserved, and the
+// read-only copy of the input window from pmc::kHrWindowCopyBase (the read part of an FC 23).
+inline constexpr int PmcHoldingImageLength(std::size_t axis_count) {
+  return pmc::kHrWindowCopyBase + pmc::InputWindowLength(axis_count);
+}
 // Registers of the command block (2 per axis), written from pmc::kHrCompensationBase.
 inline constexpr int CommandBlockLength(std::size_t axis_count) {
   return pmc::kHrCompensationStride * static_cast<int>(axis_count);
@@ -53,8 +58,11 @@ inline constexpr std::size_t RtdModulesFor(std::size_t channel_count) {
 
 // ---------------------------------------------------------------- PMC window, terminal side
 // The fixed head (layout version, axis count) and the start value of the enable register.
-// `ir` holds pmc::InputWindowLength(axis_count) registers, `hr` PmcHoldingLength(axis_count).
+// `ir` holds pmc::InputWindowLength(axis_count) registers, `hr` PmcHoldingImageLength(axis_count).
 void InitPmcImage(std::uint16_t* ir, std::uint16_t* hr, std::size_t axis_count, bool enable);
+// Refreshes the holding registers' copy of the input window: a terminal calls it whenever it has
+// changed the input registers (after EncodePmcState, EncodeWriteResult, CommandWatchdog::Step).
+void CopyWindowToHolding(const std::uint16_t* ir, std::uint16_t* hr, std::size_t axis_count);
 
 // One machine exchange's state as the terminal publishes it.
 struct PmcExchange {
