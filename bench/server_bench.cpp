@@ -1,4 +1,4 @@
-// Scale of the workshop server (issue 11): N virtual machines (server::VirtualShop,
+// Scale of the workshop server (issue 11): N virtual machines (sim::VirtualShop,
 // one epoll thread) and the server polling them at 10 Hz (server::Shop, one epoll
 // thread) in one process on this box, with the shop-wide SQLite history. Reports the
 // achieved complete-cycle rate (read → step → write acknowledged) per machine, the
@@ -21,7 +21,7 @@
 
 #include "../tests/server/shop_fixture.hpp"  // the tests' model and free-port virtual shop
 #include "trueaxis/server/shop.hpp"
-#include "trueaxis/server/virtual_shop.hpp"
+#include "trueaxis/sim_shop/virtual_shop.hpp"
 #include "trueaxis/store/history_writer.hpp"
 
 namespace {
@@ -55,7 +55,7 @@ void BM_Shop(benchmark::State& state) {
       return;
     }
     server::ShopConfig config =
-        server::ParseShopConfig(server::ShopFileFor(vshop->Machines(), "127.0.0.1", model, dir + "/shop.db", kPeriodS, 0),
+        server::ParseShopConfig(sim::ShopFileFor(vshop->Machines(), "127.0.0.1", model, dir + "/shop.db", kPeriodS, 0),
                                 dir + "/shop.toml");
     std::filesystem::remove(dir + "/shop.db");
     store::HistoryWriterOptions ho;

@@ -1,6 +1,6 @@
 // trueaxis sim shop: N virtual machines, each behind its own MODBUS TCP
 // terminal on base_port + i, served from one process and one epoll thread
-// (server::VirtualShop, docs/server.md), so a 1,000-machine shop runs on one box.
+// (sim::VirtualShop, docs/server.md), so a 1,000-machine shop runs on one box.
 //
 //   trueaxis sim shop --machines 100 --base-port 15000 --time-scale 60 --write-shop out/shop.toml --model out/demo/model.json
 #include <atomic>
@@ -17,7 +17,7 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/install_paths.hpp"
 #include "trueaxis/core/text_file.hpp"
-#include "trueaxis/server/virtual_shop.hpp"
+#include "trueaxis/sim_shop/virtual_shop.hpp"
 
 namespace {
 
@@ -27,7 +27,7 @@ std::atomic<bool> g_stop{false};
 extern "C" void OnShopStop(int) { g_stop.store(true); }
 
 struct ShopOptions {
-  server::VirtualShopOptions shop;
+  sim::VirtualShopOptions shop;
   double duration_s = 0;
   double status_interval_s = 5;
   std::string write_shop, model, history = "shop.db";
@@ -44,14 +44,14 @@ void RunShop(ShopOptions o) {
   cli::CheckSecondsOption(o.status_interval_s, "--status-interval-s", "none");
   if (!o.write_shop.empty() && o.model.empty())
     throw InputError("command line", 0, "--model", "required with --write-shop: the model file every machine starts with");
-  server::VirtualShop shop(o.shop);  // InputError on a bad description or option
+  sim::VirtualShop shop(o.shop);  // InputError on a bad description or option
   const auto machines = shop.Machines();
   if (!o.write_shop.empty()) {
     const auto parent = std::filesystem::path(o.write_shop).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
     // Paths in the shop file resolve against its folder: the model's is written absolute. Atomic: a server
     // started beside the shop never reads half a file.
-    WriteTextFile(o.write_shop, server::ShopFileFor(machines, o.shop.bind_address,
+    WriteTextFile(o.write_shop, sim::ShopFileFor(machines, o.shop.bind_address,
                                                     std::filesystem::absolute(o.model).lexically_normal().string(),
                                                     o.history, o.period_s, o.http_port));
   }

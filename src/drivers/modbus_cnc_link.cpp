@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "trueaxis/drivers/register_codec.hpp"
+#include "trueaxis/drivers/terminal_registers.hpp"
 
 namespace trueaxis::drivers {
 
@@ -28,7 +28,7 @@ ModbusCncLink::ModbusCncLink(ModbusCncLinkOptions options)
     : options_(std::move(options)), connection_(options_.endpoint) {
   const std::size_t n = std::min(options_.axis_names.size(), pmc::kMaxAxes);
   window_.assign(pmc::InputWindowLength(n), 0);
-  out_.assign(pmc::kHrCompensationStride * n, 0);
+  out_.assign(CommandBlockLength(n), 0);
   applied_um_.assign(n, 0.0);
   std::string why;
   options_valid_ = options_.IsValid(&why);
@@ -60,7 +60,7 @@ bool ModbusCncLink::EnsureReady(bool ignore_throttle) {
   if (!fresh) return true;
   std::uint16_t head[2];
   if (!connection_.ReadInputRegisters(options_.unit_id, pmc::kIrLayoutVersion, 2, head)) return false;
-  if (head[0] != pmc::kLayoutVersion || head[1] != options_.axis_names.size()) {
+  if (!PmcLayoutMatches(head, options_.axis_names.size())) {
     error_ = fmt::format("{}:{} unit {}: PMC window layout {} with {} axes, expected layout {} with {} axes",
                          options_.endpoint.host, options_.endpoint.port, options_.unit_id, head[0], head[1],
                          pmc::kLayoutVersion, options_.axis_names.size());
@@ -69,7 +69,8 @@ bool ModbusCncLink::EnsureReady(bool ignore_throttle) {
     return false;
   }
   error_.clear();
-  have_heartbeat_ = false;
+  heartbeat_.Reset();
+  read_write_ = ReadWrite::kUnknown;  // the terminal behind the address may have changed
   return true;
 }
 
@@ -78,43 +79,47 @@ bool ModbusCncLink::Read(std::span<hw::AxisState> axes, hw::CncState& machine) {
   if (axes.size() < n) return false;
   if (!EnsureReady()) return false;
   if (!connection_.ReadInputRegisters(options_.unit_id, 0, static_cast<int>(window_.size()), window_.data())) return false;
-  const auto now = std::chrono::steady_clock::now();
+  return DecodeWindow(axes, machine);
+}
+
+bool ModbusCncLink::DecodeWindow(std::span<hw::AxisState> axes, hw::CncState& machine) {
+  const std::size_t n = AxisCount();
+  const double now_s = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   const std::uint32_t hb = JoinUint32(&window_[pmc::kIrHeartbeatHi]);
-  if (!have_heartbeat_ || hb != heartbeat_) {
-    heartbeat_ = hb;
-    have_heartbeat_ = true;
-    heartbeat_changed_ = now;
-  } else if (std::chrono::duration<double>(now - heartbeat_changed_).count() > options_.stale_after_s) {
-    return false;  // the terminal answers, but its machine side has stopped
-  }
-  const std::uint16_t status = window_[pmc::kIrStatus];
-  if (!(status & pmc::kStatusMachineReadOk)) return false;
-  const auto coolant = CoolantStateFromCode(window_[pmc::kIrCoolant]);
-  if (!coolant) return false;
-  for (std::size_t a = 0; a < n; ++a) {
-    const std::uint16_t* r = &window_[pmc::InputAxisRegister(a, 0)];
-    axes[a].position_mm = CountsToMillimetres(JoinInt32(r + pmc::kIrAxisPositionHi));
-    axes[a].servo_direction = static_cast<std::int16_t>(r[pmc::kIrAxisDirection]);
-    axes[a].moving = r[pmc::kIrAxisMoving] != 0;
-    axes[a].programmed_direction = pmc::ProgrammedDirection(window_[pmc::kIrProgrammedDirection], a);
-    axes[a].travel_mm = static_cast<double>(JoinUint32(r + pmc::kIrAxisTravelHi));
-    applied_um_[a] = CountsToMicrometres(JoinInt32(r + pmc::kIrAxisAppliedHi));
-  }
-  machine.coolant = *coolant;
-  machine.compensation_enabled = (status & pmc::kStatusCompensationEnabled) != 0;
+  // A frozen heartbeat: the terminal answers, but its machine side has stopped.
+  if (!heartbeat_.Fresh(hb, now_s, options_.stale_after_s)) return false;
+  if (!(window_[pmc::kIrStatus] & pmc::kStatusMachineReadOk) || !CoolantStateFromCode(window_[pmc::kIrCoolant]))
+    return false;  // stale, or a coolant code no state has: `axes` and `machine` stay untouched
+  DecodePmcWindow(window_.data(), axes.first(n), machine, applied_um_);
   return true;
 }
 
 bool ModbusCncLink::WriteCompensation(std::span<const double> correction_um) {
   const std::size_t n = AxisCount();
   if (correction_um.size() != n) return false;
-  for (std::size_t a = 0; a < n; ++a) {
-    std::int32_t c = 0;
-    if (!MicrometresToCounts(correction_um[a], &c)) return false;  // NaN or absurd: never sent
-    SplitInt32(c, &out_[pmc::kHrCompensationStride * a]);
-  }
+  if (!EncodeCommand(correction_um, out_.data())) return false;  // NaN or absurd: never sent
   if (!EnsureReady()) return false;
   return connection_.WriteRegisters(options_.unit_id, pmc::kHrCompensationBase, static_cast<int>(out_.size()), out_.data());
+}
+
+bool ModbusCncLink::WriteAndRead(std::span<const double> correction_um, std::span<hw::AxisState> axes,
+                                 hw::CncState& machine) {
+  const std::size_t n = AxisCount();
+  if (correction_um.size() != n || axes.size() < n) return false;
+  if (!EncodeCommand(correction_um, out_.data())) return false;  // NaN or absurd: never sent
+  if (!EnsureReady()) return false;
+  if (read_write_ != ReadWrite::kRefused) {
+    if (connection_.WriteAndReadRegisters(options_.unit_id, pmc::kHrCompensationBase, static_cast<int>(out_.size()),
+                                          out_.data(), pmc::kHrWindowCopyBase, static_cast<int>(window_.size()),
+                                          window_.data())) {
+      read_write_ = ReadWrite::kAnswered;
+      return DecodeWindow(axes, machine);
+    }
+    const int ex = connection_.last_exception();
+    if (ex != MODBUS_EXCEPTION_ILLEGAL_FUNCTION && ex != MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS) return false;
+    read_write_ = ReadWrite::kRefused;  // a terminal without FC 23 or without the window's copy
+  }
+  return WriteCompensation(correction_um) && Read(axes, machine);
 }
 
 }  // namespace trueaxis::drivers

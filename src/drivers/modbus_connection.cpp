@@ -80,6 +80,7 @@ bool ModbusConnection::Ensure(bool* just_connected, bool ignore_throttle) {
 }
 
 bool ModbusConnection::Check(int rc, int expected, const char* what) {
+  last_exception_ = 0;
   if (rc == expected) return true;
   if (rc >= 0) errno = EMBBADDATA;
   const int err = errno;
@@ -87,6 +88,7 @@ bool ModbusConnection::Check(int rc, int expected, const char* what) {
     // The device answered with a MODBUS exception: the link itself is fine,
     // so keep the connection; the request failed all the same.
     ++faults_;
+    last_exception_ = err - MODBUS_ENOBASE;
     NoteError(what, err);
     return false;
   }
@@ -116,6 +118,14 @@ bool ModbusConnection::WriteRegisters(int unit, int address, int count, const st
   if (!connected_) return false;
   modbus_set_slave(ctx_, unit);
   return Check(modbus_write_registers(ctx_, address, count, values), count, "write registers");
+}
+
+bool ModbusConnection::WriteAndReadRegisters(int unit, int write_address, int write_count, const std::uint16_t* values,
+                                             int read_address, int read_count, std::uint16_t* out) {
+  if (!connected_) return false;
+  modbus_set_slave(ctx_, unit);
+  return Check(modbus_write_and_read_registers(ctx_, write_address, write_count, values, read_address, read_count, out),
+               read_count, "write and read registers");
 }
 
 }  // namespace trueaxis::drivers

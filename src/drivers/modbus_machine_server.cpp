@@ -17,7 +17,9 @@
 
 #include <fmt/format.h>
 
+#include "trueaxis/drivers/mbap.hpp"
 #include "trueaxis/drivers/register_codec.hpp"
+#include "trueaxis/drivers/terminal_registers.hpp"
 
 namespace trueaxis::drivers {
 namespace {
@@ -31,10 +33,7 @@ bool ValidUnitId(int id) { return id >= 1 && id <= 247; }
 struct RegisterWrite {
   int address = 0;
   int count = 0;
-  const std::uint8_t* values = nullptr;  // big-endian 16-bit words
-  std::uint16_t Value(int i) const {
-    return static_cast<std::uint16_t>((values[2 * i] << 8) | values[2 * i + 1]);
-  }
+  const std::uint8_t* values = nullptr;  // big-endian 16-bit words (mbap::WordAt)
 };
 struct CoilWrite {
   int address = 0;
@@ -107,9 +106,7 @@ struct ModbusMachineServer::Impl {
   std::vector<double> pending_um;
   std::vector<double> applied_um;
   bool retry_write = false;  // the CNC refused the last vector: try again next period (no busy loop)
-  // Per axis: the path travelled (the CNC's distance counter, else summed here from each read's
-  // position change) and the position of the last good read.
-  std::vector<double> travel_mm, last_position_mm;
+  TravelCounter travel;  // per axis: the path travelled
   Clock::time_point last_read_ok{};
   bool ever_read_ok = false;
 
@@ -146,14 +143,14 @@ struct ModbusMachineServer::Impl {
   }
 
   std::size_t ModuleChannels(std::size_t k) const {
-    return std::min<std::size_t>(adam6015::kChannelCount, channel_count - k * adam6015::kChannelCount);
+    return RtdModuleChannels(channel_count, k);
   }
 
   // ------------------------------------------------------------------ network
   // Returns 0 when the request may be applied, else the MODBUS exception code.
   // Validates writes before libmodbus applies them, so a refused write leaves
   // the register image untouched.
-  int ValidatePmc(const std::uint8_t* pdu, int pdu_len) {
+  int ValidatePmc(const std::uint8_t* request, int request_len, const std::uint8_t* pdu, int pdu_len) {
     RegisterWrite w;
     const int fc = pdu[0];
     if (fc == MODBUS_FC_WRITE_SINGLE_REGISTER) {
@@ -164,26 +161,21 @@ struct ModbusMachineServer::Impl {
       w = {U16(pdu + 1), U16(pdu + 3), pdu + 6};
       if (w.count < 1 || w.count > MODBUS_MAX_WRITE_REGISTERS || pdu[5] != 2 * w.count || pdu_len < 6 + 2 * w.count)
         return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
-    } else if (fc == MODBUS_FC_MASK_WRITE_REGISTER || fc == MODBUS_FC_WRITE_AND_READ_REGISTERS) {
+    } else if (fc == MODBUS_FC_WRITE_AND_READ_REGISTERS) {
+      // the write part as FC 16; the read part must be one libmodbus answers too (else it would
+      // refuse the request after this check had counted it as a client write)
+      mbap::ParsedRequest q;
+      if (!mbap::ParseRequest({request, static_cast<std::size_t>(request_len)}, &q)) return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
+      if (q.head.address + q.head.count > PmcHoldingImageLength(axis_count)) return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS;
+      w = {q.write_address, q.write_count, q.values};
+    } else if (fc == MODBUS_FC_MASK_WRITE_REGISTER) {
       return MODBUS_EXCEPTION_ILLEGAL_FUNCTION;  // not part of the window
     } else {
       return 0;  // reads, and writes to tables the window does not have (libmodbus answers those)
     }
-    const int comp_end = pmc::kHrCompensationBase + pmc::kHrCompensationStride * static_cast<int>(axis_count);
     std::uint16_t candidate[pmc::kHoldingRegisterCount];
-    std::copy(pmc_map->tab_registers, pmc_map->tab_registers + pmc_map->nb_registers, candidate);
-    for (int i = 0; i < w.count; ++i) {
-      const int a = w.address + i;
-      const bool writable = a == pmc::kHrEnable || (a >= pmc::kHrCompensationBase && a < comp_end);
-      if (!writable) return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS;
-      candidate[a] = w.Value(i);
-    }
-    if (candidate[pmc::kHrEnable] > 1) return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
-    for (std::size_t axis = 0; axis < axis_count; ++axis) {
-      const double um = CountsToMicrometres(JoinInt32(candidate + pmc::CompensationRegister(axis)));
-      if (std::abs(um) > opt.max_abs_compensation_um) return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
-    }
-    return 0;
+    return CheckPmcWrite(pmc_map->tab_registers, axis_count, w.address, w.count, [v = w.values](int i) { return mbap::WordAt(v, i); },
+                         opt.max_abs_compensation_um, candidate);
   }
 
   int ValidateRtd(int module, const std::uint8_t* pdu, int pdu_len) {
@@ -201,13 +193,7 @@ struct ModbusMachineServer::Impl {
         if (w.count < 1 || w.count > MODBUS_MAX_WRITE_REGISTERS || pdu[5] != 2 * w.count || pdu_len < 6 + 2 * w.count)
           return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
       }
-      for (int i = 0; i < w.count; ++i) {
-        const int a = w.address + i;
-        if (a < adam6015::kTypeCodeAddress || a >= adam6015::kTypeCodeAddress + static_cast<int>(n))
-          return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS;  // only the type codes are writable
-        if (!FindRtdRange(w.Value(i))) return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
-      }
-      return 0;
+      return CheckRtdTypeCodeWrite(n, w.address, w.count, [v = w.values](int i) { return mbap::WordAt(v, i); });
     }
     if (fc == MODBUS_FC_WRITE_SINGLE_COIL || fc == MODBUS_FC_WRITE_MULTIPLE_COILS) {
       CoilWrite w;
@@ -222,13 +208,7 @@ struct ModbusMachineServer::Impl {
         if (w.count < 1 || w.count > MODBUS_MAX_WRITE_BITS || pdu_len < 6 + (w.count + 7) / 8)
           return MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE;
       }
-      for (int i = 0; i < w.count; ++i) {
-        const int a = w.address + i;
-        const bool reset_max = a >= adam6015::kResetMaxCoilAddress && a < adam6015::kResetMaxCoilAddress + static_cast<int>(n);
-        const bool reset_min = a >= adam6015::kResetMinCoilAddress && a < adam6015::kResetMinCoilAddress + static_cast<int>(n);
-        if (!reset_max && !reset_min) return MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS;
-      }
-      return 0;
+      return CheckRtdCoilWrite(n, w.address, w.count);
     }
     if (fc == MODBUS_FC_MASK_WRITE_REGISTER || fc == MODBUS_FC_WRITE_AND_READ_REGISTERS)
       return MODBUS_EXCEPTION_ILLEGAL_FUNCTION;
@@ -239,7 +219,8 @@ struct ModbusMachineServer::Impl {
   void AfterWrite(int module, const std::uint8_t* pdu) {
     const int fc = pdu[0];
     if (module < 0) {
-      if (fc == MODBUS_FC_WRITE_SINGLE_REGISTER || fc == MODBUS_FC_WRITE_MULTIPLE_REGISTERS) {
+      if (fc == MODBUS_FC_WRITE_SINGLE_REGISTER || fc == MODBUS_FC_WRITE_MULTIPLE_REGISTERS ||
+          fc == MODBUS_FC_WRITE_AND_READ_REGISTERS) {
         compensation_dirty = true;
         last_client_write = Clock::now();
         wake_machine.notify_one();
@@ -259,13 +240,7 @@ struct ModbusMachineServer::Impl {
       }
       MirrorInputRegisters(m);
     } else if (fc == MODBUS_FC_WRITE_SINGLE_COIL || fc == MODBUS_FC_WRITE_MULTIPLE_COILS) {
-      for (std::size_t c = 0; c < n; ++c) {
-        std::uint8_t& rmax = m->tab_bits[adam6015::kResetMaxCoilAddress + c];
-        std::uint8_t& rmin = m->tab_bits[adam6015::kResetMinCoilAddress + c];
-        if (rmax) m->tab_registers[adam6015::kAiMaxAddress + c] = m->tab_registers[adam6015::kAiValueAddress + c];
-        if (rmin) m->tab_registers[adam6015::kAiMinAddress + c] = m->tab_registers[adam6015::kAiValueAddress + c];
-        rmax = rmin = 0;  // the reset coils read back 0
-      }
+      ResetRtdHistory(n, m->tab_registers, m->tab_bits);
       MirrorInputRegisters(m);
     }
   }
@@ -283,8 +258,8 @@ struct ModbusMachineServer::Impl {
     std::lock_guard<std::mutex> lock(mu);
     ++stats.requests;
     const int fc = pdu[0];
-    const bool supported = (fc >= 1 && fc <= 6) || fc == 15 || fc == 16;
-    const int min_pdu = (fc >= 1 && fc <= 6) ? 5 : (fc == 15 || fc == 16) ? 6 : 1;
+    const bool supported = (fc >= 1 && fc <= 6) || fc == 15 || fc == 16 || fc == 23;
+    const int min_pdu = (fc >= 1 && fc <= 6) ? 5 : (fc == 15 || fc == 16) ? 6 : fc == 23 ? 10 : 1;
     // Refuse here what libmodbus would refuse itself: its own refusal of an
     // unknown function sleeps for the response timeout and flushes the
     // socket, on the network thread. A short PDU it would read past.
@@ -295,7 +270,7 @@ struct ModbusMachineServer::Impl {
     }
     int module = -1;
     modbus_mapping_t* map = UnitMap(unit, &module);
-    int ex = map ? (module < 0 ? ValidatePmc(pdu, pdu_len) : ValidateRtd(module, pdu, pdu_len))
+    int ex = map ? (module < 0 ? ValidatePmc(req, len, pdu, pdu_len) : ValidateRtd(module, pdu, pdu_len))
                  : MODBUS_EXCEPTION_GATEWAY_TARGET;  // no such device behind this terminal
     if (ex != 0) {
       ++stats.exceptions;
@@ -429,11 +404,7 @@ struct ModbusMachineServer::Impl {
     const bool temps_ok = temps && temps->Read(raw);
     const auto now = Clock::now();
     if (read_ok) {
-      for (std::size_t a = 0; a < axis_count; ++a) {
-        if (std::isfinite(axes[a].travel_mm)) travel_mm[a] = axes[a].travel_mm;
-        else if (ever_read_ok) travel_mm[a] += std::abs(axes[a].position_mm - last_position_mm[a]);
-        last_position_mm[a] = axes[a].position_mm;
-      }
+      travel.Update(axes);
       last_read_ok = now;
       ever_read_ok = true;
     }
@@ -444,10 +415,10 @@ struct ModbusMachineServer::Impl {
       ++stats.exchanges;
       if (pmc_map) PublishPmc(read_ok, temps_ok, state, now);
       if (temps) PublishTemperatures(temps_ok);
-      if (pmc_map && WatchdogRamp(elapsed_s, now)) compensation_dirty = true;
+      if (pmc_map && WatchdogStep(elapsed_s, now)) compensation_dirty = true;
+      if (pmc_map) CopyWindowToHolding(pmc_map->tab_input_registers, pmc_map->tab_registers, axis_count);
       if (pmc_map && (compensation_dirty || retry_write)) {
-        for (std::size_t a = 0; a < axis_count; ++a)
-          pending_um[a] = CountsToMicrometres(JoinInt32(pmc_map->tab_registers + pmc::CompensationRegister(a)));
+        DecodeCommand(pmc_map->tab_registers + pmc::kHrCompensationBase, pending_um);
         compensation_dirty = false;
         write_needed = true;
       }
@@ -455,81 +426,37 @@ struct ModbusMachineServer::Impl {
     if (!write_needed) return;
     const bool ok = cnc->WriteCompensation(pending_um);
     std::lock_guard<std::mutex> lock(mu);
-    std::uint16_t& status = pmc_map->tab_input_registers[pmc::kIrStatus];
     if (ok) {
       applied_um = pending_um;
       ++stats.compensation_writes;
-      ++pmc_map->tab_input_registers[pmc::kIrWriteCount];
-      status |= pmc::kStatusLastWriteOk;
-      for (std::size_t a = 0; a < axis_count; ++a) {
-        std::int32_t c = 0;
-        MicrometresToCounts(applied_um[a], &c);
-        SplitInt32(c, pmc_map->tab_input_registers + pmc::InputAxisRegister(a, pmc::kIrAxisAppliedHi));
-      }
-    } else {
-      status &= static_cast<std::uint16_t>(~pmc::kStatusLastWriteOk);
     }
+    EncodeWriteResult(ok, applied_um, pmc_map->tab_input_registers);
+    CopyWindowToHolding(pmc_map->tab_input_registers, pmc_map->tab_registers, axis_count);
     retry_write = !ok;  // next period, not at once: a CNC that refuses must not be hammered
   }
 
-  // Watchdog (mu held): when no client has written for watchdog_s, ramp the
-  // compensation registers towards 0 at watchdog_ramp_um_per_s, so a
-  // compensator that dies or loses its link cannot leave a stale offset on the
-  // machine, and the machine never sees a jump. True when it changed a value.
-  bool WatchdogRamp(double elapsed_s, Clock::time_point now) {
-    std::uint16_t& status = pmc_map->tab_input_registers[pmc::kIrStatus];
-    status &= static_cast<std::uint16_t>(~pmc::kStatusWatchdogRamping);
-    if (opt.watchdog_s <= 0) return false;
-    if (std::chrono::duration<double>(now - last_client_write).count() <= opt.watchdog_s) return false;
-    const double step_counts = std::max(1.0, std::round(opt.watchdog_ramp_um_per_s * elapsed_s / kLengthQuantumUm));
-    bool changed = false;
-    for (std::size_t a = 0; a < axis_count; ++a) {
-      std::uint16_t* r = pmc_map->tab_registers + pmc::CompensationRegister(a);
-      const std::int32_t c = JoinInt32(r);
-      if (c == 0) continue;
-      const auto step = static_cast<std::int32_t>(std::min<double>(step_counts, std::abs(static_cast<double>(c))));
-      SplitInt32(c > 0 ? c - step : c + step, r);
-      changed = true;
-    }
-    if (changed) {
-      status |= pmc::kStatusWatchdogRamping;
-      ++stats.watchdog_steps;
-    }
-    return changed;
+  // Watchdog (mu held): when no client has written for watchdog_s, the command ramps to 0, so a
+  // compensator that dies or loses its link cannot leave a stale offset on the machine, and the
+  // machine never sees a jump. True when it changed a value.
+  bool WatchdogStep(double elapsed_s, Clock::time_point now) {
+    const CommandWatchdog watchdog{opt.watchdog_s, opt.watchdog_ramp_um_per_s};
+    const double since_write_s = std::chrono::duration<double>(now - last_client_write).count();
+    if (!watchdog.Step(pmc_map->tab_input_registers, pmc_map->tab_registers, axis_count, since_write_s, elapsed_s))
+      return false;
+    ++stats.watchdog_steps;
+    return true;
   }
 
   void PublishPmc(bool read_ok, bool temps_ok, const hw::CncState& state, Clock::time_point now) {
-    std::uint16_t* ir = pmc_map->tab_input_registers;
-    ir[pmc::kIrHeartbeatHi] = static_cast<std::uint16_t>(heartbeat >> 16);
-    ir[pmc::kIrHeartbeatLo] = static_cast<std::uint16_t>(heartbeat & 0xFFFF);
-    std::uint16_t status = ir[pmc::kIrStatus] & pmc::kStatusLastWriteOk;
-    if (read_ok) {
-      status |= pmc::kStatusMachineReadOk;
-      ir[pmc::kIrCoolant] = static_cast<std::uint16_t>(static_cast<int>(state.coolant));
-      const bool enabled = state.compensation_enabled && pmc_map->tab_registers[pmc::kHrEnable] == 1;
-      if (enabled) status |= pmc::kStatusCompensationEnabled;
-      std::uint16_t programmed = 0;
-      for (std::size_t a = 0; a < axis_count; ++a) {
-        programmed |= pmc::ProgrammedDirectionBits(a, axes[a].programmed_direction);
-        std::int32_t c = 0;
-        MillimetresToCounts(axes[a].position_mm, &c);
-        SplitInt32(c, ir + pmc::InputAxisRegister(a, pmc::kIrAxisPositionHi));
-        ir[pmc::InputAxisRegister(a, pmc::kIrAxisDirection)] = static_cast<std::uint16_t>(static_cast<std::int16_t>(axes[a].servo_direction));
-        ir[pmc::InputAxisRegister(a, pmc::kIrAxisMoving)] = axes[a].moving ? 1 : 0;
-        const double travel = std::clamp(std::floor(travel_mm[a]), 0.0, 4294967295.0);
-        const auto t = static_cast<std::uint32_t>(travel);
-        ir[pmc::InputAxisRegister(a, pmc::kIrAxisTravelHi)] = static_cast<std::uint16_t>(t >> 16);
-        ir[pmc::InputAxisRegister(a, pmc::kIrAxisTravelLo)] = static_cast<std::uint16_t>(t & 0xFFFF);
-      }
-      ir[pmc::kIrProgrammedDirection] = programmed;
-    } else {
-      // keep the last good state on the registers; the cleared bit and the
-      // growing age tell the client it is stale
-    }
-    if (temps_ok) status |= pmc::kStatusTemperatureReadOk;
-    ir[pmc::kIrStatus] = status;
-    const double age_ms = ever_read_ok ? std::chrono::duration<double, std::milli>(now - last_read_ok).count() : 65535.0;
-    ir[pmc::kIrReadAgeMs] = static_cast<std::uint16_t>(std::min(65535.0, std::floor(age_ms)));
+    PmcExchange e;
+    e.heartbeat = heartbeat;
+    e.machine_read_ok = read_ok;
+    e.temperatures_read_ok = temps_ok;
+    e.machine = state;
+    e.axes = axes;
+    e.travel_mm = travel.travel_mm();
+    e.read_age_ms = ever_read_ok ? std::chrono::duration<double, std::milli>(now - last_read_ok).count() : 65535.0;
+    EncodePmcState(e, pmc_map->tab_input_registers, pmc_map->tab_registers);
   }
 
   void PublishTemperatures(bool temps_ok) {
@@ -539,21 +466,9 @@ struct ModbusMachineServer::Impl {
       const std::size_t k = ch / adam6015::kChannelCount;
       const std::size_t c = ch % adam6015::kChannelCount;
       modbus_mapping_t* m = rtd_maps[k];
-      const bool fault = raw[ch].hardware_fault || !std::isfinite(raw[ch].temp_c);
-      const std::uint16_t value = fault ? adam6015::kBurnoutRaw : CelsiusToAdamRaw(raw[ch].temp_c, *channel_range[ch]);
-      m->tab_registers[adam6015::kAiValueAddress + c] = value;
-      m->tab_bits[adam6015::kBurnoutCoilAddress + c] = fault ? 1 : 0;
-      if (!fault) {
-        std::uint16_t& mx = m->tab_registers[adam6015::kAiMaxAddress + c];
-        std::uint16_t& mn = m->tab_registers[adam6015::kAiMinAddress + c];
-        if (!history_valid[ch]) {
-          mx = mn = value;
-          history_valid[ch] = true;
-        } else {
-          mx = std::max(mx, value);
-          mn = std::min(mn, value);
-        }
-      }
+      bool valid = history_valid[ch];
+      EncodeRtdChannel(raw[ch], *channel_range[ch], c, m->tab_registers, m->tab_bits, &valid);
+      history_valid[ch] = valid;
     }
     for (auto* m : rtd_maps) MirrorInputRegisters(m);
   }
@@ -592,7 +507,7 @@ void ModbusMachineServer::ShareMachineWith(std::mutex* machine_mutex) { impl_->m
 
 std::optional<std::string> UnitIdLayoutProblem(const ModbusMachineServerOptions& o, std::size_t channel_count,
                                                bool has_cnc) {
-  const std::size_t modules = (channel_count + adam6015::kChannelCount - 1) / adam6015::kChannelCount;
+  const std::size_t modules = RtdModulesFor(channel_count);
   if (modules == 0) return std::nullopt;
   const int last_unit = o.first_rtd_unit_id + static_cast<int>(modules) - 1;
   if (last_unit > 247)
@@ -607,7 +522,7 @@ std::optional<std::string> UnitIdLayoutProblem(const ModbusMachineServerOptions&
 
 std::size_t ModbusMachineServer::RtdModuleCount() const {
   if (!impl_->temps) return 0;
-  return (impl_->temps->ChannelCount() + adam6015::kChannelCount - 1) / adam6015::kChannelCount;
+  return RtdModulesFor(impl_->temps->ChannelCount());
 }
 
 bool ModbusMachineServer::Start(std::string* error) {
@@ -632,12 +547,10 @@ bool ModbusMachineServer::Start(std::string* error) {
   for (auto* m : s.rtd_maps) modbus_mapping_free(m);
   s.rtd_maps.clear();
   if (s.cnc) {
-    s.pmc_map = modbus_mapping_new(0, 0, pmc::kHrCompensationBase + pmc::kHrCompensationStride * static_cast<int>(s.axis_count),
+    s.pmc_map = modbus_mapping_new(0, 0, PmcHoldingImageLength(s.axis_count),
                                    pmc::InputWindowLength(s.axis_count));
     if (!s.pmc_map) return fail("cannot allocate the PMC register image");
-    s.pmc_map->tab_input_registers[pmc::kIrLayoutVersion] = pmc::kLayoutVersion;
-    s.pmc_map->tab_input_registers[pmc::kIrAxisCount] = static_cast<std::uint16_t>(s.axis_count);
-    s.pmc_map->tab_registers[pmc::kHrEnable] = options_.initial_enable ? 1 : 0;
+    InitPmcImage(s.pmc_map->tab_input_registers, s.pmc_map->tab_registers, s.axis_count, options_.initial_enable);
   }
   const auto* range = FindRtdRange(options_.rtd_range_code);
   s.channel_range.assign(s.channel_count, range);
@@ -645,11 +558,7 @@ bool ModbusMachineServer::Start(std::string* error) {
   for (std::size_t k = 0; k < s.module_count; ++k) {
     auto* m = modbus_mapping_new(adam6015::kCoilCount, 0, adam6015::kRegisterCount, adam6015::kRegisterCount);
     if (!m) return fail("cannot allocate an ADAM-6015 register image");
-    const std::size_t n = s.ModuleChannels(k);
-    for (std::size_t c = 0; c < n; ++c) m->tab_registers[adam6015::kTypeCodeAddress + c] = options_.rtd_range_code;
-    m->tab_registers[adam6015::kModuleNameAddress] = adam6015::kModuleName;
-    m->tab_registers[adam6015::kModuleNameAddress + 1] = 0;
-    m->tab_registers[adam6015::kChannelEnableAddress] = static_cast<std::uint16_t>((1u << n) - 1);
+    InitRtdModule(m->tab_registers, s.ModuleChannels(k), options_.rtd_range_code);
     Impl::MirrorInputRegisters(m);
     s.rtd_maps.push_back(m);
   }
@@ -657,8 +566,7 @@ bool ModbusMachineServer::Start(std::string* error) {
   s.raw.assign(s.channel_count, {});
   s.pending_um.assign(s.axis_count, 0.0);
   s.applied_um.assign(s.axis_count, 0.0);
-  s.travel_mm.assign(s.axis_count, 0.0);
-  s.last_position_mm.assign(s.axis_count, 0.0);
+  s.travel = TravelCounter(s.axis_count);
   s.compensation_dirty = false;  // nothing is forwarded before a client writes: no jump at start-up
   s.retry_write = false;
   s.last_client_write = Clock::now();

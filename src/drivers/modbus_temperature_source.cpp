@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "trueaxis/drivers/register_codec.hpp"
+#include "trueaxis/drivers/terminal_registers.hpp"
 
 namespace trueaxis::drivers {
 
@@ -43,9 +43,7 @@ ModbusTemperatureSource::ModbusTemperatureSource(ModbusTemperatureSourceOptions 
 }
 
 std::size_t ModbusTemperatureSource::ModuleChannels(std::size_t k) const {
-  const std::size_t n = options_.channel_names.size();
-  const std::size_t first = k * adam6015::kChannelCount;
-  return first >= n ? 0 : std::min<std::size_t>(adam6015::kChannelCount, n - first);
+  return RtdModuleChannels(options_.channel_names.size(), k);
 }
 
 bool ModbusTemperatureSource::Configure(std::string* error) {
@@ -120,11 +118,8 @@ bool ModbusTemperatureSource::Read(std::span<hw::RawTemperature> out) {
         !connection_.ReadCoils(unit, adam6015::kBurnoutCoilAddress, static_cast<int>(n), b))
       return false;
   }
-  for (std::size_t ch = 0; ch < channels; ++ch) {
-    const bool fault = values_[ch] == adam6015::kBurnoutRaw || (options_.read_burnout_flags && burnout_[ch] != 0);
-    out[ch].hardware_fault = fault;
-    out[ch].temp_c = AdamRawToCelsius(values_[ch], *ranges_[ch]);  // what the module reports, even when flagged
-  }
+  for (std::size_t ch = 0; ch < channels; ++ch)
+    out[ch] = DecodeRtdChannel(values_[ch], options_.read_burnout_flags && burnout_[ch] != 0, *ranges_[ch]);
   return true;
 }
 

@@ -22,18 +22,16 @@
 #include <nlohmann/json.hpp>
 
 #include "trueaxis/core/input_error.hpp"
-#include "trueaxis/drivers/adam6015_map.hpp"
-#include "trueaxis/drivers/pmc_window_map.hpp"
-#include "trueaxis/drivers/register_codec.hpp"
+#include "trueaxis/drivers/event_loop.hpp"
+#include "trueaxis/drivers/mbap.hpp"
+#include "trueaxis/drivers/open_file_limit.hpp"
+#include "trueaxis/drivers/terminal_registers.hpp"
+#include "trueaxis/drivers/thread_cpu.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/model/sha256.hpp"
 #include "trueaxis/runtime/bound_model.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/runtime/cycle_step.hpp"
-#include "trueaxis/server/event_loop.hpp"
-#include "trueaxis/server/mbap.hpp"
-#include "trueaxis/server/open_file_limit.hpp"
-#include "trueaxis/server/thread_cpu.hpp"
 #include "trueaxis/station/history_logger.hpp"
 #include "trueaxis/store/history_writer.hpp"
 
@@ -42,6 +40,10 @@ namespace {
 
 namespace pmc = drivers::pmc;
 namespace adam = drivers::adam6015;
+namespace mbap = drivers::mbap;
+using drivers::EnsureOpenFileLimit;
+using drivers::EventLoop;
+using drivers::ThreadCpuSeconds;
 using Clock = std::chrono::steady_clock;
 
 double UnixNowS() {
@@ -104,8 +106,7 @@ struct MachineSlot {
   bool cnc_ok = false, temps_ok = false;
   bool temps_read = false;          // this cycle reads the ADAM-6015 modules (every temperature_period_s)
   double temps_read_s = -1e9;       // when they were last read
-  std::uint32_t heartbeat = 0;
-  double heartbeat_changed_s = -1e9;
+  drivers::HeartbeatWatch heartbeat;  // a frozen heartbeat: the terminal's machine side has stopped
   std::vector<double> applied_um;   // CNC units, as the window reports
   std::uint64_t sequence = 0;
   runtime::CncSnapshot cnc;
@@ -400,17 +401,14 @@ struct Shop::Impl {
         r.count = static_cast<std::uint16_t>(ModuleChannels(m, m.module));
         break;
       case Phase::kWrite: {
-        std::uint16_t values[2 * pmc::kMaxAxes];
-        for (std::size_t a = 0; a < axes; ++a) {
-          std::int32_t counts = 0;
-          drivers::MicrometresToCounts(m.out->command.correction_um[a], &counts);
-          drivers::SplitInt32(counts, values + 2 * a);
-        }
+        std::uint16_t values[drivers::CommandBlockLength(pmc::kMaxAxes)];
+        if (!drivers::EncodeCommand({m.out->command.correction_um.data(), axes}, values))
+          return Fault(m, now, "a correction that cannot be sent (not a number or beyond ±214 m)");
         r.unit = static_cast<std::uint8_t>(m.cfg.pmc_unit_id);
         r.function = mbap::kWriteMultipleRegisters;
         r.address = pmc::kHrCompensationBase;
-        r.count = static_cast<std::uint16_t>(2 * axes);
-        len = mbap::EncodeWriteRegisters(frame, r.transaction, r.unit, r.address, {values, 2 * axes});
+        r.count = static_cast<std::uint16_t>(drivers::CommandBlockLength(axes));
+        len = mbap::EncodeWriteRegisters(frame, r.transaction, r.unit, r.address, {values, r.count});
         break;
       }
       case Phase::kIdle:
@@ -424,7 +422,7 @@ struct Shop::Impl {
   }
 
   static std::size_t ModuleChannels(const MachineSlot& m, std::size_t k) {
-    return std::min<std::size_t>(adam::kChannelCount, m.channel_names.size() - k * adam::kChannelCount);
+    return drivers::RtdModuleChannels(m.channel_names.size(), k);
   }
 
   void BeginCycle(MachineSlot& m, double now) {
@@ -497,9 +495,7 @@ struct Shop::Impl {
         if (ok) {
           for (std::size_t c = 0; c < ModuleChannels(m, m.module); ++c) {
             const std::size_t ch = m.module * adam::kChannelCount + c;
-            const std::uint16_t raw = m.registers[c];
-            m.temps.channels[ch].hardware_fault = raw == adam::kBurnoutRaw;
-            m.temps.channels[ch].temp_c = drivers::AdamRawToCelsius(raw, *m.ranges[ch]);
+            m.temps.channels[ch] = drivers::DecodeRtdChannel(m.registers[c], false, *m.ranges[ch]);
           }
         } else {
           m.temps_ok = false;
@@ -527,30 +523,15 @@ struct Shop::Impl {
   bool DecodeWindow(MachineSlot& m, double now) {
     const std::uint16_t* r = m.registers;
     const std::size_t axes = m.cfg.axes.size();
-    if (r[pmc::kIrLayoutVersion] != pmc::kLayoutVersion || r[pmc::kIrAxisCount] != axes) {
+    if (!drivers::PmcLayoutMatches(r, axes)) {
       Fault(m, now, fmt::format("PMC window layout {} with {} axes; the shop file expects layout {} with {} axes",
                                 r[pmc::kIrLayoutVersion], r[pmc::kIrAxisCount], pmc::kLayoutVersion, axes));
       return false;
     }
-    const std::uint32_t hb = drivers::JoinUint32(r + pmc::kIrHeartbeatHi);
-    if (hb != m.heartbeat) {
-      m.heartbeat = hb;
-      m.heartbeat_changed_s = now;
-    }
-    const double stale_after_s = std::max(0.5, 5 * m.cfg.period_s);
-    const std::uint16_t status = r[pmc::kIrStatus];
-    m.cnc_ok = (status & pmc::kStatusMachineReadOk) && now - m.heartbeat_changed_s <= stale_after_s;
-    const int coolant = r[pmc::kIrCoolant];
-    m.cnc.machine.coolant = coolant >= 0 && coolant < kCoolantStateCount ? static_cast<CoolantState>(coolant) : CoolantState::kOff;
-    m.cnc.machine.compensation_enabled = (status & pmc::kStatusCompensationEnabled) != 0;
-    for (std::size_t a = 0; a < axes; ++a) {
-      hw::AxisState& s = m.cnc.axes[a];
-      s.position_mm = drivers::CountsToMillimetres(drivers::JoinInt32(r + pmc::InputAxisRegister(a, pmc::kIrAxisPositionHi)));
-      s.servo_direction = static_cast<std::int16_t>(r[pmc::InputAxisRegister(a, pmc::kIrAxisDirection)]);
-      s.moving = r[pmc::InputAxisRegister(a, pmc::kIrAxisMoving)] != 0;
-      s.programmed_direction = pmc::ProgrammedDirection(r[pmc::kIrProgrammedDirection], a);
-      m.applied_um[a] = drivers::CountsToMicrometres(drivers::JoinInt32(r + pmc::InputAxisRegister(a, pmc::kIrAxisAppliedHi)));
-    }
+    const drivers::PmcWindow w = drivers::DecodePmcWindow(r, std::span(m.cnc.axes).first(axes), m.cnc.machine, m.applied_um);
+    const bool fresh = m.heartbeat.Fresh(w.heartbeat, now, std::max(0.5, 5 * m.cfg.period_s));
+    // a coolant code no state has is not read as "off": the cycle treats the CNC as not read
+    m.cnc_ok = w.machine_read_ok() && w.coolant_known && fresh;
     return true;
   }
 

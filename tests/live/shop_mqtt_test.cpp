@@ -64,7 +64,7 @@ TEST(ShopMqtt, EveryMachineIsPublishedAndALostTerminalBecomesUnavailable) {
   EXPECT_GT(t["temp_c"].get<double>(), 5);
   EXPECT_LT(t["temp_c"].get<double>(), 60);
 
-  vshop->SetFault(0, TerminalFault::kDown);
+  vshop->SetFault(0, sim::TerminalFault::kDown);
   ASSERT_TRUE(WaitFor([&] { return !shop.Machine(m0)->connected; }));
   relay.PublishOnce();
   ASSERT_TRUE(relay.Flush(10)) << relay.Stats().BriefReport();

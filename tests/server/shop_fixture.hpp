@@ -15,9 +15,14 @@
 #include "trueaxis/model/composite_model.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/server/shop_config.hpp"
-#include "trueaxis/server/virtual_shop.hpp"
+#include "trueaxis/sim_shop/virtual_shop.hpp"
 
 namespace trueaxis::server::testing {
+
+using sim::ShopFileFor;
+using sim::TerminalFault;
+using sim::VirtualShop;
+using sim::VirtualShopOptions;
 
 // A fresh scratch folder, removed when the test program exits (a failed test's folder stays while it runs).
 inline std::string TempDir(const std::string& name) {

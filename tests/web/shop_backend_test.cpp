@@ -53,7 +53,7 @@ class ShopBackendTest : public ::testing::Test {
   std::string Name(std::size_t i) const { return config_.machines[i].name; }
 
   std::string dir_, model_, model_b_, history_db_;
-  std::unique_ptr<server::VirtualShop> vshop_;
+  std::unique_ptr<sim::VirtualShop> vshop_;
   server::ShopConfig config_;
   std::unique_ptr<store::HistoryWriter> writer_;
   std::unique_ptr<server::Shop> shop_;
@@ -91,7 +91,7 @@ TEST_F(ShopBackendTest, ListsEveryMachineWithItsValuesAndLiveSamples) {
 
 TEST_F(ShopBackendTest, ALostTerminalIsShownUnavailableNeverAsItsLastNumbers) {
   ASSERT_TRUE(WaitFor([&] { return std::isfinite(backend_->Machine(Name(2)).summary.axes[0].position_mm); }));
-  vshop_->SetFault(2, server::TerminalFault::kDown);
+  vshop_->SetFault(2, sim::TerminalFault::kDown);
   ASSERT_TRUE(WaitFor([&] { return !backend_->Machine(Name(2)).summary.connected; }));
   const auto m = backend_->Machine(Name(2)).summary;
   for (const auto& a : m.axes) EXPECT_TRUE(std::isnan(a.position_mm)) << a.axis;
@@ -109,7 +109,7 @@ TEST_F(ShopBackendTest, ALostTerminalIsShownUnavailableNeverAsItsLastNumbers) {
   // the other machines go on meanwhile
   EXPECT_TRUE(backend_->Machine(Name(0)).summary.connected);
   // the terminal comes back; the shop keeps the alarm raised until someone acknowledges it
-  vshop_->SetFault(2, server::TerminalFault::kNone);
+  vshop_->SetFault(2, sim::TerminalFault::kNone);
   ASSERT_TRUE(WaitFor([&] {
     const auto m2 = shop_->Machine(Name(2));
     return m2->connected && m2->alarms == 0;

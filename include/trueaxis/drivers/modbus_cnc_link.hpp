@@ -21,6 +21,7 @@
 
 #include "trueaxis/drivers/modbus_connection.hpp"
 #include "trueaxis/drivers/pmc_window_map.hpp"
+#include "trueaxis/drivers/terminal_registers.hpp"
 #include "trueaxis/hw/cnc_link.hpp"
 
 namespace trueaxis::drivers {
@@ -42,6 +43,13 @@ class ModbusCncLink final : public hw::CncLink {
   std::string AxisName(std::size_t axis) const override { return options_.axis_names.at(axis); }
   bool Read(std::span<hw::AxisState> axes, hw::CncState& machine) override;
   bool WriteCompensation(std::span<const double> correction_um) override;
+  // One MODBUS transaction where the terminal allows it: writes the command block and reads the
+  // window (its copy in holding registers 100…) with one FC 23. A terminal that refuses FC 23
+  // (exception 0x01 or 0x02: an older one) is asked with FC 16 then FC 04 from then on, until
+  // the next reconnect. True when the write and the read both succeeded (the read as Read()).
+  bool WriteAndRead(std::span<const double> correction_um, std::span<hw::AxisState> axes, hw::CncState& machine);
+  // The terminal answered FC 23 on this connection (false before the first WriteAndRead).
+  bool read_write_answered() const { return read_write_ == ReadWrite::kAnswered; }
 
   // Tries to connect now (ignores the reconnect throttle's first wait).
   // hw lifecycle: Configure checks the options; Activate connects (false while the terminal is not
@@ -52,13 +60,16 @@ class ModbusCncLink final : public hw::CncLink {
   bool Connect();
   bool connected() const { return connection_.connected(); }
   const std::string& last_error() const { return error_.empty() ? connection_.last_error() : error_; }
-  std::uint32_t last_heartbeat() const { return heartbeat_; }
+  std::uint32_t last_heartbeat() const { return heartbeat_.heartbeat; }
   std::uint64_t reconnects() const { return connection_.connect_count(); }
   // Compensation the CNC reports it applies now (µm), from the last Read().
   const std::vector<double>& applied_um() const { return applied_um_; }
 
  private:
   bool EnsureReady(bool ignore_throttle = false);
+  bool DecodeWindow(std::span<hw::AxisState> axes, hw::CncState& machine);
+  enum class ReadWrite { kUnknown, kAnswered, kRefused };
+  ReadWrite read_write_ = ReadWrite::kUnknown;
   bool options_valid_ = false;
   ModbusCncLinkOptions options_;
   ModbusConnection connection_;
@@ -66,9 +77,7 @@ class ModbusCncLink final : public hw::CncLink {
   std::vector<std::uint16_t> out_;     // compensation registers
   std::vector<double> applied_um_;
   std::string error_;                  // handshake errors (wrong layout/axis count)
-  std::uint32_t heartbeat_ = 0;
-  bool have_heartbeat_ = false;
-  std::chrono::steady_clock::time_point heartbeat_changed_{};
+  HeartbeatWatch heartbeat_;
 };
 
 }  // namespace trueaxis::drivers

@@ -43,6 +43,12 @@ class ModbusConnection {
   bool ReadHoldingRegisters(int unit, int address, int count, std::uint16_t* out);
   bool ReadCoils(int unit, int address, int count, std::uint8_t* out);
   bool WriteRegisters(int unit, int address, int count, const std::uint16_t* values);
+  // FC 23: writes `write_count` registers from `write_address`, then reads `read_count` from
+  // `read_address`, in one transaction.
+  bool WriteAndReadRegisters(int unit, int write_address, int write_count, const std::uint16_t* values,
+                             int read_address, int read_count, std::uint16_t* out);
+  // The MODBUS exception code the device answered the last request with (0: it did not).
+  int last_exception() const { return last_exception_; }
 
   // Why the last fault happened ("" when none yet). Not for the hot path.
   const std::string& last_error() const { return last_error_; }
@@ -60,6 +66,7 @@ class ModbusConnection {
   std::string last_error_;
   const char* last_what_ = nullptr;  // static strings only
   int last_errno_ = 0;
+  int last_exception_ = 0;
   std::uint64_t faults_ = 0;
   std::uint64_t connects_ = 0;
 };

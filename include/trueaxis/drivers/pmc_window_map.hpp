@@ -57,6 +57,10 @@ inline constexpr int kHrEnable = 0;            // PMC enable bit, 0/1 (anded wit
 inline constexpr int kHrCompensationBase = 16; // per axis: int32 correction, 0.1 µm, hi word first
 inline constexpr int kHrCompensationStride = 2;
 inline constexpr int kHoldingRegisterCount = kHrCompensationBase + kHrCompensationStride * static_cast<int>(kMaxAxes);
+// Holding registers 100… (read-only): a copy of the input window, refreshed with it, so that one
+// FC 23 (read/write multiple registers) writes the command block and reads the CNC's state.
+inline constexpr int kHrWindowCopyBase = 100;
+inline constexpr int kHoldingImageCount = kHrWindowCopyBase + kInputRegisterCount;
 
 // Axis `axis`'s bits of the programmed-direction register for `direction` (+1, −1; 0: none).
 inline constexpr std::uint16_t ProgrammedDirectionBits(std::size_t axis, int direction) {

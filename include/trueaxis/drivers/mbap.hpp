@@ -10,12 +10,14 @@
 #include <cstdint>
 #include <span>
 
-namespace trueaxis::server::mbap {
+namespace trueaxis::drivers::mbap {
 
 inline constexpr std::size_t kHeaderBytes = 7;   // MBAP incl. unit id
 inline constexpr std::size_t kMaxFrameBytes = 260;
 inline constexpr int kMaxReadRegisters = 125;
 inline constexpr int kMaxWriteRegisters = 123;
+inline constexpr int kMaxReadWriteReadRegisters = 125;   // FC 23
+inline constexpr int kMaxReadWriteWriteRegisters = 121;
 
 enum FunctionCode : std::uint8_t {
   kReadCoils = 1,
@@ -23,6 +25,7 @@ enum FunctionCode : std::uint8_t {
   kReadInputRegisters = 4,
   kWriteSingleRegister = 6,
   kWriteMultipleRegisters = 16,
+  kReadWriteMultipleRegisters = 23,  // writes, then reads (holding registers), in one transaction
 };
 
 enum ExceptionCode : std::uint8_t {
@@ -42,6 +45,10 @@ std::size_t EncodeRead(std::uint8_t* out, std::uint16_t transaction, std::uint8_
                        std::uint16_t address, std::uint16_t count);
 std::size_t EncodeWriteRegisters(std::uint8_t* out, std::uint16_t transaction, std::uint8_t unit,
                                  std::uint16_t address, std::span<const std::uint16_t> values);
+// FC 23: writes `values` from `write_address`, then reads `read_count` from `read_address`.
+std::size_t EncodeWriteAndRead(std::uint8_t* out, std::uint16_t transaction, std::uint8_t unit,
+                               std::uint16_t read_address, std::uint16_t read_count, std::uint16_t write_address,
+                               std::span<const std::uint16_t> values);
 
 enum class Reply {
   kOk,
@@ -57,7 +64,7 @@ struct Request {
   std::uint8_t unit = 0;
   std::uint8_t function = 0;
   std::uint16_t address = 0;
-  std::uint16_t count = 0;  // registers / coils read or written
+  std::uint16_t count = 0;  // registers / coils read or written (FC 23: read)
 };
 
 // Checks one complete frame against `request`. For register reads fills
@@ -68,7 +75,9 @@ Reply ParseReply(std::span<const std::uint8_t> frame, const Request& request, st
 // ---- server side ----
 struct ParsedRequest {
   Request head;
-  const std::uint8_t* values = nullptr;  // FC 16 / FC 06: big-endian words
+  const std::uint8_t* values = nullptr;  // FC 16 / FC 06 / FC 23: big-endian words written
+  std::uint16_t write_address = 0;       // FC 23: the write part (head.address/count: the read part)
+  std::uint16_t write_count = 0;
 };
 // False when the PDU is too short for its function code or the quantity is
 // out of range (answer kIllegalDataValue); an unknown function parses with count 0.
@@ -80,4 +89,4 @@ std::size_t EncodeBitsReply(std::uint8_t* out, const Request& request, const std
 std::size_t EncodeWriteReply(std::uint8_t* out, const ParsedRequest& request);  // FC 06 echo / FC 16 address+count
 std::size_t EncodeException(std::uint8_t* out, const Request& request, std::uint8_t code);
 
-}  // namespace trueaxis::server::mbap
+}  // namespace trueaxis::drivers::mbap

@@ -1,4 +1,4 @@
-#include "trueaxis/server/virtual_shop.hpp"
+#include "trueaxis/sim_shop/virtual_shop.hpp"
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -22,20 +22,20 @@
 #include <fmt/format.h>
 
 #include "trueaxis/core/input_error.hpp"
-#include "trueaxis/drivers/adam6015_map.hpp"
-#include "trueaxis/drivers/pmc_window_map.hpp"
-#include "trueaxis/drivers/register_codec.hpp"
-#include "trueaxis/server/event_loop.hpp"
-#include "trueaxis/server/mbap.hpp"
-#include "trueaxis/server/open_file_limit.hpp"
-#include "trueaxis/server/thread_cpu.hpp"
+#include "trueaxis/drivers/event_loop.hpp"
+#include "trueaxis/drivers/mbap.hpp"
+#include "trueaxis/drivers/open_file_limit.hpp"
+#include "trueaxis/drivers/terminal_registers.hpp"
+#include "trueaxis/drivers/thread_cpu.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
 
-namespace trueaxis::server {
+namespace trueaxis::sim {
 namespace {
 
 namespace pmc = drivers::pmc;
 namespace adam = drivers::adam6015;
+namespace mbap = drivers::mbap;
+using drivers::EventLoop;
 using Clock = std::chrono::steady_clock;
 
 struct Terminal;
@@ -66,12 +66,14 @@ struct Terminal {
   Endpoint listener;
   std::vector<std::unique_ptr<Endpoint>> connections;
   std::uint16_t ir[pmc::kInputRegisterCount] = {};
-  std::uint16_t hr[pmc::kHoldingRegisterCount] = {};
+  std::uint16_t hr[pmc::kHoldingImageCount] = {};  // enable, command block, the window's copy
   std::vector<std::array<std::uint16_t, adam::kRegisterCount>> modules;
   std::vector<std::array<std::uint8_t, adam::kCoilCount>> coils;
   std::vector<hw::AxisState> axis_state;
   std::vector<hw::RawTemperature> raw;
-  std::vector<double> applied_um;
+  std::vector<double> command_um, applied_um;
+  std::vector<bool> history_valid;  // per channel: the module's max/min hold a reading
+  drivers::TravelCounter travel;
   bool temperatures_online = false;
   std::uint32_t heartbeat = 0;
   double last_client_write_s = 0;
@@ -127,21 +129,17 @@ struct VirtualShop::Impl {
     if (t->axes.size() > pmc::kMaxAxes) throw InputError("virtual shop", "a machine has more axes than the PMC window holds");
     t->axis_state.resize(t->axes.size());
     t->raw.resize(t->channels.size());
+    t->command_um.assign(t->axes.size(), 0.0);
     t->applied_um.assign(t->axes.size(), 0.0);
-    t->ir[pmc::kIrLayoutVersion] = pmc::kLayoutVersion;
-    t->ir[pmc::kIrAxisCount] = static_cast<std::uint16_t>(t->axes.size());
-    t->hr[pmc::kHrEnable] = 1;
-    const std::size_t modules = (t->channels.size() + adam::kChannelCount - 1) / adam::kChannelCount;
+    t->history_valid.assign(t->channels.size(), false);
+    t->travel = drivers::TravelCounter(t->axes.size());
+    drivers::InitPmcImage(t->ir, t->hr, t->axes.size(), true);
+    const std::size_t modules = drivers::RtdModulesFor(t->channels.size());
     t->modules.resize(modules);
     t->coils.resize(modules);
     for (std::size_t k = 0; k < modules; ++k) {
-      auto& m = t->modules[k];
-      m.fill(0);
+      drivers::InitRtdModule(t->modules[k].data(), ModuleChannels(*t, k), adam::kDefaultRangeCode);
       t->coils[k].fill(0);
-      const std::size_t n = ModuleChannels(*t, k);
-      for (std::size_t c = 0; c < n; ++c) m[adam::kTypeCodeAddress + c] = adam::kDefaultRangeCode;
-      m[adam::kModuleNameAddress] = adam::kModuleName;
-      m[adam::kChannelEnableAddress] = static_cast<std::uint16_t>((1u << n) - 1);
     }
     std::mt19937_64 rng(opt.seed * 7919 + static_cast<std::uint64_t>(i));
     t->day_offset_s = std::uniform_real_distribution<double>(0, opt.day_s)(rng);
@@ -152,7 +150,7 @@ struct VirtualShop::Impl {
   double Now() const { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
   std::size_t ModuleChannels(const Terminal& t, std::size_t k) const {
-    return std::min<std::size_t>(adam::kChannelCount, t.channels.size() - k * adam::kChannelCount);
+    return drivers::RtdModuleChannels(t.channels.size(), k);
   }
 
   bool Listen(Terminal& t, std::string* error) {
@@ -210,18 +208,11 @@ struct VirtualShop::Impl {
   }
 
   void Forward(Terminal& t) {
-    for (std::size_t a = 0; a < t.axes.size(); ++a)
-      t.applied_um[a] = drivers::CountsToMicrometres(drivers::JoinInt32(t.hr + pmc::CompensationRegister(a)));
-    const bool ok = t.vm->WriteCompensation(t.applied_um);
-    std::uint16_t& status = t.ir[pmc::kIrStatus];
-    if (ok) {
-      ++t.ir[pmc::kIrWriteCount];
-      status |= pmc::kStatusLastWriteOk;
-      for (std::size_t a = 0; a < t.axes.size(); ++a)
-        std::copy_n(t.hr + pmc::CompensationRegister(a), 2, t.ir + pmc::InputAxisRegister(a, pmc::kIrAxisAppliedHi));
-    } else {
-      status &= static_cast<std::uint16_t>(~pmc::kStatusLastWriteOk);
-    }
+    drivers::DecodeCommand(t.hr + pmc::kHrCompensationBase, t.command_um);
+    const bool ok = t.vm->WriteCompensation(t.command_um);
+    if (ok) t.applied_um = t.command_um;
+    drivers::EncodeWriteResult(ok, t.applied_um, t.ir);
+    drivers::CopyWindowToHolding(t.ir, t.hr, t.axes.size());
   }
 
   void TickMachine(Terminal& t, double now) {
@@ -232,63 +223,36 @@ struct VirtualShop::Impl {
     hw::CncState state;
     const bool read_ok = t.vm->Read(t.axis_state, state);
     const bool temps_ok = t.vm->Read(std::span<hw::RawTemperature>(t.raw));
+    if (read_ok) t.travel.Update(t.axis_state);
     ++t.heartbeat;
-    std::uint16_t* ir = t.ir;
-    ir[pmc::kIrHeartbeatHi] = static_cast<std::uint16_t>(t.heartbeat >> 16);
-    ir[pmc::kIrHeartbeatLo] = static_cast<std::uint16_t>(t.heartbeat & 0xFFFF);
-    std::uint16_t status = ir[pmc::kIrStatus] & pmc::kStatusLastWriteOk;
-    if (read_ok) {
-      status |= pmc::kStatusMachineReadOk;
-      ir[pmc::kIrCoolant] = static_cast<std::uint16_t>(state.coolant);
-      if (state.compensation_enabled && t.hr[pmc::kHrEnable] == 1) status |= pmc::kStatusCompensationEnabled;
-      std::uint16_t programmed = 0;
-      for (std::size_t a = 0; a < t.axes.size(); ++a) {
-        programmed |= pmc::ProgrammedDirectionBits(a, t.axis_state[a].programmed_direction);
-        std::int32_t c = 0;
-        drivers::MillimetresToCounts(t.axis_state[a].position_mm, &c);
-        drivers::SplitInt32(c, ir + pmc::InputAxisRegister(a, pmc::kIrAxisPositionHi));
-        ir[pmc::InputAxisRegister(a, pmc::kIrAxisDirection)] = static_cast<std::uint16_t>(static_cast<std::int16_t>(t.axis_state[a].servo_direction));
-        ir[pmc::InputAxisRegister(a, pmc::kIrAxisMoving)] = t.axis_state[a].moving ? 1 : 0;
-      }
-      ir[pmc::kIrProgrammedDirection] = programmed;
-      ir[pmc::kIrReadAgeMs] = 0;
-    }
-    if (temps_ok) status |= pmc::kStatusTemperatureReadOk;
+    drivers::PmcExchange e;
+    e.heartbeat = t.heartbeat;
+    e.machine_read_ok = read_ok;
+    e.temperatures_read_ok = temps_ok;
+    e.machine = state;
+    e.axes = t.axis_state;
+    e.travel_mm = t.travel.travel_mm();
+    e.read_age_ms = 0;  // the virtual machine is read in the same tick
+    drivers::EncodePmcState(e, t.ir, t.hr);
     t.temperatures_online = temps_ok;
     if (temps_ok) {
       for (std::size_t ch = 0; ch < t.channels.size(); ++ch) {
-        auto& m = t.modules[ch / adam::kChannelCount];
-        const std::size_t c = ch % adam::kChannelCount;
-        const auto* range = drivers::FindRtdRange(m[adam::kTypeCodeAddress + c]);
-        const bool fault = t.raw[ch].hardware_fault || !std::isfinite(t.raw[ch].temp_c);
-        const std::uint16_t v = fault ? adam::kBurnoutRaw : drivers::CelsiusToAdamRaw(t.raw[ch].temp_c, *range);
-        m[adam::kAiValueAddress + c] = v;
-        t.coils[ch / adam::kChannelCount][adam::kBurnoutCoilAddress + c] = fault ? 1 : 0;
-        if (!fault) {
-          m[adam::kAiMaxAddress + c] = std::max(m[adam::kAiMaxAddress + c], v);
-          m[adam::kAiMinAddress + c] = m[adam::kAiMinAddress + c] == 0 ? v : std::min(m[adam::kAiMinAddress + c], v);
-        }
+        const std::size_t k = ch / adam::kChannelCount, c = ch % adam::kChannelCount;
+        auto& m = t.modules[k];
+        bool valid = t.history_valid[ch];
+        drivers::EncodeRtdChannel(t.raw[ch], *drivers::FindRtdRange(m[adam::kTypeCodeAddress + c]), c, m.data(),
+                                  t.coils[k].data(), &valid);
+        t.history_valid[ch] = valid;
       }
     }
-    // Watchdog: no client write for watchdog_s → ramp every compensation register towards 0, forwarding each step.
-    bool ramped = false;
-    if (opt.watchdog_s > 0 && now - t.last_client_write_s > opt.watchdog_s) {
-      const double step = std::max(1.0, std::round(opt.watchdog_ramp_um_per_s * elapsed / drivers::kLengthQuantumUm));
-      for (std::size_t a = 0; a < t.axes.size(); ++a) {
-        std::uint16_t* r = t.hr + pmc::CompensationRegister(a);
-        const std::int32_t c = drivers::JoinInt32(r);
-        if (c == 0) continue;
-        const auto s = static_cast<std::int32_t>(std::min<double>(step, std::abs(static_cast<double>(c))));
-        drivers::SplitInt32(c > 0 ? c - s : c + s, r);
-        ramped = true;
-      }
-    }
+    // The terminal's watchdog: no client write for watchdog_s → the command ramps to 0, forwarding each step.
+    const drivers::CommandWatchdog watchdog{opt.watchdog_s, opt.watchdog_ramp_um_per_s};
+    const bool ramped = watchdog.Step(t.ir, t.hr, t.axes.size(), now - t.last_client_write_s, elapsed);
+    drivers::CopyWindowToHolding(t.ir, t.hr, t.axes.size());
     if (ramped) {
-      status |= pmc::kStatusWatchdogRamping;
       ++stats.watchdog_steps;
+      Forward(t);
     }
-    ir[pmc::kIrStatus] = status;
-    if (ramped) Forward(t);
     ++stats.ticks;
   }
 
@@ -303,12 +267,13 @@ struct VirtualShop::Impl {
     };
     const bool known = h.function == mbap::kReadCoils || h.function == mbap::kReadHoldingRegisters ||
                        h.function == mbap::kReadInputRegisters || h.function == mbap::kWriteSingleRegister ||
-                       h.function == mbap::kWriteMultipleRegisters;
+                       h.function == mbap::kWriteMultipleRegisters || h.function == mbap::kReadWriteMultipleRegisters;
     if (!known) return refuse(mbap::kIllegalFunction);
     if (!parsed) return refuse(mbap::kIllegalDataValue);
     const int end = h.address + h.count;
     if (h.unit == opt.pmc_unit_id) {
-      const int hr_count = pmc::kHrCompensationBase + pmc::kHrCompensationStride * static_cast<int>(t.axes.size());
+      const int hr_writable = drivers::PmcHoldingLength(t.axes.size());
+      const int hr_count = drivers::PmcHoldingImageLength(t.axes.size());
       switch (h.function) {
         case mbap::kReadInputRegisters:
           if (end > pmc::InputWindowLength(t.axes.size())) return refuse(mbap::kIllegalDataAddress);
@@ -317,23 +282,22 @@ struct VirtualShop::Impl {
           if (end > hr_count) return refuse(mbap::kIllegalDataAddress);
           return mbap::EncodeRegistersReply(out, h, t.hr + h.address);
         case mbap::kWriteSingleRegister:
-        case mbap::kWriteMultipleRegisters: {
+        case mbap::kWriteMultipleRegisters:
+        case mbap::kReadWriteMultipleRegisters: {
+          // FC 23: the write part first, then the read part (the window's copy after the CNC took the command)
+          const bool read_write = h.function == mbap::kReadWriteMultipleRegisters;
+          if (read_write && end > hr_count) return refuse(mbap::kIllegalDataAddress);
           std::uint16_t candidate[pmc::kHoldingRegisterCount];
-          std::copy(t.hr, t.hr + pmc::kHoldingRegisterCount, candidate);
-          for (int i = 0; i < h.count; ++i) {
-            const int a = h.address + i;
-            if (!(a == pmc::kHrEnable || (a >= pmc::kHrCompensationBase && a < hr_count))) return refuse(mbap::kIllegalDataAddress);
-            candidate[a] = mbap::WordAt(q.values, i);
-          }
-          if (candidate[pmc::kHrEnable] > 1) return refuse(mbap::kIllegalDataValue);
-          for (std::size_t a = 0; a < t.axes.size(); ++a)
-            if (std::abs(drivers::CountsToMicrometres(drivers::JoinInt32(candidate + pmc::CompensationRegister(a)))) > opt.max_compensation_um)
-              return refuse(mbap::kIllegalDataValue);
-          std::copy(candidate, candidate + pmc::kHoldingRegisterCount, t.hr);
+          const int ex = drivers::CheckPmcWrite(t.hr, t.axes.size(), read_write ? q.write_address : h.address,
+                                                read_write ? q.write_count : h.count,
+                                                [v = q.values](int i) { return mbap::WordAt(v, i); },
+                                                opt.max_compensation_um, candidate);
+          if (ex != 0) return refuse(static_cast<std::uint8_t>(ex));
+          std::copy(candidate, candidate + hr_writable, t.hr);
           t.last_client_write_s = now;
           ++stats.compensation_writes;
           Forward(t);
-          return mbap::EncodeWriteReply(out, q);
+          return read_write ? mbap::EncodeRegistersReply(out, h, t.hr + h.address) : mbap::EncodeWriteReply(out, q);
         }
         default:
           return refuse(mbap::kIllegalFunction);
@@ -353,13 +317,15 @@ struct VirtualShop::Impl {
         return mbap::EncodeBitsReply(out, h, t.coils[static_cast<std::size_t>(k)].data() + h.address);
       case mbap::kWriteSingleRegister:
       case mbap::kWriteMultipleRegisters: {
-        const int n = static_cast<int>(ModuleChannels(t, static_cast<std::size_t>(k)));
+        const int ex = drivers::CheckRtdTypeCodeWrite(ModuleChannels(t, static_cast<std::size_t>(k)), h.address, h.count,
+                                                      [v = q.values](int i) { return mbap::WordAt(v, i); });
+        if (ex != 0) return refuse(static_cast<std::uint8_t>(ex));
         for (int i = 0; i < h.count; ++i) {
-          const int a = h.address + i;
-          if (a < adam::kTypeCodeAddress || a >= adam::kTypeCodeAddress + n) return refuse(mbap::kIllegalDataAddress);
-          if (!drivers::FindRtdRange(mbap::WordAt(q.values, i))) return refuse(mbap::kIllegalDataValue);
+          const auto a = static_cast<std::size_t>(h.address + i);
+          const std::uint16_t code = mbap::WordAt(q.values, i);
+          if (m[a] != code) t.history_valid[static_cast<std::size_t>(k) * adam::kChannelCount + a - adam::kTypeCodeAddress] = false;
+          m[a] = code;  // a new scale: max/min restart with the next reading
         }
-        for (int i = 0; i < h.count; ++i) m[static_cast<std::size_t>(h.address + i)] = mbap::WordAt(q.values, i);
         return mbap::EncodeWriteReply(out, q);
       }
       default:
@@ -513,7 +479,7 @@ VirtualShop::~VirtualShop() { Stop(); }
 
 bool VirtualShop::Start(std::string* error) {
   Impl& s = *impl_;
-  if (!EnsureOpenFileLimit(2 * s.terminals.size() + 64, error)) return false;  // a listener + a connection each
+  if (!drivers::EnsureOpenFileLimit(2 * s.terminals.size() + 64, error)) return false;  // a listener + a connection each
   const double now = s.Now();
   for (auto& t : s.terminals) {
     if (!s.Listen(*t, error)) {
@@ -550,7 +516,7 @@ VirtualShopStats VirtualShop::Stats() const {
     std::lock_guard<std::mutex> lock(impl_->mu);
     s = impl_->stats;
   }
-  s.loop_cpu_s = ThreadCpuSeconds(impl_->loop.thread());
+  s.loop_cpu_s = drivers::ThreadCpuSeconds(impl_->loop.thread());
   return s;
 }
 
@@ -572,6 +538,9 @@ bool VirtualShop::WatchdogRamping(std::size_t machine) const {
   return (impl_->terminals.at(machine)->ir[pmc::kIrStatus] & pmc::kStatusWatchdogRamping) != 0;
 }
 
+VirtualMachine& VirtualShop::Machine(std::size_t machine) { return *impl_->terminals.at(machine)->vm; }
+std::mutex& VirtualShop::MachineMutex() { return impl_->mu; }
+
 std::string ShopFileFor(const std::vector<VirtualMachineInfo>& machines, const std::string& bind_address,
                         const std::string& model_file, const std::string& history, double period_s, int http_port) {
   auto list = [](const std::vector<std::string>& v) {
@@ -589,4 +558,4 @@ std::string ShopFileFor(const std::vector<VirtualMachineInfo>& machines, const s
   return out;
 }
 
-}  // namespace trueaxis::server
+}  // namespace trueaxis::sim

@@ -1,6 +1,6 @@
-#include "trueaxis/server/mbap.hpp"
+#include "trueaxis/drivers/mbap.hpp"
 
-namespace trueaxis::server::mbap {
+namespace trueaxis::drivers::mbap {
 namespace {
 
 std::uint16_t U16(const std::uint8_t* p) { return static_cast<std::uint16_t>((p[0] << 8) | p[1]); }
@@ -50,6 +50,20 @@ std::size_t EncodeWriteRegisters(std::uint8_t* out, std::uint16_t transaction, s
   return Header(out, transaction, unit, 6 + 2 * values.size());
 }
 
+std::size_t EncodeWriteAndRead(std::uint8_t* out, std::uint16_t transaction, std::uint8_t unit,
+                               std::uint16_t read_address, std::uint16_t read_count, std::uint16_t write_address,
+                               std::span<const std::uint16_t> values) {
+  std::uint8_t* pdu = out + kHeaderBytes;
+  pdu[0] = kReadWriteMultipleRegisters;
+  PutU16(pdu + 1, read_address);
+  PutU16(pdu + 3, read_count);
+  PutU16(pdu + 5, write_address);
+  PutU16(pdu + 7, static_cast<std::uint16_t>(values.size()));
+  pdu[9] = static_cast<std::uint8_t>(2 * values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) PutU16(pdu + 10 + 2 * i, values[i]);
+  return Header(out, transaction, unit, 10 + 2 * values.size());
+}
+
 const char* ReplyName(Reply r) {
   switch (r) {
     case Reply::kOk: return "ok";
@@ -74,7 +88,8 @@ Reply ParseReply(std::span<const std::uint8_t> frame, const Request& request, st
   if (pdu[0] != request.function) return Reply::kMismatch;
   switch (request.function) {
     case kReadHoldingRegisters:
-    case kReadInputRegisters: {
+    case kReadInputRegisters:
+    case kReadWriteMultipleRegisters: {
       const std::size_t bytes = 2u * request.count;
       if (pdu[1] != bytes || pdu_len != 2 + bytes) return Reply::kMalformed;
       for (int i = 0; i < request.count; ++i) registers[i] = U16(pdu + 2 + 2 * i);
@@ -124,6 +139,16 @@ bool ParseRequest(std::span<const std::uint8_t> frame, ParsedRequest* out) {
       h.count = U16(pdu + 3);
       out->values = pdu + 6;
       return h.count >= 1 && h.count <= kMaxWriteRegisters && pdu[5] == 2 * h.count && pdu_len >= 6u + 2u * h.count;
+    case kReadWriteMultipleRegisters:
+      if (pdu_len < 10) return false;
+      h.address = U16(pdu + 1);
+      h.count = U16(pdu + 3);
+      out->write_address = U16(pdu + 5);
+      out->write_count = U16(pdu + 7);
+      out->values = pdu + 10;
+      return h.count >= 1 && h.count <= kMaxReadWriteReadRegisters && out->write_count >= 1 &&
+             out->write_count <= kMaxReadWriteWriteRegisters && pdu[9] == 2 * out->write_count &&
+             pdu_len >= 10u + 2u * out->write_count;
     default:
       return true;  // unknown: the caller answers kIllegalFunction
   }
@@ -164,4 +189,4 @@ std::size_t EncodeException(std::uint8_t* out, const Request& request, std::uint
   return Header(out, request.transaction, request.unit, 2);
 }
 
-}  // namespace trueaxis::server::mbap
+}  // namespace trueaxis::drivers::mbap

@@ -4,9 +4,9 @@
 #include <cstddef>
 #include <string>
 
-namespace trueaxis::server {
+namespace trueaxis::drivers {
 
 // True when at least `needed` descriptors may be open; else *why says the limit.
 bool EnsureOpenFileLimit(std::size_t needed, std::string* why);
 
-}  // namespace trueaxis::server
+}  // namespace trueaxis::drivers

@@ -6,7 +6,7 @@
 
 #include <thread>
 
-namespace trueaxis::server {
+namespace trueaxis::drivers {
 
 inline double ThreadCpuSeconds(std::thread& t) {
   if (!t.joinable()) return 0;
@@ -16,4 +16,4 @@ inline double ThreadCpuSeconds(std::thread& t) {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-}  // namespace trueaxis::server
+}  // namespace trueaxis::drivers

@@ -8,7 +8,7 @@
 #include <functional>
 #include <thread>
 
-namespace trueaxis::server {
+namespace trueaxis::drivers {
 
 class EventLoop {
  public:
@@ -32,4 +32,4 @@ class EventLoop {
   std::thread thread_;
 };
 
-}  // namespace trueaxis::server
+}  // namespace trueaxis::drivers

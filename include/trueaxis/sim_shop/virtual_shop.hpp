@@ -1,8 +1,9 @@
 #pragma once
 // VirtualShop: N virtual machine tools (sim::VirtualMachine), each behind its
 // own MODBUS TCP terminal (the PMC window + ADAM-6015 register maps of
-// docs/protocols.md) on its own port base_port + i, all served by ONE epoll
-// thread — `trueaxis sim shop`. Cheap enough that a 1,000-machine shop runs on
+// docs/protocols.md through drivers/terminal_registers.hpp, the register model
+// `sim serve`'s terminal uses too) on its own port base_port + i, all served by
+// ONE epoll thread — `trueaxis sim shop`. Cheap enough that a 1,000-machine shop runs on
 // a 2-core box beside the server (the per-machine ModbusMachineServer of
 // `sim serve` uses two threads and select(): fine for one terminal, not for
 // a thousand sockets in one process).
@@ -20,10 +21,13 @@
 // For the fault tests each terminal can be made to misbehave (TerminalFault).
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
-namespace trueaxis::server {
+namespace trueaxis::sim {
+
+class VirtualMachine;
 
 struct VirtualShopOptions {
   std::vector<std::string> machine_files;  // descriptions (docs/machine-file.md), used round robin
@@ -81,6 +85,12 @@ class VirtualShop {
   // Compensation the machine's CNC applies now (µm, CNC units), and whether its watchdog is ramping.
   std::vector<double> AppliedUm(std::size_t machine) const;
   bool WatchdogRamping(std::size_t machine) const;
+  // The virtual machine behind terminal `machine`, and the mutex the serving thread holds while
+  // it ticks a machine or answers a terminal: hold it while touching the machine from another
+  // thread (e.g. serving the same machine through a second terminal,
+  // drivers::ModbusMachineServer::ShareMachineWith).
+  VirtualMachine& Machine(std::size_t machine);
+  std::mutex& MachineMutex();
 
  private:
   struct Impl;
@@ -92,4 +102,4 @@ class VirtualShop {
 std::string ShopFileFor(const std::vector<VirtualMachineInfo>& machines, const std::string& bind_address,
                         const std::string& model_file, const std::string& history, double period_s, int http_port);
 
-}  // namespace trueaxis::server
+}  // namespace trueaxis::sim

@@ -1,10 +1,10 @@
-#include "trueaxis/server/event_loop.hpp"
+#include "trueaxis/drivers/event_loop.hpp"
 
 #include <sys/epoll.h>
 #include <sys/eventfd.h>
 #include <unistd.h>
 
-namespace trueaxis::server {
+namespace trueaxis::drivers {
 
 EventLoop::EventLoop() {
   epoll_fd_ = epoll_create1(EPOLL_CLOEXEC);
@@ -38,4 +38,4 @@ bool EventLoop::Stop() {
   return true;
 }
 
-}  // namespace trueaxis::server
+}  // namespace trueaxis::drivers

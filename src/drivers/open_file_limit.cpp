@@ -1,4 +1,4 @@
-#include "trueaxis/server/open_file_limit.hpp"
+#include "trueaxis/drivers/open_file_limit.hpp"
 
 #include <sys/resource.h>
 
@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-namespace trueaxis::server {
+namespace trueaxis::drivers {
 
 bool EnsureOpenFileLimit(std::size_t needed, std::string* why) {
   rlimit lim{};
@@ -23,4 +23,4 @@ bool EnsureOpenFileLimit(std::size_t needed, std::string* why) {
   return true;
 }
 
-}  // namespace trueaxis::server
+}  // namespace trueaxis::drivers

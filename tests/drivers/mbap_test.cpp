@@ -4,9 +4,9 @@
 
 #include <vector>
 
-#include "trueaxis/server/mbap.hpp"
+#include "trueaxis/drivers/mbap.hpp"
 
-namespace trueaxis::server::mbap {
+namespace trueaxis::drivers::mbap {
 namespace {
 
 TEST(Mbap, ReadRequestRoundTripsThroughTheServerSide) {
@@ -70,10 +70,33 @@ TEST(Mbap, WriteMultipleAndItsEcho) {
   EXPECT_EQ(ParseReply({reply, r}, q.head, nullptr, nullptr, nullptr), Reply::kOk);
 }
 
+TEST(Mbap, ReadWriteMultipleCarriesBothPartsAndAnswersTheRead) {
+  std::uint8_t frame[kMaxFrameBytes];
+  const std::uint16_t values[4] = {0xFFFF, 0xFF85, 0, 40};
+  const std::size_t n = EncodeWriteAndRead(frame, 77, 1, 100, 40, 16, values);
+  EXPECT_EQ(n, kHeaderBytes + 10 + 8);
+  ParsedRequest q;
+  ASSERT_TRUE(ParseRequest({frame, n}, &q));
+  EXPECT_EQ(q.head.function, kReadWriteMultipleRegisters);
+  EXPECT_EQ(q.head.address, 100);  // the read part
+  EXPECT_EQ(q.head.count, 40);
+  EXPECT_EQ(q.write_address, 16);
+  EXPECT_EQ(q.write_count, 4);
+  EXPECT_EQ(WordAt(q.values, 1), 0xFF85);
+  EXPECT_FALSE(ParseRequest({frame, n - 1}, &q));  // the write part cut short
+  std::vector<std::uint16_t> regs(40, 0), got(40);
+  regs[3] = 0xBEEF;
+  std::uint8_t reply[kMaxFrameBytes];
+  ASSERT_TRUE(ParseRequest({frame, n}, &q));
+  const std::size_t r = EncodeRegistersReply(reply, q.head, regs.data());
+  EXPECT_EQ(ParseReply({reply, r}, q.head, got.data(), nullptr, nullptr), Reply::kOk);
+  EXPECT_EQ(got, regs);
+}
+
 TEST(Mbap, BytesThatAreNotModbusTcpAreNotAFrame) {
   const char junk[] = "HTTP/1.1 400 Bad Request\r\n\r\n";
   EXPECT_EQ(FrameLength({reinterpret_cast<const std::uint8_t*>(junk), sizeof junk - 1}), -1);
 }
 
 }  // namespace
-}  // namespace trueaxis::server::mbap
+}  // namespace trueaxis::drivers::mbap
