@@ -25,7 +25,7 @@ std::size_t MachineAxis(const sim::MachineDescription& machine, const std::strin
 int ParseSamplesPerLead(const std::string& text);
 inline constexpr const char* kSamplesPerLeadHelp =
     "table samples per lead: auto (the fewest that fit the run's mean deviations within its scatter, 1 sigma, at "
-    "least 0.5 um) or 1..64 (1: once per lead, seed 002)";
+    "least 0.5 um) or 1..64 (1: once per lead)";
 
 // Options shared by `sim fine` and `pitch proof` (fine cycle, interpolator, homing).
 struct FineCliOptions {
