@@ -267,6 +267,19 @@ ThermalSeries LoadSeries(const CommonOptions& o, SeriesCleaningReport* report) {
   return cleaned;
 }
 
+// One line per channel of a linear model that is its training mean because no input beat the
+// mean on the time-ordered cross-validation: said, never shipped silently.
+std::string ConstantFallbackNotes(const ThermalErrorModel& model) {
+  std::string out;
+  if (const auto* linear = dynamic_cast<const LinearThermalModel*>(&model))
+    for (const auto& c : linear->channel_models())
+      if (c.IsConstant())
+        out += fmt::format("note: {}: no input beat the training mean on time-ordered cross-validation (held-out "
+                           "RMS per candidate: sensor_count_cv_rms_um): the model is the constant {:.3f} µm\n",
+                           c.name, c.intercept_um);
+  return out;
+}
+
 ModelKind ParseKind(const std::string& text, const std::string& field) {
   ModelKind k;
   if (!ParseModelKind(text, &k))
@@ -304,7 +317,8 @@ void Setup(CLI::App& app) {
       std::vector<Eigen::Index> all(static_cast<std::size_t>(train.Rows()));
       for (Eigen::Index r = 0; r < train.Rows(); ++r) all[static_cast<std::size_t>(r)] = r;
       auto metrics = ResidualMetrics(train, pred, all);
-      fmt::print("{} model on {} rows, written to {}\n{}{}", *kind, train.Rows(), *out, model->Describe(), report);
+      fmt::print("{} model on {} rows, written to {}\n{}{}{}", *kind, train.Rows(), *out, model->Describe(), report,
+                 ConstantFallbackNotes(*model));
       for (const auto& m : metrics)
         fmt::print("{}: fit RMSE {:.3f} um, max |residual| {:.3f} um\n", m.channel, m.rmse_um, m.max_abs_um);
     });
@@ -470,6 +484,7 @@ void Setup(CLI::App& app) {
         fmt::print("\n{}", WrapLines(fmt::format("[{}] fitted in {:.2f} s; {} input{}: {}", m.name, m.fit_seconds,
                                                  used.size(), used.size() == 1 ? "" : "s", fmt::join(used, ", "))));
         if (*verbose) fmt::print("{}", WrapLines(m.model->Describe() + m.fit_report));
+        if (const auto notes = ConstantFallbackNotes(*m.model); !notes.empty()) fmt::print("{}", WrapLines(notes));
       }
       if (!*verbose) fmt::print("\n(--verbose: each model's coefficients and fit notes)\n");
       fmt::print("\n{}", WrapLines(ev.BriefReport()));
