@@ -143,7 +143,8 @@ void AddCommon(CLI::App* cmd, CommonOptions* o) {
                   "use exactly these inputs, comma separated (no selection; e.g. t1,t4,t9 or t4@lag1800s)");
   cmd->add_option("--lags-s", o->lags_s,
                   "offer each sensor also lagged by these time constants (first-order lag, s): auto "
-                  "(600,1800,5400,16200 up to a third of the longest experiment), none, or a list such as 900,2700")
+                  "(600,1800,5400,16200 up to a third of the longest experiment), none, or a list such as 900,2700; "
+                  "with --sensors auto the lags are kept only where the cross-validation finds they help")
       ->capture_default_str();
   cmd->add_option("--max-gap-samples", o->max_gap_samples, "interior gaps up to this many rows are interpolated")
       ->capture_default_str();
@@ -151,8 +152,9 @@ void AddCommon(CLI::App* cmd, CommonOptions* o) {
   cmd->add_flag("--allow-time-gaps", o->allow_time_gaps, "warn instead of refusing jumps in time_s");
   cmd->add_option("--select", o->select, "sensor selection: lasso, correlation-clusters or all")->capture_default_str();
   cmd->add_option("--sensors", o->sensors,
-                  "sensors per channel for mlr/ridge/hysteresis: a count, or auto (chosen per channel by blocked "
-                  "cross-validation on the training rows among 1, 2, 3, 4, 6, … and all sensors)")
+                  "sensors per channel for mlr/ridge/hysteresis: a count, or auto (chosen per channel by time-ordered "
+                  "cross-validation on the training rows among the constant, 1, 2, 3, 4, 6, … and all sensors, "
+                  "without and with lags; the constant where no input beats it)")
       ->capture_default_str();
   cmd->add_option("--lambda", o->lambda, "ridge penalty on standardised temperatures")->capture_default_str();
   cmd->add_option("--temperature-inputs", o->temperature_inputs,
@@ -299,7 +301,7 @@ void Setup(CLI::App& app) {
     auto out = std::make_shared<std::string>();
     auto blocks = std::make_shared<std::string>("all");
     AddCommon(cmd, o.get());
-    cmd->add_option("--model", *kind, "mlr, ridge, pso-bp, hysteresis, or auto (the best of mlr/ridge/hysteresis by blocked CV)")->capture_default_str();
+    cmd->add_option("--model", *kind, "mlr, ridge, pso-bp, hysteresis, or auto (the best of mlr/ridge/hysteresis by time-ordered CV)")->capture_default_str();
     cmd->add_option("--train-blocks", *blocks, "speed blocks to fit on (e.g. 0-8); default all rows")
         ->capture_default_str();
     cmd->add_option("-o,--out", *out, "model JSON to write")->required();
