@@ -162,28 +162,45 @@ ChannelSolution SolveChannel(const Eigen::MatrixXd& temps, const Eigen::VectorXd
   return out;
 }
 
-// Held-out RMS of one channel over `folds` with `so` on the columns `cols` of `temps`; `cols`
-// empty: the constant (each fold's training mean).
-double FoldCvRms(const Eigen::MatrixXd& temps, const Eigen::VectorXd& y, const TimeFolds& folds,
-                 const std::vector<Eigen::Index>& cols, const SensorSelectionOptions& so, double ridge_lambda) {
-  double ss = 0;
-  Eigen::Index count = 0;
+// Out-of-fold predictions of one channel over `folds` with `so` on the columns `cols` of `temps`
+// (NaN on rows no fold validates); `cols` empty: the constant (each fold's training mean).
+Eigen::VectorXd FoldPredictions(const Eigen::MatrixXd& temps, const Eigen::VectorXd& y, const TimeFolds& folds,
+                                const std::vector<Eigen::Index>& cols, const SensorSelectionOptions& so,
+                                double ridge_lambda) {
+  Eigen::VectorXd out = Eigen::VectorXd::Constant(y.size(), std::numeric_limits<double>::quiet_NaN());
+  const Eigen::MatrixXd sub = cols.empty() ? Eigen::MatrixXd() : Eigen::MatrixXd(temps(Eigen::all, cols));
   for (const TimeFold& f : folds.folds) {
     const Eigen::VectorXd yt = y(f.train_rows);
     if (cols.empty()) {
-      const double mean = yt.mean();
-      for (Eigen::Index r : f.validate_rows) ss += (y(r) - mean) * (y(r) - mean), ++count;
+      for (Eigen::Index r : f.validate_rows) out(r) = yt.mean();
       continue;
     }
-    const Eigen::MatrixXd sub = temps(Eigen::all, cols);
     const ChannelSolution sol = SolveChannel(sub(f.train_rows, Eigen::all), yt, so, ridge_lambda);
-    for (Eigen::Index r : f.validate_rows) {
-      const double e = y(r) - sol.Predict(sub, r);
-      ss += e * e;
-      ++count;
-    }
+    for (Eigen::Index r : f.validate_rows) out(r) = sol.Predict(sub, r);
   }
+  return out;
+}
+
+// RMS of y − predicted over the rows with a prediction.
+double HeldOutRms(const Eigen::VectorXd& y, const Eigen::VectorXd& predicted) {
+  double ss = 0;
+  Eigen::Index count = 0;
+  for (Eigen::Index r = 0; r < y.size(); ++r)
+    if (std::isfinite(predicted(r))) ss += (y(r) - predicted(r)) * (y(r) - predicted(r)), ++count;
   return count ? std::sqrt(ss / static_cast<double>(count)) : std::numeric_limits<double>::infinity();
+}
+
+// The factor a in [0, 1] of constant + a·(model − constant) with the least held-out RMS: how far
+// the data supports moving from the constant toward the model.
+double ShrinkTowardConstant(const Eigen::VectorXd& y, const Eigen::VectorXd& model, const Eigen::VectorXd& constant) {
+  double num = 0, den = 0;
+  for (Eigen::Index r = 0; r < y.size(); ++r)
+    if (std::isfinite(model(r)) && std::isfinite(constant(r))) {
+      const double d = model(r) - constant(r);
+      num += (y(r) - constant(r)) * d;
+      den += d * d;
+    }
+  return den > 0 ? std::clamp(num / den, 0.0, 1.0) : 1.0;
 }
 
 // One candidate of the choice: the constant, or a count (or all) of an input set.
@@ -192,6 +209,7 @@ struct InputCandidate {
   std::string choice;               // as kept: "constant", "3 sensors", "all sensors and lags", ...
   std::vector<Eigen::Index> cols;   // the input set (columns of the series); empty: constant
   SensorSelectionOptions so;
+  Eigen::VectorXd predicted;  // out of fold
   double rms = 0;
 };
 
@@ -206,24 +224,27 @@ std::vector<InputCandidate> CrossValidatedCandidates(const ThermalSeries& s, con
     if (!ParseLaggedName(s.temperature_names[k], nullptr, nullptr)) plain.push_back(static_cast<Eigen::Index>(k));
   }
   std::vector<InputCandidate> out;
-  out.push_back({"constant", "constant", {}, o.selection, 0});
+  out.push_back({"constant", "constant", {}, o.selection, {}, 0});
   auto add_set = [&](const std::vector<Eigen::Index>& cols, const std::string& what) {
     const int available = static_cast<int>(cols.size());
     const int bound = std::min(o.selection.max_sensors, available);
     for (int m : {1, 2, 3, 4, 6, 8, 12, 16, 24, 32}) {
       if (m > bound || m >= available) break;
-      InputCandidate c{std::to_string(m), fmt::format("{} of the {}", m, what), cols, o.selection, 0};
+      InputCandidate c{std::to_string(m), fmt::format("{} of the {}", m, what), cols, o.selection, {}, 0};
       c.so.max_sensors = m;
       out.push_back(std::move(c));
     }
-    InputCandidate all{"all", "all " + what, cols, o.selection, 0};
+    InputCandidate all{"all", "all " + what, cols, o.selection, {}, 0};
     all.so.method = SelectionMethod::kAll;
     all.so.max_sensors = available;
     out.push_back(std::move(all));
   };
   if (!plain.empty()) add_set(plain, "sensors");
   if (every.size() > plain.size()) add_set(every, "sensors and lags");
-  for (auto& c : out) c.rms = FoldCvRms(s.temperatures_c, y, folds, c.cols, c.so, o.ridge_lambda);
+  for (auto& c : out) {
+    c.predicted = FoldPredictions(s.temperatures_c, y, folds, c.cols, c.so, o.ridge_lambda);
+    c.rms = HeldOutRms(y, c.predicted);
+  }
   return out;
 }
 
@@ -246,6 +267,7 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
     std::vector<Eigen::Index> chosen_cols;  // empty: every column
     std::string count_cv, choice;
     bool constant = false;
+    double shrink = 1;  // toward the constant: 1 = the model as fitted
     if (!folds.folds.empty()) {
       // The simplest candidate within 2 % of the best held-out RMS that is neither worse than the
       // constant (the first candidate) nor than all inputs (the last): the model cannot lose to
@@ -260,6 +282,18 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
           chosen_cols = t.cols;
           choice = t.choice;
           constant = t.cols.empty();
+          if (!constant) {
+            // Shrunk toward the constant as far as the held-out rows ask (a ridge path's end point
+            // is the constant; this is the step along it the folds support).
+            shrink = ShrinkTowardConstant(y, t.predicted, tried.front().predicted);
+            const Eigen::VectorXd blended =
+                tried.front().predicted + shrink * (t.predicted - tried.front().predicted);
+            if (shrink < 1)
+              choice += fmt::format(", shrunk ×{:.2f} toward the constant (held-out RMS {:.3f})", shrink,
+                                    HeldOutRms(y, blended));
+            constant = shrink == 0;
+            if (constant) choice = "constant";
+          }
           break;
         }
       std::string set;
@@ -288,7 +322,7 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
       sol = SolveChannel(s.temperatures_c(Eigen::all, chosen_cols), y, chosen, o.ridge_lambda);
       for (int& k : sol.sensors) k = static_cast<int>(chosen_cols[static_cast<std::size_t>(k)]);
     }
-    ch.intercept_um = sol.intercept_um;
+    ch.intercept_um = shrink * sol.intercept_um + (1 - shrink) * y.mean();
     for (std::size_t k = 0; k < sol.sensors.size(); ++k) {
       const std::string& sensor = s.temperature_names[static_cast<std::size_t>(sol.sensors[k])];
       int idx = -1;
@@ -299,7 +333,7 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
         used.push_back(sensor);
       }
       ch.inputs.push_back(idx);
-      ch.k_um_per_c.push_back(sol.k_um_per_c[k]);
+      ch.k_um_per_c.push_back(shrink * sol.k_um_per_c[k]);
     }
     channels.push_back(std::move(ch));
   }

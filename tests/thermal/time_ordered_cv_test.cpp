@@ -176,6 +176,37 @@ TEST(TimeOrderedCv, ALagThatCarriesTheErrorIsKept) {
   EXPECT_LT(model, 0.1 * constant);
 }
 
+// Where the relation weakens over the recording (the error's gain on s0 halves after 60 % of it),
+// a model fitted on the past overshoots the future: the held-out folds ask for less of it, and the
+// model is shrunk toward the constant by that factor — coefficients and intercept alike.
+TEST(TimeOrderedCv, AModelTheFoldsOnlyPartlySupportIsShrunkTowardTheConstant) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  ThermalSeries s = testing::MakeSeries(24 * 60, 2, 60.0);
+  for (int r = 0; r < s.Rows(); ++r) {
+    const double h = r / 60.0, t = 20 + 2 * std::sin(2 * M_PI * h / 6);
+    s.temperatures_c(r, 0) = t + 0.02 * noise(rng);
+    s.temperatures_c(r, 1) = 22 + 0.02 * noise(rng);
+    s.errors_um(r, 0) = (r < 0.6 * s.Rows() ? 2.0 : 1.0) * (t - 20) + noise(rng);
+  }
+  const auto m = FitThermalModel(s, DefaultFit());
+  const auto& ch = dynamic_cast<const LinearThermalModel&>(*m).channel_models().front();
+  ASSERT_NE(ch.cv_choice.find("shrunk ×"), std::string::npos) << m->Describe();
+  ThermalFitOptions plain = DefaultFit();
+  plain.linear.choose_count_by_cv = false;
+  plain.linear.selection.max_sensors = 1;
+  const auto plain_model = FitThermalModel(s, plain);
+  const auto& unshrunk = dynamic_cast<const LinearThermalModel&>(*plain_model).channel_models().front();
+  ASSERT_EQ(ch.inputs.size(), 1u);
+  ASSERT_EQ(unshrunk.k_um_per_c.size(), 1u);
+  const double factor = ch.k_um_per_c[0] / unshrunk.k_um_per_c[0];
+  EXPECT_GT(factor, 0.2);
+  EXPECT_LT(factor, 0.9);
+  // The same factor moves the intercept toward the mean: at the mean temperature it predicts the mean.
+  const double t_mean = s.temperatures_c.col(0).mean(), e_mean = s.errors_um.col(0).mean();
+  EXPECT_NEAR(ch.intercept_um + ch.k_um_per_c[0] * t_mean, e_mean, 1e-6);
+}
+
 // `thermal fit` prints the fallback and writes it to the model file; `thermal evaluate`'s
 // validation figures are those of `thermal fit` on the training rows + `thermal predict`.
 TEST(TimeOrderedCvCli, TheConstantFallbackIsPrintedWrittenAndAgreesWithEvaluate) {

@@ -21,7 +21,8 @@ struct LinearFitOptions {
   // several) among the constant (the training mean, no input), 1, 2, 3, 4, 6, 8, 12, … and all of
   // the plain sensors, and — when the series holds lagged inputs — the same counts of sensors and
   // lags together and all inputs: the simplest within 2 % of the best held-out RMSE and worse than
-  // neither the constant nor all inputs. selection.max_sensors is then only an upper bound. The
+  // neither the constant nor all inputs, then shrunk toward the constant by the factor in [0, 1]
+  // that the out-of-fold predictions support. selection.max_sensors is then only an upper bound. The
   // choice is the data's, per recording: four sensors can be far worse than all of them on one
   // machine and better on another, lags help on one and hurt on another, and where no input beats
   // the mean the channel is that constant.
