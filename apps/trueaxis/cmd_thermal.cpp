@@ -143,7 +143,8 @@ void AddCommon(CLI::App* cmd, CommonOptions* o) {
                   "use exactly these inputs, comma separated (no selection; e.g. t1,t4,t9 or t4@lag1800s)");
   cmd->add_option("--lags-s", o->lags_s,
                   "offer each sensor also lagged by these time constants (first-order lag, s): auto "
-                  "(600,1800,5400,16200 up to a third of the longest experiment), none, or a list such as 900,2700")
+                  "(600,1800,5400,16200 up to a third of the longest experiment), none, or a list such as 900,2700; "
+                  "with --sensors auto the lags are kept only where the cross-validation finds they help")
       ->capture_default_str();
   cmd->add_option("--max-gap-samples", o->max_gap_samples, "interior gaps up to this many rows are interpolated")
       ->capture_default_str();
@@ -151,8 +152,9 @@ void AddCommon(CLI::App* cmd, CommonOptions* o) {
   cmd->add_flag("--allow-time-gaps", o->allow_time_gaps, "warn instead of refusing jumps in time_s");
   cmd->add_option("--select", o->select, "sensor selection: lasso, correlation-clusters or all")->capture_default_str();
   cmd->add_option("--sensors", o->sensors,
-                  "sensors per channel for mlr/ridge/hysteresis: a count, or auto (chosen per channel by blocked "
-                  "cross-validation on the training rows among 1, 2, 3, 4, 6, … and all sensors)")
+                  "sensors per channel for mlr/ridge/hysteresis: a count, or auto (chosen per channel by time-ordered "
+                  "cross-validation on the training rows among the constant, 1, 2, 3, 4, 6, … and all sensors, "
+                  "without and with lags; the constant where no input beats it)")
       ->capture_default_str();
   cmd->add_option("--lambda", o->lambda, "ridge penalty on standardised temperatures")->capture_default_str();
   cmd->add_option("--temperature-inputs", o->temperature_inputs,
@@ -267,6 +269,19 @@ ThermalSeries LoadSeries(const CommonOptions& o, SeriesCleaningReport* report) {
   return cleaned;
 }
 
+// One line per channel of a linear model that is its training mean because no input beat the
+// mean on the time-ordered cross-validation: said, never shipped silently.
+std::string ConstantFallbackNotes(const ThermalErrorModel& model) {
+  std::string out;
+  if (const auto* linear = dynamic_cast<const LinearThermalModel*>(&model))
+    for (const auto& c : linear->channel_models())
+      if (c.IsConstant())
+        out += fmt::format("note: {}: no input beat the training mean on time-ordered cross-validation (held-out "
+                           "RMS per candidate: sensor_count_cv_rms_um): the model is the constant {:.3f} µm\n",
+                           c.name, c.intercept_um);
+  return out;
+}
+
 ModelKind ParseKind(const std::string& text, const std::string& field) {
   ModelKind k;
   if (!ParseModelKind(text, &k))
@@ -286,7 +301,7 @@ void Setup(CLI::App& app) {
     auto out = std::make_shared<std::string>();
     auto blocks = std::make_shared<std::string>("all");
     AddCommon(cmd, o.get());
-    cmd->add_option("--model", *kind, "mlr, ridge, pso-bp, hysteresis, or auto (the best of mlr/ridge/hysteresis by blocked CV)")->capture_default_str();
+    cmd->add_option("--model", *kind, "mlr, ridge, pso-bp, hysteresis, or auto (the best of mlr/ridge/hysteresis by time-ordered CV)")->capture_default_str();
     cmd->add_option("--train-blocks", *blocks, "speed blocks to fit on (e.g. 0-8); default all rows")
         ->capture_default_str();
     cmd->add_option("-o,--out", *out, "model JSON to write")->required();
@@ -304,7 +319,8 @@ void Setup(CLI::App& app) {
       std::vector<Eigen::Index> all(static_cast<std::size_t>(train.Rows()));
       for (Eigen::Index r = 0; r < train.Rows(); ++r) all[static_cast<std::size_t>(r)] = r;
       auto metrics = ResidualMetrics(train, pred, all);
-      fmt::print("{} model on {} rows, written to {}\n{}{}", *kind, train.Rows(), *out, model->Describe(), report);
+      fmt::print("{} model on {} rows, written to {}\n{}{}{}", *kind, train.Rows(), *out, model->Describe(), report,
+                 ConstantFallbackNotes(*model));
       for (const auto& m : metrics)
         fmt::print("{}: fit RMSE {:.3f} um, max |residual| {:.3f} um\n", m.channel, m.rmse_um, m.max_abs_um);
     });
@@ -470,6 +486,7 @@ void Setup(CLI::App& app) {
         fmt::print("\n{}", WrapLines(fmt::format("[{}] fitted in {:.2f} s; {} input{}: {}", m.name, m.fit_seconds,
                                                  used.size(), used.size() == 1 ? "" : "s", fmt::join(used, ", "))));
         if (*verbose) fmt::print("{}", WrapLines(m.model->Describe() + m.fit_report));
+        if (const auto notes = ConstantFallbackNotes(*m.model); !notes.empty()) fmt::print("{}", WrapLines(notes));
       }
       if (!*verbose) fmt::print("\n(--verbose: each model's coefficients and fit notes)\n");
       fmt::print("\n{}", WrapLines(ev.BriefReport()));

@@ -10,6 +10,8 @@
 #include "json_fields.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/thermal/lagged_inputs.hpp"
+#include "trueaxis/thermal/time_folds.hpp"
 
 namespace trueaxis::thermal {
 
@@ -50,6 +52,7 @@ nlohmann::json LinearThermalModel::ToJson() const {
                         {"k_um_per_c", c.k_um_per_c},
                         {"intercept_um", c.intercept_um}});
     if (!c.count_cv.empty()) channels.back()["sensor_count_cv_rms_um"] = c.count_cv;
+    if (!c.cv_choice.empty()) channels.back()["cv_choice"] = c.cv_choice;
   }
   return {{"kind", "linear"},
           {"ridge_lambda", ridge_lambda_},
@@ -65,8 +68,12 @@ std::string LinearThermalModel::Describe() const {
     for (std::size_t k = 0; k < c.inputs.size(); ++k)
       out += fmt::format(" {:+.6g}*T[{}]", c.k_um_per_c[k], sensors_[static_cast<std::size_t>(c.inputs[k])]);
     out += '\n';
-    if (!c.count_cv.empty())
-      out += fmt::format("  {} input(s) chosen by blocked 5-fold CV; RMS µm per count: {}\n", c.inputs.size(), c.count_cv);
+    if (c.IsConstant())
+      out += fmt::format("  the constant (the training mean): no input beat it on time-ordered cross-validation; "
+                         "held-out RMS µm: {}\n", c.count_cv);
+    else if (!c.count_cv.empty())
+      out += fmt::format("  {} input(s) ({}) chosen by time-ordered cross-validation; held-out RMS µm: {}\n",
+                         c.inputs.size(), c.cv_choice, c.count_cv);
   }
   return out;
 }
@@ -88,6 +95,7 @@ LinearThermalModel LinearThermalModel::FromJson(const nlohmann::json& doc, const
     ch.k_um_per_c = f.Numbers(arr[i], p, "k_um_per_c");
     ch.intercept_um = f.Number(arr[i], p, "intercept_um");
     if (arr[i].contains("sensor_count_cv_rms_um")) ch.count_cv = f.String(arr[i], p, "sensor_count_cv_rms_um");
+    if (arr[i].contains("cv_choice")) ch.cv_choice = f.String(arr[i], p, "cv_choice");
     if (names.size() != ch.k_um_per_c.size())
       f.Fail(f.Join(p, "k_um_per_c"), fmt::format("{} coefficients for {} sensors", ch.k_um_per_c.size(), names.size()));
     for (std::size_t k = 0; k < names.size(); ++k) {
@@ -154,31 +162,90 @@ ChannelSolution SolveChannel(const Eigen::MatrixXd& temps, const Eigen::VectorXd
   return out;
 }
 
-// Blocked (contiguous-in-time) 5-fold CV RMS of one channel with `so`.
-double BlockedCvRms(const Eigen::MatrixXd& temps, const Eigen::VectorXd& y, const SensorSelectionOptions& so,
-                    double ridge_lambda) {
-  const Eigen::Index n = temps.rows();
-  constexpr int kFolds = 5;
+// Out-of-fold predictions of one channel over `folds` with `so` on the columns `cols` of `temps`
+// (NaN on rows no fold validates); `cols` empty: the constant (each fold's training mean).
+Eigen::VectorXd FoldPredictions(const Eigen::MatrixXd& temps, const Eigen::VectorXd& y, const TimeFolds& folds,
+                                const std::vector<Eigen::Index>& cols, const SensorSelectionOptions& so,
+                                double ridge_lambda) {
+  Eigen::VectorXd out = Eigen::VectorXd::Constant(y.size(), std::numeric_limits<double>::quiet_NaN());
+  const Eigen::MatrixXd sub = cols.empty() ? Eigen::MatrixXd() : Eigen::MatrixXd(temps(Eigen::all, cols));
+  for (const TimeFold& f : folds.folds) {
+    const Eigen::VectorXd yt = y(f.train_rows);
+    if (cols.empty()) {
+      for (Eigen::Index r : f.validate_rows) out(r) = yt.mean();
+      continue;
+    }
+    const ChannelSolution sol = SolveChannel(sub(f.train_rows, Eigen::all), yt, so, ridge_lambda);
+    for (Eigen::Index r : f.validate_rows) out(r) = sol.Predict(sub, r);
+  }
+  return out;
+}
+
+// RMS of y − predicted over the rows with a prediction.
+double HeldOutRms(const Eigen::VectorXd& y, const Eigen::VectorXd& predicted) {
   double ss = 0;
   Eigen::Index count = 0;
-  for (int f = 0; f < kFolds; ++f) {
-    const Eigen::Index lo = n * f / kFolds, hi = n * (f + 1) / kFolds;
-    const Eigen::Index m = n - (hi - lo);
-    if (m < 3 || hi <= lo) continue;
-    Eigen::MatrixXd tt(m, temps.cols());
-    Eigen::VectorXd yt(m);
-    tt.topRows(lo) = temps.topRows(lo);
-    tt.bottomRows(n - hi) = temps.bottomRows(n - hi);
-    yt.head(lo) = y.head(lo);
-    yt.tail(n - hi) = y.tail(n - hi);
-    const ChannelSolution sol = SolveChannel(tt, yt, so, ridge_lambda);
-    for (Eigen::Index r = lo; r < hi; ++r) {
-      const double e = y(r) - sol.Predict(temps, r);
-      ss += e * e;
-      ++count;
-    }
-  }
+  for (Eigen::Index r = 0; r < y.size(); ++r)
+    if (std::isfinite(predicted(r))) ss += (y(r) - predicted(r)) * (y(r) - predicted(r)), ++count;
   return count ? std::sqrt(ss / static_cast<double>(count)) : std::numeric_limits<double>::infinity();
+}
+
+// The factor a in [0, 1] of constant + a·(model − constant) with the least held-out RMS: how far
+// the data supports moving from the constant toward the model.
+double ShrinkTowardConstant(const Eigen::VectorXd& y, const Eigen::VectorXd& model, const Eigen::VectorXd& constant) {
+  double num = 0, den = 0;
+  for (Eigen::Index r = 0; r < y.size(); ++r)
+    if (std::isfinite(model(r)) && std::isfinite(constant(r))) {
+      const double d = model(r) - constant(r);
+      num += (y(r) - constant(r)) * d;
+      den += d * d;
+    }
+  return den > 0 ? std::clamp(num / den, 0.0, 1.0) : 1.0;
+}
+
+// One candidate of the choice: the constant, or a count (or all) of an input set.
+struct InputCandidate {
+  std::string label;                // as printed: "constant", "3", "all"
+  std::string choice;               // as kept: "constant", "3 sensors", "all sensors and lags", ...
+  std::vector<Eigen::Index> cols;   // the input set (columns of the series); empty: constant
+  SensorSelectionOptions so;
+  Eigen::VectorXd predicted;  // out of fold
+  double rms = 0;
+};
+
+// The candidates of one channel in order of growing complexity, with their fold RMS: the constant,
+// counts of the plain sensors and all of them, then (with lagged inputs) counts of sensors and lags
+// together and all inputs.
+std::vector<InputCandidate> CrossValidatedCandidates(const ThermalSeries& s, const Eigen::VectorXd& y,
+                                                     const TimeFolds& folds, const LinearFitOptions& o) {
+  std::vector<Eigen::Index> plain, every;
+  for (std::size_t k = 0; k < s.temperature_names.size(); ++k) {
+    every.push_back(static_cast<Eigen::Index>(k));
+    if (!ParseLaggedName(s.temperature_names[k], nullptr, nullptr)) plain.push_back(static_cast<Eigen::Index>(k));
+  }
+  std::vector<InputCandidate> out;
+  out.push_back({"constant", "constant", {}, o.selection, {}, 0});
+  auto add_set = [&](const std::vector<Eigen::Index>& cols, const std::string& what) {
+    const int available = static_cast<int>(cols.size());
+    const int bound = std::min(o.selection.max_sensors, available);
+    for (int m : {1, 2, 3, 4, 6, 8, 12, 16, 24, 32}) {
+      if (m > bound || m >= available) break;
+      InputCandidate c{std::to_string(m), fmt::format("{} of the {}", m, what), cols, o.selection, {}, 0};
+      c.so.max_sensors = m;
+      out.push_back(std::move(c));
+    }
+    InputCandidate all{"all", "all " + what, cols, o.selection, {}, 0};
+    all.so.method = SelectionMethod::kAll;
+    all.so.max_sensors = available;
+    out.push_back(std::move(all));
+  };
+  if (!plain.empty()) add_set(plain, "sensors");
+  if (every.size() > plain.size()) add_set(every, "sensors and lags");
+  for (auto& c : out) {
+    c.predicted = FoldPredictions(s.temperatures_c, y, folds, c.cols, c.so, o.ridge_lambda);
+    c.rms = HeldOutRms(y, c.predicted);
+  }
+  return out;
 }
 
 }  // namespace
@@ -193,47 +260,69 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
   std::vector<std::string> used;  // union of selected sensors, in first-use order
   std::vector<LinearChannel> channels;
   std::string selection = SelectionMethodName(o.selection.method);
-  const int available = static_cast<int>(s.temperatures_c.cols());
+  const TimeFolds folds = o.choose_count_by_cv && n >= 25 ? MakeTimeFolds(s) : TimeFolds{};
   for (Eigen::Index c = 0; c < s.errors_um.cols(); ++c) {
     const Eigen::VectorXd y = s.errors_um.col(c);
     SensorSelectionOptions chosen = o.selection;
-    std::string count_cv;
-    if (o.choose_count_by_cv && n >= 25) {
-      // Candidate counts up to the bound, then every sensor; the smallest within 2 % of the best.
-      std::vector<std::pair<SensorSelectionOptions, double>> tried;
-      const int bound = std::min(o.selection.max_sensors, available);
-      for (int m : {1, 2, 3, 4, 6, 8, 12, 16, 24, 32}) {
-        if (m > bound) break;
-        SensorSelectionOptions so = o.selection;
-        so.max_sensors = m;
-        tried.emplace_back(so, BlockedCvRms(s.temperatures_c, y, so, o.ridge_lambda));
-      }
-      SensorSelectionOptions all = o.selection;
-      all.method = SelectionMethod::kAll;
-      all.max_sensors = available;
-      tried.emplace_back(all, BlockedCvRms(s.temperatures_c, y, all, o.ridge_lambda));
-      // The smallest count within 2 % of the best held-out RMSE, and never worse than all sensors
-      // (the last candidate), so the default cannot lose to "all sensors" on the data it chose by.
+    std::vector<Eigen::Index> chosen_cols;  // empty: every column
+    std::string count_cv, choice;
+    bool constant = false;
+    double shrink = 1;  // toward the constant: 1 = the model as fitted
+    if (!folds.folds.empty()) {
+      // The simplest candidate within 2 % of the best held-out RMS that is neither worse than the
+      // constant (the first candidate) nor than all inputs (the last): the model cannot lose to
+      // either on the folds it was chosen by, and where nothing beats the mean it is the mean.
+      const std::vector<InputCandidate> tried = CrossValidatedCandidates(s, y, folds, o);
       double best = std::numeric_limits<double>::infinity();
-      for (const auto& [so, rms] : tried) best = std::min(best, rms);
-      const double limit = std::min(kCountTolerance * best, tried.back().second);
-      for (const auto& [so, rms] : tried)
-        if (rms <= limit) {
-          chosen = so;
+      for (const auto& t : tried) best = std::min(best, t.rms);
+      const double limit = std::min({kCountTolerance * best, tried.front().rms, tried.back().rms});
+      for (const auto& t : tried)
+        if (t.rms <= limit) {
+          chosen = t.so;
+          chosen_cols = t.cols;
+          choice = t.choice;
+          constant = t.cols.empty();
+          if (!constant) {
+            // Shrunk toward the constant as far as the held-out rows ask (a ridge path's end point
+            // is the constant; this is the step along it the folds support).
+            shrink = ShrinkTowardConstant(y, t.predicted, tried.front().predicted);
+            const Eigen::VectorXd blended =
+                tried.front().predicted + shrink * (t.predicted - tried.front().predicted);
+            if (shrink < 1)
+              choice += fmt::format(", shrunk ×{:.2f} toward the constant (held-out RMS {:.3f})", shrink,
+                                    HeldOutRms(y, blended));
+            constant = shrink == 0;
+            if (constant) choice = "constant";
+          }
           break;
         }
-      for (const auto& [so, rms] : tried)
-        count_cv += fmt::format("{}{}: {:.3f}", count_cv.empty() ? "" : ", ",
-                                so.method == SelectionMethod::kAll ? std::string("all") : std::to_string(so.max_sensors),
-                                rms);
-      selection = fmt::format("{}, sensor count by blocked 5-fold CV (per channel: sensor_count_cv_rms_um)",
-                              SelectionMethodName(o.selection.method));
+      std::string set;
+      for (const auto& t : tried) {
+        const std::string group = t.cols.empty() ? "" : t.choice.find("lags") != std::string::npos ? "with lags " : "sensors ";
+        count_cv += fmt::format("{}{}{}: {:.3f}", count_cv.empty() ? "" : group != set ? "; " : ", ",
+                                group != set ? group : "", t.label, t.rms);
+        set = group;
+      }
+      selection = fmt::format("{}, inputs by {} CV (per channel: cv_choice, sensor_count_cv_rms_um)",
+                              SelectionMethodName(o.selection.method), folds.Name());
     }
-    const ChannelSolution sol = SolveChannel(s.temperatures_c, y, chosen, o.ridge_lambda);
     LinearChannel ch;
     ch.name = s.error_names[static_cast<std::size_t>(c)];
-    ch.intercept_um = sol.intercept_um;
     ch.count_cv = count_cv;
+    ch.cv_choice = choice;
+    if (constant) {  // the training mean: no input earned its place
+      ch.intercept_um = y.mean();
+      channels.push_back(std::move(ch));
+      continue;
+    }
+    ChannelSolution sol;
+    if (chosen_cols.empty()) {
+      sol = SolveChannel(s.temperatures_c, y, chosen, o.ridge_lambda);
+    } else {
+      sol = SolveChannel(s.temperatures_c(Eigen::all, chosen_cols), y, chosen, o.ridge_lambda);
+      for (int& k : sol.sensors) k = static_cast<int>(chosen_cols[static_cast<std::size_t>(k)]);
+    }
+    ch.intercept_um = shrink * sol.intercept_um + (1 - shrink) * y.mean();
     for (std::size_t k = 0; k < sol.sensors.size(); ++k) {
       const std::string& sensor = s.temperature_names[static_cast<std::size_t>(sol.sensors[k])];
       int idx = -1;
@@ -244,7 +333,7 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
         used.push_back(sensor);
       }
       ch.inputs.push_back(idx);
-      ch.k_um_per_c.push_back(sol.k_um_per_c[k]);
+      ch.k_um_per_c.push_back(shrink * sol.k_um_per_c[k]);
     }
     channels.push_back(std::move(ch));
   }

@@ -9,6 +9,7 @@
 
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/number_text.hpp"
+#include "trueaxis/thermal/time_folds.hpp"
 
 namespace trueaxis::thermal {
 
@@ -49,20 +50,14 @@ bool ThermalFitOptions::IsValid(std::string* why) const {
 
 namespace {
 
-// Blocked k-fold CV RMSE (all channels pooled) of one model kind on `s`.
-double BlockedCvRmse(const ThermalSeries& s, const ThermalFitOptions& o) {
-  constexpr int kFolds = 5;
-  const Eigen::Index n = s.Rows();
+// Time-ordered CV RMSE (all channels pooled) of one model kind on `s` (time_folds.hpp).
+double TimeOrderedCvRmse(const ThermalSeries& s, const TimeFolds& folds, const ThermalFitOptions& o) {
   double ss = 0;
   long count = 0;
-  for (int f = 0; f < kFolds; ++f) {
-    const Eigen::Index lo = n * f / kFolds, hi = n * (f + 1) / kFolds;
-    std::vector<Eigen::Index> train;
-    for (Eigen::Index r = 0; r < n; ++r)
-      if (r < lo || r >= hi) train.push_back(r);
-    const auto model = FitThermalModel(SelectRows(s, train), o, nullptr);
+  for (const TimeFold& f : folds.folds) {
+    const auto model = FitThermalModel(SelectRows(s, f.train_rows), o, nullptr);
     const Eigen::MatrixXd p = PredictSeries(*model, s);
-    for (Eigen::Index r = lo; r < hi; ++r)
+    for (Eigen::Index r : f.validate_rows)
       for (Eigen::Index c = 0; c < s.errors_um.cols(); ++c) {
         const double e = s.errors_um(r, c) - p(r, c);
         ss += e * e;
@@ -83,20 +78,22 @@ std::unique_ptr<ThermalErrorModel> FitThermalModel(const ThermalSeries& s, const
     case ModelKind::kAuto: {
       if (s.Rows() < 50) throw InputError(s.source, 0, "--model", "auto needs at least 50 rows to cross-validate");
       std::string cv;
+      const TimeFolds folds = MakeTimeFolds(s);
       ThermalFitOptions best = o;
       double best_rmse = std::numeric_limits<double>::infinity();
       for (ModelKind k : {ModelKind::kMlr, ModelKind::kRidge, ModelKind::kHysteresis}) {
         ThermalFitOptions c = o;
         c.kind = k;
         if (k == ModelKind::kHysteresis && !s.has_time) continue;
-        const double rmse = BlockedCvRmse(s, c);
+        const double rmse = TimeOrderedCvRmse(s, folds, c);
         cv += fmt::format("{}{} {:.3f} µm", cv.empty() ? "" : ", ", ModelKindName(k), rmse);
         if (rmse < best_rmse) best_rmse = rmse, best = c;
       }
       std::string report;
       auto m = FitThermalModel(s, best, &report);
       if (fit_report)
-        *fit_report = fmt::format("auto: {} chosen by blocked 5-fold CV RMSE ({})\n{}", ModelKindName(best.kind), cv, report);
+        *fit_report = fmt::format("auto: {} chosen by {} CV RMSE ({})\n{}", ModelKindName(best.kind), folds.Name(), cv,
+                                  report);
       return m;
     }
     case ModelKind::kMlr: {

@@ -278,7 +278,7 @@ TEST(Workbook, EachSheetIsAnExperimentWithSpreadsheetRowNumbers) {
 namespace trueaxis::thermal {
 namespace {
 
-// --model auto: the kind with the lowest blocked-CV RMSE on the rows given.
+// --model auto: the kind with the lowest time-ordered CV RMSE on the rows given.
 TEST(AutoModel, ChoosesHysteresisWhereHeatingAndCoolingDifferAndALinearModelWhereNot) {
   ThermalSeries loop = testing::MakeSeries(12 * 240, 2);
   double lag = 20;
@@ -295,7 +295,7 @@ TEST(AutoModel, ChoosesHysteresisWhereHeatingAndCoolingDifferAndALinearModelWher
   std::string report;
   auto m = FitThermalModel(loop, o, &report);
   EXPECT_EQ(m->Kind(), "hysteresis") << report;
-  EXPECT_NE(report.find("blocked 5-fold CV"), std::string::npos);
+  EXPECT_NE(report.find("forward-chaining 5-fold CV"), std::string::npos) << report;
   // A static linear relation: no interval structure to exploit.
   ThermalSeries linear = Experiment(7, "lin.csv", 1200);
   m = FitThermalModel(linear, o, &report);

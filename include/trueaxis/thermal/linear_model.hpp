@@ -16,11 +16,16 @@ namespace trueaxis::thermal {
 struct LinearFitOptions {
   double ridge_lambda = 0.0;
   SensorSelectionOptions selection;
-  // true: the number of sensors per channel is chosen by blocked cross-validation on the
-  // training rows (5 contiguous folds in time) among 1, 2, 3, 4, 6, 8, 12, … and ALL sensors,
-  // the smallest count within 2 % of the best held-out RMSE; selection.max_sensors is then only an
-  // upper bound. The choice is the data's, per recording: four sensors can be far worse than all
-  // of them on one machine and better on another (issue 14).
+  // true: the inputs of each channel are chosen by time-ordered cross-validation on the training
+  // rows (time_folds.hpp: forward chaining over one recording, leave one experiment out over
+  // several) among the constant (the training mean, no input), 1, 2, 3, 4, 6, 8, 12, … and all of
+  // the plain sensors, and — when the series holds lagged inputs — the same counts of sensors and
+  // lags together and all inputs: the simplest within 2 % of the best held-out RMSE and worse than
+  // neither the constant nor all inputs, then shrunk toward the constant by the factor in [0, 1]
+  // that the out-of-fold predictions support. selection.max_sensors is then only an upper bound. The
+  // choice is the data's, per recording: four sensors can be far worse than all of them on one
+  // machine and better on another, lags help on one and hurt on another, and where no input beats
+  // the mean the channel is that constant.
   bool choose_count_by_cv = false;
 
   bool IsValid(std::string* why) const;
@@ -31,9 +36,13 @@ struct LinearChannel {
   std::vector<int> inputs;          // indices into InputSensors()
   std::vector<double> k_um_per_c;   // parallel to inputs
   double intercept_um = 0;
-  // How the sensor count was chosen (choose_count_by_cv): the blocked-CV RMS in µm per count tried,
-  // e.g. "1: 0.512, 2: 0.307, all: 0.401"; empty when the count was given.
-  std::string count_cv;
+  // How the inputs were chosen (choose_count_by_cv): the held-out RMS in µm per candidate, e.g.
+  // "constant: 0.323; sensors 1: 0.512, 2: 0.307, all: 0.401; with lags 1: 0.498, …, all: 0.530",
+  // and the candidate taken ("constant", "2 of the sensors", "all sensors and lags", …); empty when
+  // the count was given.
+  std::string count_cv, cv_choice;
+  // The channel is the training mean alone: no input beat it on the cross-validation.
+  bool IsConstant() const { return inputs.empty() && cv_choice == "constant"; }
 };
 
 class LinearThermalModel final : public ThermalErrorModel {

@@ -17,8 +17,8 @@ namespace trueaxis::thermal {
 
 // mlr: least squares on selected sensors; ridge: ridge_lambda > 0 on the same;
 // pso-bp: seed 003 network; hysteresis: seed 001 per-interval ridge models;
-// auto: mlr, ridge or hysteresis, whichever has the lowest blocked 5-fold cross-validated RMSE on
-// the rows it is given (contiguous folds in time), refitted on all of them (pso-bp is left out of
+// auto: mlr, ridge or hysteresis, whichever has the lowest time-ordered cross-validated RMSE on
+// the rows it is given (time_folds.hpp), refitted on all of them (pso-bp is left out of
 // the choice: it costs seconds per fit and never won on our recordings).
 enum class ModelKind { kMlr, kRidge, kPsoBp, kHysteresis, kAuto };
 const char* ModelKindName(ModelKind k);
