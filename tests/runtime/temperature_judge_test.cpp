@@ -12,6 +12,7 @@
 #include "trueaxis/runtime/loop_runner.hpp"
 #include "trueaxis/runtime/run_config.hpp"
 #include "trueaxis/signal/monitored_temperature_source.hpp"
+#include "trueaxis/station/machine_connection.hpp"
 
 namespace trueaxis::runtime {
 namespace {
@@ -172,6 +173,29 @@ TEST(TemperatureJudge, AStaleJudgedSnapshotIsHeldThenLost) {
   s = at(2.4);  // beyond hold_last_good_s of the last good value
   EXPECT_EQ(s.channels[1].health, ChannelHealth::kLost);
   EXPECT_TRUE(s.alarms & kAlarmSensorFallback);
+}
+
+// The machine's wiring always puts the judge in front: [signal] enabled = false switches off only
+// its filter, the run config's fault limits still apply.
+TEST(TemperatureJudge, TheMachinesTemperaturesAreJudgedWithTheFilterOffToo) {
+  const std::string machine = std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850.toml";
+  const RunConfig c = ParseRunConfig("[machine]\nkind = \"virtual\"\nfile = \"" + machine +
+                                         "\"\n[model]\nfile = \"m.json\"\n[sensor_fault]\nmax_valid_c = 45\n"
+                                         "[signal]\nenabled = false\n",
+                                     "/etc/trueaxis/run.toml");
+  station::Machine m = station::OpenMachine(c);
+  ASSERT_NE(m.monitored, nullptr);
+  const signal::MonitorOptions& judge = m.monitored->monitor().options();
+  EXPECT_EQ(judge.filter.hampel_window, 1);
+  EXPECT_EQ(judge.filter.median_window, 1);
+  EXPECT_DOUBLE_EQ(judge.filter.lowpass_time_constant_s, 0);
+  EXPECT_DOUBLE_EQ(judge.faults.max_plausible_c, 45);
+  EXPECT_DOUBLE_EQ(judge.faults.min_plausible_c, -20);
+  std::vector<signal::JudgedTemperature> out(m.monitored->ChannelCount());
+  ASSERT_FALSE(out.empty());
+  EXPECT_TRUE(m.monitored->Read(out));
+  EXPECT_TRUE(out[0].usable());
+  m.Close();
 }
 
 }  // namespace
