@@ -4,7 +4,8 @@
 // names), the model exchange, the step's state and its buffers, and runs the
 // pure step (cycle_step.hpp) on the latest I/O snapshots:
 //
-//   I/O phase: read temperatures ─► TemperatureSnapshot (with its time)
+//   I/O phase: read temperatures ─► TemperatureSnapshot (with its time; judged values only, from a
+//              signal::JudgedTemperatureSource — the temperature judge in front)
 //   I/O phase: read the CNC      ─► CncSnapshot         (with its time)
 //   Cycle():   pick up a published model, Step(model, state, inputs) ─► command + status
 //   I/O phase: write the command; CommitWrite(write_ok)
