@@ -74,23 +74,23 @@ int Run(const Options& o) {
   linuxcnc::HalTemperatures temperatures = linuxcnc::OpenHalTemperatures(hal, c, o.temperatures == "hal");
   hw::TemperatureSource* source = temperatures.source;
   std::unique_ptr<signal::MonitoredTemperatureSource> monitored;
-  if (c.signal_processing) {  // the one temperature pipeline, as in `trueaxis run`
+  {  // the one temperature judge, as in `trueaxis run` (its filter only with [signal] enabled)
     const auto t0 = std::chrono::steady_clock::now();
+    signal::MonitorOptions mo = station::MonitorOptionsFor(c.compensator.sensor);
+    if (!c.signal_processing) mo.filter = signal::FilterOptions::PassThrough();
     monitored = std::make_unique<signal::MonitoredTemperatureSource>(
-        *source, station::MonitorOptionsFor(c.compensator.sensor),
-        [t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); });
+        *source, mo, [t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); });
     if (!c.calibration_file.empty())
       for (const auto& n : monitored->monitor().SetCalibration(signal::ReadCalibrationFile(c.calibration_file)))
         fmt::print(stderr, "warning: calibration for '{}' matches no channel\n", n);
-    source = monitored.get();
   }
   std::vector<std::string> axis_names;
   for (std::size_t i = 0; i < link.AxisCount(); ++i) axis_names.push_back(link.AxisName(i));
   linuxcnc::StatusPins status(hal, axis_names);
 
-  auto comp = runtime::Compensator::ForHardware(c.compensator, link, *source, c.axes);
+  auto comp = runtime::Compensator::ForHardware(c.compensator, link, *monitored, c.axes);
   comp->PublishModel(std::make_shared<const model::CompositeModel>(model::ReadModelFile(c.model_file)), c.model_file);
-  runtime::LoopRunner runner(*comp, link, *source, runtime::LoopOptions{c.period_s, c.temperature_period_s}, &status);
+  runtime::LoopRunner runner(*comp, link, *monitored, runtime::LoopOptions{c.period_s, c.temperature_period_s}, &status);
 
   g_stop = false;
   std::signal(SIGINT, OnStopSignal);

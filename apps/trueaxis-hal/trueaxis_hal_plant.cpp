@@ -40,6 +40,7 @@
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
 #include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/signal/monitored_temperature_source.hpp"
 #include "trueaxis/sim/laser_interferometer.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
 
@@ -224,9 +225,13 @@ int RunReference(const Options& o) {
   auto p = Prepare(o);
   Plant& pl = *p;
   pl.vm.SetCompensationEnabled(true);
-  auto comp = runtime::Compensator::ForHardware(c.compensator, pl.vm, pl.vm, c.axes);
+  signal::MonitorOptions judge_options;  // the temperature judge, in the machine's time
+  judge_options.faults = c.compensator.sensor.judge;
+  if (!c.signal_processing) judge_options.filter = signal::FilterOptions::PassThrough();
+  signal::MonitoredTemperatureSource judged(pl.vm, judge_options, [&pl] { return pl.vm.TimeS(); });
+  auto comp = runtime::Compensator::ForHardware(c.compensator, pl.vm, judged, c.axes);
   comp->PublishModel(std::make_shared<const model::CompositeModel>(model::ReadModelFile(c.model_file)), c.model_file);
-  runtime::LoopRunner runner(*comp, pl.vm, pl.vm, runtime::LoopOptions{c.period_s, c.temperature_period_s});
+  runtime::LoopRunner runner(*comp, pl.vm, judged, runtime::LoopOptions{c.period_s, c.temperature_period_s});
   auto advance = [&](double dt) { pl.vm.Advance(dt); };
   auto cycles = [&](double seconds) {
     runner.StepSimulated(static_cast<std::uint64_t>(std::llround(seconds / c.period_s)), advance);

@@ -145,8 +145,8 @@ void Setup(CLI::App& app) {
   cmd->add_flag_function("--no-lag-fall", [opts](std::int64_t) { opts->demo.lag_fall = false; },
                          "Fit one lag τ both ways (no longer lag while a key cools), for comparison");
   cmd->add_flag_function("--raw-temperatures", [opts](std::int64_t) { opts->demo.signal_processing = false; },
-                         "Feed the compensator the raw sensor readings instead of the temperature pipeline "
-                         "(filter + fault status, on by default as in `trueaxis run`), for comparison");
+                         "Feed the compensator the sensor readings unfiltered (the temperature pipeline's "
+                         "filter off; its fault rules still judge every reading, as in `trueaxis run`), for comparison");
   cmd->add_option("--geometric", opts->demo.geometric,
                   "Er(x) model: auto (polynomial or table by cross-validation), polynomial (the fan-shaped model's form), table (one value per sample, as a pitch table)")
       ->check(CLI::IsMember({"auto", "polynomial", "table"}))

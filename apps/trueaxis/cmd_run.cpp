@@ -107,7 +107,7 @@ void Run(const Options& o) {
   for (const auto& w : m.warnings) fmt::print(stderr, "warning: {}\n", w);
   // The coolant state the compensator sees can be forced from the web page.
   web::CoolantOverrideLink link(*m.link);
-  auto comp = runtime::Compensator::ForHardware(c.compensator, link, *m.source, c.axes);
+  auto comp = runtime::Compensator::ForHardware(c.compensator, link, *m.monitored, c.axes);
   // InputError (exit 2) on a model that does not fit the machine.
   const station::PublishedModel first_model = station::PublishModelFile(*comp, c, m.name);
   const std::string& first_revision = first_model.revision;
@@ -116,7 +116,7 @@ void Run(const Options& o) {
 
   const auto every = static_cast<std::uint64_t>(std::max(1.0, std::round(c.record_interval_s / c.period_s)));
   runtime::CycleRecorder recorder(8192, every);
-  runtime::LoopRunner runner(*comp, link, *m.source, runtime::LoopOptions{c.period_s, c.temperature_period_s}, &recorder);
+  runtime::LoopRunner runner(*comp, link, *m.monitored, runtime::LoopOptions{c.period_s, c.temperature_period_s}, &recorder);
   if (m.advance) runner.SetPlantAdvance(m.advance);
 
   const double unix0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();

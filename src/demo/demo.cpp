@@ -279,17 +279,18 @@ class WorkingDay {
       link = cnc_client_.get();
       source = temp_client_.get();
     }
-    if (o.signal_processing) {  // the one temperature pipeline, timed by the machine's clock
+    {  // the one temperature judge, timed by the machine's clock; --raw-temperatures: no filter
       signal::MonitorOptions mo = station::MonitorOptionsFor(o.compensator.sensor);
       mo.neighbour_groups = RedundantProbes(md);
+      if (!o.signal_processing) mo.filter = signal::FilterOptions::PassThrough();
       monitored_ = std::make_unique<signal::MonitoredTemperatureSource>(*source, mo, [this] { return vm_.TimeS(); });
-      source = monitored_.get();
-      result_.interface_used += "; temperatures through signal::MonitoredTemperatureSource";
+      result_.interface_used += o.signal_processing ? "; temperatures through signal::MonitoredTemperatureSource"
+                                                    : "; temperatures judged unfiltered by signal::MonitoredTemperatureSource";
     }
-    comp_ = runtime::Compensator::ForHardware(o.compensator, *link, *source, interfaces);
+    comp_ = runtime::Compensator::ForHardware(o.compensator, *link, *monitored_, interfaces);
     if (writer) history_ = std::make_unique<station::HistoryLogger>(*writer, all_axes_, result_.channel_names);
     observer_ = std::make_unique<DayObserver>(vm_, result_, history_.get());
-    runner_ = std::make_unique<runtime::LoopRunner>(*comp_, *link, *source, runtime::LoopOptions{o.period_s}, observer_.get());
+    runner_ = std::make_unique<runtime::LoopRunner>(*comp_, *link, *monitored_, runtime::LoopOptions{o.period_s}, observer_.get());
     advance_ = [this](double dt) { vm_.Advance(dt); };
     comp_->PublishModel(std::move(model), model_label);
   }

@@ -30,7 +30,7 @@ Compensator::Compensator(CompensatorOptions options, std::vector<AxisInterface> 
 }
 
 std::unique_ptr<Compensator> Compensator::ForHardware(const CompensatorOptions& options, const hw::CncLink& link,
-                                                      const hw::TemperatureSource& source,
+                                                      const signal::JudgedTemperatureSource& source,
                                                       const std::vector<AxisInterface>& interfaces) {
   std::vector<AxisInterface> axes;
   for (std::size_t i = 0; i < link.AxisCount(); ++i) {
@@ -91,7 +91,7 @@ const CycleStatus& Compensator::AwaitWrite() {
   return out_.status;
 }
 
-const CycleStatus& Compensator::RunCycle(hw::CncLink& link, hw::TemperatureSource& source, double now_s) {
+const CycleStatus& Compensator::RunCycle(hw::CncLink& link, signal::JudgedTemperatureSource& source, double now_s) {
   ++inline_sequence_;
   ReadTemperatures(source, now_s, inline_sequence_, inline_temperatures_);
   ReadCnc(link, now_s, inline_sequence_, inline_cnc_);

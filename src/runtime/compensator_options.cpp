@@ -6,14 +6,22 @@
 
 namespace trueaxis::runtime {
 
+signal::FaultOptions DefaultJudgeLimits() {
+  signal::FaultOptions f;
+  f.min_plausible_c = -20;
+  f.max_plausible_c = 120;
+  f.max_rate_c_per_s = 2.0;
+  f.rate_allowance_c = 0.5;
+  return f;
+}
+
 bool SensorFaultPolicy::IsValid(std::string* why) const {
   auto fail = [&](std::string m) {
     if (why) *why = std::move(m);
     return false;
   };
-  if (!(min_valid_c < max_valid_c)) return fail(fmt::format("min_valid_c ({}) must be < max_valid_c ({})", min_valid_c, max_valid_c));
-  if (!(max_rate_c_per_s >= 0)) return fail("max_rate_c_per_s must be >= 0 (0 disables)");
-  if (!(rate_allowance_c >= 0)) return fail("rate_allowance_c must be >= 0");
+  std::string inner;
+  if (!judge.IsValid(&inner)) return fail("sensor judge: " + inner);
   if (!(hold_last_good_s >= 0) || !std::isfinite(hold_last_good_s)) return fail("hold_last_good_s must be >= 0");
   if (!(fallback_handover_s >= 0) || !std::isfinite(fallback_handover_s))
     return fail("fallback_handover_s must be >= 0 (0: no hand-over)");

@@ -72,10 +72,11 @@ StepOutputs::StepOutputs(std::size_t axis_count, std::size_t channel_count)
 
 namespace {
 
-// Temperature conditioning: a channel is good when the snapshot is fresh and answered, the device
-// did not flag it, the value is finite, in range and has not moved faster than the rate limit since
-// the last good value. A bad channel keeps its last good value for hold_last_good_s, then is lost.
-// Returns whether the temperature snapshot was usable.
+// Temperature conditioning. Every value was judged once, before the step, by the temperature
+// judge (signal::TemperatureMonitor: calibration, range, rate, stuck, disagreement); the step adds
+// only what concerns the snapshot and the time: a channel is good when the snapshot is fresh and
+// answered and the judge found the channel usable. A channel that is not keeps its last good value
+// for hold_last_good_s, then is lost. Returns whether the temperature snapshot was usable.
 bool ConditionTemperatures(const SensorFaultPolicy& p, const TemperatureSnapshot* ts, double now_s,
                            StepState& state, StepOutputs& out, std::uint32_t& alarms) {
   const bool have = ts && ts->sequence != 0;
@@ -91,21 +92,16 @@ bool ConditionTemperatures(const SensorFaultPolicy& p, const TemperatureSnapshot
     if (!usable) {
       m.valid = false;
     } else if (new_sample) {
-      const hw::RawTemperature& r = ts->channels[i];
-      const double t = r.temp_c;
-      bool valid = !r.hardware_fault && std::isfinite(t) && t >= p.min_valid_c && t <= p.max_valid_c;
-      if (valid && m.has_good && p.max_rate_c_per_s > 0) {
-        const double allowed = p.max_rate_c_per_s * (ts->sampled_at_s - m.last_good_time_s) + p.rate_allowance_c;
-        valid = std::fabs(t - m.last_good_c) <= allowed;
-      }
+      const signal::JudgedTemperature& j = ts->channels[i];
+      const bool valid = j.usable() && std::isfinite(j.value_c);
       if (valid) {
-        m.last_good_c = t;
+        m.last_good_c = j.value_c;
         m.last_good_time_s = ts->sampled_at_s;
         m.has_good = true;
       }
       m.valid = valid;
     }
-    c.raw_c = usable ? ts->channels[i].temp_c : std::nan("");
+    c.raw_c = usable ? ts->channels[i].raw_c : std::nan("");
     if (m.valid) {
       c.value_c = m.last_good_c;
       c.health = ChannelHealth::kOk;

@@ -30,7 +30,7 @@ std::string LoopStats::BriefReport() const {
   return s;
 }
 
-LoopRunner::LoopRunner(Compensator& compensator, hw::CncLink& link, hw::TemperatureSource& source, LoopOptions options,
+LoopRunner::LoopRunner(Compensator& compensator, hw::CncLink& link, signal::JudgedTemperatureSource& source, LoopOptions options,
                        CycleObserver* observer)
     : compensator_(compensator),
       link_(link),

@@ -36,17 +36,20 @@ void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptio
   }
   if (const toml::table* t = r.Table("sensor_fault")) {
     TomlTableReader m(*t, r.source(), r.Key("sensor_fault"));
-    m.Double("min_valid_c", o.sensor.min_valid_c, -273, 1000);
-    m.Double("max_valid_c", o.sensor.max_valid_c, -273, 1000);
-    m.Double("max_rate_c_per_s", o.sensor.max_rate_c_per_s, 0, 1e3);
-    m.Double("rate_allowance_c", o.sensor.rate_allowance_c, 0, 100);
+    // The per-value limits are the temperature judge's (signal::TemperatureMonitor), under the
+    // names the run config has always used; the step itself judges no value.
+    signal::FaultOptions& judge = o.sensor.judge;
+    m.Double("min_valid_c", judge.min_plausible_c, -273, 1000);
+    m.Double("max_valid_c", judge.max_plausible_c, -273, 1000);
+    m.Double("max_rate_c_per_s", judge.max_rate_c_per_s, 0, 1e3);
+    m.Double("rate_allowance_c", judge.rate_allowance_c, 0, 100);
     m.Double("hold_last_good_s", o.sensor.hold_last_good_s, 0, 1e6);
     m.Double("fallback_handover_s", o.sensor.fallback_handover_s, 0, 1e6);
     m.Double("stale_after_s", o.sensor.stale_after_s, 1e-3, 1e6);
     const int fb = m.Choice("fallback", {"geometric", "zero"});
     if (fb >= 0) o.sensor.fallback = fb == 0 ? SensorFallback::kGeometricOnly : SensorFallback::kZero;
     m.RejectUnknown();
-    if (!(o.sensor.min_valid_c < o.sensor.max_valid_c))
+    if (!(judge.min_plausible_c < judge.max_plausible_c))
       m.Fail("max_valid_c", t->get("max_valid_c"), "must be greater than min_valid_c");
   }
   if (const toml::table* t = r.Table("link")) {
@@ -203,7 +206,7 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source, boo
       }
       c.redundant_groups_line = m.Line(g);
     }
-    m.Double("max_disagreement_c", c.max_disagreement_c, 0.1, 50);
+    m.Double("max_disagreement_c", c.compensator.sensor.judge.max_disagreement_c, 0.1, 50);
     m.RejectUnknown();
     if (!c.redundant_groups.empty() && !c.signal_processing)
       m.Fail("groups", t->get("groups"), "needs enabled = true (the signal processing compares the channels)");

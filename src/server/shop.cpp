@@ -32,6 +32,7 @@
 #include "trueaxis/runtime/bound_model.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/runtime/cycle_step.hpp"
+#include "trueaxis/signal/temperature_monitor.hpp"
 #include "trueaxis/station/history_logger.hpp"
 #include "trueaxis/store/history_writer.hpp"
 
@@ -110,6 +111,8 @@ struct MachineSlot {
   std::vector<double> applied_um;   // CNC units, as the window reports
   std::uint64_t sequence = 0;
   runtime::CncSnapshot cnc;
+  std::vector<hw::RawTemperature> raw_temps;  // as the ADAM-6015 modules deliver them
+  std::unique_ptr<signal::TemperatureMonitor> judge;  // the one temperature judge: raw_temps → temps
   runtime::TemperatureSnapshot temps;
   runtime::StepState state;
   std::unique_ptr<runtime::StepOutputs> out;
@@ -236,8 +239,8 @@ struct Shop::Impl {
     }
     for (std::size_t c = 0; c < s.channels.size(); ++c) {
       ChannelView& v = s.channels[c];
-      const auto& raw = m.temps.channels[c];
-      v.temp_c = (s.connected && m.temps_ok && !raw.hardware_fault) ? Reading(raw.temp_c) : std::nullopt;
+      const auto& judged = m.temps.channels[c];
+      v.temp_c = (s.connected && m.temps_ok && judged.usable()) ? Reading(judged.value_c) : std::nullopt;
       v.health = station::ChannelHealthName(o.channels[c].health);
     }
   }
@@ -252,7 +255,13 @@ struct Shop::Impl {
       m.temps.sequence = m.sequence;
       m.temps.sampled_at_s = now;
       m.temps.ok = m.temps_ok;
-      if (m.temps_read && m.temps_ok) m.temps_read_s = now;
+      if (m.temps_read && m.temps_ok) {
+        m.temps_read_s = now;
+        m.judge->Update(now, m.raw_temps);
+        m.judge->Judge(m.temps.channels);
+      } else if (!m.temps_ok) {
+        m.judge->MarkSourceFailed(now);
+      }
     }
     if (m.cnc_ok) m.last_good_read_unix_s = now + unix_offset_s;
     {
@@ -495,7 +504,7 @@ struct Shop::Impl {
         if (ok) {
           for (std::size_t c = 0; c < ModuleChannels(m, m.module); ++c) {
             const std::size_t ch = m.module * adam::kChannelCount + c;
-            m.temps.channels[ch] = drivers::DecodeRtdChannel(m.registers[c], false, *m.ranges[ch]);
+            m.raw_temps[ch] = drivers::DecodeRtdChannel(m.registers[c], false, *m.ranges[ch]);
           }
         } else {
           m.temps_ok = false;
@@ -650,6 +659,11 @@ Shop::Shop(ShopConfig config, store::HistoryWriter* history) : config_(std::move
     m->applied_um.assign(axes, 0.0);
     m->cnc = runtime::CncSnapshot(axes);
     m->temps = runtime::TemperatureSnapshot(c.channels.size());
+    m->raw_temps.assign(c.channels.size(), {});
+    signal::MonitorOptions judge_options;  // the run config's fault rules; values unfiltered here
+    judge_options.faults = c.compensator.sensor.judge;
+    judge_options.filter = signal::FilterOptions::PassThrough();
+    m->judge = std::make_unique<signal::TemperatureMonitor>(c.channels, judge_options);
     m->state = runtime::StepState(axes, c.channels.size(), c.compensator);
     m->out = std::make_unique<runtime::StepOutputs>(axes, c.channels.size());
     m->wanted.axis_enabled.assign(axes, 1);

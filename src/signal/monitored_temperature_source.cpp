@@ -1,7 +1,6 @@
 #include "trueaxis/signal/monitored_temperature_source.hpp"
 
 #include <chrono>
-#include <cmath>
 
 namespace trueaxis::signal {
 
@@ -21,7 +20,7 @@ MonitoredTemperatureSource::MonitoredTemperatureSource(hw::TemperatureSource& in
   }
 }
 
-bool MonitoredTemperatureSource::Read(std::span<hw::RawTemperature> out) {
+bool MonitoredTemperatureSource::Read(std::span<JudgedTemperature> out) {
   const double now = clock_s_();
   if (!inner_.Read(raw_)) {
     monitor_.MarkSourceFailed(now);
@@ -29,17 +28,7 @@ bool MonitoredTemperatureSource::Read(std::span<hw::RawTemperature> out) {
   }
   for (std::size_t i = 0; i < monitor_.ChannelCount(); ++i) monitor_.SetMeasuringRange(i, inner_.ChannelMeasuringRange(i));
   monitor_.Update(now, raw_);
-  for (std::size_t i = 0; i < out.size() && i < monitor_.ChannelCount(); ++i) {
-    const ChannelReading& r = monitor_.reading(i);
-    if (r.usable()) {
-      out[i] = {r.filtered_c, false};
-    } else {
-      // Not usable: flag it, and carry the last good value (or the raw one if
-      // there never was a good value) so a consumer that only looks at the
-      // number sees nothing wild.
-      out[i] = {std::isnan(r.last_good_c) ? r.raw_c : r.last_good_c, true};
-    }
-  }
+  monitor_.Judge(out);
   return true;
 }
 

@@ -16,7 +16,8 @@ bool FaultOptions::IsValid(std::string* why) const {
   if (!(max_plausible_c > min_plausible_c)) return fail("max_plausible_c must be greater than min_plausible_c");
   if (!(range_hysteresis_c >= 0)) return fail("range_hysteresis_c must be >= 0");
   if (!(rail_fraction >= 0 && rail_fraction < 0.5)) return fail("rail_fraction must be in [0, 0.5)");
-  if (!(max_rate_c_per_s > 0)) return fail("max_rate_c_per_s must be > 0");
+  if (!(max_rate_c_per_s >= 0)) return fail("max_rate_c_per_s must be >= 0 (0: no rate rule)");
+  if (!(rate_allowance_c >= 0)) return fail("rate_allowance_c must be >= 0");
   if (!(stuck_window_s > 0)) return fail("stuck_window_s must be > 0");
   if (!(stuck_band_c >= 0)) return fail("stuck_band_c must be >= 0");
   if (!(others_moving_c > stuck_band_c)) return fail("others_moving_c must be greater than stuck_band_c");
@@ -160,10 +161,11 @@ ChannelStatus TemperatureMonitor::DetectInstant(Channel& ch, const hw::RawTemper
 
   const double previous = ch.last_filtered_c;
   ch.last_filtered_c = out.value_c;
-  if (!std::isnan(previous) && dt > 0) {
-    const double rate = std::abs(out.value_c - previous) / dt;
+  if (!std::isnan(previous) && dt > 0 && f.max_rate_c_per_s > 0) {
     const double limit = r.status == ChannelStatus::kRateOfChange ? 0.5 * f.max_rate_c_per_s : f.max_rate_c_per_s;
-    if (rate > limit) return ChannelStatus::kRateOfChange;
+    // The allowance is for the noise of values judged as read; a low-passed value has none to allow for.
+    const double allowance = options_.filter.lowpass_time_constant_s > 0 ? 0.0 : f.rate_allowance_c;
+    if (std::abs(out.value_c - previous) > limit * dt + allowance) return ChannelStatus::kRateOfChange;
   }
   return ChannelStatus::kOk;
 }
@@ -276,6 +278,13 @@ void TemperatureMonitor::MarkSourceFailed(double time_s) {
   for (auto& ch : channels_) {
     if (stale) ApplyHysteresis(ch, ChannelStatus::kNoData);
     else ch.reading.status_changed = false;
+  }
+}
+
+void TemperatureMonitor::Judge(std::span<JudgedTemperature> out) const {
+  for (std::size_t i = 0; i < out.size() && i < channels_.size(); ++i) {
+    const ChannelReading& r = channels_[i].reading;
+    out[i] = {r.usable() ? r.filtered_c : JudgedTemperature::kNaN, r.raw_c, r.status};
   }
 }
 

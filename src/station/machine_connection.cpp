@@ -40,9 +40,7 @@ ModbusClients MakeModbusClients(const runtime::ModbusConfig& b, const std::strin
 
 signal::MonitorOptions MonitorOptionsFor(const runtime::SensorFaultPolicy& policy) {
   signal::MonitorOptions o;
-  o.faults.min_plausible_c = policy.min_valid_c;
-  o.faults.max_plausible_c = policy.max_valid_c;
-  if (policy.max_rate_c_per_s > 0) o.faults.max_rate_c_per_s = policy.max_rate_c_per_s;
+  o.faults = policy.judge;
   return o;
 }
 
@@ -112,7 +110,7 @@ void AttachTemperaturePipeline(const runtime::RunConfig& c, Machine& m) {
   }
   signal::MonitorOptions mo = MonitorOptionsFor(c.compensator.sensor);
   mo.neighbour_groups = c.redundant_groups;
-  mo.faults.max_disagreement_c = c.max_disagreement_c;
+  if (!c.signal_processing) mo.filter = signal::FilterOptions::PassThrough();  // judged all the same
   std::vector<std::string> channels;
   for (std::size_t i = 0; i < m.source->ChannelCount(); ++i) channels.push_back(m.source->ChannelName(i));
   for (const auto& group : c.redundant_groups)
@@ -126,7 +124,6 @@ void AttachTemperaturePipeline(const runtime::RunConfig& c, Machine& m) {
     for (const auto& name : m.monitored->monitor().SetCalibration(signal::ReadCalibrationFile(c.calibration_file)))
       m.warnings.push_back(fmt::format("calibration for '{}' matches no channel of the machine", name));
   }
-  m.source = m.monitored.get();
 }
 
 }  // namespace
@@ -148,7 +145,7 @@ Machine OpenMachine(const runtime::RunConfig& c) {
       throw InputError(c.source, c.LineOf(key), key,
                        fmt::format("the machine has no axis '{}' (its axes: {})", a.axis, fmt::join(names, ", ")));
   }
-  if (c.signal_processing) AttachTemperaturePipeline(c, m);
+  AttachTemperaturePipeline(c, m);
   return m;
 }
 

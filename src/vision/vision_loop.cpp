@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "trueaxis/runtime/compensator.hpp"
+#include "trueaxis/signal/monitored_temperature_source.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
 
 namespace trueaxis::vision {
@@ -19,7 +20,10 @@ VisionLoopResult RunVisionLoop(const MarkerDescription& marker, const CameraMode
   const int zi = machine.AxisIndex(loop.z_axis);  // the machine's axis order is the CNC link's
   if (zi < 0) throw std::invalid_argument("the machine has no axis '" + loop.z_axis + "'");
   const auto z = static_cast<std::size_t>(zi);
-  auto comp = runtime::Compensator::ForHardware(loop.compensator, vm, vm, {});
+  signal::MonitorOptions judge_options;  // the temperature judge, in the machine's time
+  judge_options.faults = loop.compensator.sensor.judge;
+  signal::MonitoredTemperatureSource judged(vm, judge_options, [&vm] { return vm.TimeS(); });
+  auto comp = runtime::Compensator::ForHardware(loop.compensator, vm, judged, {});
   const double valid_s = loop.term_valid_s > 0
                              ? loop.term_valid_s
                              : (marker.max_rejected_in_row + 1) * day.frame_interval_s + loop.cycle_s;
@@ -35,7 +39,7 @@ VisionLoopResult RunVisionLoop(const MarkerDescription& marker, const CameraMode
       spindle.AdvanceTo(vm.TimeS() + dt);
       vm.SetExtraErrorUm(z, spindle.ZErrorUm());  // the spindle's true growth at the tool
       vm.Advance(dt);
-      const auto& s = comp->RunCycle(vm, vm, vm.TimeS());
+      const auto& s = comp->RunCycle(vm, judged, vm.TimeS());
       out.alarms_seen |= s.alarms & counted;
       const double with = vm.ErrorUm(z) - z0_um, without = with - vm.CorrectionUm(z);
       ss_with += with * with, ss_without += without * without, ++cycles;

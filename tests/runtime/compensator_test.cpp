@@ -131,12 +131,9 @@ TEST(Compensator, AmbientDriftAdjustsTheGeometricPart) {
   r.cnc.axes[0] = {400, +1, true};
   r.Cycle(2);
   const double at20 = r.comp->LastStatus().axes[0].desired_um;
+  // A step of 4 °C, judged good (the mock's verdict; whether a real step is plausible is the
+  // temperature judge's rate rule, tests/runtime/temperature_judge_test.cpp): taken as it is.
   r.temps.Set("ambient", 24);
-  // A 4 °C step in 10 ms is implausible (max 2 °C/s): the old value is held
-  // until the step is plausible for the time elapsed, (4 − 0.5)/2 = 1.75 s.
-  r.Cycle(2);
-  EXPECT_TRUE(r.comp->LastStatus().alarms & kAlarmSensorHeld);
-  EXPECT_DOUBLE_EQ(r.comp->LastStatus().axes[0].desired_um, at20);
   r.Cycle(200);
   EXPECT_EQ(r.comp->LastStatus().alarms, 0u);
   const double at24 = r.comp->LastStatus().axes[0].desired_um;

@@ -42,7 +42,8 @@ inline std::shared_ptr<const model::CompositeModel> TestModel(double geometric_s
 }
 
 // One axis X standing at 400 mm (forward), channels ambient / nut / bearing at 20 °C, and a
-// compensator that lets any correction through within one cycle and accepts stepped temperatures:
+// compensator that lets any correction through within one cycle and, as the step judges no value
+// (the mock's verdicts are the test's), accepts stepped temperatures:
 // what the model asks for is what `desired_um` shows, cycle by cycle. A fallback model takes over
 // with its own prediction at once unless `fallback_handover_s` > 0.
 struct OneAxisRig {
@@ -50,7 +51,6 @@ struct OneAxisRig {
     CompensatorOptions o;
     o.shaper.max_step_um = 1000;
     o.shaper.max_correction_um = 500;
-    o.sensor.max_rate_c_per_s = 0;  // the tests step temperatures on purpose
     o.sensor.fallback_handover_s = fallback_handover_s;
     comp = Compensator::ForHardware(o, cnc, temps, {});
     cnc.axes[0] = {400, +1, true};

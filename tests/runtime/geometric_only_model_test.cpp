@@ -10,6 +10,7 @@
 #include "fakes.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/hw/no_temperature_source.hpp"
+#include "trueaxis/signal/monitored_temperature_source.hpp"
 
 namespace trueaxis::runtime {
 namespace {
@@ -41,7 +42,8 @@ CompensatorOptions Fast() {
 
 std::string PublishError(const std::shared_ptr<const model::CompositeModel>& m) {
   MockCnc cnc({"X"});
-  hw::NoTemperatureSource none;
+  hw::NoTemperatureSource no_channels;
+  signal::MonitoredTemperatureSource none(no_channels);  // judged, as station::OpenMachine does
   auto comp = Compensator::ForHardware(Fast(), cnc, none, {});
   try {
     comp->PublishModel(m, "model.json");
@@ -55,7 +57,8 @@ TEST(GeometricOnlyModel, RunsWithoutTemperatureChannels) {
   const auto m = ColdFitModel();
   EXPECT_FALSE(m->axes[0].AmbientInUse());
   MockCnc cnc({"X"});
-  hw::NoTemperatureSource none;
+  hw::NoTemperatureSource no_channels;
+  signal::MonitoredTemperatureSource none(no_channels);  // judged, as station::OpenMachine does
   auto comp = Compensator::ForHardware(Fast(), cnc, none, {});
   comp->PublishModel(m, "model.json");  // no "air" channel: not needed
   cnc.axes[0] = {400, +1, true};

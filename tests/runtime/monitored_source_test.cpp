@@ -54,7 +54,7 @@ TEST(SignalChainInFrontOfTheCompensator, SourceFailureIsPassedOn) {
   MockTemperatures raw({"nut"}, 20.0);
   double now = 0;
   MonitoredTemperatureSource mon(raw, signal::MonitorOptions{}, [&] { return now; });
-  std::vector<hw::RawTemperature> out(1);
+  std::vector<signal::JudgedTemperature> out(1);
   EXPECT_TRUE(mon.Read(out));
   raw.fail = true;
   now = 1;

@@ -101,7 +101,8 @@ TEST(RunConfig, ParsesEveryField) {
   ASSERT_EQ(c.redundant_groups.size(), 2u);
   EXPECT_EQ(c.redundant_groups[0], (std::vector<std::string>{"x_nut", "x_nut_b"}));
   EXPECT_EQ(c.redundant_groups[1].size(), 3u);
-  EXPECT_DOUBLE_EQ(c.max_disagreement_c, 1.5);
+  EXPECT_DOUBLE_EQ(c.compensator.sensor.judge.max_disagreement_c, 1.5);
+  EXPECT_DOUBLE_EQ(c.compensator.sensor.judge.max_rate_c_per_s, 1);
 }
 
 TEST(RunConfig, HistoryDatabaseUrlIsKeptAsWritten) {
@@ -147,6 +148,32 @@ void ExpectError(const std::string& text, int line, const std::string& field, co
     EXPECT_EQ(e.field(), field) << e.what();
     EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
   }
+}
+
+// The per-value limits of [sensor_fault] and [signal] are the temperature judge's, kept in one place
+// (SensorFaultPolicy::judge) under the keys the run config has always had.
+TEST(RunConfig, SensorFaultLimitsAreTheTemperatureJudges) {
+  const std::string head = "[machine]\nkind = \"modbus\"\n[model]\nfile = \"m.json\"\n";
+  const RunConfig d = ParseRunConfig(head, "/r.toml");
+  const signal::FaultOptions& dj = d.compensator.sensor.judge;
+  EXPECT_DOUBLE_EQ(dj.min_plausible_c, -20);
+  EXPECT_DOUBLE_EQ(dj.max_plausible_c, 120);
+  EXPECT_DOUBLE_EQ(dj.max_rate_c_per_s, 2.0);
+  EXPECT_DOUBLE_EQ(dj.rate_allowance_c, 0.5);
+  EXPECT_DOUBLE_EQ(dj.max_disagreement_c, 3.0);
+  const RunConfig c = ParseRunConfig(head +
+                                         "[sensor_fault]\nmin_valid_c = 5\nmax_valid_c = 60\nmax_rate_c_per_s = 0\n"
+                                         "rate_allowance_c = 0.2\n[signal]\nmax_disagreement_c = 1.5\n",
+                                     "/r.toml");
+  const signal::FaultOptions& j = c.compensator.sensor.judge;
+  EXPECT_DOUBLE_EQ(j.min_plausible_c, 5);
+  EXPECT_DOUBLE_EQ(j.max_plausible_c, 60);
+  EXPECT_DOUBLE_EQ(j.max_rate_c_per_s, 0);  // 0: no rate rule, as documented
+  EXPECT_DOUBLE_EQ(j.rate_allowance_c, 0.2);
+  EXPECT_DOUBLE_EQ(j.max_disagreement_c, 1.5);
+  std::string why;
+  EXPECT_TRUE(c.compensator.IsValid(&why)) << why;
+  EXPECT_NO_THROW(signal::TemperatureMonitor({"nut"}, signal::MonitorOptions{{}, j, {}}));
 }
 
 TEST(RunConfig, BadInputNamesLineAndField) {

@@ -8,6 +8,7 @@
 
 #include "fakes.hpp"
 #include "trueaxis/runtime/compensator.hpp"
+#include "trueaxis/signal/monitored_temperature_source.hpp"
 
 namespace trueaxis::runtime {
 namespace {
@@ -28,10 +29,17 @@ CompensatorOptions SafeOptions() {
 
 // Drives a compensator and checks the invariants on every cycle, on the
 // values the CNC actually holds (successful writes only).
+// `judged`: the raw readings go through the temperature judge (as in `run`); else the mock's own
+// verdicts (a flagged channel is faulty) reach the step.
 struct Harness {
-  explicit Harness(CompensatorOptions o = SafeOptions(), std::vector<AxisInterface> ifaces = {})
+  explicit Harness(CompensatorOptions o = SafeOptions(), std::vector<AxisInterface> ifaces = {}, bool judged = false)
       : cnc({"X", "Y"}), temps({"ambient", "nut", "bearing"}, 20.0) {
-    comp = Compensator::ForHardware(o, cnc, temps, ifaces);
+    if (judged) {
+      signal::MonitorOptions mo;
+      mo.faults = o.sensor.judge;
+      judge = std::make_unique<signal::MonitoredTemperatureSource>(temps, mo, [this] { return t; });
+    }
+    comp = Compensator::ForHardware(o, cnc, Source(), ifaces);
     for (std::size_t i = 0; i < 2; ++i) {
       const auto& a = comp->axes()[i];
       limit[i] = std::max(a.PhysicalQuantumUm(), kStep) * a.CncScale() + 1e-9;
@@ -43,7 +51,7 @@ struct Harness {
     const CycleStatus* s = nullptr;
     for (int k = 0; k < n; ++k) {
       t += 0.01;
-      s = &comp->RunCycle(cnc, temps, t);
+      s = &comp->RunCycle(cnc, Source(), t);
       for (std::size_t i = 0; i < 2; ++i) {
         const double d = std::fabs(cnc.cnc_value_um[i] - prev[i]);
         max_delta[i] = std::max(max_delta[i], d);
@@ -55,8 +63,13 @@ struct Harness {
     }
     return *s;
   }
+  signal::JudgedTemperatureSource& Source() {
+    if (judge) return *judge;
+    return temps;
+  }
   MockCnc cnc;
   MockTemperatures temps;
+  std::unique_ptr<signal::MonitoredTemperatureSource> judge;
   std::unique_ptr<Compensator> comp;
   double t = 0;
   double limit[2], bound[2];
@@ -100,21 +113,44 @@ TEST(Safety, SensorFaultHoldsLastGoodThenFallsBackToGeometricSmoothly) {
   EXPECT_GT(h.max_delta[0], 0.4);  // the ramps ran at the limit, not slower by accident
 }
 
-TEST(Safety, NanAndSpikeReadingsAreRejected) {
-  Harness h;
+// Implausible readings never reach the model: the temperature judge in front rejects them (each
+// rule once) and the step holds the last good value.
+TEST(Safety, NanSpikeAndJumpReadingsAreRejected) {
+  Harness h(SafeOptions(), {}, /*judged=*/true);
   WarmUp(h);
+  h.Cycle(3000);  // 30 s more: the judge's low-pass has settled at 30 °C
   const double full = h.cnc.cnc_value_um[0];
-  h.temps.Set("nut", std::nan(""));
-  h.Cycle(10);
+  const double nut_c = h.comp->LastStatus().channels[1].value_c;
+  ASSERT_NEAR(nut_c, 30, 0.01);
+  constexpr std::uint32_t kSensor = kAlarmSensorHeld | kAlarmSensorFallback;
+  h.temps.Set("nut", std::nan(""));  // not a number: hardware_fault
+  const auto& s0 = h.Cycle(10);
+  EXPECT_EQ(s0.channels[1].health, ChannelHealth::kHeld);
+  EXPECT_EQ(s0.alarms & kSensor, kAlarmSensorHeld);
   EXPECT_DOUBLE_EQ(h.cnc.cnc_value_um[0], full);
-  h.temps.Set("nut", 80);  // in range but a 50 °C jump in 0.1 s
-  const auto& s = h.Cycle(10);
-  EXPECT_EQ(s.channels[1].health, ChannelHealth::kHeld);
-  EXPECT_DOUBLE_EQ(s.channels[1].value_c, 30);
-  EXPECT_DOUBLE_EQ(h.cnc.cnc_value_um[0], full);
+  h.temps.Set("nut", 30);
+  EXPECT_EQ(h.Cycle(30).channels[1].health, ChannelHealth::kOk);  // after the judge's 20 clean samples
+  h.temps.Set("nut", 80);  // one sample 50 °C off: a spike, rejected by the filter — no alarm
+  h.Cycle(1);
+  h.temps.Set("nut", 30);
+  const auto& s1 = h.Cycle(10);
+  EXPECT_EQ(h.alarms_seen & kSensor, kAlarmSensorHeld);  // only the NaN's
+  EXPECT_EQ(s1.channels[1].health, ChannelHealth::kOk);
+  EXPECT_NEAR(s1.channels[1].value_c, nut_c, 0.01);
+  EXPECT_GE(h.judge->monitor().SpikeCount(1), 1u);
   h.temps.Set("nut", 500);  // out of range (open RTD)
-  h.Cycle(10);
-  EXPECT_DOUBLE_EQ(h.cnc.cnc_value_um[0], full);
+  const auto& s2 = h.Cycle(10);
+  EXPECT_EQ(h.judge->monitor().reading(1).status, signal::ChannelStatus::kOverRange);
+  EXPECT_EQ(s2.channels[1].health, ChannelHealth::kHeld);
+  EXPECT_NEAR(h.cnc.cnc_value_um[0], full, 1.0);
+  h.temps.Set("nut", 30);
+  EXPECT_EQ(h.Cycle(30).channels[1].health, ChannelHealth::kOk);
+  h.temps.Set("nut", 80);  // a 50 °C jump that stays: faster than any structure, rate_of_change
+  const auto& s3 = h.Cycle(20);
+  EXPECT_EQ(h.judge->monitor().reading(1).status, signal::ChannelStatus::kRateOfChange);
+  EXPECT_EQ(s3.channels[1].health, ChannelHealth::kHeld);
+  EXPECT_NEAR(s3.channels[1].value_c, nut_c, 1.0);  // what crept through before it was confirmed
+  EXPECT_NEAR(h.cnc.cnc_value_um[0], full, 2.0);
 }
 
 TEST(Safety, ZeroFallbackRampsTheAxisToZero) {

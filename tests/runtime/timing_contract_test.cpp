@@ -78,12 +78,16 @@ CompensatorOptions ContractOptions() {
   return o;
 }
 
-// The compensator (axis X, TestModel) behind the real-time loop with its I/O workers.
+// The compensator (axis X, TestModel) behind the real-time loop with its I/O workers; the raw
+// temperatures through the temperature judge, as `run` reads them.
 struct ContractLoop {
   ContractLoop(hw::CncLink& cnc, hw::TemperatureSource& temps, const CompensatorOptions& o, double period_s)
-      : comp(Compensator::ForHardware(o, cnc, temps, {})), runner(*comp, cnc, temps, LoopOptions{period_s, 10 * period_s}, &obs) {
+      : judged(temps, station::MonitorOptionsFor(o.sensor)),
+        comp(Compensator::ForHardware(o, cnc, judged, {})),
+        runner(*comp, cnc, judged, LoopOptions{period_s, 10 * period_s}, &obs) {
     comp->PublishModel(TestModel(1.0, {"X"}), "m");
   }
+  signal::MonitoredTemperatureSource judged;
   std::unique_ptr<Compensator> comp;
   ContractObserver obs;
   LoopRunner runner;

@@ -1,5 +1,7 @@
 #include "trueaxis/signal/monitored_temperature_source.hpp"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "alloc_counter.hpp"
@@ -21,27 +23,30 @@ TEST(MonitoredTemperatureSource, DeliversFilteredCalibratedValuesAndFlagsFaults)
   ASSERT_EQ(source.ChannelCount(), 2u);
   EXPECT_EQ(source.ChannelName(1), "x_nut");
   source.monitor().SetCalibration(1, {1.0, -0.5});
-  std::vector<hw::RawTemperature> out(2);
+  std::vector<JudgedTemperature> out(2);
   testing::NoisySensor noise;
   for (int i = 0; i < 600; ++i, now += 0.1) {
     inner.values[1] = {noise.Sample(25.0), false};
     ASSERT_TRUE(source.Read(out));
   }
-  EXPECT_FALSE(out[1].hardware_fault);
-  EXPECT_NEAR(out[1].temp_c, 24.5, 0.1);  // calibrated and filtered
-  EXPECT_DOUBLE_EQ(out[0].temp_c, 20.0);
-  const double good = out[1].temp_c;
-  // Open sensor: flagged, and the number stays the last good one.
+  EXPECT_TRUE(out[1].usable());
+  EXPECT_NEAR(out[1].value_c, 24.5, 0.1);  // calibrated and filtered
+  EXPECT_DOUBLE_EQ(out[0].value_c, 20.0);
+  const double good = out[1].value_c;
+  // Open sensor: judged over_range (no value to use); the monitor keeps the last good one.
   inner.values[1] = {500.0, false};
   for (int i = 0; i < 5; ++i, now += 0.1) source.Read(out);
-  EXPECT_TRUE(out[1].hardware_fault);
-  EXPECT_NEAR(out[1].temp_c, good, 0.05);
+  EXPECT_FALSE(out[1].usable());
+  EXPECT_EQ(out[1].status, ChannelStatus::kOverRange);
+  EXPECT_DOUBLE_EQ(out[1].raw_c, 500.0);
+  EXPECT_TRUE(std::isnan(out[1].value_c));
+  EXPECT_NEAR(source.monitor().reading(1).last_good_c, good, 0.05);
   EXPECT_EQ(source.monitor().reading(1).status, ChannelStatus::kOverRange);
   // Link loss: Read() false, out untouched; after stale_after_s the monitor says no_data.
   inner.fail = true;
   const auto before = out;
   EXPECT_FALSE(source.Read(out));
-  EXPECT_EQ(out[0].temp_c, before[0].temp_c);
+  EXPECT_EQ(out[0].value_c, before[0].value_c);
   now += 5;
   EXPECT_FALSE(source.Read(out));
   EXPECT_EQ(source.monitor().reading(0).status, ChannelStatus::kNoData);
@@ -54,7 +59,7 @@ TEST(MonitoredTemperatureSource, AReadingAtTheMeasuringChainsRailIsAFault) {
   inner.ranges = {hw::MeasuringRange{}, hw::MeasuringRange{0.0, 50.0}};
   double now = 0;
   MonitoredTemperatureSource source(inner, {}, [&now] { return now; });
-  std::vector<hw::RawTemperature> out(2);
+  std::vector<JudgedTemperature> out(2);
   auto run = [&](double x_nut_c, int samples) {
     for (int i = 0; i < samples; ++i, now += 1.0) {
       inner.values[1].temp_c = x_nut_c;
@@ -65,12 +70,12 @@ TEST(MonitoredTemperatureSource, AReadingAtTheMeasuringChainsRailIsAFault) {
   // The nut warms slowly towards the rail: a good reading just below it.
   for (double t = 25.0; t <= 49.5; t += 0.05) run(t, 1);
   EXPECT_EQ(source.monitor().reading(1).status, ChannelStatus::kOk);
-  EXPECT_FALSE(out[1].hardware_fault);
-  // Pinned at the transmitter's rail: over_range, flagged, the last good value carried.
+  EXPECT_TRUE(out[1].usable());
+  // Pinned at the transmitter's rail: over_range, the last good value kept below the rail.
   run(50.0, 5);
   EXPECT_EQ(source.monitor().reading(1).status, ChannelStatus::kOverRange);
-  EXPECT_TRUE(out[1].hardware_fault);
-  EXPECT_LT(out[1].temp_c, 49.9);
+  EXPECT_EQ(out[1].status, ChannelStatus::kOverRange);
+  EXPECT_LT(source.monitor().reading(1).last_good_c, 49.9);
   // The same reading from a channel whose range is not known is a temperature.
   inner.ranges.clear();
   run(50.0, 30);  // recover_samples (20) clean samples return it to ok
@@ -85,7 +90,7 @@ TEST(MonitoredTemperatureSource, ReadAllocatesNothing) {
   ScriptedSource inner;
   double now = 0;
   MonitoredTemperatureSource source(inner, {}, [&now] { return now; });
-  std::vector<hw::RawTemperature> out(2);
+  std::vector<JudgedTemperature> out(2);
   for (int i = 0; i < 10; ++i, now += 0.01) source.Read(out);
   const long before = trueaxis::testing::AllocationCount();
   for (int i = 0; i < 5000; ++i, now += 0.01) {

@@ -18,6 +18,7 @@
 
 #include "trueaxis/hw/cnc_link.hpp"
 #include "trueaxis/hw/temperature_source.hpp"
+#include "trueaxis/signal/judged_temperature.hpp"
 
 namespace trueaxis::testing {
 
@@ -97,7 +98,12 @@ class MockCnc : public hw::CncLink {
   std::vector<std::vector<double>> history_;
 };
 
-class MockTemperatures : public hw::TemperatureSource {
+// A raw temperature source (for the pipeline's tests: wrap it in signal::MonitoredTemperatureSource)
+// and, for the runtime's tests, a judged one whose verdicts the test sets: a channel flagged
+// faulty (SetFault, Set(..., true)) or not finite is judged hardware_fault, every other one ok
+// with its value as it is. The judge's own rules are tested in tests/signal; the runtime's tests
+// test what the step does with a verdict.
+class MockTemperatures : public hw::TemperatureSource, public signal::JudgedTemperatureSource {
  public:
   MockTemperatures(std::vector<std::string> names, double initial_c, MockLocking locking = MockLocking::kLocked)
       : names_(std::move(names)), values(names_.size()), locked_(locking == MockLocking::kLocked) {
@@ -117,6 +123,18 @@ class MockTemperatures : public hw::TemperatureSource {
     if (locked_) lock.lock();
     if (fail) return false;
     for (std::size_t i = 0; i < values.size(); ++i) out[i] = values[i];
+    return true;
+  }
+  bool Read(std::span<signal::JudgedTemperature> out) override {
+    std::unique_lock<std::mutex> lock(mu_, std::defer_lock);
+    if (locked_) lock.lock();
+    if (fail) return false;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const hw::RawTemperature& v = values[i];
+      const bool ok = !v.hardware_fault && std::isfinite(v.temp_c);
+      out[i] = {ok ? v.temp_c : signal::JudgedTemperature::kNaN, v.temp_c,
+                ok ? signal::ChannelStatus::kOk : signal::ChannelStatus::kHardwareFault};
+    }
     return true;
   }
   void Set(const std::string& name, double c) {

@@ -4,7 +4,8 @@
 // names), the model exchange, the step's state and its buffers, and runs the
 // pure step (cycle_step.hpp) on the latest I/O snapshots:
 //
-//   I/O phase: read temperatures ─► TemperatureSnapshot (with its time)
+//   I/O phase: read temperatures ─► TemperatureSnapshot (with its time; judged values only, from a
+//              signal::JudgedTemperatureSource — the temperature judge in front)
 //   I/O phase: read the CNC      ─► CncSnapshot         (with its time)
 //   Cycle():   pick up a published model, Step(model, state, inputs) ─► command + status
 //   I/O phase: write the command; CommitWrite(write_ok)
@@ -45,7 +46,7 @@ class Compensator {
   // Convenience: axis order and channel names taken from the link and source;
   // `interfaces` matched by axis name (missing axes get defaults).
   static std::unique_ptr<Compensator> ForHardware(const CompensatorOptions& options, const hw::CncLink& link,
-                                                  const hw::TemperatureSource& source,
+                                                  const signal::JudgedTemperatureSource& source,
                                                   const std::vector<AxisInterface>& interfaces);
 
   // ---- any thread except the real-time one ----
@@ -88,7 +89,7 @@ class Compensator {
   const CycleStatus& CommitWrite(bool write_ok);
   const CycleStatus& AwaitWrite();
   // The three phases inline: read both, Cycle, write, commit.
-  const CycleStatus& RunCycle(hw::CncLink& link, hw::TemperatureSource& source, double now_s);
+  const CycleStatus& RunCycle(hw::CncLink& link, signal::JudgedTemperatureSource& source, double now_s);
   const CycleStatus& LastStatus() const { return out_.status; }
   const StepState& state() const { return state_; }
 

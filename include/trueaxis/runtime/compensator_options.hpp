@@ -5,6 +5,7 @@
 #include <string>
 
 #include "trueaxis/runtime/output_shaper.hpp"
+#include "trueaxis/signal/temperature_monitor.hpp"
 
 namespace trueaxis::runtime {
 
@@ -20,18 +21,23 @@ enum class LinkLossPolicy {
   kRampToZero,  // ramp towards zero; takes effect on the writes that still get through
 };
 
+// The run config's defaults for the temperature judge's per-value rules ([sensor_fault]
+// min_valid_c = -20, max_valid_c = 120, max_rate_c_per_s = 2.0, rate_allowance_c = 0.5; the other
+// rules at signal::FaultOptions' defaults).
+signal::FaultOptions DefaultJudgeLimits();
+
 struct SensorFaultPolicy {
-  // Plausible range; outside it a reading is a fault (open/short RTD reads far outside).
-  double min_valid_c = -20;
-  double max_valid_c = 120;
-  // Implausible rate of change, °C per second since the last good reading
-  // (plus `rate_allowance_c` for noise); 0 disables the check.
-  double max_rate_c_per_s = 2.0;
-  double rate_allowance_c = 0.5;
-  // A faulty channel keeps its last good value this long, then counts as lost.
+  // The per-value rules (range, rate of change, stuck, disagreement), applied once, by the
+  // temperature judge in front of the step (signal::TemperatureMonitor, built from these by
+  // whoever wires the machine); the step itself judges no value. [sensor_fault] min_valid_c,
+  // max_valid_c, max_rate_c_per_s (0: no rate rule), rate_allowance_c and [signal]
+  // max_disagreement_c are read into this.
+  signal::FaultOptions judge = DefaultJudgeLimits();
+  // A channel the judge faults keeps its last good value this long, then counts as lost.
   double hold_last_good_s = 60;
   // A temperature snapshot older than this (the temperature worker is stuck on a
-  // dead terminal) is treated as a failed read: channels are held, then lost.
+  // dead terminal) is treated as a failed read: channels are held, then lost. (The judge's own
+  // judge.stale_after_s is about its source failing reads; this is about the snapshot's age.)
   double stale_after_s = 5;
   SensorFallback fallback = SensorFallback::kGeometricOnly;
   // A fallback model taking over (AxisModel::fallbacks) starts from the model's last thermal

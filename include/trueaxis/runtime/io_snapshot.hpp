@@ -2,7 +2,8 @@
 // What the I/O phases hand the step, and what the step hands back to them
 // (docs/runtime.md, *One cycle* and *Timing contract*).
 //
-//   TemperatureSnapshot  ← TemperatureSource::Read at the temperature rate (1–10 Hz)
+//   TemperatureSnapshot  ← signal::JudgedTemperatureSource::Read at the temperature rate (1–10 Hz):
+//                          judged values only (the temperature judge ran before the step)
 //   CncSnapshot          ← CncLink::Read every cycle (+ the result of the last write)
 //   CncCommand           → CncLink::WriteCompensation
 //
@@ -15,7 +16,7 @@
 #include <vector>
 
 #include "trueaxis/hw/cnc_link.hpp"
-#include "trueaxis/hw/temperature_source.hpp"
+#include "trueaxis/signal/judged_temperature.hpp"
 
 namespace trueaxis::runtime {
 
@@ -23,7 +24,9 @@ struct TemperatureSnapshot {
   std::uint64_t sequence = 0;  // 0: nothing read yet
   double sampled_at_s = 0;     // loop time of the read
   bool ok = false;             // the source answered (else `channels` are not this read's)
-  std::vector<hw::RawTemperature> channels;
+  // The judge's verdict per channel (signal::TemperatureMonitor): the step applies no
+  // per-value rule of its own, only this snapshot's age and the hold time.
+  std::vector<signal::JudgedTemperature> channels;
 
   explicit TemperatureSnapshot(std::size_t channel_count = 0) : channels(channel_count) {}
 };
@@ -53,7 +56,9 @@ struct CncCommand {
 
 // The I/O phases. No allocation (the snapshots are sized by their constructors).
 // `sequence` numbers the reads of one producer (1, 2, ...).
-inline void ReadTemperatures(hw::TemperatureSource& source, double now_s, std::uint64_t sequence,
+// A raw hw::TemperatureSource does not fit here: it goes through the judge first
+// (signal::MonitoredTemperatureSource).
+inline void ReadTemperatures(signal::JudgedTemperatureSource& source, double now_s, std::uint64_t sequence,
                              TemperatureSnapshot& out) {
   out.ok = source.Read(out.channels);
   out.sampled_at_s = now_s;

@@ -67,7 +67,7 @@ class CycleObserver {
 class LoopRunner {
  public:
   // Throws std::invalid_argument on invalid options.
-  LoopRunner(Compensator& compensator, hw::CncLink& link, hw::TemperatureSource& source, LoopOptions options,
+  LoopRunner(Compensator& compensator, hw::CncLink& link, signal::JudgedTemperatureSource& source, LoopOptions options,
              CycleObserver* observer = nullptr);
   ~LoopRunner();  // stops the threads
   LoopRunner(const LoopRunner&) = delete;
@@ -104,7 +104,7 @@ class LoopRunner {
 
   Compensator& compensator_;
   hw::CncLink& link_;
-  hw::TemperatureSource& source_;
+  signal::JudgedTemperatureSource& source_;
   LoopOptions options_;
   CycleObserver* observer_;
   std::function<void(double)> plant_advance_;

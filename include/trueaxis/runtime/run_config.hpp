@@ -65,14 +65,15 @@ struct RunConfig {
   double duration_s = 0;        // 0: until SIGINT/SIGTERM
   CompensatorOptions compensator;
   std::vector<AxisInterface> axes;
-  // Seed 000's temperature signal processing in front of the compensator
-  // (signal::MonitoredTemperatureSource: calibration, filtering, fault status); on by default.
+  // Seed 000's de-noising filter in the temperature judge in front of the compensator
+  // (signal::MonitoredTemperatureSource); on by default. Off, the judge still applies its fault
+  // rules (compensator.sensor.judge) to the unfiltered values: nothing reaches the step unjudged.
   bool signal_processing = true;
   std::string calibration_file;  // signal::CalibrationSet JSON (trueaxis calibrate), "" = none
   // Redundant probes ([signal] groups, e.g. two on one nut): checked against each other by the
-  // pipeline (signal `disagreement`: farther apart than max_disagreement_c, a pair is lost together).
+  // pipeline (signal `disagreement`: farther apart than compensator.sensor.judge.max_disagreement_c,
+  // a pair is lost together).
   std::vector<std::vector<std::string>> redundant_groups;
-  double max_disagreement_c = 3.0;
   int redundant_groups_line = 0;  // where [signal] groups was given (for errors naming a channel)
   std::string history_db;       // history: SQLite file or postgresql:// URL (store::OpenHistorySink); "" = none
   std::string log_csv;          // CSV log of decimated cycles ("" = none)

@@ -32,6 +32,8 @@ struct FilterOptions {
   double lowpass_time_constant_s = 5.0;  // 0 disables the low-pass
 
   bool IsValid(std::string* why) const;
+  // No de-noising: every sample passes as it is (the fault rules still judge it).
+  static FilterOptions PassThrough() { return {1, 3.0, 0.3, 1, 0.0}; }
 };
 
 class ChannelFilter {

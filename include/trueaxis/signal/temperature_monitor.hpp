@@ -13,6 +13,9 @@
 // samples to raise a status, and the channel must be clean for
 // `recover_samples` samples to return to ok — the status does not chatter.
 // While a channel is faulty its `last_good_c` keeps the last value that was ok.
+// This is the one place where temperatures are judged: the runtime's step takes the verdict
+// (Judge, JudgedTemperature) and adds only the snapshot's freshness and how long a faulted
+// channel's last good value is held (docs/runtime.md).
 #include <cstddef>
 #include <limits>
 #include <span>
@@ -23,6 +26,7 @@
 #include "trueaxis/signal/calibration.hpp"
 #include "trueaxis/signal/channel_filter.hpp"
 #include "trueaxis/signal/channel_status.hpp"
+#include "trueaxis/signal/judged_temperature.hpp"
 
 namespace trueaxis::signal {
 
@@ -34,7 +38,10 @@ struct FaultOptions {
   // sensor kind's transmitter span, the module's input range) from either end is the chain's rail,
   // not a temperature: over_range / under_range, whatever the plausible limits above say.
   double rail_fraction = 0.005;
-  double max_rate_c_per_s = 0.5;    // on the filtered value; machine structures move < 0.05 °C/s
+  double max_rate_c_per_s = 0.5;    // on the filtered value; machine structures move < 0.05 °C/s; 0: no rate rule
+  // Noise allowance of the rate rule for values judged as read (the filter's low-pass off):
+  // rate_of_change when |Δ| > max_rate_c_per_s·Δt + this. A low-passed value needs none.
+  double rate_allowance_c = 0.0;
   double stuck_window_s = 300.0;    // evaluation window for "stuck"
   // Own raw span at or below this = "no change". 0 = bit-identical readings
   // only (a frozen register or hung module): real quiet sensors drift by
@@ -103,6 +110,9 @@ class TemperatureMonitor {
   void MarkSourceFailed(double time_s);
 
   const ChannelReading& reading(std::size_t i) const { return channels_[i].reading; }
+  // The verdict of the latest Update / MarkSourceFailed per channel (out[i] for channel i; at most
+  // ChannelCount() entries): what the compensation loop takes. No allocation.
+  void Judge(std::span<JudgedTemperature> out) const;
   std::size_t SpikeCount(std::size_t i) const { return channels_[i].spikes; }
   bool AllUsable() const;
   const MonitorOptions& options() const { return options_; }

@@ -32,9 +32,8 @@ struct ModbusClients {
 ModbusClients MakeModbusClients(const runtime::ModbusConfig& config, const std::string& source,
                                 double heartbeat_stale_after_s = 0.5);
 
-// The fault limits of the temperature pipeline come from the one policy of the configuration
-// ([sensor_fault]): the monitor flags a channel outside [min_valid_c, max_valid_c] or moving
-// faster than max_rate_c_per_s, and the compensator's own check uses the same numbers.
+// The temperature judge's options from the configuration's one policy ([sensor_fault] and
+// [signal] max_disagreement_c, read into SensorFaultPolicy::judge); the step judges no value.
 signal::MonitorOptions MonitorOptionsFor(const runtime::SensorFaultPolicy& policy);
 
 // The hardware behind the loop; owns whichever implementation the config names.
@@ -42,9 +41,9 @@ struct Machine {
   std::unique_ptr<sim::VirtualMachine> vm;
   ModbusClients modbus;
   std::unique_ptr<hw::NoTemperatureSource> no_temperatures;       // MODBUS without channels
-  std::unique_ptr<signal::MonitoredTemperatureSource> monitored;  // the temperature pipeline
+  std::unique_ptr<signal::MonitoredTemperatureSource> monitored;  // the judge: what the compensator reads
   hw::CncLink* link = nullptr;
-  hw::TemperatureSource* source = nullptr;  // what the compensator reads (the pipeline when on)
+  hw::TemperatureSource* source = nullptr;  // the raw temperatures (behind `monitored`)
   std::function<void(double)> advance;     // in-process machine: moved on by the loop thread
   std::string description;
   // The machine's name, which a model must have been fitted on: the virtual machine's (its machine
@@ -55,9 +54,10 @@ struct Machine {
   void Close();  // deactivates the hardware (hw lifecycle); the loop must be stopped
 };
 
-// Opens the machine of `config` — configures and activates its hardware (hw/lifecycle.hpp) — (throws InputError naming the config on bad settings) and, with
-// [signal] enabled (the default), the temperature pipeline in front of it — timed by the machine's
-// clock for the in-process virtual machine, by the steady clock otherwise.
+// Opens the machine of `config` — configures and activates its hardware (hw/lifecycle.hpp) — (throws InputError naming the config on bad settings) and
+// the temperature pipeline in front of it (its filter only with [signal] enabled, the default; its
+// fault rules always) — timed by the machine's clock for the in-process virtual machine, by the
+// steady clock otherwise.
 Machine OpenMachine(const runtime::RunConfig& config);
 
 }  // namespace trueaxis::station
