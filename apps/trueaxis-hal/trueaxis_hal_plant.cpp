@@ -42,6 +42,7 @@
 #include "trueaxis/runtime/run_config.hpp"
 #include "trueaxis/sim/laser_interferometer.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
+#include "trueaxis/station/installation.hpp"
 
 namespace {
 
@@ -224,9 +225,10 @@ int RunReference(const Options& o) {
   auto p = Prepare(o);
   Plant& pl = *p;
   pl.vm.SetCompensationEnabled(true);
-  auto comp = runtime::Compensator::ForHardware(c.compensator, pl.vm, pl.vm, c.axes);
-  comp->PublishModel(std::make_shared<const model::CompositeModel>(model::ReadModelFile(c.model_file)), c.model_file);
-  runtime::LoopRunner runner(*comp, pl.vm, pl.vm, runtime::LoopOptions{c.period_s, c.temperature_period_s});
+  // The same installation as trueaxis-hal's (temperature pipeline, compensator, model), on the machine's clock.
+  station::Installation installation(c, pl.vm, pl.vm, [&pl] { return pl.vm.TimeS(); }, "");
+  runtime::Compensator* comp = &installation.compensator();
+  runtime::LoopRunner runner(*comp, pl.vm, installation.temperatures(), runtime::LoopOptions{c.period_s, c.temperature_period_s});
   auto advance = [&](double dt) { pl.vm.Advance(dt); };
   auto cycles = [&](double seconds) {
     runner.StepSimulated(static_cast<std::uint64_t>(std::llround(seconds / c.period_s)), advance);

@@ -99,6 +99,7 @@ bool ModbusCncLink::Read(std::span<hw::AxisState> axes, hw::CncState& machine) {
     axes[a].programmed_direction = pmc::ProgrammedDirection(window_[pmc::kIrProgrammedDirection], a);
     axes[a].travel_mm = static_cast<double>(JoinUint32(r + pmc::kIrAxisTravelHi));
     applied_um_[a] = CountsToMicrometres(JoinInt32(r + pmc::kIrAxisAppliedHi));
+    axes[a].applied_um = applied_um_[a];
   }
   machine.coolant = *coolant;
   machine.compensation_enabled = (status & pmc::kStatusCompensationEnabled) != 0;

@@ -520,6 +520,10 @@ struct ModbusMachineServer::Impl {
         const auto t = static_cast<std::uint32_t>(travel);
         ir[pmc::InputAxisRegister(a, pmc::kIrAxisTravelHi)] = static_cast<std::uint16_t>(t >> 16);
         ir[pmc::InputAxisRegister(a, pmc::kIrAxisTravelLo)] = static_cast<std::uint16_t>(t & 0xFFFF);
+        // What the CNC applies, when it says (a terminal started while the CNC holds a value shows
+        // that value, not its own zero); else the last value this terminal wrote.
+        if (std::isfinite(axes[a].applied_um) && MicrometresToCounts(axes[a].applied_um, &c))
+          SplitInt32(c, ir + pmc::InputAxisRegister(a, pmc::kIrAxisAppliedHi));
       }
       ir[pmc::kIrProgrammedDirection] = programmed;
     } else {
