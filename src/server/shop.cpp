@@ -25,9 +25,7 @@
 #include "trueaxis/drivers/adam6015_map.hpp"
 #include "trueaxis/drivers/pmc_window_map.hpp"
 #include "trueaxis/drivers/register_codec.hpp"
-#include "trueaxis/model/model_json.hpp"
 #include "trueaxis/model/sha256.hpp"
-#include "trueaxis/runtime/bound_model.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/runtime/cycle_step.hpp"
 #include "trueaxis/server/event_loop.hpp"
@@ -458,12 +456,7 @@ struct Shop::Impl {
         return StepAndWrite(m, now);
       case Phase::kTemperatures:
         if (ok) {
-          for (std::size_t c = 0; c < ModuleChannels(m, m.module); ++c) {
-            const std::size_t ch = m.module * adam::kChannelCount + c;
-            const std::uint16_t raw = m.registers[c];
-            m.temps->channels[ch].hardware_fault = raw == adam::kBurnoutRaw;
-            m.temps->channels[ch].temp_c = drivers::AdamRawToCelsius(raw, *m.ranges[ch]);
-          }
+          DecodeTemperatures(m);
         } else {
           m.temps_ok = false;
         }
@@ -483,6 +476,17 @@ struct Shop::Impl {
       }
       case Phase::kIdle:
         return Fault(m, now, "unsolicited data from the terminal");
+    }
+  }
+
+  // Register decoding (the terminal's maps, docs/protocols.md) into the machine's asynchronous
+  // hardware: the AI values of the module just read, and the PMC window.
+  void DecodeTemperatures(MachineSlot& m) {
+    for (std::size_t c = 0; c < ModuleChannels(m, m.module); ++c) {
+      const std::size_t ch = m.module * adam::kChannelCount + c;
+      const std::uint16_t raw = m.registers[c];
+      m.temps->channels[ch].hardware_fault = raw == adam::kBurnoutRaw;
+      m.temps->channels[ch].temp_c = drivers::AdamRawToCelsius(raw, *m.ranges[ch]);
     }
   }
 
