@@ -8,6 +8,7 @@
 // server left it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -116,26 +117,43 @@ TEST(InstallationEquivalence, RunAndServerGiveTheSameCorrectionsOnOneTerminal) {
   station::Installation installation(c, *m.link, *m.source, m.Clock(), m.name);
   runtime::LoopRunner runner(installation.compensator(), *m.link, installation.temperatures(),
                              runtime::LoopOptions{c.period_s, c.temperature_period_s});
+  // Picked up where the server left the CNC: what the terminal applies never leaves the server's
+  // value by more than the quantum and the hysteresis (a loop starting from its own zero would
+  // write ~0 first and ramp back up, tens of µm away for a dozen cycles).
+  double max_departure_um = 0;
+  auto watch = [&](const std::vector<double>& applied) {
+    for (std::size_t a = 0; a < applied.size(); ++a)
+      max_departure_um = std::max(max_departure_um, std::abs(applied[a] - server_applied[a]));
+  };
+  const std::uint64_t writes_before = vshop->Stats().compensation_writes;
   runner.Start();
-  // Picked up where the server left the CNC: the first output the CNC holds is the server's.
-  ASSERT_TRUE(WaitFor([&] { return !installation.compensator().PickUpPending(); }, 10));
+  ASSERT_TRUE(WaitFor(
+      [&] {
+        watch(vshop->AppliedUm(0));
+        return !installation.compensator().PickUpPending();
+      },
+      10));
   std::vector<double> run_targets;
   ASSERT_TRUE(WaitFor(
       [&] {
         const auto& axes = installation.compensator().LastStatus().axes;
         const auto applied = vshop->AppliedUm(0);
+        watch(applied);
         run_targets.clear();
         for (std::size_t a = 0; a < axes.size(); ++a) {
           run_targets.push_back(axes[a].desired_um);
           if (std::isnan(axes[a].desired_um) || std::abs(applied[a] - axes[a].desired_um) > 1.0) return false;
         }
-        return installation.compensator().LastStatus().temperatures_ok;
+        // Settled after run wrote for a while (not just the server's values still standing).
+        return installation.compensator().LastStatus().temperatures_ok &&
+               vshop->Stats().compensation_writes >= writes_before + 25;
       },
       30));
   const auto run_applied = vshop->AppliedUm(0);
   runner.Stop();
   m.Close();
 
+  EXPECT_LE(max_departure_um, 2.0);
   ASSERT_EQ(run_targets.size(), server_targets.size());
   for (std::size_t a = 0; a < run_targets.size(); ++a) {
     SCOPED_TRACE(vm.axes[a]);
