@@ -27,7 +27,7 @@
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
 #include "trueaxis/runtime/run_config.hpp"
-#include "trueaxis/signal/calibration.hpp"
+#include "trueaxis/station/installation.hpp"
 #include "trueaxis/station/machine_connection.hpp"
 
 namespace {
@@ -73,24 +73,19 @@ int Run(const Options& o) {
   linuxcnc::HalCncLink link(hal, AxisInterfaces(c));
   linuxcnc::HalTemperatures temperatures = linuxcnc::OpenHalTemperatures(hal, c, o.temperatures == "hal");
   hw::TemperatureSource* source = temperatures.source;
-  std::unique_ptr<signal::MonitoredTemperatureSource> monitored;
-  {  // the one temperature judge, as in `trueaxis run` (its filter only with [signal] enabled)
-    const auto t0 = std::chrono::steady_clock::now();
-    signal::MonitorOptions mo = station::MonitorOptionsFor(c.compensator.sensor);
-    if (!c.signal_processing) mo.filter = signal::FilterOptions::PassThrough();
-    monitored = std::make_unique<signal::MonitoredTemperatureSource>(
-        *source, mo, [t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); });
-    if (!c.calibration_file.empty())
-      for (const auto& n : monitored->monitor().SetCalibration(signal::ReadCalibrationFile(c.calibration_file)))
-        fmt::print(stderr, "warning: calibration for '{}' matches no channel\n", n);
-  }
   std::vector<std::string> axis_names;
   for (std::size_t i = 0; i < link.AxisCount(); ++i) axis_names.push_back(link.AxisName(i));
   linuxcnc::StatusPins status(hal, axis_names);
 
-  auto comp = runtime::Compensator::ForHardware(c.compensator, link, *monitored, c.axes);
-  comp->PublishModel(std::make_shared<const model::CompositeModel>(model::ReadModelFile(c.model_file)), c.model_file);
-  runtime::LoopRunner runner(*comp, link, *monitored, runtime::LoopOptions{c.period_s, c.temperature_period_s}, &status);
+  // The installation, as in `trueaxis run`: the one temperature pipeline ([signal]: calibration,
+  // groups, max_disagreement_c), the compensator, the model (composite or thermal_channels).
+  const auto t0_pipeline = std::chrono::steady_clock::now();
+  station::Installation installation(
+      c, link, *source, [t0_pipeline] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_pipeline).count(); },
+      c.modbus.machine_name);
+  for (const auto& w : installation.warnings()) fmt::print(stderr, "warning: {}\n", w);
+  runtime::Compensator* comp = &installation.compensator();
+  runtime::LoopRunner runner(*comp, link, installation.temperatures(), runtime::LoopOptions{c.period_s, c.temperature_period_s}, &status);
 
   g_stop = false;
   std::signal(SIGINT, OnStopSignal);

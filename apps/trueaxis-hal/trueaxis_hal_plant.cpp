@@ -43,6 +43,7 @@
 #include "trueaxis/signal/monitored_temperature_source.hpp"
 #include "trueaxis/sim/laser_interferometer.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
+#include "trueaxis/station/installation.hpp"
 
 namespace {
 
@@ -225,13 +226,10 @@ int RunReference(const Options& o) {
   auto p = Prepare(o);
   Plant& pl = *p;
   pl.vm.SetCompensationEnabled(true);
-  signal::MonitorOptions judge_options;  // the temperature judge, in the machine's time
-  judge_options.faults = c.compensator.sensor.judge;
-  if (!c.signal_processing) judge_options.filter = signal::FilterOptions::PassThrough();
-  signal::MonitoredTemperatureSource judged(pl.vm, judge_options, [&pl] { return pl.vm.TimeS(); });
-  auto comp = runtime::Compensator::ForHardware(c.compensator, pl.vm, judged, c.axes);
-  comp->PublishModel(std::make_shared<const model::CompositeModel>(model::ReadModelFile(c.model_file)), c.model_file);
-  runtime::LoopRunner runner(*comp, pl.vm, judged, runtime::LoopOptions{c.period_s, c.temperature_period_s});
+  // The same installation as trueaxis-hal's (temperature pipeline, compensator, model), on the machine's clock.
+  station::Installation installation(c, pl.vm, pl.vm, [&pl] { return pl.vm.TimeS(); }, "");
+  runtime::Compensator* comp = &installation.compensator();
+  runtime::LoopRunner runner(*comp, pl.vm, installation.temperatures(), runtime::LoopOptions{c.period_s, c.temperature_period_s});
   auto advance = [&](double dt) { pl.vm.Advance(dt); };
   auto cycles = [&](double seconds) {
     runner.StepSimulated(static_cast<std::uint64_t>(std::llround(seconds / c.period_s)), advance);

@@ -26,6 +26,7 @@
 #include "trueaxis/runtime/loop_runner.hpp"
 #include "trueaxis/runtime/run_config.hpp"
 #include "trueaxis/station/machine_connection.hpp"
+#include "trueaxis/station/installation.hpp"
 #include "trueaxis/station/model_loading.hpp"
 #include "trueaxis/store/history_writer.hpp"
 #include "trueaxis/store/open_history_sink.hpp"
@@ -103,20 +104,21 @@ void Run(const Options& o) {
   cli::CheckSecondsOption(o.status_interval_s, "--status-interval-s", "every 50 ms");
   runtime::RunConfig c = runtime::ReadRunConfig(o.config);
   if (o.duration_given) c.duration_s = o.duration_s;
-  station::Machine m = station::OpenMachine(c);  // + the temperature pipeline ([signal], on by default)
+  station::Machine m = station::OpenMachine(c, /*with_pipeline=*/false);  // the hardware
   for (const auto& w : m.warnings) fmt::print(stderr, "warning: {}\n", w);
   // The coolant state the compensator sees can be forced from the web page.
   web::CoolantOverrideLink link(*m.link);
-  auto comp = runtime::Compensator::ForHardware(c.compensator, link, *m.monitored, c.axes);
-  // InputError (exit 2) on a model that does not fit the machine.
-  const station::PublishedModel first_model = station::PublishModelFile(*comp, c, m.name);
+  // The installation: the temperature pipeline ([signal], on by default), the compensator and the
+  // model — InputError (exit 2) on a model that does not fit the machine.
+  station::Installation installation(c, link, *m.source, m.Clock(), m.name);
+  for (const auto& w : installation.warnings()) fmt::print(stderr, "warning: {}\n", w);
+  runtime::Compensator* comp = &installation.compensator();
+  const station::PublishedModel first_model = installation.model();
   const std::string& first_revision = first_model.revision;
-  std::error_code ec;
-  auto model_mtime = fs::last_write_time(c.model_file, ec);
 
   const auto every = static_cast<std::uint64_t>(std::max(1.0, std::round(c.record_interval_s / c.period_s)));
   runtime::CycleRecorder recorder(8192, every);
-  runtime::LoopRunner runner(*comp, link, *m.monitored, runtime::LoopOptions{c.period_s, c.temperature_period_s}, &recorder);
+  runtime::LoopRunner runner(*comp, link, installation.temperatures(), runtime::LoopOptions{c.period_s, c.temperature_period_s}, &recorder);
   if (m.advance) runner.SetPlantAdvance(m.advance);
 
   const double unix0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
@@ -199,21 +201,17 @@ void Run(const Options& o) {
       comp->CollectRetired();
       if (csv) csv->Flush();  // at most a second of rows lost to a kill -9
       if (c.model_reload) {
-        auto t = fs::last_write_time(c.model_file, ec);
-        if (!ec && t != model_mtime) {
-          model_mtime = t;
-          try {
-            const station::PublishedModel next = station::PublishModelFile(*comp, c, m.name);
-            const std::string& revision = next.revision;
+        try {
+          if (const auto next = installation.ReloadIfChanged()) {
             if (web_backend)
-              web_backend->OnModelPublished(next, model::Sha256OfFile(c.model_file), "reloaded " + c.model_file,
+              web_backend->OnModelPublished(*next, model::Sha256OfFile(c.model_file), "reloaded " + c.model_file,
                                             unix0 + elapsed);
             if (history)
-              history->LogModelChange(elapsed, model::Sha256OfFile(c.model_file), revision, "reloaded " + c.model_file);
+              history->LogModelChange(elapsed, model::Sha256OfFile(c.model_file), next->revision, "reloaded " + c.model_file);
             if (!o.quiet) fmt::print(stderr, "[{:.2f} s] model reloaded from {} (ramping to it)\n", elapsed, c.model_file);
-          } catch (const std::exception& e) {
-            fmt::print(stderr, "[{:.2f} s] model NOT reloaded, keeping the running one: {}\n", elapsed, e.what());
           }
+        } catch (const std::exception& e) {
+          fmt::print(stderr, "[{:.2f} s] model NOT reloaded, keeping the running one: {}\n", elapsed, e.what());
         }
       }
     }

@@ -28,6 +28,7 @@
 #include "trueaxis/runtime/loop_runner.hpp"
 #include "trueaxis/sim/ambient_profile.hpp"
 #include "trueaxis/sim/campaign.hpp"
+#include "trueaxis/station/installation.hpp"
 #include "trueaxis/station/machine_connection.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/sim/laser_interferometer.hpp"
@@ -279,20 +280,24 @@ class WorkingDay {
       link = cnc_client_.get();
       source = temp_client_.get();
     }
-    {  // the one temperature judge, timed by the machine's clock; --raw-temperatures: no filter
-      signal::MonitorOptions mo = station::MonitorOptionsFor(o.compensator.sensor);
-      mo.neighbour_groups = RedundantProbes(md);
-      if (!o.signal_processing) mo.filter = signal::FilterOptions::PassThrough();
-      monitored_ = std::make_unique<signal::MonitoredTemperatureSource>(*source, mo, [this] { return vm_.TimeS(); });
-      result_.interface_used += o.signal_processing ? "; temperatures through signal::MonitoredTemperatureSource"
-                                                    : "; temperatures judged unfiltered by signal::MonitoredTemperatureSource";
-    }
-    comp_ = runtime::Compensator::ForHardware(o.compensator, *link, *monitored_, interfaces);
+    // The installation: the one temperature pipeline (timed by the machine's clock), the compensator.
+    runtime::RunConfig rc;
+    rc.source = "demo";
+    rc.compensator = o.compensator;
+    rc.axes = interfaces;
+    rc.signal_processing = o.signal_processing;  // --raw-temperatures: judged all the same, no filter
+    rc.redundant_groups = RedundantProbes(md);
+    result_.interface_used += o.signal_processing ? "; temperatures through signal::MonitoredTemperatureSource"
+                                                  : "; temperatures judged unfiltered by signal::MonitoredTemperatureSource";
+    installation_ = std::make_unique<station::Installation>(rc, *link, *source, [this] { return vm_.TimeS(); }, "");
+    comp_ = &installation_->compensator();
     if (writer) history_ = std::make_unique<station::HistoryLogger>(*writer, all_axes_, result_.channel_names);
     observer_ = std::make_unique<DayObserver>(vm_, result_, history_.get());
-    runner_ = std::make_unique<runtime::LoopRunner>(*comp_, *link, *monitored_, runtime::LoopOptions{o.period_s}, observer_.get());
+    runner_ = std::make_unique<runtime::LoopRunner>(*comp_, *link, installation_->temperatures(), runtime::LoopOptions{o.period_s},
+                                                    observer_.get());
     advance_ = [this](double dt) { vm_.Advance(dt); };
-    comp_->PublishModel(std::move(model), model_label);
+    const std::string revision = std::to_string(model->revision);
+    installation_->Publish(station::PublishedModel{revision, std::move(model), {}}, model_label);
   }
 
   // `model_loaded(unix_s)` is told when the day starts with the model in force.
@@ -541,7 +546,8 @@ class WorkingDay {
   sim::VirtualMachine vm_;
   sim::LaserInterferometer laser_;
   std::vector<std::string> all_axes_;
-  std::unique_ptr<runtime::Compensator> comp_;
+  std::unique_ptr<station::Installation> installation_;
+  runtime::Compensator* comp_ = nullptr;
   std::unique_ptr<station::HistoryLogger> history_;
   std::string machine_log_;
   std::unique_ptr<DayObserver> observer_;
@@ -555,7 +561,6 @@ class WorkingDay {
   std::unique_ptr<drivers::ModbusMachineServer> server_;
   std::unique_ptr<drivers::ModbusCncLink> cnc_client_;
   std::unique_ptr<drivers::ModbusTemperatureSource> temp_client_;
-  std::unique_ptr<signal::MonitoredTemperatureSource> monitored_;
 };
 
 }  // namespace

@@ -91,6 +91,7 @@ bool ModbusCncLink::DecodeWindow(std::span<hw::AxisState> axes, hw::CncState& ma
   if (!(window_[pmc::kIrStatus] & pmc::kStatusMachineReadOk) || !CoolantStateFromCode(window_[pmc::kIrCoolant]))
     return false;  // stale, or a coolant code no state has: `axes` and `machine` stay untouched
   DecodePmcWindow(window_.data(), axes.first(n), machine, applied_um_);
+  for (std::size_t a = 0; a < n; ++a) axes[a].applied_um = applied_um_[a];  // what the CNC applies (pick-up)
   return true;
 }
 

@@ -42,6 +42,10 @@ void EncodePmcState(const PmcExchange& e, std::uint16_t* ir, const std::uint16_t
       const auto t = static_cast<std::uint32_t>(travel);
       ir[pmc::InputAxisRegister(a, pmc::kIrAxisTravelHi)] = static_cast<std::uint16_t>(t >> 16);
       ir[pmc::InputAxisRegister(a, pmc::kIrAxisTravelLo)] = static_cast<std::uint16_t>(t & 0xFFFF);
+      // What the CNC applies, when it says (a terminal started while the CNC holds a value shows
+      // that value, not its own zero); else the last value this terminal wrote stays.
+      if (std::isfinite(s.applied_um) && MicrometresToCounts(s.applied_um, &c))
+        SplitInt32(c, ir + pmc::InputAxisRegister(a, pmc::kIrAxisAppliedHi));
     }
     ir[pmc::kIrProgrammedDirection] = programmed;
   }

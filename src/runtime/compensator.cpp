@@ -1,5 +1,6 @@
 #include "trueaxis/runtime/compensator.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -26,6 +27,7 @@ Compensator::Compensator(CompensatorOptions options, std::vector<AxisInterface> 
   for (std::size_t i = 0; i < n; ++i) extra_error_um_[i].store(std::numeric_limits<double>::quiet_NaN());
   extra_error_now_um_.assign(n, std::numeric_limits<double>::quiet_NaN());
   state_ = StepState(n, channel_names_.size(), options_);
+  pickup_applied_um_.assign(n, std::numeric_limits<double>::quiet_NaN());
   shaping_ = ShaperLimitsFor(options_, axes_);
 }
 
@@ -58,8 +60,36 @@ void Compensator::PublishAxisModels(std::vector<std::shared_ptr<const model::Axi
   exchange_.Publish(std::move(bound));
 }
 
+void Compensator::PickUp(const CncSnapshot& cnc) {
+  if (!cnc.read_ok) {
+    if (cnc.sequence != 0) {  // a lost link: pick the CNC up again once it answers
+      pickup_pending_ = true;
+      std::fill(pickup_applied_um_.begin(), pickup_applied_um_.end(), std::numeric_limits<double>::quiet_NaN());
+    }
+    return;
+  }
+  if (!pickup_pending_ || state_.outstanding != 0 || cnc.sequence == pickup_sequence_) return;
+  pickup_sequence_ = cnc.sequence;
+  bool reported = true, agreed = true;
+  for (std::size_t a = 0; a < axes_.size(); ++a) {
+    const double applied = cnc.axes[a].applied_um;
+    reported = reported && std::isfinite(applied);
+    agreed = agreed && applied == pickup_applied_um_[a];
+    pickup_applied_um_[a] = applied;
+  }
+  if (!reported) {  // the CNC does not say: the shaper's own state
+    pickup_pending_ = false;
+    return;
+  }
+  if (!agreed) return;  // two reads must agree: a terminal may show an accepted write a scan late
+  for (std::size_t a = 0; a < axes_.size(); ++a)
+    state_.shaper[a] = PickUpAt(pickup_applied_um_[a] / axes_[a].CncScale(), axes_[a].PhysicalQuantumUm());
+  pickup_pending_ = false;
+}
+
 const CycleStatus& Compensator::Cycle(const TemperatureSnapshot& temperatures, const CncSnapshot& cnc, double now_s) {
   current_ = exchange_.Acquire();
+  PickUp(cnc);
   bool extra_expired = false;
   for (std::size_t i = 0; i < axes_.size(); ++i) {
     axis_enabled_now_[i] = axis_enabled_[i].load(std::memory_order_relaxed);

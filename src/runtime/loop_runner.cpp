@@ -102,6 +102,13 @@ void LoopRunner::SteppingCycle(double now_s) {
   temperature_slot_.Fetch();
   cnc_slot_.Fetch();
   compensator_.Cycle(temperature_slot_.Front(), cnc_slot_.Front(), now_s);
+  if (compensator_.PickUpPending()) {
+    // Nothing goes to the CNC before its applied compensation is known: the first value written is
+    // one step from what the CNC holds (pick-up without a jump), never the shaper's zero.
+    const CycleStatus& status = compensator_.CommitWrite(false);
+    if (observer_) observer_->OnCycle(status);
+    return;
+  }
   const CncCommand& command = compensator_.command();
   CncCommand& out = command_slot_.Back();
   out.sequence = command.sequence;

@@ -98,6 +98,54 @@ void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptio
   }
 }
 
+void ReadThermalChannels(TomlTableReader& m, RunConfig& c) {
+  const std::string& source = m.source();
+  if (const toml::table* tc = m.Table("thermal_channels")) {
+    TomlTableReader t(*tc, source, m.Key("thermal_channels"));
+    for (const auto& [axis, v] : *tc) {
+      std::string channel;
+      t.String(axis.str(), channel, true);
+      c.thermal_channels[std::string(axis.str())] = channel;
+    }
+    if (c.thermal_channels.empty())
+      m.Fail("thermal_channels", m.Node("thermal_channels"), "names no axis (e.g. thermal_channels = { Z = \"e_z\" })");
+  }
+}
+
+void ReadSignalTable(TomlTableReader& r, const std::string& base, RunConfig& c) {
+  const std::string& source = r.source();
+  const toml::table* t = r.Table("signal");
+  if (!t) return;
+  TomlTableReader m(*t, source, r.Key("signal"));
+  m.Bool("enabled", c.signal_processing);
+  if (m.String("calibration", c.calibration_file)) c.calibration_file = Resolve(base, c.calibration_file);
+  c.lines["signal.calibration"] = m.Line(t->get("calibration"));
+  if (const toml::node* g = m.Node("groups")) {
+    const char* form = "an array of groups of redundant channels, e.g. [[\"y_nut\", \"y_nut_b\"]]";
+    const toml::array* groups = g->as_array();
+    if (!groups) m.Fail("groups", g, std::string("expected ") + form);
+    for (const auto& e : *groups) {
+      const toml::array* group = e.as_array();
+      if (!group || group->size() < 2) m.Fail("groups", &e, std::string("each group needs at least two channel names: ") + form);
+      std::vector<std::string> names;
+      for (const auto& n : *group) {
+        const auto name = n.value<std::string>();
+        if (!name) m.Fail("groups", &n, "a channel name is a string");
+        if (std::find(names.begin(), names.end(), *name) != names.end()) m.Fail("groups", &n, "'" + *name + "' twice in one group");
+        names.push_back(*name);
+      }
+      c.redundant_groups.push_back(std::move(names));
+    }
+    c.redundant_groups_line = m.Line(g);
+  }
+  m.Double("max_disagreement_c", c.compensator.sensor.judge.max_disagreement_c, 0.1, 50);
+  m.RejectUnknown();
+  if (!c.redundant_groups.empty() && !c.signal_processing)
+    m.Fail("groups", t->get("groups"), "needs enabled = true (the signal processing compares the channels)");
+  if (!c.calibration_file.empty() && !c.signal_processing)
+    m.Fail("calibration", t->get("calibration"), "needs enabled = true (calibration is applied by the signal processing)");
+}
+
 RunConfig ParseRunConfig(const std::string& text, const std::string& source, bool model_required) {
   const toml::table root = ParseTomlOrThrow(text, source);
   RunConfig c;
@@ -155,16 +203,7 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source, boo
     c.model_file = Resolve(base, c.model_file);
     c.lines["model.file"] = m.Line(mo->get("file"));
     m.Bool("reload", c.model_reload);
-    if (const toml::table* tc = m.Table("thermal_channels")) {
-      TomlTableReader t(*tc, source, "model.thermal_channels");
-      for (const auto& [axis, v] : *tc) {
-        std::string channel;
-        t.String(axis.str(), channel, true);
-        c.thermal_channels[std::string(axis.str())] = channel;
-      }
-      if (c.thermal_channels.empty())
-        m.Fail("thermal_channels", m.Node("thermal_channels"), "names no axis (e.g. thermal_channels = { Z = \"e_z\" })");
-    }
+    ReadThermalChannels(m, c);
     m.RejectUnknown();
   }
 
@@ -183,36 +222,7 @@ RunConfig ParseRunConfig(const std::string& text, const std::string& source, boo
   ReadCompensatorTables(r, c.period_s, c.compensator, c.axes, &axis_lines);
   for (std::size_t i = 0; i < axis_lines.size(); ++i) c.lines[fmt::format("axis[{}].name", i)] = axis_lines[i];
   auto& o = c.compensator;
-  if (const toml::table* t = r.Table("signal")) {
-    TomlTableReader m(*t, source, "signal");
-    m.Bool("enabled", c.signal_processing);
-    if (m.String("calibration", c.calibration_file)) c.calibration_file = Resolve(base, c.calibration_file);
-    c.lines["signal.calibration"] = m.Line(t->get("calibration"));
-    if (const toml::node* g = m.Node("groups")) {
-      const char* form = "an array of groups of redundant channels, e.g. [[\"y_nut\", \"y_nut_b\"]]";
-      const toml::array* groups = g->as_array();
-      if (!groups) m.Fail("groups", g, std::string("expected ") + form);
-      for (const auto& e : *groups) {
-        const toml::array* group = e.as_array();
-        if (!group || group->size() < 2) m.Fail("groups", &e, std::string("each group needs at least two channel names: ") + form);
-        std::vector<std::string> names;
-        for (const auto& n : *group) {
-          const auto name = n.value<std::string>();
-          if (!name) m.Fail("groups", &n, "a channel name is a string");
-          if (std::find(names.begin(), names.end(), *name) != names.end()) m.Fail("groups", &n, "'" + *name + "' twice in one group");
-          names.push_back(*name);
-        }
-        c.redundant_groups.push_back(std::move(names));
-      }
-      c.redundant_groups_line = m.Line(g);
-    }
-    m.Double("max_disagreement_c", c.compensator.sensor.judge.max_disagreement_c, 0.1, 50);
-    m.RejectUnknown();
-    if (!c.redundant_groups.empty() && !c.signal_processing)
-      m.Fail("groups", t->get("groups"), "needs enabled = true (the signal processing compares the channels)");
-    if (!c.calibration_file.empty() && !c.signal_processing)
-      m.Fail("calibration", t->get("calibration"), "needs enabled = true (calibration is applied by the signal processing)");
-  }
+  ReadSignalTable(r, base, c);
   if (const toml::table* t = r.Table("history")) {
     TomlTableReader m(*t, source, "history");
     // A path (SQLite, relative to this file) or a database URL (postgresql://…, taken as written).

@@ -29,11 +29,11 @@
 #include "trueaxis/drivers/thread_cpu.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/model/sha256.hpp"
-#include "trueaxis/runtime/bound_model.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
 #include "trueaxis/runtime/cycle_step.hpp"
-#include "trueaxis/signal/temperature_monitor.hpp"
+#include "trueaxis/server/terminal_hardware.hpp"
 #include "trueaxis/station/history_logger.hpp"
+#include "trueaxis/station/installation.hpp"
 #include "trueaxis/store/history_writer.hpp"
 
 namespace trueaxis::server {
@@ -66,9 +66,11 @@ const char* PhaseName(Phase p) {
 enum class Link { kDown, kConnecting, kOpen };
 
 struct ModelEntry {
-  std::shared_ptr<const model::CompositeModel> model;
+  station::PublishedModel model;
   ModelInfo info;
 };
+
+int RevisionOf(const station::PublishedModel& m) { return m.composite ? m.composite->revision : 0; }
 
 // A registered change of the controls, applied by the loop thread at the next cycle.
 struct Controls {
@@ -103,21 +105,16 @@ struct MachineSlot {
   double backoff_s = 0;
   bool ranges_known = false;
   std::vector<const adam::RtdRange*> ranges;  // per channel
-  bool seed_pending = true;         // the limiter starts from what the CNC applies after each (re)connect
   bool cnc_ok = false, temps_ok = false;
   bool temps_read = false;          // this cycle reads the ADAM-6015 modules (every temperature_period_s)
   double temps_read_s = -1e9;       // when they were last read
   drivers::HeartbeatWatch heartbeat;  // a frozen heartbeat: the terminal's machine side has stopped
-  std::vector<double> applied_um;   // CNC units, as the window reports
-  std::uint64_t sequence = 0;
-  runtime::CncSnapshot cnc;
-  std::vector<hw::RawTemperature> raw_temps;  // as the ADAM-6015 modules deliver them
-  std::unique_ptr<signal::TemperatureMonitor> judge;  // the one temperature judge: raw_temps → temps
-  runtime::TemperatureSnapshot temps;
-  runtime::StepState state;
-  std::unique_ptr<runtime::StepOutputs> out;
-  std::shared_ptr<const runtime::BoundModel> bound;
-  ModelInfo bound_info;
+  std::vector<double> applied_um;   // what the CNC applies, as the window reports (µm)
+  // The machine's asynchronous hardware (decoded registers) and its installation: the temperature
+  // pipeline, the compensator (pick-up without a jump), the model — the same assembly as `run`'s.
+  std::unique_ptr<TerminalCnc> cnc;
+  std::unique_ptr<TerminalTemperatures> temps;
+  std::unique_ptr<station::Installation> installation;
   Controls controls;
   std::unique_ptr<station::HistoryLogger> logger;
   double next_record_s = 0;
@@ -131,12 +128,10 @@ struct MachineSlot {
   mutable std::mutex mu;
   MachineStatus status;
   Controls wanted;                  // written by the API, copied by the loop each cycle
-  std::shared_ptr<const runtime::BoundModel> pending_bound;
-  ModelInfo pending_info;
+  ModelInfo model_info;             // the model in force (the loop ramps to a new one)
   std::vector<ModelEntry> models;   // every model this machine has had, in order
   std::size_t current_model = 0;
   std::vector<ModelChange> changes;
-  std::uint64_t bind_count = 0;
 };
 
 struct Shop::Impl {
@@ -163,15 +158,6 @@ struct Shop::Impl {
   explicit Impl(ShopConfig& c) : config(c) {}
 
   double Now() const { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-  // ------------------------------------------------------------ model binding
-  std::shared_ptr<const runtime::BoundModel> Bind(MachineSlot& m, std::shared_ptr<const model::CompositeModel> model,
-                                                  const std::string& label, std::uint64_t id) {
-    auto bound = runtime::BindModel(std::move(model), label, m.cfg.axis_interfaces, m.channel_names,
-                                    m.cfg.compensator.channel_map);
-    bound->id = id;
-    return bound;
-  }
 
   // Before the change takes effect: a change whose audit line cannot be written is refused.
   void Audit(const ModelChange& c) {
@@ -209,7 +195,7 @@ struct Shop::Impl {
 
   // ------------------------------------------------------------ status
   void Publish(MachineSlot& m) {
-    const runtime::StepOutputs& o = *m.out;
+    const runtime::StepOutputs& o = m.installation->compensator().LastOutputs();
     std::lock_guard<std::mutex> lock(m.mu);
     MachineStatus& s = m.status;
     s.connected = m.link == Link::kOpen;
@@ -226,12 +212,12 @@ struct Shop::Impl {
     s.last_latency_ms = m.last_latency_ms;
     s.coolant = std::string(CoolantStateName(o.status.coolant));
     s.coolant_override = m.controls.coolant_override ? std::optional<std::string>(std::string(CoolantStateName(*m.controls.coolant_override))) : std::nullopt;
-    s.model = m.bound_info;
+    s.model = m.model_info;
     const bool fresh = s.connected && m.cnc_ok;
     for (std::size_t a = 0; a < s.axes.size(); ++a) {
       AxisView& v = s.axes[a];
-      v.position_mm = fresh ? Reading(m.cnc.axes[a].position_mm) : std::nullopt;
-      v.applied_um = fresh ? Reading(m.applied_um[a]) : std::nullopt;
+      v.position_mm = fresh ? Reading(m.cnc->axes[a].position_mm) : std::nullopt;
+      v.applied_um = fresh ? Reading(m.cnc->axes[a].applied_um) : std::nullopt;
       v.target_um = o.axes[a].desired_um;
       v.output_um = o.axes[a].output_um;
       v.enabled = m.controls.axis_enabled[a] != 0;
@@ -239,70 +225,40 @@ struct Shop::Impl {
     }
     for (std::size_t c = 0; c < s.channels.size(); ++c) {
       ChannelView& v = s.channels[c];
-      const auto& judged = m.temps.channels[c];
+      const auto& judged = m.installation->temperature_snapshot().channels[c];  // filtered, calibrated, judged
       v.temp_c = (s.connected && m.temps_ok && judged.usable()) ? Reading(judged.value_c) : std::nullopt;
       v.health = station::ChannelHealthName(o.channels[c].health);
     }
   }
 
   // ------------------------------------------------------------ the compensator
+  // The machine's cycle, once its reads are complete (or its link is down): the installation reads
+  // what was decoded, filters the temperatures (only when new ones came), and steps.
   void RunStep(MachineSlot& m, double now) {
-    ++m.sequence;
-    m.cnc.sequence = m.sequence;
-    m.cnc.sampled_at_s = now;
-    m.cnc.read_ok = m.cnc_ok;
-    if (m.temps_read || !m.temps_ok) {  // a new temperature snapshot (read, or failed: the link is gone)
-      m.temps.sequence = m.sequence;
-      m.temps.sampled_at_s = now;
-      m.temps.ok = m.temps_ok;
-      if (m.temps_read && m.temps_ok) {
-        m.temps_read_s = now;
-        m.judge->Update(now, m.raw_temps);
-        m.judge->Judge(m.temps.channels);
-      } else if (!m.temps_ok) {
-        m.judge->MarkSourceFailed(now);
-      }
-    }
+    m.cnc->ok = m.cnc_ok;
+    m.temps->ok = m.temps_ok;
+    if (m.temps_read && m.temps_ok) m.temps_read_s = now;
     if (m.cnc_ok) m.last_good_read_unix_s = now + unix_offset_s;
     {
       std::lock_guard<std::mutex> lock(m.mu);
       m.controls = m.wanted;
-      if (m.pending_bound) {
-        m.bound = std::move(m.pending_bound);
-        m.bound_info = m.pending_info;
-        m.pending_bound.reset();
-      }
     }
-    if (m.cnc_ok && m.seed_pending) {
-      // Pick the machine up where it is: the limiter continues from what the CNC applies now.
-      for (std::size_t a = 0; a < m.cfg.axis_interfaces.size(); ++a) {
-        const auto& ai = m.cfg.axis_interfaces[a];
-        const double physical_um = m.applied_um[a] / ai.CncScale();
-        const double q = ai.PhysicalQuantumUm();
-        m.state.shaper[a].ramp_um = physical_um;
-        m.state.shaper[a].counts = std::llround(physical_um / q);
-      }
-      m.seed_pending = false;
-    }
-    if (m.controls.coolant_override) m.cnc.machine.coolant = *m.controls.coolant_override;
-    runtime::StepModel model{m.cfg.compensator, m.cfg.axis_interfaces, m.bound.get()};
-    runtime::StepInputs in;
-    in.now_s = now;
-    in.temperatures = &m.temps;
-    in.cnc = &m.cnc;
-    in.axis_enabled = m.controls.axis_enabled;
-    runtime::Step(model, m.state, in, *m.out);
+    runtime::Compensator& comp = m.installation->compensator();
+    for (std::size_t a = 0; a < m.controls.axis_enabled.size(); ++a) comp.SetAxisEnabled(a, m.controls.axis_enabled[a] != 0);
+    m.cnc->coolant_override = m.controls.coolant_override;
+    m.installation->Cycle(now, m.temps_read || !m.temps_ok);
   }
 
   void AfterStep(MachineSlot& m, double now) {
     Publish(m);
     if (!m.logger) return;
-    const std::uint32_t alarms = m.out->status.alarms;
+    const runtime::CycleStatus& status = m.installation->compensator().LastStatus();
+    const std::uint32_t alarms = status.alarms;
     if (now < m.next_record_s && alarms == m.logged_alarms) return;
     m.next_record_s = std::max(m.next_record_s + config.record_interval_s, now);
     m.logged_alarms = alarms;
     runtime::CycleRecord rec;
-    runtime::FillRecord(m.out->status, rec);
+    runtime::FillRecord(status, rec);
     if (!m.cnc_ok)
       for (std::size_t a = 0; a < rec.axis_count; ++a) rec.axes[a].cnc_position_mm = std::nan("");  // UNAVAILABLE
     m.logger->Log(rec);
@@ -331,7 +287,6 @@ struct Shop::Impl {
     m.cnc_ok = m.temps_ok = false;
     m.temps_read_s = -1e9;
     m.ranges_known = false;
-    m.seed_pending = true;
     m.backoff_s = m.backoff_s <= 0 ? m.cfg.min_backoff_s : std::min(2 * m.backoff_s, m.cfg.max_backoff_s);
     m.reconnect_at_s = now + m.backoff_s;
     ++m.faults;
@@ -378,7 +333,6 @@ struct Shop::Impl {
     m.link = Link::kOpen;
     ++m.deadline_generation;
     ++m.connects;
-    m.seed_pending = true;
     m.ranges_known = false;
     if (history && m.faults > 0)
       history->PushAlarm(now + unix_offset_s, "info", m.cfg.name, fmt::format("terminal {}:{}: connected", m.cfg.host, m.cfg.port));
@@ -411,7 +365,7 @@ struct Shop::Impl {
         break;
       case Phase::kWrite: {
         std::uint16_t values[drivers::CommandBlockLength(pmc::kMaxAxes)];
-        if (!drivers::EncodeCommand({m.out->command.correction_um.data(), axes}, values))
+        if (!drivers::EncodeCommand({m.installation->command().correction_um.data(), axes}, values))
           return Fault(m, now, "a correction that cannot be sent (not a number or beyond ±214 m)");
         r.unit = static_cast<std::uint8_t>(m.cfg.pmc_unit_id);
         r.function = mbap::kWriteMultipleRegisters;
@@ -439,7 +393,7 @@ struct Shop::Impl {
     m.cnc_ok = false;
     // Temperatures every temperature_period_s (half a period early rather than a period late).
     m.temps_read = m.module_count > 0 && now - m.temps_read_s >= m.cfg.temperature_period_s - 0.5 * m.cfg.period_s;
-    m.temps_ok = m.temps_read ? true : m.temps.ok;
+    m.temps_ok = m.temps_read ? true : m.temps->ok;
     m.module = 0;
     m.phase = (!m.ranges_known && m.module_count > 0) ? Phase::kConfig : Phase::kWindow;
     Send(m, now);
@@ -448,8 +402,8 @@ struct Shop::Impl {
   // After the reads: the step, then the write (which also refreshes the terminal's watchdog).
   void StepAndWrite(MachineSlot& m, double now) {
     RunStep(m, now);
-    if (m.seed_pending) {  // no applied values read yet since the connect: writing could jump
-      runtime::CommitWrite({m.cfg.compensator, m.cfg.axis_interfaces, m.bound.get()}, m.state, false, *m.out);
+    if (m.installation->compensator().PickUpPending()) {  // no applied values read yet since the connect: writing could jump
+      m.installation->CommitWrite(false);
       AfterStep(m, now);
       m.phase = Phase::kIdle;
       return;
@@ -502,17 +456,14 @@ struct Shop::Impl {
         return StepAndWrite(m, now);
       case Phase::kTemperatures:
         if (ok) {
-          for (std::size_t c = 0; c < ModuleChannels(m, m.module); ++c) {
-            const std::size_t ch = m.module * adam::kChannelCount + c;
-            m.raw_temps[ch] = drivers::DecodeRtdChannel(m.registers[c], false, *m.ranges[ch]);
-          }
+          DecodeTemperatures(m);
         } else {
           m.temps_ok = false;
         }
         if (++m.module < m.module_count) return Send(m, now);
         return StepAndWrite(m, now);
       case Phase::kWrite: {
-        runtime::CommitWrite({m.cfg.compensator, m.cfg.axis_interfaces, m.bound.get()}, m.state, ok, *m.out);
+        m.installation->CommitWrite(ok);
         m.phase = Phase::kIdle;
         if (!ok) return;
         ++m.complete_cycles;
@@ -528,6 +479,15 @@ struct Shop::Impl {
     }
   }
 
+  // Register decoding (the terminal's maps, docs/protocols.md) into the machine's asynchronous
+  // hardware: the AI values of the module just read, and the PMC window.
+  void DecodeTemperatures(MachineSlot& m) {
+    for (std::size_t c = 0; c < ModuleChannels(m, m.module); ++c) {
+      const std::size_t ch = m.module * adam::kChannelCount + c;
+      m.temps->channels[ch] = drivers::DecodeRtdChannel(m.registers[c], false, *m.ranges[ch]);
+    }
+  }
+
   // False after a fault (the window does not match the shop file).
   bool DecodeWindow(MachineSlot& m, double now) {
     const std::uint16_t* r = m.registers;
@@ -537,7 +497,8 @@ struct Shop::Impl {
                                 r[pmc::kIrLayoutVersion], r[pmc::kIrAxisCount], pmc::kLayoutVersion, axes));
       return false;
     }
-    const drivers::PmcWindow w = drivers::DecodePmcWindow(r, std::span(m.cnc.axes).first(axes), m.cnc.machine, m.applied_um);
+    const drivers::PmcWindow w = drivers::DecodePmcWindow(r, std::span(m.cnc->axes).first(axes), m.cnc->machine, m.applied_um);
+    for (std::size_t a = 0; a < axes; ++a) m.cnc->axes[a].applied_um = m.applied_um[a];  // the pick-up without a jump
     const bool fresh = m.heartbeat.Fresh(w.heartbeat, now, std::max(0.5, 5 * m.cfg.period_s));
     // a coolant code no state has is not read as "off": the cycle treats the CNC as not read
     m.cnc_ok = w.machine_read_ok() && w.coolant_known && fresh;
@@ -592,7 +553,7 @@ struct Shop::Impl {
     // No link: the compensator sees the loss (its status and history say so); values are UNAVAILABLE.
     m.cnc_ok = m.temps_ok = false;
     RunStep(m, now);
-    runtime::CommitWrite({m.cfg.compensator, m.cfg.axis_interfaces, m.bound.get()}, m.state, false, *m.out);
+    m.installation->CommitWrite(false);
     AfterStep(m, now);
     if (m.link == Link::kDown && now >= m.reconnect_at_s) Connect(m, now);
   }
@@ -657,34 +618,29 @@ Shop::Shop(ShopConfig config, store::HistoryWriter* history) : config_(std::move
     m->ranges.assign(c.channels.size(), nullptr);
     const std::size_t axes = c.axes.size();
     m->applied_um.assign(axes, 0.0);
-    m->cnc = runtime::CncSnapshot(axes);
-    m->temps = runtime::TemperatureSnapshot(c.channels.size());
-    m->raw_temps.assign(c.channels.size(), {});
-    signal::MonitorOptions judge_options;  // the run config's fault rules; values unfiltered here
-    judge_options.faults = c.compensator.sensor.judge;
-    judge_options.filter = signal::FilterOptions::PassThrough();
-    m->judge = std::make_unique<signal::TemperatureMonitor>(c.channels, judge_options);
-    m->state = runtime::StepState(axes, c.channels.size(), c.compensator);
-    m->out = std::make_unique<runtime::StepOutputs>(axes, c.channels.size());
+    m->cnc = std::make_unique<TerminalCnc>(c.axes);
+    m->temps = std::make_unique<TerminalTemperatures>(c.channels);
     m->wanted.axis_enabled.assign(axes, 1);
     for (std::size_t a = 0; a < axes; ++a) m->wanted.axis_enabled[a] = c.axis_interfaces[a].enabled ? 1 : 0;
     m->controls = m->wanted;
-    // The first model: a model that does not fit this machine is an input error naming it.
-    std::shared_ptr<const model::CompositeModel> model;
+    // The installation, with the first model: a model that does not fit this machine is an input error naming it.
     try {
-      model = std::make_shared<const model::CompositeModel>(model::ReadModelFile(c.model_file));
-      ModelEntry e{model, {c.model_file, model::Sha256OfFile(c.model_file), model->revision, 0}};
-      m->bound = impl_->Bind(*m, model, c.model_file, ++m->bind_count);
-      m->bound_info = e.info;
+      Impl* impl = impl_.get();
+      m->installation = std::make_unique<station::Installation>(c.installation, *m->cnc, *m->temps,
+                                                                [impl] { return impl->Now(); }, "");
+      const station::PublishedModel& model = m->installation->model();
+      ModelEntry e{model, {c.model_file, model::Sha256OfFile(c.model_file), RevisionOf(model), 0}};
+      m->model_info = e.info;
       m->models.push_back(e);
     } catch (const InputError& e) {
       throw InputError(config_.source, c.line, fmt::format("machine[{}].model", i),
                        fmt::format("machine '{}': {}", c.name, e.what()));
     }
+    for (const auto& w : m->installation->warnings()) fmt::print(stderr, "trueaxis server: machine '{}': {}\n", c.name, w);
     MachineStatus& s = m->status;
     s.name = c.name;
     s.endpoint = fmt::format("{}:{}", c.host, c.port);
-    s.model = m->bound_info;
+    s.model = m->model_info;
     for (std::size_t a = 0; a < axes; ++a) s.axes.push_back({c.axes[a], std::nullopt, std::nullopt, 0, 0, m->wanted.axis_enabled[a] != 0});
     for (const auto& ch : c.channels) s.channels.push_back({ch, std::nullopt, "lost"});
     if (history) {
@@ -692,7 +648,7 @@ Shop::Shop(ShopConfig config, store::HistoryWriter* history) : config_(std::move
       for (const auto& a : c.axes) axis_names.push_back(c.name + "/" + a);
       for (const auto& ch : c.channels) channel_names.push_back(c.name + "/" + ch);
       m->logger = std::make_unique<station::HistoryLogger>(*history, axis_names, channel_names, unix0, c.name);
-      history->PushModelChange(UnixNowS(), m->bound_info.sha256, std::to_string(m->bound_info.revision),
+      history->PushModelChange(UnixNowS(), m->model_info.sha256, m->installation->model().revision,
                                fmt::format("{} start: {}", c.name, c.model_file));
     }
     impl_->machines.push_back(std::move(m));
@@ -791,9 +747,9 @@ ModelChange Shop::LoadModel(const std::string& machine, const std::string& model
   if (!std::filesystem::is_regular_file(model_file, ec))
     throw InputError(model_file, 0, "file",
                      std::filesystem::exists(model_file, ec) ? "not a regular file (a model is a JSON file)" : "no such file");
-  std::shared_ptr<const model::CompositeModel> model;
+  station::PublishedModel model;
   try {
-    model = std::make_shared<const model::CompositeModel>(model::ReadModelFile(model_file));  // InputError
+    model = m.installation->ReadModel(model_file);  // InputError: the running model stays
   } catch (const InputError& e) {
     if (e.field().empty() && e.message().rfind("not valid JSON", 0) == 0)
       throw InputError(model_file, 0, "file", "not a model file (not valid JSON)");
@@ -802,13 +758,12 @@ ModelChange Shop::LoadModel(const std::string& machine, const std::string& model
   const std::string sha = model::Sha256OfFile(model_file);
   std::lock_guard<std::mutex> lock(m.mu);
   ModelChange c{machine, user, from, UnixNowS(), m.models[m.current_model].info, {}, "load"};
-  c.new_model = {model_file, sha, model->revision, m.models.size()};
-  auto bound = impl_->Bind(m, model, model_file, ++m.bind_count);  // InputError: the running model stays
-  impl_->Audit(c);                                                   // InputError: the running model stays
+  c.new_model = {model_file, sha, RevisionOf(model), m.models.size()};
+  impl_->Audit(c);  // InputError: the running model stays
+  m.installation->Publish(model, model_file);
   m.models.push_back({model, c.new_model});
   m.current_model = m.models.size() - 1;
-  m.pending_bound = std::move(bound);
-  m.pending_info = c.new_model;
+  m.model_info = c.new_model;
   m.changes.push_back(c);
   impl_->RecordChange(m, c);
   return c;
@@ -821,10 +776,9 @@ ModelChange Shop::Rollback(const std::string& machine, const std::string& user, 
     throw InputError("request", 0, "rollback", fmt::format("machine '{}' runs its first model: nothing to roll back to", machine));
   const ModelEntry& back = m.models[m.current_model - 1];
   ModelChange c{machine, user, from, UnixNowS(), m.models[m.current_model].info, back.info, "rollback"};
-  auto bound = impl_->Bind(m, back.model, back.info.file, ++m.bind_count);
   impl_->Audit(c);  // InputError: the running model stays
-  m.pending_bound = std::move(bound);
-  m.pending_info = back.info;
+  m.installation->Publish(back.model, back.info.file);
+  m.model_info = back.info;
   --m.current_model;
   m.changes.push_back(c);
   impl_->RecordChange(m, c);

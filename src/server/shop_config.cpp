@@ -122,6 +122,10 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
     if (mc.max_backoff_s < mc.min_backoff_s) m.Fail("max_backoff_s", t.get("max_backoff_s"), "must be at least min_backoff_s");
     std::vector<runtime::AxisInterface> axes;
     runtime::ReadCompensatorTables(m, mc.period_s, mc.compensator, axes);
+    // The machine's temperature pipeline and data-driven thermal models, as `run` reads them.
+    runtime::RunConfig& run = mc.installation;
+    runtime::ReadThermalChannels(m, run);
+    runtime::ReadSignalTable(m, base, run);
     m.RejectUnknown();
     for (const auto& name : mc.axes) {
       runtime::AxisInterface a;
@@ -135,6 +139,21 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
         m.Fail("axis", t.get("axis"), fmt::format("axis '{}' is not one of the machine's axes", given.axis));
     std::string why;
     if (!mc.compensator.IsValid(&why)) throw InputError(source, mc.line, m.Key("limits"), why);
+    run.source = source;
+    run.machine = runtime::MachineKind::kModbus;
+    run.model_file = mc.model_file;
+    run.lines["model.file"] = m.Line(t.get("model"));
+    run.period_s = mc.period_s;
+    run.temperature_period_s = mc.temperature_period_s;
+    run.compensator = mc.compensator;
+    run.axes = mc.axis_interfaces;
+    run.modbus.host = mc.host;
+    run.modbus.port = mc.port;
+    run.modbus.cnc_unit_id = mc.pmc_unit_id;
+    run.modbus.first_rtd_unit_id = mc.first_rtd_unit_id;
+    run.modbus.axis_names = mc.axes;
+    run.modbus.channel_names = mc.channels;
+    run.modbus.response_timeout_s = mc.response_timeout_s;
     c.machines.push_back(std::move(mc));
   }
   r.RejectUnknown();

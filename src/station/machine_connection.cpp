@@ -99,36 +99,41 @@ void OpenModbus(const runtime::RunConfig& c, Machine& m) {
                                                       b.port, b.cnc_unit_id);
 }
 
-void AttachTemperaturePipeline(const runtime::RunConfig& c, Machine& m) {
-  std::function<double()> clock;
-  if (m.vm) {
-    const sim::VirtualMachine* vm = m.vm.get();
-    clock = [vm] { return vm->TimeS(); };  // machine time: rates are judged in the machine's seconds
-  } else {
-    const auto t0 = std::chrono::steady_clock::now();
-    clock = [t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+}  // namespace
+
+std::function<double()> Machine::Clock() const {
+  if (vm) {
+    const sim::VirtualMachine* v = vm.get();
+    return [v] { return v->TimeS(); };  // machine time: rates are judged in the machine's seconds
   }
+  const auto t0 = std::chrono::steady_clock::now();
+  return [t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+}
+
+std::unique_ptr<signal::MonitoredTemperatureSource> MakeTemperaturePipeline(const runtime::RunConfig& c,
+                                                                            hw::TemperatureSource& raw,
+                                                                            std::function<double()> clock_s,
+                                                                            std::vector<std::string>* warnings) {
   signal::MonitorOptions mo = MonitorOptionsFor(c.compensator.sensor);
   mo.neighbour_groups = c.redundant_groups;
   if (!c.signal_processing) mo.filter = signal::FilterOptions::PassThrough();  // judged all the same
   std::vector<std::string> channels;
-  for (std::size_t i = 0; i < m.source->ChannelCount(); ++i) channels.push_back(m.source->ChannelName(i));
+  for (std::size_t i = 0; i < raw.ChannelCount(); ++i) channels.push_back(raw.ChannelName(i));
   for (const auto& group : c.redundant_groups)
     for (const auto& name : group)
       if (std::find(channels.begin(), channels.end(), name) == channels.end())
         throw InputError(c.source, c.redundant_groups_line, "signal.groups",
                          fmt::format("'{}' is not a temperature channel of the machine ({})", name, fmt::join(channels, ", ")));
-  m.monitored = std::make_unique<signal::MonitoredTemperatureSource>(*m.source, mo, std::move(clock));
+  auto pipeline = std::make_unique<signal::MonitoredTemperatureSource>(raw, mo, std::move(clock_s));
   if (!c.calibration_file.empty()) {
     c.RequireFile("signal.calibration", c.calibration_file);
-    for (const auto& name : m.monitored->monitor().SetCalibration(signal::ReadCalibrationFile(c.calibration_file)))
-      m.warnings.push_back(fmt::format("calibration for '{}' matches no channel of the machine", name));
+    for (const auto& name : pipeline->monitor().SetCalibration(signal::ReadCalibrationFile(c.calibration_file)))
+      if (warnings) warnings->push_back(fmt::format("calibration for '{}' matches no channel of the machine", name));
   }
+  return pipeline;
 }
 
-}  // namespace
-
-Machine OpenMachine(const runtime::RunConfig& c) {
+Machine OpenMachine(const runtime::RunConfig& c, bool with_pipeline) {
   Machine m;
   if (c.machine == runtime::MachineKind::kVirtual) OpenVirtual(c, m);
   else OpenModbus(c, m);
@@ -145,7 +150,7 @@ Machine OpenMachine(const runtime::RunConfig& c) {
       throw InputError(c.source, c.LineOf(key), key,
                        fmt::format("the machine has no axis '{}' (its axes: {})", a.axis, fmt::join(names, ", ")));
   }
-  AttachTemperaturePipeline(c, m);
+  if (with_pipeline) m.monitored = MakeTemperaturePipeline(c, *m.source, m.Clock(), &m.warnings);
   return m;
 }
 

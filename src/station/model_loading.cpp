@@ -11,6 +11,7 @@
 #include "trueaxis/core/input_error.hpp"
 
 #include "trueaxis/model/model_json.hpp"
+#include "trueaxis/runtime/bound_model.hpp"
 #include "trueaxis/thermal/thermal_axis_model.hpp"
 #include "trueaxis/thermal/thermal_model.hpp"
 
@@ -35,23 +36,34 @@ std::optional<std::string> ModelMachineMismatch(const model::CompositeModel& m, 
   return std::nullopt;
 }
 
-PublishedModel PublishModelFile(runtime::Compensator& comp, const runtime::RunConfig& c, const std::string& machine_name) {
-  c.RequireFile("model.file", c.model_file);
+PublishedModel ReadModelFor(const runtime::Compensator& comp, const runtime::RunConfig& c, const std::string& machine_name,
+                            const std::string& model_file) {
+  const bool configured = model_file == c.model_file;  // errors of the model a config names point at its line
+  if (configured) c.RequireFile("model.file", model_file);
+  PublishedModel published;
   if (c.thermal_channels.empty()) {
-    auto composite = std::make_shared<const model::CompositeModel>(model::ReadModelFile(c.model_file));
+    auto composite = std::make_shared<const model::CompositeModel>(model::ReadModelFile(model_file));
     std::vector<std::string> axes;
     for (const auto& a : comp.axes()) axes.push_back(a.axis);
     if (auto why = ModelMachineMismatch(*composite, machine_name, axes))
-      throw InputError(c.source, c.LineOf("model.file"), "model.file", fmt::format("'{}': {}", c.model_file, *why));
-    PublishedModel published{std::to_string(composite->revision), composite, {}};
-    PublishTo(comp, published, c.model_file);
+      throw InputError(configured ? c.source : model_file, configured ? c.LineOf("model.file") : 0, "model.file",
+                       fmt::format("'{}': {}", model_file, *why));
+    published = PublishedModel{std::to_string(composite->revision), composite, {}};
+    // The binding's own checks (sensors the machine lacks, ...), without publishing.
+    runtime::BindModel(composite, model_file, comp.axes(), comp.channel_names(), comp.options().channel_map);
     return published;
   }
-  std::shared_ptr<const thermal::ThermalErrorModel> fitted = thermal::ReadThermalModelFile(c.model_file);
+  std::shared_ptr<const thermal::ThermalErrorModel> fitted = thermal::ReadThermalModelFile(model_file);
   std::vector<std::shared_ptr<const model::AxisErrorModel>> axes;
   for (const auto& [axis, channel] : c.thermal_channels)
-    axes.push_back(std::make_shared<const thermal::ThermalAxisModel>(fitted, channel, axis, c.model_file));
-  PublishedModel published{std::string(fitted->Kind()), nullptr, std::move(axes)};
+    axes.push_back(std::make_shared<const thermal::ThermalAxisModel>(fitted, channel, axis, model_file));
+  published = PublishedModel{std::string(fitted->Kind()), nullptr, std::move(axes)};
+  runtime::BindAxisModels(published.axis_models, model_file, comp.axes(), comp.channel_names(), comp.options().channel_map);
+  return published;
+}
+
+PublishedModel PublishModelFile(runtime::Compensator& comp, const runtime::RunConfig& c, const std::string& machine_name) {
+  PublishedModel published = ReadModelFor(comp, c, machine_name, c.model_file);
   PublishTo(comp, published, c.model_file);
   return published;
 }

@@ -7,6 +7,7 @@
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/signal/monitored_temperature_source.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
+#include "trueaxis/station/installation.hpp"
 
 namespace trueaxis::vision {
 
@@ -20,10 +21,14 @@ VisionLoopResult RunVisionLoop(const MarkerDescription& marker, const CameraMode
   const int zi = machine.AxisIndex(loop.z_axis);  // the machine's axis order is the CNC link's
   if (zi < 0) throw std::invalid_argument("the machine has no axis '" + loop.z_axis + "'");
   const auto z = static_cast<std::size_t>(zi);
-  signal::MonitorOptions judge_options;  // the temperature judge, in the machine's time
-  judge_options.faults = loop.compensator.sensor.judge;
-  signal::MonitoredTemperatureSource judged(vm, judge_options, [&vm] { return vm.TimeS(); });
-  auto comp = runtime::Compensator::ForHardware(loop.compensator, vm, judged, {});
+  // The machine installation `run` uses, without a model: the camera's Δz is the only term (the
+  // temperatures are judged all the same; nothing here computes with them, so no filter).
+  runtime::RunConfig installation_config;
+  installation_config.source = "vision run";
+  installation_config.compensator = loop.compensator;
+  installation_config.signal_processing = false;
+  station::Installation installation(installation_config, vm, vm, [&vm] { return vm.TimeS(); }, "");
+  runtime::Compensator* comp = &installation.compensator();
   const double valid_s = loop.term_valid_s > 0
                              ? loop.term_valid_s
                              : (marker.max_rejected_in_row + 1) * day.frame_interval_s + loop.cycle_s;
@@ -39,7 +44,8 @@ VisionLoopResult RunVisionLoop(const MarkerDescription& marker, const CameraMode
       spindle.AdvanceTo(vm.TimeS() + dt);
       vm.SetExtraErrorUm(z, spindle.ZErrorUm());  // the spindle's true growth at the tool
       vm.Advance(dt);
-      const auto& s = comp->RunCycle(vm, judged, vm.TimeS());
+      installation.Cycle(vm.TimeS());
+      const auto& s = installation.CommitWrite(runtime::WriteCnc(vm, installation.command()));
       out.alarms_seen |= s.alarms & counted;
       const double with = vm.ErrorUm(z) - z0_um, without = with - vm.CorrectionUm(z);
       ss_with += with * with, ss_without += without * without, ++cycles;

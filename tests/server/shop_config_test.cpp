@@ -87,6 +87,29 @@ TEST(ShopConfig, ErrorsNameLineAndField) {
   ExpectError("history = \"x.db\"\n", 1, "machine");
 }
 
+// A machine's temperature pipeline and data-driven thermal model, read as `run` reads them.
+TEST(ShopConfig, AMachineHasItsOwnSignalTableAndThermalChannels) {
+  std::string text = kShop;
+  text.replace(text.find("[machine.limits]"), 16,
+               "thermal_channels = { X = \"X_at_300mm\" }\n[machine.signal]\ncalibration = \"cal/mill-1.json\"\n"
+               "groups = [[\"x_nut\", \"ambient\"]]\nmax_disagreement_c = 4\n[machine.limits]");
+  const ShopConfig c = ParseShopConfig(text, "/shops/a/shop.toml");
+  const runtime::RunConfig& r = c.machines.at(0).installation;
+  EXPECT_TRUE(r.signal_processing);
+  EXPECT_EQ(r.calibration_file, "/shops/a/cal/mill-1.json");  // relative to the shop file
+  ASSERT_EQ(r.redundant_groups.size(), 1u);
+  EXPECT_EQ(r.redundant_groups[0], (std::vector<std::string>{"x_nut", "ambient"}));
+  EXPECT_EQ(r.compensator.sensor.judge.max_disagreement_c, 4);
+  EXPECT_EQ(r.thermal_channels.at("X"), "X_at_300mm");
+  EXPECT_EQ(r.model_file, "/shops/a/m.json");
+  EXPECT_EQ(r.modbus.channel_names, (std::vector<std::string>{"x_nut", "ambient"}));
+  EXPECT_EQ(r.compensator.shaper.max_correction_um, 40);
+  // Its errors name the machine's table, as `run`'s name [signal].
+  std::string bad = kShop;
+  bad.replace(bad.find("[machine.limits]"), 16, "[machine.signal]\nenabled = false\ncalibration = \"c.json\"\n[machine.limits]");
+  ExpectError(bad, 15, "machine[0].signal.calibration");
+}
+
 // Sweep 2: two compensators on one terminal, temperatures read more often than the poll, an axis twice.
 TEST(ShopConfig, RefusesASharedTerminalAFastTemperaturePeriodAndAnAxisTwice) {
   const std::string second = "\n[[machine]]\nname = \"mill-2\"\nhost = \"127.0.0.1\"\nport = 15001\naxes = [\"X\"]\nmodel = \"m.json\"\n";

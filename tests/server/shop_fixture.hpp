@@ -23,6 +23,7 @@ using sim::ShopFileFor;
 using sim::TerminalFault;
 using sim::VirtualShop;
 using sim::VirtualShopOptions;
+using sim::VirtualMachineInfo;
 
 // A fresh scratch folder, removed when the test program exits (a failed test's folder stays while it runs).
 inline std::string TempDir(const std::string& name) {

@@ -48,7 +48,10 @@ class MockCnc : public hw::CncLink {
     }
     ++reads;
     if (fail_read) return false;
-    for (std::size_t i = 0; i < axes.size(); ++i) out[i] = axes[i];
+    for (std::size_t i = 0; i < axes.size(); ++i) {
+      out[i] = axes[i];
+      if (report_applied) out[i].applied_um = cnc_value_um[i];
+    }
     m = machine;
     return true;
   }
@@ -87,6 +90,7 @@ class MockCnc : public hw::CncLink {
   bool fail_write = false;
   bool record_history = false;       // keep every accepted vector (History()); allocates
   std::vector<double> cnc_value_um;  // what the CNC holds (successful writes only)
+  bool report_applied = true;        // Read() reports cnc_value_um as the applied compensation
   std::vector<double> attempted_um;  // last value offered, even if the write failed
   long reads = 0, writes = 0, write_attempts = 0;
 

@@ -36,6 +36,10 @@ struct AxisState {
   // compensation's own offset. 0: the CNC does not tell (the runtime then judges the direction
   // from the moving flag, the servo direction and the position, docs/runtime.md step 4).
   int programmed_direction = 0;
+  // The compensation the CNC applies now (µm, CNC units, as written by WriteCompensation). The
+  // compensator picks the machine up there after a start or a lost link, so its output never jumps
+  // (docs/runtime.md). NaN when the CNC does not report it (the loop then starts from zero).
+  double applied_um = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct CncState {

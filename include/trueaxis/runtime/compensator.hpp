@@ -91,6 +91,15 @@ class Compensator {
   // The three phases inline: read both, Cycle, write, commit.
   const CycleStatus& RunCycle(hw::CncLink& link, signal::JudgedTemperatureSource& source, double now_s);
   const CycleStatus& LastStatus() const { return out_.status; }
+  // Per axis status and per channel status of the last cycle (what a status page shows).
+  const StepOutputs& LastOutputs() const { return out_; }
+  // Pick-up without a jump: after the start and after every failed CNC read, the first good CNC
+  // snapshot that reports what the CNC applies now (hw::AxisState::applied_um) seeds the output
+  // shaper there — once two successive snapshots agree on it (a terminal may show an accepted
+  // write a scan late) — so the ramp continues from the CNC's value. True until then (a
+  // caller that writes only when it may, like the workshop server, waits for it); a CNC that does
+  // not report its applied value is taken up from the shaper's own state.
+  bool PickUpPending() const { return pickup_pending_; }
   const StepState& state() const { return state_; }
 
  private:
@@ -114,6 +123,10 @@ class Compensator {
   StepOutputs out_;
   std::vector<std::uint8_t> axis_enabled_now_;
   std::vector<double> extra_error_now_um_;
+  bool pickup_pending_ = true;
+  std::uint64_t pickup_sequence_ = 0;      // the CNC snapshot last looked at for the pick-up
+  std::vector<double> pickup_applied_um_;  // its applied values (NaN: none yet)
+  void PickUp(const CncSnapshot& cnc);
   // RunCycle's inline I/O.
   TemperatureSnapshot inline_temperatures_;
   CncSnapshot inline_cnc_;

@@ -17,6 +17,7 @@
 // about it, never makes the output toggle (no limit cycling).
 //
 // Pure value type: no allocation; the state is two numbers.
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -49,6 +50,11 @@ struct ShaperLimits {
 OutputShaperState ShapeOutput(const OutputShaperState& state, double desired_um, const ShaperLimits& limits);
 OutputShaperState ShapeOutput(const OutputShaperState& state, double desired_um, double quantum_um,
                               const OutputShaperOptions& options);
+
+// The shaper picked up at what the CNC applies now (physical µm): the ramp continues from there.
+inline OutputShaperState PickUpAt(double applied_physical_um, double quantum_um) {
+  return {applied_physical_um, std::llround(applied_physical_um / quantum_um)};
+}
 
 inline double OutputUm(const OutputShaperState& s, double quantum_um) {
   return static_cast<double>(s.counts) * quantum_um;

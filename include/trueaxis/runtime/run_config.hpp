@@ -98,6 +98,12 @@ struct RunConfig {
 void ReadCompensatorTables(TomlTableReader& r, double period_s, CompensatorOptions& o, std::vector<AxisInterface>& axes,
                            std::vector<int>* axis_lines = nullptr);
 
+// [signal] (the temperature pipeline: enabled, calibration, groups, max_disagreement_c) and
+// [model] thermal_channels, read through `r` into `c` — shared by `run` and the shop file's
+// machines (docs/server.md). `base`: the folder relative paths are resolved against.
+void ReadSignalTable(TomlTableReader& r, const std::string& base, RunConfig& c);
+void ReadThermalChannels(TomlTableReader& r, RunConfig& c);
+
 // `model_required` false: a config without [model] is read too (what `campaign log` opens: the
 // machine's channels, before there is a model).
 RunConfig ParseRunConfig(const std::string& text, const std::string& source, bool model_required = true);

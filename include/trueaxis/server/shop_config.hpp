@@ -9,6 +9,7 @@
 
 #include "trueaxis/runtime/axis_interface.hpp"
 #include "trueaxis/runtime/compensator_options.hpp"
+#include "trueaxis/runtime/run_config.hpp"
 
 namespace trueaxis::server {
 
@@ -30,6 +31,10 @@ struct MachineConfig {
   double max_backoff_s = 5.0;
   runtime::CompensatorOptions compensator;
   std::vector<runtime::AxisInterface> axis_interfaces;  // one per axis, in `axes` order
+  // The machine as an installation sees it (station::Installation), in the form `run` reads:
+  // the fields above plus its [machine.signal] table (the temperature pipeline) and
+  // thermal_channels (a data-driven thermal model on these axes).
+  runtime::RunConfig installation;
   int line = 0;                     // where it is in the shop file
 };
 

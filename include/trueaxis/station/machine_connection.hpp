@@ -51,6 +51,9 @@ struct Machine {
   std::string name;
   std::vector<std::string> warnings;       // e.g. terminal not reachable yet, calibration unmatched
 
+  // The clock the temperature pipeline judges rates by: the machine's own for the in-process
+  // virtual machine, the steady clock (seconds from now) otherwise.
+  std::function<double()> Clock() const;
   void Close();  // deactivates the hardware (hw lifecycle); the loop must be stopped
 };
 
@@ -58,6 +61,16 @@ struct Machine {
 // the temperature pipeline in front of it (its filter only with [signal] enabled, the default; its
 // fault rules always) — timed by the machine's clock for the in-process virtual machine, by the
 // steady clock otherwise.
-Machine OpenMachine(const runtime::RunConfig& config);
+// `with_pipeline` false: the raw hardware only (station::Installation puts the pipeline in front).
+Machine OpenMachine(const runtime::RunConfig& config, bool with_pipeline = true);
+
+// The one temperature pipeline of a configuration in front of `raw`: fault limits from
+// [sensor_fault], redundant groups and their disagreement limit, calibration from [signal]
+// (throws InputError naming the config on a group channel the source lacks or a missing
+// calibration file; a calibration entry matching no channel is a warning).
+std::unique_ptr<signal::MonitoredTemperatureSource> MakeTemperaturePipeline(const runtime::RunConfig& config,
+                                                                            hw::TemperatureSource& raw,
+                                                                            std::function<double()> clock_s,
+                                                                            std::vector<std::string>* warnings);
 
 }  // namespace trueaxis::station

@@ -35,6 +35,13 @@ void PublishTo(runtime::Compensator& compensator, const PublishedModel& model, c
 std::optional<std::string> ModelMachineMismatch(const model::CompositeModel& model, const std::string& machine_name,
                                                 const std::vector<std::string>& machine_axes);
 
+// Reads `model_file` as a model of this configuration (composite, or thermal on its
+// thermal_channels) and checks it against the machine and the compensator's axes and channels,
+// without publishing it: InputError naming the config's [model] file line (when `model_file` is the
+// config's) or the file.
+PublishedModel ReadModelFor(const runtime::Compensator& compensator, const runtime::RunConfig& config,
+                            const std::string& machine_name, const std::string& model_file);
+
 // Throws InputError naming the file (or the config — its [model] file line — for a model of
 // another machine or an axis/channel mismatch); the running model stays in force when it throws.
 // `machine_name`: station::Machine::name.
