@@ -145,7 +145,11 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
     run.lines["model.file"] = m.Line(t.get("model"));
     run.period_s = mc.period_s;
     run.temperature_period_s = mc.temperature_period_s;
+    // The machine's limits, with the judge's disagreement limit its [machine.signal] table gave.
+    const double max_disagreement_c = run.compensator.sensor.judge.max_disagreement_c;
     run.compensator = mc.compensator;
+    run.compensator.sensor.judge.max_disagreement_c = max_disagreement_c;
+    mc.compensator.sensor.judge.max_disagreement_c = max_disagreement_c;
     run.axes = mc.axis_interfaces;
     run.modbus.host = mc.host;
     run.modbus.port = mc.port;
