@@ -241,11 +241,12 @@ def unavailable(url, down, up):
         streams_header(cur)
         obs = observations(cur)
         avail = {dev: text for dev, tag, a, text in obs if tag == q(STREAMS, "Availability")}
-        if avail.get(down) == "UNAVAILABLE":
+        # The other machine stays AVAILABLE; on a loaded computer its link may drop for a poll and
+        # come back (a real UNAVAILABLE, not the stopped terminal's), so it must be back in time.
+        if avail.get(down) == "UNAVAILABLE" and avail.get(up) == "AVAILABLE":
             break
-        expect(time.time() < end, "%s never UNAVAILABLE: %s" % (down, avail))
+        expect(time.time() < end, "%s never UNAVAILABLE while %s AVAILABLE: %s" % (down, up, avail))
         time.sleep(0.2)
-    expect(avail.get(up) == "AVAILABLE", "%s went %s with %s" % (up, avail.get(up), down))
     values = [(tag, text) for dev, tag, a, text in obs if dev == down and tag in (q(STREAMS, "Position"), q(STREAMS, "Temperature"))]
     expect(values and all(text == "UNAVAILABLE" for _, text in values), "%s still shows numbers: %s" % (down, values[:3]))
     faults = [tag for dev, tag, a, text in obs if dev == down and a.get("type") == "SYSTEM"]
