@@ -16,6 +16,17 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 
+// A feed move to `tip` with the rotary angles `angles` (the first vertex is the start).
+void AddFeedVertex(ToolPath& path, const Eigen::Vector3d& tip, const Kinematics::RotaryAngles& angles, double feed) {
+  PathVertex v;
+  v.tip_mm = tip;
+  v.tilt_deg = angles.tilt_deg;
+  v.rot_deg = angles.rot_deg;
+  v.move = path.vertices.empty() ? MoveKind::kStart : MoveKind::kFeed;
+  v.feed_mm_per_min = feed;
+  path.vertices.push_back(v);
+}
+
 // Samples tip(u), axis(u) for u in [0, 1] every ~0.05 mm of tip travel.
 ToolPath Sample(const std::string& name, const Kinematics& kin, double feed_mm_per_min, double length_mm,
                 const std::function<void(double, Eigen::Vector3d&, Eigen::Vector3d&)>& at) {
@@ -27,13 +38,7 @@ ToolPath Sample(const std::string& name, const Kinematics& kin, double feed_mm_p
     Eigen::Vector3d tip, axis;
     at(static_cast<double>(i) / n, tip, axis);
     prev = kin.AnglesFor(axis, prev);
-    PathVertex v;
-    v.tip_mm = tip;
-    v.tilt_deg = prev.tilt_deg;
-    v.rot_deg = prev.rot_deg;
-    v.move = i == 0 ? MoveKind::kStart : MoveKind::kFeed;
-    v.feed_mm_per_min = feed_mm_per_min;
-    path.vertices.push_back(v);
+    AddFeedVertex(path, tip, prev, feed_mm_per_min);
   }
   return path;
 }
@@ -110,15 +115,8 @@ ToolPath MakeTestPath(const std::string& name, const Kinematics& kin, double fee
     ToolPath path;
     path.name = name;
     const double corners[5][2] = {{-30, -20}, {30, -20}, {30, 20}, {-30, 20}, {-30, -20}};
-    for (int i = 0; i < 5; ++i) {
-      PathVertex v;
-      v.tip_mm = Eigen::Vector3d(0, 0, 10) + incline * Eigen::Vector3d(corners[i][0], corners[i][1], 0);
-      v.tilt_deg = angles.tilt_deg;
-      v.rot_deg = angles.rot_deg;
-      v.move = i == 0 ? MoveKind::kStart : MoveKind::kFeed;
-      v.feed_mm_per_min = feed;
-      path.vertices.push_back(v);
-    }
+    for (const auto& c : corners)
+      AddFeedVertex(path, Eigen::Vector3d(0, 0, 10) + incline * Eigen::Vector3d(c[0], c[1], 0), angles, feed);
     return path;
   }
   throw InputError("command line", 0, "--path",

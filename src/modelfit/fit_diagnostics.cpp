@@ -1,3 +1,4 @@
+#include "trueaxis/core/median.hpp"
 #include "trueaxis/modelfit/fit_diagnostics.hpp"
 
 #include <algorithm>
@@ -42,12 +43,7 @@ StateResidualShape Shape(const StateResidualInput& s) {
   return out;
 }
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
+double MedianOrZero(const std::vector<double>& v) { return v.empty() ? 0.0 : Median(v); }
 
 // Where a sensor would see a tilt along the travel that no key follows.
 constexpr const char* kStructureSensor =
@@ -79,12 +75,12 @@ ResidualDiagnosis DiagnoseResidual(const ResidualDiagnosisInput& in) {
     // runs' repeatability.
     std::vector<double> p, n;
     for (const auto* s : judged) p.push_back(s->pattern_rms_um), n.push_back(static_cast<double>(s->points));
-    const double se = Median(p) / std::sqrt(std::max(1.0, Median(n)));
+    const double se = MedianOrZero(p) / std::sqrt(std::max(1.0, MedianOrZero(n)));
     const double rep = std::isfinite(in.noise_um) ? in.noise_um : 0.0;
     d.offset_level_um = std::max(rep, 2 * se);
     d.slope_level_um = std::max(rep, 2 * std::sqrt(12.0) * se);
     d.noise_source = rep >= 2 * se ? "repeatability of the cold runs"
-                                   : fmt::format("scatter of the states (two standard errors of {} µm)", F(Median(p)));
+                                   : fmt::format("scatter of the states (two standard errors of {} µm)", F(MedianOrZero(p)));
   }
 
   // Key sensors' shares of the thermal correction (mean squares over every point of every state).
@@ -138,7 +134,7 @@ ResidualDiagnosis DiagnoseResidual(const ResidualDiagnosisInput& in) {
         "slope: in {} of {} states the {} residual {} along the travel ({} to {} µm end to end, median {} µm/m), "
         "more than the noise level {} µm: the model misses a bending or stretching of the axis that no key sensor "
         "follows; {} would help.",
-        c, nj, where, sign > 0 ? "rises" : "falls", F(r[0]), F(r[1]), F(Median(slopes), 1), F(d.slope_level_um),
+        c, nj, where, sign > 0 ? "rises" : "falls", F(r[0]), F(r[1]), F(MedianOrZero(slopes), 1), F(d.slope_level_um),
         kStructureSensor));
   }
   if (!d.slope_structure) {

@@ -1,20 +1,11 @@
 // A flagged stand-in model for a tool with too little training, from the other tools.
 #include "trueaxis/tooltherm/tool_fallback.hpp"
 
-#include <algorithm>
 #include <vector>
 
+#include "trueaxis/core/median.hpp"
+
 namespace trueaxis::tooltherm {
-namespace {
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-}  // namespace
-
 double GaugeGrowthUmPerC(const ToolDescription& tool) {
   const ToolMaterial* body = FindToolMaterial(tool.material);
   const ToolMaterial* holder = FindToolMaterial(tool.holder_material);
