@@ -157,6 +157,14 @@ TEST(FiveAxisCli, SlowFeedIsRefusedWithTheLineInsteadOfExhaustingMemory) {
   r = trueaxis::testing::RunCli("fiveaxis simulate" + machine + " --path cone --feed 0.00001");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("field '--feed'"), std::string::npos) << r.output;
+  for (const char* rest : {"-1", "nan", "11"}) {
+    r = trueaxis::testing::RunCli("fiveaxis simulate" + machine + " --path cone --feed 3000 --end-rest-s " + rest);
+    EXPECT_EQ(r.exit_code, 2) << rest << "\n" << r.output;
+    EXPECT_NE(r.output.find("field '--end-rest-s'"), std::string::npos) << rest << "\n" << r.output;
+  }
+  r = trueaxis::testing::RunCli("fiveaxis simulate" + machine + " --path inclined-pocket --feed 3000 --kf 1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("end point: "), std::string::npos) << r.output;
   r = trueaxis::testing::RunCli("fiveaxis simulate" + machine + " --path cone --feed nan");  // was a 4.3 µm answer, exit 0
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("field '--feed': not a finite feed"), std::string::npos) << r.output;

@@ -45,9 +45,18 @@ TEST(PitchCli, CalibrateTableRunReportExport) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("field '--reference-mm'"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(table));
+  // Samples per lead: auto or a whole number 1…64, anything else refused before a file is written.
+  for (const char* bad : {"abc", "0", "65", "2x", "-1"}) {
+    r = RunCli("pitch table --measurement " + before + " --samples-per-lead " + bad + " --out " + table);
+    EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.output;
+    EXPECT_NE(r.output.find("field '--samples-per-lead'"), std::string::npos) << bad << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(table)) << bad;
+  }
   r = RunCli("pitch table --measurement " + before + " --out " + table);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("periodic: h1 (5 mm)"), std::string::npos) << r.output;  // resolved at lead/4
+  EXPECT_NE(r.output.find("table: "), std::string::npos) << r.output;              // the automatic choice, said
+  EXPECT_NE(r.output.find(" per lead: the fewest whose table meets"), std::string::npos) << r.output;
   r = RunCli("sim fine --machine " + kMachine + " --axis Z --runs 2 --pitch-file " + table + " --out " + after);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("table applied (ahead feed-forward"), std::string::npos) << r.output;
