@@ -235,22 +235,25 @@ def check(url, machines):
 
 
 def unavailable(url, down, up):
+    # The stopped terminal's machine: UNAVAILABLE at once, its values UNAVAILABLE, and its SYSTEM
+    # condition a Fault once the compensator has seen the link fail (a cycle later); the other
+    # machine AVAILABLE (a loaded computer may drop its link for a poll: it must be back in time).
     end = time.time() + DEADLINE_S
     while True:
         _, cur, _ = get(url + "/current")
         streams_header(cur)
         obs = observations(cur)
         avail = {dev: text for dev, tag, a, text in obs if tag == q(STREAMS, "Availability")}
-        # The other machine stays AVAILABLE; on a loaded computer its link may drop for a poll and
-        # come back (a real UNAVAILABLE, not the stopped terminal's), so it must be back in time.
-        if avail.get(down) == "UNAVAILABLE" and avail.get(up) == "AVAILABLE":
+        values = [(tag, text) for dev, tag, a, text in obs
+                  if dev == down and tag in (q(STREAMS, "Position"), q(STREAMS, "Temperature"))]
+        faults = [tag for dev, tag, a, text in obs if dev == down and a.get("type") == "SYSTEM"]
+        state = (avail.get(down) == "UNAVAILABLE", avail.get(up) == "AVAILABLE",
+                 bool(values) and all(text == "UNAVAILABLE" for _, text in values), faults == [q(STREAMS, "Fault")])
+        if all(state):
             break
-        expect(time.time() < end, "%s never UNAVAILABLE while %s AVAILABLE: %s" % (down, up, avail))
+        expect(time.time() < end, "%s: availability %s, values %s, SYSTEM %s (down, up, values, fault: %s)" %
+               (down, avail, values[:3], faults, state))
         time.sleep(0.2)
-    values = [(tag, text) for dev, tag, a, text in obs if dev == down and tag in (q(STREAMS, "Position"), q(STREAMS, "Temperature"))]
-    expect(values and all(text == "UNAVAILABLE" for _, text in values), "%s still shows numbers: %s" % (down, values[:3]))
-    faults = [tag for dev, tag, a, text in obs if dev == down and a.get("type") == "SYSTEM"]
-    expect(faults == [q(STREAMS, "Fault")], "%s's SYSTEM condition: %s" % (down, faults))
     print("%s UNAVAILABLE (positions and temperatures too, SYSTEM Fault), %s AVAILABLE" % (down, up))
 
 
