@@ -26,7 +26,7 @@
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/site_config.hpp"
 #include "trueaxis/station/installation.hpp"
 #include "trueaxis/station/machine_connection.hpp"
 
@@ -45,9 +45,10 @@ struct Options {
 };
 
 // The axes LinuxCNC has ([machine] axes), each with its interface from [[axis]] (δ = eoffset count).
-std::vector<runtime::AxisInterface> AxisInterfaces(const runtime::RunConfig& c) {
+std::vector<runtime::AxisInterface> AxisInterfaces(const station::SiteConfig& site) {
+  const station::InstallationConfig& c = site.installation;
   std::vector<runtime::AxisInterface> out;
-  for (const auto& name : c.modbus.axis_names) {
+  for (const auto& name : site.modbus.axis_names) {
     runtime::AxisInterface it;
     it.axis = name;
     for (const auto& a : c.axes)
@@ -63,15 +64,16 @@ std::vector<runtime::AxisInterface> AxisInterfaces(const runtime::RunConfig& c) 
 }
 
 int Run(const Options& o) {
-  const runtime::RunConfig c = runtime::ReadRunConfig(o.config);
-  if (c.machine != runtime::MachineKind::kModbus)
+  const station::SiteConfig site = station::ReadSiteConfig(o.config);
+  const station::InstallationConfig& c = site.installation;
+  if (site.machine != station::MachineKind::kModbus)
     throw InputError(c.source, 0, "machine.kind",
                      "trueaxis-hal needs kind = \"modbus\": [machine] axes are the LinuxCNC axes, channels the "
                      "temperature channels (RTD modules at host:port, or HAL pins with --temperatures hal)");
 
   linuxcnc::HalComponent hal(o.name);
-  linuxcnc::HalCncLink link(hal, AxisInterfaces(c));
-  linuxcnc::HalTemperatures temperatures = linuxcnc::OpenHalTemperatures(hal, c, o.temperatures == "hal");
+  linuxcnc::HalCncLink link(hal, AxisInterfaces(site));
+  linuxcnc::HalTemperatures temperatures = linuxcnc::OpenHalTemperatures(hal, site, o.temperatures == "hal");
   hw::TemperatureSource* source = temperatures.source;
   std::vector<std::string> axis_names;
   for (std::size_t i = 0; i < link.AxisCount(); ++i) axis_names.push_back(link.AxisName(i));
@@ -82,7 +84,7 @@ int Run(const Options& o) {
   const auto t0_pipeline = std::chrono::steady_clock::now();
   station::Installation installation(
       c, link, *source, [t0_pipeline] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_pipeline).count(); },
-      c.modbus.machine_name);
+      site.modbus.machine_name);
   for (const auto& w : installation.warnings()) fmt::print(stderr, "warning: {}\n", w);
   runtime::Compensator* comp = &installation.compensator();
   runtime::LoopRunner runner(*comp, link, installation.temperatures(), runtime::LoopOptions{c.period_s, c.temperature_period_s}, &status);
@@ -97,7 +99,7 @@ int Run(const Options& o) {
   if (g_stop.load()) return 0;  // stopped before the first enable
   runner.Start();
   fmt::print(stderr, "trueaxis-hal: component {} | {} axes | temperatures {} | model {} | cycle {} ms\n", o.name,
-             axis_names.size(), o.temperatures == "hal" ? "from HAL pins" : fmt::format("MODBUS {}:{}", c.modbus.host, c.modbus.port),
+             axis_names.size(), o.temperatures == "hal" ? "from HAL pins" : fmt::format("MODBUS {}:{}", site.modbus.host, site.modbus.port),
              c.model_file, c.period_s * 1000);
   std::string last_alarms;
   std::vector<std::uint32_t> axis_alarms(axis_names.size());
