@@ -4,7 +4,7 @@
 // alarms change); Drain() hands what was recorded to the history database (HistoryLogger over
 // store::HistoryWriter, SQLite or PostgreSQL), the CSV log (CsvCycleLog) and whoever watches the
 // machine (the web page's backend). Models the installation publishes are recorded the same way.
-// Opened by station::Installation::OpenLog: `run` and the demo write their history through it.
+// Opened by station::Installation::OpenLog: `run`, the demo and trueaxis-hal write their history through it.
 #include <cstdint>
 #include <functional>
 #include <memory>
