@@ -19,7 +19,7 @@
 namespace trueaxis::fiveaxis {
 
 std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErrorModel& model,
-                                        const std::vector<AxisVector>& command, double dt_s, double kf, int iterations = 6,
+                                        const std::vector<AxisVector>& command, double dt_s, double kf, int iterations = 12,
                                         double update_filter_s = 0.005);
 
 // Lengthens the rest after the last move until the model's predicted tracking
