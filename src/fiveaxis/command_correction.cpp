@@ -8,6 +8,8 @@
 namespace trueaxis::fiveaxis {
 namespace {
 
+constexpr double kStepWindowS = 0.03;  // windows of the step fraction (s)
+
 // The end point is a constraint: over the second half of the final rest (the
 // samples equal to the last command) the correction fades out with a raised
 // cosine, so the corrected command stands exactly on the programmed end.
@@ -58,24 +60,36 @@ std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErr
                      predicted_actual[kRot] - command[i][kRot]};
     }
     // Step length: the predicted residual is affine in the step (the model is
-    // linear for the programmed direction of motion), so per component the
-    // fraction 0 … 1 of the last step that leaves the least residual follows
-    // from the residuals before and after it. A pass never makes the predicted
-    // residual worse — where the drive rings the plain update would
-    // diverge (docs/fiveaxis.md, "Correction").
+    // linear for the programmed direction of motion), so per component and per
+    // window of kStepWindowS the fraction 0 … 1 of the last step that leaves
+    // the least residual follows from the residuals before and after it
+    // (linear between the windows' centres, so the command stays smooth).
+    // Where the drive rings the plain update would diverge; per window, the
+    // passes still converge fully elsewhere (docs/fiveaxis.md, "Correction").
     if (it > 0) {
       bool shortened = false;
+      const std::size_t window = std::max<std::size_t>(2, static_cast<std::size_t>(std::lround(kStepWindowS / dt_s)));
+      const std::size_t windows = (n + window - 1) / window;
+      std::vector<double> best(windows);
       for (int c = 0; c < 5; ++c) {
-        double num = 0, den = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-          const double change = residual[i][c] - previous_residual[i][c];
-          num -= previous_residual[i][c] * change;
-          den += change * change;
+        for (std::size_t w = 0; w < windows; ++w) {
+          double num = 0, den = 0;
+          for (std::size_t i = w * window; i < std::min(n, (w + 1) * window); ++i) {
+            const double change = residual[i][c] - previous_residual[i][c];
+            num -= previous_residual[i][c] * change;
+            den += change * change;
+          }
+          best[w] = den > 0 ? std::clamp(num / den, 0.0, 1.0) : 1.0;
         }
-        const double fraction = den > 0 ? std::clamp(num / den, 0.0, 1.0) : 1.0;
-        if (fraction >= 1.0) continue;
-        shortened = true;
         for (std::size_t i = 0; i < n; ++i) {
+          // Linear between the windows' centres.
+          const double pos = (static_cast<double>(i) + 0.5) / static_cast<double>(window) - 0.5;
+          const std::size_t w0 = static_cast<std::size_t>(std::clamp(std::floor(pos), 0.0, static_cast<double>(windows - 1)));
+          const std::size_t w1 = std::min(windows - 1, w0 + 1);
+          const double t = std::clamp(pos - static_cast<double>(w0), 0.0, 1.0);
+          const double fraction = best[w0] + t * (best[w1] - best[w0]);
+          if (fraction >= 1.0) continue;
+          shortened = true;
           state[i][c] -= (1.0 - fraction) * step[i][c];
           residual[i][c] = previous_residual[i][c] + fraction * (residual[i][c] - previous_residual[i][c]);
         }
