@@ -37,7 +37,8 @@ std::vector<double> AxisTestCommand(const DriveParams& d, double servo_rate_hz, 
 
 ModelCoefficients FitTrackingCoefficients(const AxisTrace& trace, double dt_s, double window_s, bool with_extensions,
                                           double friction_band, double* fit_rms, double* signal_rms) {
-  const auto r = ModelRegressors(trace.command, dt_s, window_s, friction_band);
+  // Friction acts on the motion of the axis, so its direction comes from the measured position.
+  const auto r = ModelRegressors(trace.command, dt_s, window_s, friction_band, &trace.measured);
   const int terms = with_extensions ? kModelTerms : kSeedTerms;
   const Eigen::Index n = static_cast<Eigen::Index>(trace.command.size());
   Eigen::MatrixXd x(n, terms);

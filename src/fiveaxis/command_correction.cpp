@@ -8,6 +8,8 @@
 namespace trueaxis::fiveaxis {
 namespace {
 
+constexpr double kStepWindowS = 0.03;  // windows of the step fraction (s)
+
 // The end point is a constraint: over the second half of the final rest (the
 // samples equal to the last command) the correction fades out with a raised
 // cosine, so the corrected command stands exactly on the programmed end.
@@ -33,15 +35,20 @@ std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErr
                                         const std::vector<AxisVector>& command, double dt_s, double kf, int iterations,
                                         double update_filter_s) {
   const std::size_t n = command.size();
-  std::vector<Eigen::Vector3d> target_tip(n), virtual_tip(n);
-  std::vector<std::array<double, 2>> virtual_rotary(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    target_tip[i] = virtual_tip[i] = kin.Forward(command[i]).tip_mm;
-    virtual_rotary[i] = {command[i][kTilt], command[i][kRot]};
-  }
+  std::vector<Eigen::Vector3d> target_tip(n);
+  for (std::size_t i = 0; i < n; ++i) target_tip[i] = kin.Forward(command[i]).tip_mm;
   std::vector<AxisVector> corrected = command;
-  std::vector<std::array<double, 5>> update(n);  // tip x, y, z, tilt, rot
-  for (int it = 0; it < iterations; ++it) {
+  // Per servo period: tip x, y, z, tilt, rot — the virtual target (state), the
+  // predicted residual of the current command, and of the one before the last step.
+  using Five = std::array<double, 5>;
+  std::vector<Five> state(n), residual(n), previous_residual(n), step(n);
+  for (std::size_t i = 0; i < n; ++i)
+    state[i] = {target_tip[i].x(), target_tip[i].y(), target_tip[i].z(), command[i][kTilt], command[i][kRot]};
+  auto apply_state = [&] {
+    for (std::size_t i = 0; i < n; ++i)
+      corrected[i] = kin.Inverse(Eigen::Vector3d(state[i][0], state[i][1], state[i][2]), state[i][3], state[i][4]);
+  };
+  for (int it = 0; it <= iterations; ++it) {
     // The friction's direction of motion stays the programmed one: a tiny
     // correction must not flip it at a reversal.
     const std::vector<AxisVector> error = PredictTrackingError(model, corrected, dt_s, kf, &command);
@@ -49,9 +56,49 @@ std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErr
       AxisVector predicted_actual;
       for (int a = 0; a < kAxisCount; ++a) predicted_actual[a] = corrected[i][a] - error[i][a];
       const Eigen::Vector3d tip_error = kin.Forward(predicted_actual).tip_mm - target_tip[i];
-      update[i] = {-tip_error.x(), -tip_error.y(), -tip_error.z(), -(predicted_actual[kTilt] - command[i][kTilt]),
-                   -(predicted_actual[kRot] - command[i][kRot])};
+      residual[i] = {tip_error.x(), tip_error.y(), tip_error.z(), predicted_actual[kTilt] - command[i][kTilt],
+                     predicted_actual[kRot] - command[i][kRot]};
     }
+    // Step length: the predicted residual is affine in the step (the model is
+    // linear for the programmed direction of motion), so per component and per
+    // window of kStepWindowS the fraction 0 … 1 of the last step that leaves
+    // the least residual follows from the residuals before and after it
+    // (linear between the windows' centres, so the command stays smooth).
+    // Where the drive rings the plain update would diverge; per window, the
+    // passes still converge fully elsewhere (docs/fiveaxis.md, "Correction").
+    if (it > 0) {
+      bool shortened = false;
+      const std::size_t window = std::max<std::size_t>(2, static_cast<std::size_t>(std::lround(kStepWindowS / dt_s)));
+      const std::size_t windows = (n + window - 1) / window;
+      std::vector<double> best(windows);
+      for (int c = 0; c < 5; ++c) {
+        for (std::size_t w = 0; w < windows; ++w) {
+          double num = 0, den = 0;
+          for (std::size_t i = w * window; i < std::min(n, (w + 1) * window); ++i) {
+            const double change = residual[i][c] - previous_residual[i][c];
+            num -= previous_residual[i][c] * change;
+            den += change * change;
+          }
+          best[w] = den > 0 ? std::clamp(num / den, 0.0, 1.0) : 1.0;
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+          // Linear between the windows' centres.
+          const double pos = (static_cast<double>(i) + 0.5) / static_cast<double>(window) - 0.5;
+          const std::size_t w0 = static_cast<std::size_t>(std::clamp(std::floor(pos), 0.0, static_cast<double>(windows - 1)));
+          const std::size_t w1 = std::min(windows - 1, w0 + 1);
+          const double t = std::clamp(pos - static_cast<double>(w0), 0.0, 1.0);
+          const double fraction = best[w0] + t * (best[w1] - best[w0]);
+          if (fraction >= 1.0) continue;
+          shortened = true;
+          state[i][c] -= (1.0 - fraction) * step[i][c];
+          residual[i][c] = previous_residual[i][c] + fraction * (residual[i][c] - previous_residual[i][c]);
+        }
+      }
+      if (shortened) apply_state();
+    }
+    if (it == iterations) break;
+    for (std::size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 5; ++c) step[i][c] = -residual[i][c];
     // Passes after the first: the update through a zero-phase low-pass (a
     // forward and a backward first-order lag), so the passes converge where
     // the model is right and leave alone what the drive cannot follow.
@@ -59,17 +106,15 @@ std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErr
       const double alpha = 1.0 - std::exp(-dt_s / update_filter_s);
       for (int c = 0; c < 5; ++c) {
         double low = 0;
-        for (std::size_t i = 0; i < n; ++i) update[i][c] = low += alpha * (update[i][c] - low);
+        for (std::size_t i = 0; i < n; ++i) step[i][c] = low += alpha * (step[i][c] - low);
         low = 0;
-        for (std::size_t i = n; i-- > 0;) update[i][c] = low += alpha * (update[i][c] - low);
+        for (std::size_t i = n; i-- > 0;) step[i][c] = low += alpha * (step[i][c] - low);
       }
     }
-    for (std::size_t i = 0; i < n; ++i) {
-      virtual_tip[i] += Eigen::Vector3d(update[i][0], update[i][1], update[i][2]);
-      virtual_rotary[i][0] += update[i][3];
-      virtual_rotary[i][1] += update[i][4];
-      corrected[i] = kin.Inverse(virtual_tip[i], virtual_rotary[i][0], virtual_rotary[i][1]);
-    }
+    previous_residual = residual;
+    for (std::size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 5; ++c) state[i][c] += step[i][c];
+    apply_state();
   }
   FadeOutAtEnd(command, corrected);
   return corrected;

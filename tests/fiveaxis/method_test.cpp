@@ -303,6 +303,22 @@ TEST(FiveAxisExperiment, CorrectionReducesTheContourError) {
   }
 }
 
+// The long, winding paths on the head B/C example, whose errors come largely
+// from friction at starts, stops and reversals (the tip circles while the
+// head's X and Y swing at several times its speed): the friction transients
+// are identified on the axis's measured motion, so the correction removes
+// at least 90 % of what FF alone leaves (83 % and 78 % when they followed the
+// command's direction).
+TEST(FiveAxisExperiment, HelixAndPocketOnTheHeadAreCorrectedByNinetyPercent) {
+  const FiveAxisMachine m = Machine("head_bc.toml");
+  const TrackingErrorModel model = IdentifyTrackingModel(m, AxisTestOptions{}, VirtualMachineRunner(m));
+  for (const char* name : {"helix", "inclined-pocket"}) {
+    const Experiment x = RunExperiment(m, model, MakeTestPath(name, Kinematics(m.kinematics), 3000));
+    EXPECT_LT(x.corrected.contour.rms_um, 0.1 * x.with_ff.contour.rms_um) << name;
+    EXPECT_LT(x.corrected.contour.end_point_um, 1.0) << name;
+  }
+}
+
 // The end point is a constraint: the corrected program of a program with
 // sharp corners and a final step ends exactly where the original ends, and
 // the re-run of the written program stands there once the drives settle.
@@ -324,6 +340,33 @@ TEST(FiveAxisExperiment, CorrectedProgramEndsOnTheProgrammedEndPoint) {
     EXPECT_GT(x.end_rest_added_s, 0.0) << machine << ": the default 50 ms rest does not let the model settle";
     // The correction still does its work along the path.
     EXPECT_LT(x.corrected.contour.rms_um, 0.5 * x.with_ff.contour.rms_um) << machine;
+  }
+}
+
+// On a drive that rings (a varied head whose X the plain passes made worse
+// after the third: predicted residual 1.03 µm after 3 passes, 2.54 µm after
+// 16), more passes keep lowering the model's predicted residual: each pass
+// takes, per window, the fraction of its step that leaves the least.
+TEST(FiveAxisCorrection, MorePassesKeepLoweringThePredictedResidual) {
+  const FiveAxisMachine m = VaryMachine(Machine("head_bc.toml"), 22);
+  const Kinematics kin(m.kinematics);
+  const TrackingErrorModel model = IdentifyTrackingModel(m, AxisTestOptions{}, VirtualMachineRunner(m));
+  std::vector<AxisVector> q = Interpolate(MakeTestPath("cone", kin, 6000), m).joints;
+  const double dt = 1.0 / m.servo_rate_hz, kf = ChooseFeedForward(model, q, dt).averaged;
+  ExtendRestUntilSettled(q, model, dt, kf);
+  auto predicted_residual_um = [&](int passes, int axis) {
+    const std::vector<AxisVector> u = CorrectCommands(kin, model, q, dt, kf, passes);
+    const std::vector<AxisVector> e = PredictTrackingError(model, u, dt, kf, &q);
+    double sum = 0;
+    for (std::size_t i = 0; i < q.size(); ++i) sum += std::pow(u[i][axis] - e[i][axis] - q[i][axis], 2);
+    return 1e3 * std::sqrt(sum / static_cast<double>(q.size()));
+  };
+  for (int axis : {kX, kY}) {
+    const double after3 = predicted_residual_um(3, axis), after8 = predicted_residual_um(8, axis),
+                 after16 = predicted_residual_um(16, axis);
+    EXPECT_LE(after8, after3 * 1.001) << "axis " << axis;
+    EXPECT_LE(after16, after8 * 1.001) << "axis " << axis;
+    EXPECT_LT(after16, 0.4) << "axis " << axis;  // µm; FF alone leaves 2.9 (X) and 5.1 (Y)
   }
 }
 

@@ -7,8 +7,9 @@
 // the corrected axis command (= command + axis compensation). The first pass
 // is seed 004's correction; further passes predict the error of the corrected
 // command itself, their updates low-passed without phase (time constant
-// update_filter_s), and converge towards the command whose predicted motion
-// is the programmed one (docs/fiveaxis.md, "Correction"). The end point is a
+// update_filter_s) and shortened, per 30 ms window, to the fraction that
+// leaves the least predicted residual; they converge towards the command
+// whose predicted motion is the programmed one (docs/fiveaxis.md, "Correction"). The end point is a
 // constraint: the correction fades out over the final rest, so the corrected
 // command ends exactly where the programmed one ends.
 #include <vector>
@@ -19,7 +20,7 @@
 namespace trueaxis::fiveaxis {
 
 std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErrorModel& model,
-                                        const std::vector<AxisVector>& command, double dt_s, double kf, int iterations = 6,
+                                        const std::vector<AxisVector>& command, double dt_s, double kf, int iterations = 16,
                                         double update_filter_s = 0.005);
 
 // Lengthens the rest after the last move until the model's predicted tracking

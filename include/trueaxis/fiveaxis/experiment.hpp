@@ -29,7 +29,7 @@ SimulatedRun SimulateRun(const FiveAxisMachine& m, const std::vector<AxisVector>
                          double acceleration_ff = 0);
 
 struct ExperimentOptions {
-  int correction_iterations = 6;        // 1 = seed 004's one-shot correction
+  int correction_iterations = 16;       // 1 = seed 004's one-shot correction
   double correction_filter_s = 0.005;   // zero-phase low-pass of the later passes' updates
   int samples_per_block = 1;  // corrected program: one G93 block per this many servo periods
 };
