@@ -308,23 +308,24 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
       // Ranked by the geometric mean of the folds' held-out RMS (each fold counts by how much of
       // its error a candidate removes: one fold in a regime unlike the others — coolant switched on
       // for the first time — does not decide alone). Only candidates that are not worse than the
-      // constant on the use-like rows (the latest fold; every experiment) are eligible, and of those
-      // the simplest within 2 % of the best that is worse than neither the constant nor all inputs
-      // is taken. It is shrunk toward the constant as far as the use-like rows ask, and kept only if
-      // it beats the constant there by more than the noise; otherwise the channel is the constant.
+      // constant on the use-like rows (the latest fold; every experiment) nor on all folds together
+      // are eligible, and of those the simplest within 2 % of the best (all inputs included) that
+      // is not worse than the constant is taken. It is shrunk toward the constant as far as the
+      // use-like rows ask, and kept only if it beats the constant there by more than the noise;
+      // otherwise the channel is the constant.
       const std::vector<InputCandidate> tried = CrossValidatedCandidates(s, y, folds, o);
       const InputCandidate& mean = tried.front();
       const auto blocks = UseLikeBlocks(folds);
       const std::vector<Eigen::Index> use_rows = RowsOf(blocks);
       const double mean_use_rms = HeldOutRms(y(use_rows), mean.predicted(use_rows));
       auto eligible = [&](const InputCandidate& t) {
-        return HeldOutRms(y(use_rows), t.predicted(use_rows)) <= mean_use_rms;
+        return HeldOutRms(y(use_rows), t.predicted(use_rows)) <= mean_use_rms &&
+               HeldOutRms(y, t.predicted) <= HeldOutRms(y, mean.predicted);
       };
       double best = std::numeric_limits<double>::infinity();
       for (const auto& t : tried)
         if (eligible(t)) best = std::min(best, t.score);
-      double limit = std::min(kCountTolerance * best, mean.score);
-      if (eligible(tried.back())) limit = std::min(limit, tried.back().score);
+      const double limit = std::min(kCountTolerance * best, mean.score);
       for (const auto& t : tried)
         if (eligible(t) && t.score <= limit) {
           chosen = t.so;
