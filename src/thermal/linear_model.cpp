@@ -340,7 +340,7 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
             const double blended_use_rms = HeldOutRms(y(use_rows), blended(use_rows));
             if (shrink < 1) choice += fmt::format(", shrunk ×{:.2f} toward the constant", shrink);
             if (shrink == 0 || !BeatsConstantBeyondNoise(y, blended, mean.predicted, blocks)) {
-              choice = fmt::format("constant ({} did not beat it beyond the noise on the {}: RMS {:.3f} against "
+              choice = fmt::format("constant ({}: did not beat it beyond the noise on the {}, RMS {:.3f} against "
                                    "{:.3f} µm)", choice, folds.by_experiment ? "experiments" : "latest fold",
                                    blended_use_rms, mean_use_rms);
               constant = true;
