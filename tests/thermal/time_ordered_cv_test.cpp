@@ -228,6 +228,31 @@ TEST(TimeOrderedCv, AModelTheFoldsOnlyPartlySupportIsShrunkTowardTheConstant) {
   EXPECT_NEAR(ch.intercept_um + ch.k_um_per_c[0] * t_mean, e_mean, 1e-6);
 }
 
+// The latest fold (the last tenth of the rows) is where the choice looks for what the use will be
+// like. Here the error followed the sensor everywhere before it; in the latest fold it does so
+// (three times as strongly) only in the first of its five blocks and stays at the mean in the
+// other four. Over the whole latest fold the model still beats the constant, but only through one
+// block of five: not beyond the noise, so the channel is the constant and says why. (Chosen by the
+// pooled RMSE of all folds the model was kept.)
+TEST(TimeOrderedCv, AModelThatBeatsTheConstantOnlyInOneBlockOfTheLatestFoldIsNotShipped) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  ThermalSeries s = testing::MakeSeries(3000, 2, 60.0);
+  for (int r = 0; r < s.Rows(); ++r) {
+    const double u = 2 * std::sin(2 * M_PI * r / 20.0);  // a 20 min cycle: every block sees the same swings
+    s.temperatures_c(r, 0) = 20 + u + 0.02 * noise(rng);
+    s.temperatures_c(r, 1) = 22 + 0.02 * noise(rng);
+    const double gain = r < 2700 ? 2.0 : r < 2760 ? 6.0 : 0.0;
+    s.errors_um(r, 0) = gain * u + noise(rng);
+  }
+  const auto m = FitThermalModel(s, DefaultFit());
+  const auto& ch = dynamic_cast<const LinearThermalModel&>(*m).channel_models().front();
+  EXPECT_TRUE(ch.IsConstant()) << m->Describe();
+  EXPECT_NE(ch.cv_choice.find("did not beat it beyond the noise on the latest fold"), std::string::npos) << ch.cv_choice;
+  EXPECT_NEAR(ch.intercept_um, s.errors_um.col(0).mean(), 1e-9);
+  EXPECT_NE(m->Describe().find("the constant (the training mean): no input beat it"), std::string::npos) << m->Describe();
+}
+
 // Validation RMSE of `model` on `channel` in a `thermal evaluate --markdown` table.
 double ValidationRmse(const std::string& md, const std::string& model, const std::string& channel) {
   const auto at = md.find("| " + model + " | " + channel + " |");
