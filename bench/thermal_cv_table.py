@@ -13,11 +13,15 @@ Recordings:
                         (the case where a cross-validation dominated by the warm-up picks t1)
   <machine>-day<N>      a drawn working day of a zoo machine (`trueaxis sim recording`)
   <machine>-5days       five such days as five experiments
+  with --extra, recordings drawn with other lengths, sample intervals and sensor counts:
+  <machine>-<H>h-<S>s   `trueaxis sim recording --hours H --interval-s S` of other zoo machines
+                        (the lathe logs 8 sensors, the others 11)
+  steady-D              a 96 h steady run like steady-A/B/C with 6 sensors only
 Splits: chronological 90/10 and 70/30 (`--validate-last 0.1 / 0.3`); leave one experiment out
 where there are several.
 
 Usage (from the repository root, after a build; minutes on two cores):
-  /usr/bin/python3 bench/thermal_cv_table.py [--out out/thermal_cv] [--trueaxis build/apps/trueaxis/trueaxis]
+  /usr/bin/python3 bench/thermal_cv_table.py [--out out/thermal_cv] [--trueaxis build/apps/trueaxis/trueaxis] [--extra]
 """
 import argparse, math, os, random, subprocess, sys
 
@@ -26,6 +30,7 @@ ap.add_argument("--out", default="out/thermal_cv")
 ap.add_argument("--trueaxis", default="build/apps/trueaxis/trueaxis")
 ap.add_argument("--fl-thermal", default="../shared/data/fl_thermal/fl_thermal.csv")
 ap.add_argument("--only", default="", help="comma list of recording names to run (default: all)")
+ap.add_argument("--extra", action="store_true", help="run only the recordings of other lengths, intervals and sensor counts")
 a = ap.parse_args()
 os.makedirs(a.out, exist_ok=True)
 
@@ -48,7 +53,7 @@ def walk(rng, n, step, revert=0.002):
     return out
 
 
-def draw_steady(path, seed, hours, steady_um):
+def draw_steady(path, seed, hours, steady_um, sensors=16):
     """A long run at one spindle speed, one row a minute. The spindle starts at t = 0: a 45 min
     warm-up raises the error by about 13 µm; after it the error follows the structure's slow
     response to the workshop air (3 h lag, `steady_um` per °C) plus 0.05 µm noise. t1 (spindle
@@ -78,6 +83,7 @@ def draw_steady(path, seed, hours, steady_um):
         rise = rng.uniform(10, 90)
         cols[f"t{i}_C"] = [22 + i * 0.2 + 2.0 * (1 - math.exp(-m / rise)) + other[m] + rng.gauss(0, 0.02)
                            for m in range(n)]
+    cols = dict(list(cols.items())[:sensors])
     with open(path, "w") as f:
         f.write("time_s,spindle_rpm,e_um," + ",".join(cols) + "\n")
         for m in range(n):
@@ -103,20 +109,33 @@ def evaluate(series, split_args, md):
 
 recordings = []  # (name, [files], [(split label, args)])
 chrono = [("90/10", ["--validate-last", "0.1"]), ("70/30", ["--validate-last", "0.3"])]
-if os.path.exists(a.fl_thermal):
-    recordings.append(("fl_thermal", [a.fl_thermal], chrono))
-for name, seed, hours, steady in (("steady-A", 1, 72, 0.0), ("steady-B", 2, 72, 0.5), ("steady-C", 3, 120, 0.2)):
-    path = os.path.join(a.out, name + ".csv")
-    draw_steady(path, seed, hours, steady)
-    recordings.append((name, [path], chrono))
-for machine in ("vmc850", "hmc1250"):
-    days = []
-    for seed in range(3, 8):
-        path = os.path.join(a.out, f"{machine}_day{seed}.csv")
-        run(["sim", "recording", "--machine", f"examples/machines/{machine}.toml", "--seed", str(seed), "--out", path])
-        days.append(path)
-    recordings.append((f"{machine}-day3", days[:1], chrono))
-    recordings.append((f"{machine}-5days", days, [("leave one day out", [])]))
+if not a.extra:
+    if os.path.exists(a.fl_thermal):
+        recordings.append(("fl_thermal", [a.fl_thermal], chrono))
+    for name, seed, hours, steady in (("steady-A", 1, 72, 0.0), ("steady-B", 2, 72, 0.5), ("steady-C", 3, 120, 0.2)):
+        path = os.path.join(a.out, name + ".csv")
+        draw_steady(path, seed, hours, steady)
+        recordings.append((name, [path], chrono))
+    for machine in ("vmc850", "hmc1250"):
+        days = []
+        for seed in range(3, 8):
+            path = os.path.join(a.out, f"{machine}_day{seed}.csv")
+            run(["sim", "recording", "--machine", f"examples/machines/{machine}.toml", "--seed", str(seed), "--out", path])
+            days.append(path)
+        recordings.append((f"{machine}-day3", days[:1], chrono))
+        recordings.append((f"{machine}-5days", days, [("leave one day out", [])]))
+else:
+    path = os.path.join(a.out, "steady-D.csv")
+    draw_steady(path, 27, 96, 0.3, sensors=6)
+    recordings.append(("steady-D", [path], chrono))
+    for machine, seed, hours, interval in (("lathe_tc620", 21, 12, 30), ("gantry2000", 22, 48, 120),
+                                           ("vmc400_small", 23, 6, 10), ("vmc850_cheap_sensors", 24, 36, 60),
+                                           ("vmc1000_tropical", 25, 24, 300), ("drill_tap200", 26, 72, 180)):
+        name = f"{machine}-{hours}h-{interval}s"
+        path = os.path.join(a.out, name + ".csv")
+        run(["sim", "recording", "--machine", f"examples/machines/{machine}.toml", "--seed", str(seed),
+             "--hours", str(hours), "--interval-s", str(interval), "--out", path])
+        recordings.append((name, [path], chrono))
 only = set(filter(None, a.only.split(",")))
 
 print("| recording | split | channel | none (µm) | constant (µm) | all inputs (µm) | default (µm) "

@@ -270,15 +270,44 @@ ThermalSeries LoadSeries(const CommonOptions& o, SeriesCleaningReport* report) {
 }
 
 // One line per channel of a linear model that is its training mean because no input beat the
-// mean on the time-ordered cross-validation: said, never shipped silently.
-std::string ConstantFallbackNotes(const ThermalErrorModel& model) {
+// mean on the time-ordered cross-validation: said, never shipped silently. A constant is the error
+// of the state the training rows were in and is applied in every state: where a recording (or an
+// experiment) starts far from it — a start from cold before a warm-up — that start is named, with
+// what the constant would add on a machine in that state.
+constexpr double kColdStartRmsFactor = 3;  // a start this many RMS off the constant is named
+
+std::string ConstantFallbackNotes(const ThermalErrorModel& model, const ThermalSeries& train) {
   std::string out;
-  if (const auto* linear = dynamic_cast<const LinearThermalModel*>(&model))
-    for (const auto& c : linear->channel_models())
-      if (c.IsConstant())
-        out += fmt::format("note: {}: no input beat the training mean on time-ordered cross-validation (held-out "
-                           "RMS per candidate: sensor_count_cv_rms_um): the model is the constant {:.3f} µm\n",
-                           c.name, c.intercept_um);
+  const auto* linear = dynamic_cast<const LinearThermalModel*>(&model);
+  if (!linear) return out;
+  for (std::size_t k = 0; k < linear->channel_models().size(); ++k) {
+    const LinearChannel& c = linear->channel_models()[k];
+    if (!c.IsConstant()) continue;
+    out += fmt::format("note: {}: no input beat the training mean on time-ordered cross-validation (held-out "
+                       "RMS per candidate: sensor_count_cv_rms_um): the model is the constant {:.3f} µm\n",
+                       c.name, c.intercept_um);
+    const auto col = static_cast<Eigen::Index>(std::find(train.error_names.begin(), train.error_names.end(), c.name) -
+                                               train.error_names.begin());
+    if (col >= train.errors_um.cols() || train.Rows() == 0) continue;
+    const Eigen::VectorXd e = train.errors_um.col(col).array() - c.intercept_um;
+    const double rms = std::sqrt(e.squaredNorm() / static_cast<double>(e.size()));
+    Eigen::Index start = 0;  // the first row of the experiment whose start lies farthest from the constant
+    for (Eigen::Index r = 1; r < train.Rows(); ++r)
+      if (train.ExperimentOf(r) != train.ExperimentOf(r - 1) && std::abs(e(r)) > std::abs(e(start))) start = r;
+    const auto id = static_cast<std::size_t>(train.ExperimentOf(start));
+    const std::string where = train.ExperimentCount() > 1 && id < train.experiment_names.size()
+                                  ? "experiment " + train.experiment_names[id]
+                                  : std::string("recording");
+    if (std::abs(e(start)) > kColdStartRmsFactor * rms)
+      out += fmt::format("warning: {}: the constant is the mean error of the state the training rows were in and is "
+                         "compensated in every state: the {} started at {:.3f} µm, {:.3f} µm from it ({:.0f} × its RMS "
+                         "about the mean) — on a machine in that starting state (a start from cold before a warm-up) "
+                         "the compensation adds about that much error. Compensate with it once the machine is in its "
+                         "working state, or record a sensor that follows the warm-up so that an input can be chosen "
+                         "(docs/thermal-models.md)\n",
+                         c.name, where,
+                         train.errors_um(start, col), std::abs(e(start)), std::abs(e(start)) / std::max(rms, 1e-12));
+  }
   return out;
 }
 
@@ -320,7 +349,7 @@ void Setup(CLI::App& app) {
       for (Eigen::Index r = 0; r < train.Rows(); ++r) all[static_cast<std::size_t>(r)] = r;
       auto metrics = ResidualMetrics(train, pred, all);
       fmt::print("{} model on {} rows, written to {}\n{}{}{}", *kind, train.Rows(), *out, model->Describe(), report,
-                 ConstantFallbackNotes(*model));
+                 ConstantFallbackNotes(*model, train));
       for (const auto& m : metrics)
         fmt::print("{}: fit RMSE {:.3f} um, max |residual| {:.3f} um\n", m.channel, m.rmse_um, m.max_abs_um);
     });
@@ -486,7 +515,7 @@ void Setup(CLI::App& app) {
         fmt::print("\n{}", WrapLines(fmt::format("[{}] fitted in {:.2f} s; {} input{}: {}", m.name, m.fit_seconds,
                                                  used.size(), used.size() == 1 ? "" : "s", fmt::join(used, ", "))));
         if (*verbose) fmt::print("{}", WrapLines(m.model->Describe() + m.fit_report));
-        if (const auto notes = ConstantFallbackNotes(*m.model); !notes.empty()) fmt::print("{}", WrapLines(notes));
+        if (const auto notes = ConstantFallbackNotes(*m.model, SelectRows(ev.series, ev.train_rows)); !notes.empty()) fmt::print("{}", WrapLines(notes));
       }
       if (!*verbose) fmt::print("\n(--verbose: each model's coefficients and fit notes)\n");
       fmt::print("\n{}", WrapLines(ev.BriefReport()));

@@ -69,11 +69,12 @@ std::string LinearThermalModel::Describe() const {
       out += fmt::format(" {:+.6g}*T[{}]", c.k_um_per_c[k], sensors_[static_cast<std::size_t>(c.inputs[k])]);
     out += '\n';
     if (c.IsConstant())
-      out += fmt::format("  the constant (the training mean): no input beat it on time-ordered cross-validation; "
-                         "held-out RMS µm: {}\n", c.count_cv);
+      out += fmt::format("  the constant (the training mean): no input beat it on time-ordered cross-validation{}; "
+                         "held-out RMS µm (geometric mean over the folds): {}\n",
+                         c.cv_choice.size() > 11 ? ": " + c.cv_choice.substr(10, c.cv_choice.size() - 11) : std::string(), c.count_cv);
     else if (!c.count_cv.empty())
-      out += fmt::format("  {} input(s) ({}) chosen by time-ordered cross-validation; held-out RMS µm: {}\n",
-                         c.inputs.size(), c.cv_choice, c.count_cv);
+      out += fmt::format("  {} input(s) ({}) chosen by time-ordered cross-validation; held-out RMS µm (geometric "
+                         "mean over the folds): {}\n", c.inputs.size(), c.cv_choice, c.count_cv);
   }
   return out;
 }
@@ -114,8 +115,10 @@ LinearThermalModel LinearThermalModel::FromJson(const nlohmann::json& doc, const
 
 namespace {
 
-// The smallest count whose CV RMSE is within this factor of the best is taken.
+// The smallest count whose CV score is within this factor of the best is taken.
 constexpr double kCountTolerance = 1.02;
+// A fold RMS below this (µm) counts as this in the geometric mean (an exact fit scores finitely).
+constexpr double kTinyRmsUm = 1e-9;
 
 // One channel's least-squares (ridge) fit on the chosen sensors: intercept + k per sensor.
 struct ChannelSolution {
@@ -203,6 +206,33 @@ double ShrinkTowardConstant(const Eigen::VectorXd& y, const Eigen::VectorXd& mod
   return den > 0 ? std::clamp(num / den, 0.0, 1.0) : 1.0;
 }
 
+// The rows of `blocks`, in order.
+std::vector<Eigen::Index> RowsOf(const std::vector<std::vector<Eigen::Index>>& blocks) {
+  std::vector<Eigen::Index> out;
+  for (const auto& b : blocks) out.insert(out.end(), b.begin(), b.end());
+  return out;
+}
+
+// Whether `model` beats `constant` on the use-like blocks by more than one standard error: the
+// per-block gains in mean squared residual (constant − model) are the replicates — neighbouring
+// rows of a drift recording are not independent, blocks of them nearly are — and their mean must
+// exceed its standard error (the one-standard-error rule, in favour of the simpler constant).
+bool BeatsConstantBeyondNoise(const Eigen::VectorXd& y, const Eigen::VectorXd& model, const Eigen::VectorXd& constant,
+                              const std::vector<std::vector<Eigen::Index>>& blocks) {
+  std::vector<double> gain;
+  for (const auto& b : blocks) {
+    double g = 0;
+    for (Eigen::Index r : b) g += std::pow(y(r) - constant(r), 2) - std::pow(y(r) - model(r), 2);
+    gain.push_back(g / static_cast<double>(b.size()));
+  }
+  if (gain.size() < 2) return !gain.empty() && gain.front() > 0;
+  const double k = static_cast<double>(gain.size());
+  double mean = 0, var = 0;
+  for (double g : gain) mean += g / k;
+  for (double g : gain) var += (g - mean) * (g - mean) / (k - 1);
+  return mean > std::sqrt(var / k);
+}
+
 // One candidate of the choice: the constant, or a count (or all) of an input set.
 struct InputCandidate {
   std::string label;                // as printed: "constant", "3", "all"
@@ -210,7 +240,8 @@ struct InputCandidate {
   std::vector<Eigen::Index> cols;   // the input set (columns of the series); empty: constant
   SensorSelectionOptions so;
   Eigen::VectorXd predicted;  // out of fold
-  double rms = 0;
+  std::vector<double> fold_rms;  // held-out RMS per fold
+  double score = 0;              // their geometric mean: what the candidates are ranked by
 };
 
 // The candidates of one channel in order of growing complexity, with their fold RMS: the constant,
@@ -224,17 +255,17 @@ std::vector<InputCandidate> CrossValidatedCandidates(const ThermalSeries& s, con
     if (!ParseLaggedName(s.temperature_names[k], nullptr, nullptr)) plain.push_back(static_cast<Eigen::Index>(k));
   }
   std::vector<InputCandidate> out;
-  out.push_back({"constant", "constant", {}, o.selection, {}, 0});
+  out.push_back({"constant", "constant", {}, o.selection, {}, {}, 0});
   auto add_set = [&](const std::vector<Eigen::Index>& cols, const std::string& what) {
     const int available = static_cast<int>(cols.size());
     const int bound = std::min(o.selection.max_sensors, available);
     for (int m : {1, 2, 3, 4, 6, 8, 12, 16, 24, 32}) {
       if (m > bound || m >= available) break;
-      InputCandidate c{std::to_string(m), fmt::format("{} of the {}", m, what), cols, o.selection, {}, 0};
+      InputCandidate c{std::to_string(m), fmt::format("{} of the {}", m, what), cols, o.selection, {}, {}, 0};
       c.so.max_sensors = m;
       out.push_back(std::move(c));
     }
-    InputCandidate all{"all", "all " + what, cols, o.selection, {}, 0};
+    InputCandidate all{"all", "all " + what, cols, o.selection, {}, {}, 0};
     all.so.method = SelectionMethod::kAll;
     all.so.max_sensors = available;
     out.push_back(std::move(all));
@@ -243,7 +274,12 @@ std::vector<InputCandidate> CrossValidatedCandidates(const ThermalSeries& s, con
   if (every.size() > plain.size()) add_set(every, "sensors and lags");
   for (auto& c : out) {
     c.predicted = FoldPredictions(s.temperatures_c, y, folds, c.cols, c.so, o.ridge_lambda);
-    c.rms = HeldOutRms(y, c.predicted);
+    double log_sum = 0;
+    for (const TimeFold& f : folds.folds) {
+      c.fold_rms.push_back(HeldOutRms(y(f.validate_rows), c.predicted(f.validate_rows)));
+      log_sum += std::log(std::max(c.fold_rms.back(), kTinyRmsUm));
+    }
+    c.score = std::exp(log_sum / static_cast<double>(c.fold_rms.size()));
   }
   return out;
 }
@@ -269,30 +305,49 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
     bool constant = false;
     double shrink = 1;  // toward the constant: 1 = the model as fitted
     if (!folds.folds.empty()) {
-      // The simplest candidate within 2 % of the best held-out RMS that is neither worse than the
-      // constant (the first candidate) nor than all inputs (the last): the model cannot lose to
-      // either on the folds it was chosen by, and where nothing beats the mean it is the mean.
+      // Ranked by the geometric mean of the folds' held-out RMS (each fold counts by how much of
+      // its error a candidate removes: one fold in a regime unlike the others — coolant switched on
+      // for the first time — does not decide alone). Only candidates that are not worse than the
+      // constant on the use-like rows (the latest fold; every experiment) nor on all folds together
+      // are eligible, and of those the simplest within 2 % of the best (all inputs included) that
+      // is not worse than the constant is taken. It is shrunk toward the constant as far as the
+      // use-like rows ask, and kept only if it beats the constant there by more than the noise;
+      // otherwise the channel is the constant.
       const std::vector<InputCandidate> tried = CrossValidatedCandidates(s, y, folds, o);
+      const InputCandidate& mean = tried.front();
+      const auto blocks = UseLikeBlocks(folds);
+      const std::vector<Eigen::Index> use_rows = RowsOf(blocks);
+      const double mean_use_rms = HeldOutRms(y(use_rows), mean.predicted(use_rows));
+      auto eligible = [&](const InputCandidate& t) {
+        return HeldOutRms(y(use_rows), t.predicted(use_rows)) <= mean_use_rms &&
+               HeldOutRms(y, t.predicted) <= HeldOutRms(y, mean.predicted);
+      };
       double best = std::numeric_limits<double>::infinity();
-      for (const auto& t : tried) best = std::min(best, t.rms);
-      const double limit = std::min({kCountTolerance * best, tried.front().rms, tried.back().rms});
       for (const auto& t : tried)
-        if (t.rms <= limit) {
+        if (eligible(t)) best = std::min(best, t.score);
+      const double limit = std::min(kCountTolerance * best, mean.score);
+      for (const auto& t : tried)
+        if (eligible(t) && t.score <= limit) {
           chosen = t.so;
           chosen_cols = t.cols;
           choice = t.choice;
           constant = t.cols.empty();
           if (!constant) {
-            // Shrunk toward the constant as far as the held-out rows ask (a ridge path's end point
-            // is the constant; this is the step along it the folds support).
-            shrink = ShrinkTowardConstant(y, t.predicted, tried.front().predicted);
-            const Eigen::VectorXd blended =
-                tried.front().predicted + shrink * (t.predicted - tried.front().predicted);
-            if (shrink < 1)
-              choice += fmt::format(", shrunk ×{:.2f} toward the constant (held-out RMS {:.3f})", shrink,
-                                    HeldOutRms(y, blended));
-            constant = shrink == 0;
-            if (constant) choice = "constant";
+            // Shrunk toward the constant as far as the use-like rows ask (a ridge path's end point
+            // is the constant; this is the step along it the latest data supports).
+            shrink = ShrinkTowardConstant(y(use_rows), t.predicted(use_rows), mean.predicted(use_rows));
+            const Eigen::VectorXd blended = mean.predicted + shrink * (t.predicted - mean.predicted);
+            const double blended_use_rms = HeldOutRms(y(use_rows), blended(use_rows));
+            if (shrink < 1) choice += fmt::format(", shrunk ×{:.2f} toward the constant", shrink);
+            if (shrink == 0 || !BeatsConstantBeyondNoise(y, blended, mean.predicted, blocks)) {
+              choice = fmt::format("constant ({}: did not beat it beyond the noise on the {}, RMS {:.3f} against "
+                                   "{:.3f} µm)", choice, folds.by_experiment ? "experiments" : "latest fold",
+                                   blended_use_rms, mean_use_rms);
+              constant = true;
+            } else {
+              choice += fmt::format(" ({} RMS {:.3f} µm, the constant's {:.3f})",
+                                    folds.by_experiment ? "experiments'" : "latest fold", blended_use_rms, mean_use_rms);
+            }
           }
           break;
         }
@@ -300,7 +355,7 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
       for (const auto& t : tried) {
         const std::string group = t.cols.empty() ? "" : t.choice.find("lags") != std::string::npos ? "with lags " : "sensors ";
         count_cv += fmt::format("{}{}{}: {:.3f}", count_cv.empty() ? "" : group != set ? "; " : ", ",
-                                group != set ? group : "", t.label, t.rms);
+                                group != set ? group : "", t.label, t.score);
         set = group;
       }
       selection = fmt::format("{}, inputs by {} CV (per channel: cv_choice, sensor_count_cv_rms_um)",

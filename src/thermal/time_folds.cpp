@@ -42,4 +42,21 @@ TimeFolds MakeTimeFolds(const ThermalSeries& s) {
   return out;
 }
 
+std::vector<std::vector<Eigen::Index>> UseLikeBlocks(const TimeFolds& folds) {
+  std::vector<std::vector<Eigen::Index>> out;
+  if (folds.folds.empty()) return out;
+  if (folds.by_experiment) {
+    for (const TimeFold& f : folds.folds) out.push_back(f.validate_rows);
+    return out;
+  }
+  const std::vector<Eigen::Index>& last = folds.folds.back().validate_rows;
+  const std::size_t n = last.size();
+  for (std::size_t k = 0; k < static_cast<std::size_t>(kForwardFolds); ++k) {
+    std::vector<Eigen::Index> block(last.begin() + static_cast<std::ptrdiff_t>(n * k / kForwardFolds),
+                                    last.begin() + static_cast<std::ptrdiff_t>(n * (k + 1) / kForwardFolds));
+    if (!block.empty()) out.push_back(std::move(block));
+  }
+  return out;
+}
+
 }  // namespace trueaxis::thermal

@@ -244,7 +244,7 @@ TEST(ThermalGuards, ReportsTheCountCvTheListedSensorsAndTheInputs) {
   WriteThermalSeriesCsv(testing::MakeSpindleBlockSeries(5), dir + "/s.csv");
   auto fit = RunCli("thermal fit --series " + dir + "/s.csv --model ridge -o " + dir + "/m.json");
   ASSERT_EQ(fit.exit_code, 0) << fit.output;
-  EXPECT_TRUE(Has(fit.output, "chosen by time-ordered cross-validation; held-out RMS µm: constant: ")) << fit.output;
+  EXPECT_TRUE(Has(fit.output, "chosen by time-ordered cross-validation; held-out RMS µm (geometric mean over the folds): constant: ")) << fit.output;
   EXPECT_TRUE(Has(fit.output, "; sensors 1: ")) << fit.output;
   EXPECT_TRUE(Has(fit.output, ", all: ")) << fit.output;
   auto listed = RunCli("thermal evaluate --series " + dir + "/s.csv --models ridge --sensors-list s0,s1 --lags-s none");

@@ -20,12 +20,15 @@ struct LinearFitOptions {
   // rows (time_folds.hpp: forward chaining over one recording, leave one experiment out over
   // several) among the constant (the training mean, no input), 1, 2, 3, 4, 6, 8, 12, … and all of
   // the plain sensors, and — when the series holds lagged inputs — the same counts of sensors and
-  // lags together and all inputs: the simplest within 2 % of the best held-out RMSE and worse than
-  // neither the constant nor all inputs, then shrunk toward the constant by the factor in [0, 1]
-  // that the out-of-fold predictions support. selection.max_sensors is then only an upper bound. The
-  // choice is the data's, per recording: four sensors can be far worse than all of them on one
-  // machine and better on another, lags help on one and hurt on another, and where no input beats
-  // the mean the channel is that constant.
+  // lags together and all inputs. Candidates are ranked by the geometric mean of their folds'
+  // held-out RMS; eligible are those not worse than the constant on the use-like rows (UseLikeBlocks:
+  // the latest fold, or every experiment); the simplest eligible within 2 % of the best that is worse
+  // than neither the constant nor all inputs is taken, shrunk toward the constant by the factor in
+  // [0, 1] the use-like rows support, and kept only if it beats the constant there by more than one
+  // standard error (blocks as replicates) — else the channel is the constant. selection.max_sensors
+  // is then only an upper bound. The choice is the data's, per recording: four sensors can be far
+  // worse than all of them on one machine and better on another, lags help on one and hurt on
+  // another, and where no input beats the mean the channel is that constant.
   bool choose_count_by_cv = false;
 
   bool IsValid(std::string* why) const;
@@ -41,8 +44,9 @@ struct LinearChannel {
   // and the candidate taken ("constant", "2 of the sensors", "all sensors and lags", …); empty when
   // the count was given.
   std::string count_cv, cv_choice;
-  // The channel is the training mean alone: no input beat it on the cross-validation.
-  bool IsConstant() const { return inputs.empty() && cv_choice == "constant"; }
+  // The channel is the training mean alone: no input beat it on the cross-validation ("constant",
+  // or "constant (… did not beat it beyond the noise …)").
+  bool IsConstant() const { return inputs.empty() && cv_choice.rfind("constant", 0) == 0; }
 };
 
 class LinearThermalModel final : public ThermalErrorModel {

@@ -35,4 +35,11 @@ struct TimeFolds {
 // Folds with fewer than 3 training or no validation rows are left out.
 TimeFolds MakeTimeFolds(const ThermalSeries& series);
 
+// The validated rows that look most like the use, as consecutive blocks that serve as replicates
+// when a model is compared with the constant on them: forward chaining — the last fold (the latest
+// stretch, predicted from everything before it, like the rows after the training) cut into
+// kForwardFolds blocks of equal length; leave one experiment out — every fold's rows (a new
+// experiment is the use, and each is one). Empty when there are no folds.
+std::vector<std::vector<Eigen::Index>> UseLikeBlocks(const TimeFolds& folds);
+
 }  // namespace trueaxis::thermal
