@@ -154,7 +154,7 @@ PitchErrorTable TableFromMeasurement(const measure::Measurement& m, const TableF
                                  "the lead's harmonics alias; measure at lead spacing or finer (trueaxis sim fine, "
                                  "docs/pitch-error-file.md)",
                                  Num(max_gap), Num(spacing), Num(lead), o.samples_per_lead));
-  int on_target = 0;
+  int on_target = 0, held = 0;
   // The grid over the measured range: an end target off the grid brings the grid point beyond it.
   std::vector<double> grid = GridInside(ref, spacing, xs.front(), xs.back());
   if (grid.empty() || grid.front() > xs.front() + kGridTolMm)
@@ -166,6 +166,7 @@ PitchErrorTable TableFromMeasurement(const measure::Measurement& m, const TableF
     t.error_down_um.push_back(InterpolateClamped(xs, down, x));
     const auto it = std::lower_bound(xs.begin(), xs.end(), x - kGridTolMm);
     if (it != xs.end() && std::abs(*it - x) <= kGridTolMm) ++on_target;
+    else if (x < xs.front() || x > xs.back()) ++held;
   }
   if (t.size() < 2)
     throw InputError(source, 0, "target_mm",
@@ -175,8 +176,11 @@ PitchErrorTable TableFromMeasurement(const measure::Measurement& m, const TableF
   t.measured_to_mm = xs.back();
   t.provenance.push_back(fmt::format("source: measurement {} ({} targets, {} runs, mean per target and direction)", source,
                                      xs.size(), ev.runs));
-  t.provenance.push_back(fmt::format("{} of {} samples on measured targets, the others linear between neighbours",
-                                     on_target, t.size()));
+  const int between = static_cast<int>(t.size()) - on_target - held;
+  std::string how = fmt::format("{} of {} samples on measured targets", on_target, t.size());
+  if (between > 0) how += fmt::format(", {} linear between neighbours", between);
+  if (held > 0) how += fmt::format(", {} beyond an end target (its mean held)", held);
+  t.provenance.push_back(how);
   ValidatePitchTable(t, source);
   return t;
 }
