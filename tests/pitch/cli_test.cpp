@@ -143,6 +143,41 @@ TEST(PitchCli, APartialTableWarnsAndItsRangeGoesIntoTheModel) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("420 mm is outside the measured range 0.25 … 399.75 mm (geometric part held at its end)"),
             std::string::npos) << r.output;
+  // `run` against the virtual machine (every axis machining over 10–90 % = 40…360 mm) with a table
+  // measured over 100…300 mm only: the alarm outside_measured_range on X, visible on stderr.
+  {
+    std::ifstream in(fine);
+    std::ofstream part(d / "part.csv");
+    std::string line;
+    bool header = false;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#') {
+        part << line << "\n";
+        continue;
+      }
+      if (!header) {  // target_mm is the third column
+        header = true;
+        ASSERT_EQ(line.substr(0, 23), "run,direction,target_mm") << line;
+        part << line << "\n";
+        continue;
+      }
+      const double x = std::stod(line.substr(line.find(',', line.find(',') + 1) + 1));
+      if (x >= 100 && x <= 300) part << line << "\n";
+    }
+  }
+  r = RunCli("pitch table --measurement " + (d / "part.csv").string() + " --out " + (d / "part.pitch.csv").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("the table vouches for nothing in 0…100 mm and 300…400 mm"), std::string::npos) << r.output;
+  const std::string part_model = (d / "model_part.json").string();
+  r = RunCli("pitch into-model --pitch-file " + (d / "part.pitch.csv").string() + " --model " + model + " --out " + part_model);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ofstream(d / "run.toml") << "[machine]\nkind = \"virtual\"\nfile = \"" << kMachine
+                                << "\"\nseed = 1\ntime_scale = 60\nreciprocate = true\nfeed_mm_min = 3000\nduty = 0.7\n"
+                                   "[model]\nfile = \"" << part_model
+                                << "\"\n[loop]\nperiod_s = 0.01\nduration_s = 2\n[[axis]]\nname = \"X\"\n";
+  r = RunCli("run --config " + (d / "run.toml").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("outside_measured_range(X)"), std::string::npos) << r.output;
   // The same file without the range (as files written before it): loads, said unknown.
   std::string text = ReadText(table);
   const auto at = text.find("# measured_from_mm");
