@@ -203,6 +203,9 @@ PitchErrorTable TableFromModel(const model::AxisModel& axis, double lead_mm, int
     t.error_down_um.push_back(-rr.table.reverse_um[i]);
   }
   t.provenance = rr.table.provenance;
+  // The model's valid range (its measured range when it records one) holds the grid: the table vouches for its span.
+  t.measured_from_mm = t.position_mm.front();
+  t.measured_to_mm = t.position_mm.back();
   ValidatePitchTable(t, source);
   return t;
 }

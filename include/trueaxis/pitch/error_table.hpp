@@ -115,7 +115,8 @@ SamplesPerLeadChoice ChooseSamplesPerLead(const measure::Measurement& m, const T
 
 // From a fitted model (docs/model-file.md): its geometric + thermal error at
 // the frozen state of `freeze` (cold by default), on the grid through the
-// model's reference point.
+// model's reference point inside its valid range (its measured_range_mm when
+// it records one); the table vouches for that span.
 PitchErrorTable TableFromModel(const model::AxisModel& axis, double lead_mm, int samples_per_lead,
                                const exporter::ThermalFreeze& freeze, const std::string& source);
 
