@@ -31,6 +31,14 @@ const measure::Measurement& FineRun() {
   return m;
 }
 
+// The verification: the calibration cycle again, re-homed, with `table` applied ahead.
+FineSessionResult Replay(const PitchErrorTable& table) {
+  FineSessionOptions so;
+  so.cycle.runs = 2;
+  so.table = &table;
+  return RunFineSession(testing::PitchMachine(), 0, so);
+}
+
 // The same run read only between `lo` and `hi`: a calibration over part of the travel.
 measure::Measurement Part(double lo, double hi) {
   measure::Measurement m = FineRun();
@@ -72,10 +80,7 @@ TEST(PitchRange, TheTableVouchesForTheTravelAndTheReplayStaysInside) {
   EXPECT_FALSE(table.OutsideVouchedRange(130));
   // The verification replays the same cycle (reversals at the travel's ends) with the table: it never
   // leaves the range the table vouches for, so nothing is held or reported apart.
-  FineSessionOptions so;
-  so.cycle.runs = 2;
-  so.table = &table;
-  const FineSessionResult after = RunFineSession(testing::PitchMachine(), 0, so);
+  const FineSessionResult after = Replay(table);
   EXPECT_EQ(after.outside_table_lookups, 0u);
   const PitchComparison c = ComparePitch(FineRun(), after.measurement, table);
   EXPECT_EQ(c.outside_targets, 0);
@@ -98,10 +103,7 @@ TEST(PitchRange, BeyondTheMeasuredRangeTheEndValueIsHeldAndSaid) {
   EXPECT_DOUBLE_EQ(LookupError(table, 5, Direction::kReverse).error_um,
                    LookupError(table, 30, Direction::kReverse).error_um);
   // A replay over the whole travel with it: its targets outside are reported apart, not in the figures.
-  FineSessionOptions so;
-  so.cycle.runs = 2;
-  so.table = &table;
-  const FineSessionResult after = RunFineSession(testing::PitchMachine(), 0, so);
+  const FineSessionResult after = Replay(table);
   EXPECT_GT(after.outside_table_lookups, 0u);
   const PitchComparison c = ComparePitch(FineRun(), after.measurement, table);
   EXPECT_GT(c.outside_targets, 40);  // 0.25…29.5 and 100.5…129.75 mm, beyond the tolerance
