@@ -273,6 +273,7 @@ void RunExport(const ExportArgs& a) {
   std::string thermal_kind;
   if (!a.pitch_path.empty()) {
     pitch_table = pitch::ReadPitchErrorFile(a.pitch_path);
+    if (auto w = pitch::MeasuredRangeWarning(pitch_table, a.pitch_path)) fmt::print("warning: {}\n", *w);
   } else if (!a.thermal_model_path.empty()) {
     if (a.axis.empty()) Bad("--axis", "required with --thermal-model: the CNC axis the table is for");
     std::shared_ptr<const thermal::ThermalErrorModel> fitted = thermal::ReadThermalModelFile(a.thermal_model_path);
@@ -321,7 +322,7 @@ void RunExport(const ExportArgs& a) {
   }
   if (!a.pitch_path.empty())
     for (const auto& p : rr.table.provenance)
-      if (p.rfind("resampled", 0) == 0) fmt::print("note: {}\n", p);
+      if (p.rfind("resampled", 0) == 0 || p.rfind("measured range", 0) == 0) fmt::print("note: {}\n", p);
   if (a.mode == "auto" && !SupportsBidirectional(f))
     fmt::print("note: {} holds one curve per axis: exported unidirectional (mean curve + backlash)\n", TableFormatName(f));
   if (f == TableFormat::kSinumerik && !a.zero_at_reference) {

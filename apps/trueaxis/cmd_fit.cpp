@@ -19,6 +19,7 @@
 
 #include "command.hpp"
 #include "measurement_input.hpp"
+#include "utc_now.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/progress.hpp"
 #include "trueaxis/core/output_path.hpp"
@@ -30,16 +31,6 @@
 
 namespace trueaxis::cli {
 namespace {
-
-// "2026-11-24T10:25:00Z": when the model was made (stamped by the CLI; the fit reads no clock).
-std::string UtcNow() {
-  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
 
 struct FitCliOptions {
   std::string out;

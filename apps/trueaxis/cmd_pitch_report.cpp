@@ -31,6 +31,7 @@ void Run(const Options& o) {
   const auto before = measure::ReadMeasurementFile(o.before, read);
   const auto after = measure::ReadMeasurementFile(o.after, read);
   const auto table = pitch::ReadPitchErrorFile(o.pitch_file);
+  if (auto w = pitch::MeasuredRangeWarning(table, o.pitch_file)) fmt::print(stderr, "warning: {}\n", *w);
   pitch::PitchReportInput in;
   in.before = &before;
   in.after = &after;

@@ -11,6 +11,7 @@
 #include "pitch_command.hpp"
 #include "trueaxis/analysis/decomposition.hpp"
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/number_text.hpp"
 #include "trueaxis/core/plausibility.hpp"
 #include "trueaxis/core/output_path.hpp"
 #include "trueaxis/measure/measurement_file.hpp"
@@ -25,6 +26,7 @@ struct Options {
   std::string measurement, model, axis, out;
   double lead_mm = 0;
   double reference_mm = std::nan("");
+  double travel_mm = std::nan("");
   std::string samples_per_lead = "auto";
   int harmonics = 2;
   cli::MeasurementInputOptions input;
@@ -50,6 +52,16 @@ void Run(const Options& o) {
     }
     table = pitch::TableFromMeasurement(m, to);
     if (!o.axis.empty()) table.axis = o.axis;
+    // The travel the axis moves in: --travel-mm, else the run's travel_mm metadata.
+    double travel_mm = o.travel_mm;
+    if (std::isnan(travel_mm))
+      if (auto meta = m.Meta("travel_mm"))
+        if (auto v = ParseDouble(Trim(*meta)); v && std::isfinite(*v) && *v > 0) travel_mm = *v;
+    if (auto w = pitch::UncoveredTravelWarning(table.measured_from_mm, table.measured_to_mm, travel_mm, o.measurement)) {
+      fmt::print(stderr, "warning: {}\n", *w);
+      table.provenance.push_back(fmt::format("measured {}…{} mm of the travel 0…{} mm", table.measured_from_mm,
+                                             table.measured_to_mm, travel_mm));
+    }
     analysis::DecompositionOptions d;
     d.lead_mm = table.lead_mm;
     d.harmonics = o.harmonics;
@@ -74,9 +86,9 @@ void Run(const Options& o) {
     table = pitch::TableFromModel(*axis, o.lead_mm, samples_per_lead, {}, o.model);
   }
   pitch::WritePitchErrorFile(table, o.out);
-  fmt::print("axis {}: {} samples every {:.4g} mm ({} per lead of {} mm), {}…{} mm -> {}\n", table.axis, table.size(),
-             table.SpacingMm(), table.samples_per_lead, table.lead_mm, table.position_mm.front(), table.position_mm.back(),
-             o.out);
+  fmt::print("axis {}: {} samples every {:.4g} mm ({} per lead of {} mm), {}…{} mm, vouched for {}…{} mm -> {}\n",
+             table.axis, table.size(), table.SpacingMm(), table.samples_per_lead, table.lead_mm, table.position_mm.front(),
+             table.position_mm.back(), table.VouchedFromMm(), table.VouchedToMm(), o.out);
 }
 
 void Setup(CLI::App& app) {
@@ -89,6 +101,9 @@ void Setup(CLI::App& app) {
   cmd->add_option("--axis", o->axis, "axis name (required with --model; overrides the run's)");
   cmd->add_option("--lead-mm", o->lead_mm, "screw lead (default: the run's lead_mm metadata)")->check(CLI::PositiveNumber);
   cmd->add_option("--reference-mm", o->reference_mm, "grid origin (default: the run's reference_mm, else its first target)");
+  cmd->add_option("--travel-mm", o->travel_mm,
+                  "the axis's travel 0…T, to warn when the run leaves part of it unmeasured (default: the run's travel_mm)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--samples-per-lead", o->samples_per_lead, cli::kSamplesPerLeadHelp)->capture_default_str();
   cmd->add_option("--harmonics", o->harmonics, "lead harmonics tried by the decomposition")->capture_default_str()->check(CLI::Range(0, 8));
   cmd->add_option("--out", o->out, "pitch error file to write")->required();

@@ -421,7 +421,7 @@ void RunPredict(const PredictOptions& o) {
                      {"tan_beta_um_per_mm", p.tan_beta_um_per_mm},
                      {"error_um", p.total_um},
                      {"correction_um", model::CorrectionUm(p)},
-                     {"outside_fitted_range", outside},
+                     {"outside_fitted_range", outside || p.position_outside_range},
                      {"temperatures_outside_fitted_range", temp_outside},
                      {"fallback_model", fallback_note.empty() ? nlohmann::json(nullptr) : nlohmann::json(axis->key_sensors)},
                      {"fallback_models_averaged", averaged.size()},
@@ -443,7 +443,11 @@ void RunPredict(const PredictOptions& o) {
   std::cout << fmt::format("  ambient    ρ·ΔT_env·(Px − P0)     {:>10.3f} µm\n", p.ambient_um);
   std::cout << fmt::format("  predicted error (actual − commanded) {:>8.3f} µm\n", p.total_um);
   std::cout << fmt::format("  correction (added to the command)    {:>8.3f} µm\n", model::CorrectionUm(p));
-  if (outside)
+  if (p.position_outside_range)
+    std::cout << fmt::format("  warning: {} mm is outside the measured range {} … {} mm (geometric part held at its end)\n",
+                             FormatShortest(o.position_mm), FormatShortest(axis->measured_range_mm[0]),
+                             FormatShortest(axis->measured_range_mm[1]));
+  else if (outside)
     std::cout << fmt::format("  warning: {} mm is outside the fitted range {} … {} mm (extrapolated)\n",
                              FormatShortest(o.position_mm), FormatShortest(lo), FormatShortest(hi));
   for (const auto& w : temp_outside) std::cout << "  warning: " << w << " (thermal part extrapolated)\n";

@@ -40,6 +40,7 @@ void Run(const Options& o) {
   pitch::PitchErrorTable table;
   if (!o.pitch_file.empty()) {
     table = pitch::ReadPitchErrorFile(o.pitch_file);
+    if (auto w = pitch::MeasuredRangeWarning(table, o.pitch_file)) fmt::print(stderr, "warning: {}\n", *w);
     if (table.axis != machine.axes[axis].name)
       throw InputError(o.pitch_file, 0, "axis",
                        fmt::format("the file is for axis {}, the cycle runs axis {}", table.axis, machine.axes[axis].name));
@@ -63,9 +64,10 @@ void Run(const Options& o) {
     fmt::print(stderr, "table applied ({} feed-forward, {} ms cycle){}\n", sim::FeedForwardName(so.interpolator.mode),
                o.fine.cycle_ms,
                r.outside_table_lookups > 0
-                   ? fmt::format("\nwarning: the axis moved beyond the table's ends ({}…{} mm); its end values were held "
-                                 "there ({} interpolator lookups)",
-                                 table.position_mm.front(), table.position_mm.back(), r.outside_table_lookups)
+                   ? fmt::format("\nwarning: the axis moved beyond the range the table was measured over ({}…{} mm); "
+                                 "its end values were held there ({} interpolator lookups). On the machine, `run` "
+                                 "raises outside_measured_range there: measure the whole travel",
+                                 table.VouchedFromMm(), table.VouchedToMm(), r.outside_table_lookups)
                    : "");
   fmt::print("{}\n", o.out);
 }
@@ -73,7 +75,7 @@ void Run(const Options& o) {
 void Setup(CLI::App& app) {
   auto o = std::make_shared<Options>();
   CLI::App* cmd = cli::SimCommand(app)->add_subcommand(
-      "fine", "Fine calibration cycle (targets every lead/4, full travel, bidirectional) on the virtual machine");
+      "fine", "Fine calibration cycle (targets every lead/4 over the whole travel, ends included, bidirectional) on the virtual machine");
   cmd->add_option("--machine", o->machine, "Machine description (TOML)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--axis", o->axis, "Axis to measure (default: the first)");
   cmd->add_option("--out", o->out, "Measurement CSV to write")->required();

@@ -171,6 +171,11 @@ void FinishResample(ResampleResult& r, const ResampleOptions& o, const std::stri
   ValidateTable(t, source);
 }
 
+std::string MeasuredRangeNote(double first_mm, double last_mm) {
+  return fmt::format("measured range (vouched for): {}…{} mm; beyond it the end values are held", Num(first_mm),
+                     Num(last_mm));
+}
+
 ResampleResult ResampleModel(const model::AxisModel& axis, const ResampleOptions& o, const std::string& source) {
   ResampleResult r;
   double flo, fhi, rlo, rhi;
@@ -178,6 +183,10 @@ ResampleResult ResampleModel(const model::AxisModel& axis, const ResampleOptions
   ValidRange(axis.directions[1].geometric, &rlo, &rhi);
   r.valid_min_mm = std::max(flo, rlo);
   r.valid_max_mm = std::min(fhi, rhi);
+  if (axis.HasMeasuredRange()) {  // a table must not reach beyond what was measured
+    r.valid_min_mm = std::max(r.valid_min_mm, axis.measured_range_mm[0]);
+    r.valid_max_mm = std::min(r.valid_max_mm, axis.measured_range_mm[1]);
+  }
   if (!(r.valid_max_mm > r.valid_min_mm))
     throw InputError(source, 0, "axes." + axis.axis,
                      "the forward and reverse models have no common valid range to export");
@@ -265,6 +274,7 @@ ResampleResult ResampleModel(const model::AxisModel& axis, const ResampleOptions
                                            [](const auto& t) { return t.first == model::kMotionHeatName; }))
     temps += fmt::format(" {}=0 (at rest)", model::kMotionHeatName);
   t.provenance.push_back(fmt::format("source: model {} axis {}", source, axis.axis));
+  if (axis.HasMeasuredRange()) t.provenance.push_back(MeasuredRangeNote(axis.measured_range_mm[0], axis.measured_range_mm[1]));
   t.provenance.push_back(fmt::format("thermal state: coolant {},{} tan_beta fwd {} rev {} um/mm about Px {} mm ({})",
                                      CoolantStateName(o.thermal.coolant), temps.empty() ? " cold (no --temp)" : temps,
                                      Num(r.tan_beta_forward_um_per_mm), Num(r.tan_beta_reverse_um_per_mm),

@@ -49,7 +49,12 @@ inline double HeldRise(const ThermalGains& g, std::size_t i, double rise, Predic
 Prediction Predict(const AxisModel& axis, double position_mm, Direction direction, const ThermalState& state) {
   const DirectionModel& dm = axis.For(direction);
   Prediction p;
-  p.geometric_um = dm.geometric.Evaluate(position_mm);
+  double geometric_at_mm = position_mm;
+  if (axis.HasMeasuredRange()) {  // beyond the measured range: the end value held, never extrapolated
+    geometric_at_mm = std::clamp(position_mm, axis.measured_range_mm[0], axis.measured_range_mm[1]);
+    p.position_outside_range = std::abs(position_mm - geometric_at_mm) > kMeasuredRangeToleranceMm;
+  }
+  p.geometric_um = dm.geometric.Evaluate(geometric_at_mm);
   const double lever_mm = axis.reference_position_mm - position_mm;  // (Px − P0)
   if (state.use_thermal) {
     if (const ThermalGains* g = dm.GainsFor(state.coolant)) {

@@ -262,6 +262,7 @@ json AxisToJson(const AxisModel& a) {
   if (!a.key_fitted_range_c.empty()) ja["key_fitted_range_c"] = a.key_fitted_range_c;
   if (!a.ambient_sensor.empty() && std::isfinite(a.ambient_fitted_range_c[0]) && std::isfinite(a.ambient_fitted_range_c[1]))
     ja["ambient_fitted_range_c"] = a.ambient_fitted_range_c;
+  if (a.HasMeasuredRange()) ja["measured_range_mm"] = a.measured_range_mm;
   if (!a.replaces.empty()) ja["replaces"] = a.replaces;
   if (!a.fallbacks.empty()) {
     json fb = json::array();
@@ -389,6 +390,14 @@ AxisModel AxisFromJson(const Reader& r, const json& ja, const std::string& p, bo
       r.Fail(where, "expected [low °C, high °C] with low <= high");
     a.ambient_fitted_range_c = {range[0], range[1]};
     r.AllPlausible(where, range, ImplausibleTemperatureC);
+  }
+  if (ja.contains("measured_range_mm")) {
+    const std::string where = Reader::Join(p, "measured_range_mm");
+    const auto range = r.Numbers(ja, p, "measured_range_mm");
+    if (range.size() != 2 || !std::isfinite(range[0]) || !std::isfinite(range[1]) || !(range[0] < range[1]))
+      r.Fail(where, "expected [first mm, last mm] with first < last");
+    r.AllPlausible(where, range, ImplausiblePositionMm);
+    a.measured_range_mm = {range[0], range[1]};
   }
   const std::string rise = r.StringOr(ja, p, "key_temperature_rise", "from_baseline");
   if (rise == "above_ambient") {

@@ -30,6 +30,10 @@ std::string FormatPitchErrorFile(const PitchErrorTable& t) {
   s += fmt::format("# lead_mm: {}\n", FormatShortest(t.lead_mm));
   s += fmt::format("# samples_per_lead: {}\n", t.samples_per_lead);
   s += fmt::format("# reference_mm: {}\n", FormatShortest(t.reference_mm));
+  if (t.HasMeasuredRange()) {  // the range the table vouches for: beyond it the end values are held
+    s += fmt::format("# measured_from_mm: {}\n", Num(t.measured_from_mm));
+    s += fmt::format("# measured_to_mm: {}\n", Num(t.measured_to_mm));
+  }
   s += "# sign: error (actual - commanded, um); the CNC adds the correction -error\n";
   for (const auto& p : t.provenance) s += fmt::format("# provenance: {}\n", p);
   s += kHeader;
@@ -49,7 +53,7 @@ PitchErrorTable ParsePitchErrorFile(std::string_view raw, const std::string& sou
   std::optional<double> lead, reference;
   std::optional<long long> per_lead;
   bool have_axis = false, header_seen = false;
-  int lead_line = 0;
+  int lead_line = 0, range_line = 0;
   LineCursor cur(text);
   auto number = [&](std::string_view field_text, const char* field) {
     auto v = ParseDouble(field_text);
@@ -85,6 +89,11 @@ PitchErrorTable ParsePitchErrorFile(std::string_view raw, const std::string& sou
       } else if (key == "reference_mm") {
         reference = number(value, "reference_mm");
         if (auto why = ImplausiblePositionMm(*reference)) throw InputError(source, cur.number(), "reference_mm", *why);
+      } else if (key == "measured_from_mm" || key == "measured_to_mm") {
+        const double v = number(value, key == "measured_from_mm" ? "measured_from_mm" : "measured_to_mm");
+        if (auto why = ImplausiblePositionMm(v)) throw InputError(source, cur.number(), std::string(key), *why);
+        (key == "measured_from_mm" ? t.measured_from_mm : t.measured_to_mm) = v;
+        range_line = cur.number();
       } else if (key == "sign") {
         if (value.substr(0, 5) != "error")
           throw InputError(source, cur.number(), "sign",
@@ -137,7 +146,12 @@ PitchErrorTable ParsePitchErrorFile(std::string_view raw, const std::string& sou
   if (t.size() < 2)
     throw InputError(source, cur.number(), "position_mm", fmt::format("{} rows; a table needs at least 2", t.size()));
   t.reference_mm = *reference;
-  ValidatePitchTable(t, source);
+  try {
+    ValidatePitchTable(t, source);
+  } catch (const InputError& e) {  // the range is the one check the rows cannot place: name its line
+    if (range_line == 0 || (e.field() != "measured_from_mm" && e.field() != "measured_to_mm")) throw;
+    throw InputError(source, range_line, e.field(), e.message());
+  }
   return t;
 }
 

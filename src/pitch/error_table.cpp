@@ -33,11 +33,37 @@ std::vector<double> GridInside(double reference, double spacing, double lo, doub
 
 }  // namespace
 
+bool PitchErrorTable::OutsideVouchedRange(double x_mm) const {
+  return x_mm < VouchedFromMm() - model::kMeasuredRangeToleranceMm || x_mm > VouchedToMm() + model::kMeasuredRangeToleranceMm;
+}
+
+std::optional<std::string> MeasuredRangeWarning(const PitchErrorTable& t, const std::string& source) {
+  if (t.HasMeasuredRange()) return std::nullopt;
+  return fmt::format("{}: the file does not say which range axis {} was measured over (no '# measured_from_mm:' / "
+                     "'# measured_to_mm:' lines); the table's ends {}…{} mm are taken as that range",
+                     source, t.axis, Num(t.position_mm.front()), Num(t.position_mm.back()));
+}
+
+std::optional<std::string> UncoveredTravelWarning(double first_mm, double last_mm, double travel_mm,
+                                                  const std::string& source) {
+  if (!std::isfinite(travel_mm)) return std::nullopt;
+  std::string zones;
+  const double tol = model::kMeasuredRangeToleranceMm;
+  if (first_mm > tol) zones += fmt::format("0…{} mm", Num(first_mm));
+  if (last_mm < travel_mm - tol) zones += fmt::format("{}{}…{} mm", zones.empty() ? "" : " and ", Num(last_mm), Num(travel_mm));
+  if (zones.empty()) return std::nullopt;
+  return fmt::format("{}: the run measured {}…{} mm of the travel 0…{} mm; the table vouches for nothing in {} — "
+                     "there the end values are held and `run` raises outside_measured_range. Measure the whole "
+                     "travel (trueaxis sim fine, docs/pitch-error-file.md)",
+                     source, Num(first_mm), Num(last_mm), Num(travel_mm), zones);
+}
+
 TableLookup LookupError(const PitchErrorTable& t, double x_mm, Direction direction) {
   const auto& ys = direction == Direction::kForward ? t.error_up_um : t.error_down_um;
   TableLookup r;
-  r.outside = x_mm < t.position_mm.front() - 1e-9 || x_mm > t.position_mm.back() + 1e-9;
-  r.error_um = InterpolateClamped(t.position_mm, ys, x_mm);
+  r.outside = t.OutsideVouchedRange(x_mm);
+  // Beyond the vouched range the value at its end is held (never the slope towards a sample past it).
+  r.error_um = InterpolateClamped(t.position_mm, ys, std::clamp(x_mm, t.VouchedFromMm(), t.VouchedToMm()));
   return r;
 }
 
@@ -69,6 +95,22 @@ void ValidatePitchTable(const PitchErrorTable& t, const std::string& source) {
                        fmt::format("{} mm follows {} mm: the samples must be {} mm apart (lead {} mm / {} per lead), "
                                    "ascending, none missing",
                                    Num(x), Num(t.position_mm[i - 1]), Num(s), Num(t.lead_mm), t.samples_per_lead));
+  }
+  if (std::isnan(t.measured_from_mm) != std::isnan(t.measured_to_mm))
+    throw InputError(source, 0, std::isnan(t.measured_from_mm) ? "measured_from_mm" : "measured_to_mm",
+                     "give both ends of the measured range, or neither");
+  if (t.HasMeasuredRange()) {
+    for (const auto& [v, field] : {std::pair{t.measured_from_mm, "measured_from_mm"}, std::pair{t.measured_to_mm, "measured_to_mm"}})
+      if (auto why = ImplausiblePositionMm(v)) throw InputError(source, 0, field, *why);
+    if (!(t.measured_from_mm < t.measured_to_mm))
+      throw InputError(source, 0, "measured_to_mm",
+                       fmt::format("{} mm is not beyond measured_from_mm {} mm", Num(t.measured_to_mm), Num(t.measured_from_mm)));
+    if (t.measured_from_mm < t.position_mm.front() - kGridTolMm || t.measured_to_mm > t.position_mm.back() + kGridTolMm)
+      throw InputError(source, 0, "measured_from_mm",
+                       fmt::format("the measured range {}…{} mm reaches beyond the table's samples {}…{} mm: a table "
+                                   "must cover the range it vouches for",
+                                   Num(t.measured_from_mm), Num(t.measured_to_mm), Num(t.position_mm.front()),
+                                   Num(t.position_mm.back())));
   }
 }
 
@@ -112,22 +154,33 @@ PitchErrorTable TableFromMeasurement(const measure::Measurement& m, const TableF
                                  "the lead's harmonics alias; measure at lead spacing or finer (trueaxis sim fine, "
                                  "docs/pitch-error-file.md)",
                                  Num(max_gap), Num(spacing), Num(lead), o.samples_per_lead));
-  int on_target = 0;
-  for (double x : GridInside(ref, spacing, xs.front(), xs.back())) {
+  int on_target = 0, held = 0;
+  // The grid over the measured range: an end target off the grid brings the grid point beyond it.
+  std::vector<double> grid = GridInside(ref, spacing, xs.front(), xs.back());
+  if (grid.empty() || grid.front() > xs.front() + kGridTolMm)
+    grid.insert(grid.begin(), std::round((grid.empty() ? xs.front() : grid.front() - spacing) * 1e6) / 1e6);
+  if (grid.back() < xs.back() - kGridTolMm) grid.push_back(std::round((grid.back() + spacing) * 1e6) / 1e6);
+  for (double x : grid) {
     t.position_mm.push_back(x);
     t.error_up_um.push_back(InterpolateClamped(xs, up, x));
     t.error_down_um.push_back(InterpolateClamped(xs, down, x));
     const auto it = std::lower_bound(xs.begin(), xs.end(), x - kGridTolMm);
     if (it != xs.end() && std::abs(*it - x) <= kGridTolMm) ++on_target;
+    else if (x < xs.front() || x > xs.back()) ++held;
   }
   if (t.size() < 2)
     throw InputError(source, 0, "target_mm",
                      fmt::format("the measured range {}…{} mm holds fewer than 2 points of the grid {} + k·{} mm",
                                  Num(xs.front()), Num(xs.back()), Num(ref), Num(spacing)));
+  t.measured_from_mm = xs.front();
+  t.measured_to_mm = xs.back();
   t.provenance.push_back(fmt::format("source: measurement {} ({} targets, {} runs, mean per target and direction)", source,
                                      xs.size(), ev.runs));
-  t.provenance.push_back(fmt::format("{} of {} samples on measured targets, the others linear between neighbours",
-                                     on_target, t.size()));
+  const int between = static_cast<int>(t.size()) - on_target - held;
+  std::string how = fmt::format("{} of {} samples on measured targets", on_target, t.size());
+  if (between > 0) how += fmt::format(", {} linear between neighbours", between);
+  if (held > 0) how += fmt::format(", {} beyond an end target (its mean held)", held);
+  t.provenance.push_back(how);
   ValidatePitchTable(t, source);
   return t;
 }
@@ -150,6 +203,9 @@ PitchErrorTable TableFromModel(const model::AxisModel& axis, double lead_mm, int
     t.error_down_um.push_back(-rr.table.reverse_um[i]);
   }
   t.provenance = rr.table.provenance;
+  // The model's valid range (its measured range when it records one) holds the grid: the table vouches for its span.
+  t.measured_from_mm = t.position_mm.front();
+  t.measured_to_mm = t.position_mm.back();
   ValidatePitchTable(t, source);
   return t;
 }
@@ -157,8 +213,8 @@ PitchErrorTable TableFromModel(const model::AxisModel& axis, double lead_mm, int
 exporter::ResampleResult ResamplePitchTable(const PitchErrorTable& t, const exporter::ResampleOptions& o,
                                             const std::string& source) {
   exporter::ResampleResult r;
-  r.valid_min_mm = t.position_mm.front();
-  r.valid_max_mm = t.position_mm.back();
+  r.valid_min_mm = t.VouchedFromMm();
+  r.valid_max_mm = t.VouchedToMm();
   auto& ct = r.table;
   ct.axis = t.axis;
   ct.reference_position_mm = std::isnan(o.reference_position_mm) ? t.reference_mm : o.reference_position_mm;
@@ -199,6 +255,10 @@ exporter::ResampleResult ResamplePitchTable(const PitchErrorTable& t, const expo
   }
   ct.provenance.push_back(fmt::format("source: pitch error file {} (lead {} mm, {} per lead)", source, Num(t.lead_mm),
                                       t.samples_per_lead));
+  ct.provenance.push_back(t.HasMeasuredRange() ? exporter::MeasuredRangeNote(t.measured_from_mm, t.measured_to_mm)
+                                               : fmt::format("measured range unknown (the pitch error file does not "
+                                                             "record it): the table's ends {}…{} mm are taken",
+                                                             Num(t.position_mm.front()), Num(t.position_mm.back())));
   for (const auto& p : t.provenance) ct.provenance.push_back(p);
   exporter::FinishResample(r, o, source);
   return r;
@@ -208,7 +268,7 @@ double MaxInterpolationErrorUm(const PitchErrorTable& table, const measure::Meas
   const analysis::Evaluation ev = analysis::Evaluate(fine);
   double worst = 0;
   for (const auto& tr : ev.targets) {
-    if (tr.target_mm < table.position_mm.front() || tr.target_mm > table.position_mm.back()) continue;
+    if (tr.target_mm < table.VouchedFromMm() - kGridTolMm || tr.target_mm > table.VouchedToMm() + kGridTolMm) continue;
     worst = std::max({worst, std::abs(tr.mean_up_um - LookupError(table, tr.target_mm, Direction::kForward).error_um),
                       std::abs(tr.mean_down_um - LookupError(table, tr.target_mm, Direction::kReverse).error_um)});
   }

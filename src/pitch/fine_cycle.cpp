@@ -35,23 +35,26 @@ bool FineCycleOptions::IsValid(std::string* why) const {
   if (!(feed_mm_min > 0)) return fail("feed_mm_min: must be positive");
   if (!(dwell_s >= 0)) return fail("dwell_s: must be >= 0");
   if (!std::isnan(overrun_mm) && !(overrun_mm >= 0)) return fail("overrun_mm: must be >= 0");
+  if (!(end_margin_mm > 0 && end_margin_mm <= model::kMeasuredRangeToleranceMm))
+    return fail("end_margin_mm: must be > 0 and at most the measured range's tolerance (0.5 mm)");
   return true;
 }
 
 std::vector<double> FineTargets(const sim::AxisDescription& a, const FineCycleOptions& o) {
   const double step = a.lead_mm / o.per_lead;
-  const double over = Overrun(a, o);
-  const double lo = over, hi = a.travel_mm - over;
-  std::vector<double> t;
+  const double lo = o.end_margin_mm, hi = a.travel_mm - o.end_margin_mm;
+  if (!(hi - lo >= step))
+    throw std::invalid_argument(fmt::format("axis {}: travel {} mm is shorter than one fine step ({} mm) and the end "
+                                            "margins",
+                                            a.name, a.travel_mm, FormatShortest(step)));
+  std::vector<double> t = {lo};
   const long long k0 = static_cast<long long>(std::ceil((lo - a.reference_mm) / step - 1e-9));
   for (long long k = k0;; ++k) {
     const double x = std::round((a.reference_mm + static_cast<double>(k) * step) * 1e6) / 1e6;
     if (x > hi + 1e-9) break;
-    t.push_back(x);
+    if (x > t.back() + 1e-3) t.push_back(x);
   }
-  if (t.size() < 2)
-    throw std::invalid_argument(fmt::format("axis {}: travel {} mm with overrun {} mm leaves fewer than 2 fine targets",
-                                            a.name, a.travel_mm, over));
+  if (t.back() < hi - 1e-3) t.push_back(hi);  // the travel's far end
   return t;
 }
 
@@ -69,6 +72,9 @@ measure::Measurement RunFineCycle(sim::VirtualMachine& vm, std::size_t axis, sim
   m.SetMeta("feed_mm_min", FormatShortest(o.feed_mm_min));
   m.SetMeta("dwell_s", FormatShortest(o.dwell_s));
   m.SetMeta("overrun_mm", FormatShortest(over));
+  m.SetMeta("measured_range_mm", fmt::format("{}…{} (travel 0…{}, ends reached after a {} mm reversal)",
+                                             FormatShortest(targets.front()), FormatShortest(targets.back()),
+                                             FormatShortest(ad.travel_mm), FormatShortest(o.end_margin_mm)));
   m.SetMeta("interpolator", fmt::format("cycle {} ms, feed-forward {}", FormatShortest(ipo.options().cycle_s * 1000),
                                         sim::FeedForwardName(ipo.options().mode)));
   m.SetMeta("ambient_start_c", fmt::format("{:.3f}", vm.AmbientC()));
@@ -80,7 +86,9 @@ measure::Measurement RunFineCycle(sim::VirtualMachine& vm, std::size_t axis, sim
     ipo.Dwell(o.dwell_s);
     m.points.push_back(laser.Reading(vm, run, dir, target, t0));
   };
-  sim::RunBidirectionalCycle(targets, o.runs, over, [&](double x) { ipo.MoveTo(x, o.feed_mm_min); }, record);
+  // The reversals overrun where the travel allows; at its ends they reverse there (end_margin_mm before the end target).
+  const auto reverse_at = [&](double x) { ipo.MoveTo(std::clamp(x, 0.0, ad.travel_mm), o.feed_mm_min); };
+  sim::RunBidirectionalCycle(targets, o.runs, over, reverse_at, record);
   m.SetMeta("duration_s", FormatShortest(std::round((vm.TimeS() - t0) * 10.0) / 10.0));
   return m;
 }

@@ -61,6 +61,10 @@ report::HtmlPage BuildPitchReport(const PitchReportInput& in) {
       {"lead", fmt::format("{} mm", table.lead_mm)},
       {"samples", fmt::format("{} ({} per lead, every {} mm), {} … {} mm", table.size(), table.samples_per_lead,
                               table.SpacingMm(), table.position_mm.front(), table.position_mm.back())},
+      {"measured range (vouched for)",
+       table.HasMeasuredRange() ? fmt::format("{} … {} mm", table.measured_from_mm, table.measured_to_mm)
+                                : fmt::format("unknown (the file does not record it): the table's ends {} … {} mm",
+                                              table.position_mm.front(), table.position_mm.back())},
       {"reference", fmt::format("{} mm", table.reference_mm)}};
   for (const auto& p : table.provenance) kv.emplace_back("provenance", p);
   page.AddKeyValueTable(kv);
@@ -83,6 +87,12 @@ report::HtmlPage BuildPitchReport(const PitchReportInput& in) {
       "drift (largest mean error after at the lead points, where the table is exact: thermal growth and reference "
       "changes between calibration and use) is {} µm: {} dominates the residual.",
       F(c.interpolation_error_um), F(c.after.repeatability_3s_um), F(c.drift_um), c.Dominant()));
+  if (c.outside_targets > 0)
+    page.AddParagraph(fmt::format(
+        "Outside the range the table vouches for ({:g} … {:g} mm) the verification measured {} target(s), left out of "
+        "the figures above: the table's end values were held there. Largest error there: {} µm before, {} µm after. "
+        "Measure the whole travel the axis moves in.",
+        c.vouched_from_mm, c.vouched_to_mm, c.outside_targets, F(c.outside_before_max_um), F(c.outside_after_max_um)));
   MeansChart(page, "Calibration run (before) and the table", before, &table);
   MeansChart(page, "Verification run (after): residual error", after, nullptr);
   if (!in.following.empty()) {

@@ -44,8 +44,8 @@ measure::Measurement AtGrid(const measure::Measurement& m, double reference_mm, 
 std::vector<FollowingPoint> FollowingErrorVsFeed(const sim::MachineDescription& machine, std::size_t axis,
                                                  const PitchErrorTable& table, const std::vector<double>& feeds,
                                                  const sim::InterpolatorOptions& interpolator, std::uint64_t seed) {
-  const double lo = table.position_mm.front();
-  const double hi = std::min(table.position_mm.back(), lo + 300.0);
+  const double lo = table.VouchedFromMm();
+  const double hi = std::min(table.VouchedToMm(), lo + 300.0);
   // Every feed is checked before anything runs: the work of one is ∝ its move's duration.
   for (double feed : feeds) {
     if (auto why = ImplausibleFeedMmPerMin(feed)) throw InputError("command line", 0, "--feeds", *why);
@@ -75,9 +75,37 @@ std::vector<FollowingPoint> FollowingErrorVsFeed(const sim::MachineDescription& 
   return out;
 }
 
-PitchComparison ComparePitch(const measure::Measurement& before, const measure::Measurement& after,
+measure::Measurement InVouchedRange(const measure::Measurement& m, const PitchErrorTable& table, bool inside) {
+  measure::Measurement out = m;
+  out.points.clear();
+  for (const auto& p : m.points)
+    if (table.OutsideVouchedRange(p.target_mm) != inside) out.points.push_back(p);
+  return out;
+}
+
+PitchComparison ComparePitch(const measure::Measurement& before_all, const measure::Measurement& after_all,
                              const PitchErrorTable& table) {
   PitchComparison c;
+  c.vouched_from_mm = table.VouchedFromMm();
+  c.vouched_to_mm = table.VouchedToMm();
+  const measure::Measurement before = InVouchedRange(before_all, table);
+  const measure::Measurement after = InVouchedRange(after_all, table);
+  if (before.points.empty() || after.points.empty())
+    throw InputError(after_all.source, 0, "target_mm",
+                     fmt::format("no target lies in the range the pitch table vouches for ({}…{} mm)",
+                                 c.vouched_from_mm, c.vouched_to_mm));
+  const auto max_abs = [](const measure::Measurement& m) {
+    double worst = 0;
+    for (const auto& p : m.points) worst = std::max(worst, std::abs(p.deviation_um));
+    return worst;
+  };
+  const measure::Measurement after_out = InVouchedRange(after_all, table, false);
+  std::vector<double> outside_targets;
+  for (const auto& p : after_out.points) outside_targets.push_back(std::round(p.target_mm * 1e3));
+  std::sort(outside_targets.begin(), outside_targets.end());
+  c.outside_targets = static_cast<int>(std::unique(outside_targets.begin(), outside_targets.end()) - outside_targets.begin());
+  c.outside_after_max_um = max_abs(after_out);
+  c.outside_before_max_um = max_abs(InVouchedRange(before_all, table, false));
   c.before = Figures(before);
   c.after = Figures(after);
   c.before_at_lead = Figures(AtGrid(before, table.reference_mm, table.lead_mm));
@@ -108,6 +136,10 @@ std::string PitchProofResult::Report() const {
   s += fmt::format("  residual: table interpolation error {:.3f} um, repeatability 3s {:.3f} um (run to run), drift at the "
                    "lead points {:.3f} um (homing shift {:.3f} um) -> {} dominates\n",
                    c.interpolation_error_um, c.after.repeatability_3s_um, c.drift_um, homing_shift_um, c.Dominant());
+  if (c.outside_targets > 0)
+    s += fmt::format("  outside the table's measured range {:g}…{:g} mm (end values held, not in the figures above): {} "
+                     "targets, max error {:.3f} -> {:.3f} um\n",
+                     c.vouched_from_mm, c.vouched_to_mm, c.outside_targets, c.outside_before_max_um, c.outside_after_max_um);
   for (const auto& f : following)
     s += fmt::format("  feed {:6.0f} mm/min: following error of the correction max {:.3f} (ahead) vs {:.3f} um (late)\n",
                      f.feed_mm_min, f.ahead.max_abs_following_um, f.late.max_abs_following_um);

@@ -14,7 +14,7 @@ std::string AlarmNames(std::uint32_t alarms) {
   static const char* const kNames[] = {"sensor_held", "sensor_fallback",   "temperature_source",
                                        "link_read",   "link_write",        "no_model_for_axis",
                                        "correction_clamped", "no_model", "stale_input", "model_extrapolated",
-                                       "vision_stop"};
+                                       "vision_stop", "outside_measured_range"};
   std::string out;
   for (std::size_t i = 0; i < std::size(kNames); ++i) {
     if (alarms & (1u << i)) {
@@ -306,6 +306,7 @@ double DesiredCorrection(const StepModel& model, const StepState& state, const S
   st.thermal_used = keys_ok;
   // Held at the fitted envelope, or the room outside the fitted range (extrapolated): both alarmed.
   if (st.prediction.tan_beta_limited || st.prediction.ambient_extrapolated) alarms |= kAlarmModelExtrapolated;
+  if (st.prediction.position_outside_range) alarms |= kAlarmOutsideMeasuredRange;
   const double desired = model::CorrectionUm(st.prediction);
   return std::isfinite(desired) ? desired : 0.0;  // a broken model never drives the axis
 }

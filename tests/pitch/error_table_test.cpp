@@ -81,16 +81,24 @@ TEST(PitchTableFromMeasurement, SamplesTheMeanAtEveryLeadPoint) {
   const auto m = SyntheticRun(1.25, 100, 5);  // lead/4
   const PitchErrorTable t = TableFromMeasurement(m, {});
   EXPECT_EQ(t.axis, "Y");
-  ASSERT_EQ(t.size(), 20u);  // 5, 10, … 100
-  EXPECT_DOUBLE_EQ(t.position_mm.front(), 5);
-  for (std::size_t i = 0; i < t.size(); ++i) {
+  ASSERT_EQ(t.size(), 21u);  // 0, 5, 10, … 100: the first target 1.25 is off the grid, 0 closes the table
+  EXPECT_DOUBLE_EQ(t.position_mm.front(), 0);
+  EXPECT_DOUBLE_EQ(t.measured_from_mm, 1.25);  // what the table vouches for
+  EXPECT_DOUBLE_EQ(t.measured_to_mm, 100);
+  // The sample beyond the first target holds its mean (never extrapolated).
+  EXPECT_NEAR(t.error_up_um.front(), 2 * std::sin(2 * M_PI * 1.25 / 5) + 0.0125 + 0.15, 1e-9);
+  for (std::size_t i = 1; i < t.size(); ++i) {
     const double x = t.position_mm[i];
     const double truth = 2 * std::sin(2 * M_PI * x / 5) + 0.01 * x + 0.15;
     EXPECT_NEAR(t.error_up_um[i], truth, 1e-9);
     EXPECT_NEAR(t.error_down_um[i], truth - 3, 1e-9);
   }
-  // Once per lead, the 2 µm harmonic is invisible to the table: that is its interpolation error.
-  EXPECT_NEAR(MaxInterpolationErrorUm(t, m), 2.0, 0.05);
+  // Once per lead, the 2 µm harmonic is invisible to the table: that is its interpolation error
+  // (between the lead points; the first lead, closed by the held sample at 0, misses it by up to 2.5 µm).
+  measure::Measurement from_5 = m;
+  std::erase_if(from_5.points, [](const measure::MeasurementPoint& p) { return p.target_mm < 5; });
+  EXPECT_NEAR(MaxInterpolationErrorUm(t, from_5), 2.0, 0.05);
+  EXPECT_LE(MaxInterpolationErrorUm(t, m), 2.55);
   TableFromMeasurementOptions four;
   four.samples_per_lead = 4;
   EXPECT_NEAR(MaxInterpolationErrorUm(TableFromMeasurement(m, four), m), 0.0, 1e-9);

@@ -12,15 +12,7 @@
 namespace trueaxis::pitch {
 namespace {
 
-TEST(FineCycle, TargetsLieOnTheLeadGridOverTheTravel) {
-  const auto machine = testing::PitchMachine();
-  FineCycleOptions o;
-  const auto t = FineTargets(machine.axes[0], o);  // lead 5, per lead 4, overrun 5
-  EXPECT_DOUBLE_EQ(t.front(), 5);
-  EXPECT_DOUBLE_EQ(t.back(), 125);
-  EXPECT_EQ(t.size(), 97u);
-  for (std::size_t i = 1; i < t.size(); ++i) EXPECT_NEAR(t[i] - t[i - 1], 1.25, 1e-9);
-}
+// The targets and the range they cover: range_test.cpp (PitchRange.TheCalibrationCycleCoversTheWholeTravel).
 
 TEST(FineCycle, TheDecompositionResolvesTheLeadHarmonicsACoarseRunCannot) {
   const auto machine = testing::PitchMachine();  // harmonics 2.0 and 0.6 µm at lead 5 mm
@@ -29,7 +21,7 @@ TEST(FineCycle, TheDecompositionResolvesTheLeadHarmonicsACoarseRunCannot) {
   so.cycle.per_lead = 8;  // lead/8 resolves the second harmonic too (lead/4 is its Nyquist limit)
   const auto fine = RunFineSession(machine, 0, so);
   const auto ev = analysis::Evaluate(fine.measurement);
-  EXPECT_EQ(ev.targets.size(), 193u);
+  EXPECT_EQ(ev.targets.size(), 209u);  // 0.625 … 129.375 mm and the travel's ends (0.25, 129.75)
   analysis::DecompositionOptions d;
   d.lead_mm = 5;
   d.trend_degree = 2;

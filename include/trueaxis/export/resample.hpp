@@ -77,6 +77,11 @@ ResampleResult ResampleMeasurement(const measure::Measurement& m, const Resample
 // reference point, as the options ask; then ValidateTable.
 void FinishResample(ResampleResult& result, const ResampleOptions& options, const std::string& source);
 
+// The provenance line (a comment in every format that writes one) naming the range the source was
+// measured over and vouches for: "measured range (vouched for): 0.25…849.75 mm; beyond it the end
+// values are held". A format without comments has no place for it.
+std::string MeasuredRangeNote(double first_mm, double last_mm);
+
 // The grid alone (exposed for tests and for formats that constrain it).
 std::vector<double> MakeGrid(const ResampleOptions& options, double valid_min_mm, double valid_max_mm,
                              double reference_mm, const std::string& source);

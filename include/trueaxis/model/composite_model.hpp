@@ -30,6 +30,11 @@
 
 namespace trueaxis::model {
 
+// How far beyond a measured range (AxisModel::measured_range_mm, a pitch table's) a position may
+// lie before it counts as outside: the calibration cycle's shortest reversal at the travel's ends
+// (pitch::FineCycleOptions::end_margin_mm) stays inside it. Within it the end value is held too.
+inline constexpr double kMeasuredRangeToleranceMm = 0.5;
+
 // Er(x) of one direction.
 struct GeometricError {
   enum class Kind { kPolynomial, kTable };
@@ -164,6 +169,14 @@ struct AxisModel {
         if (ks.ambient_offset_um_per_c != 0) return true;
     return false;
   }
+  // The positions its geometric part was measured over (JSON "measured_range_mm": [first, last]
+  // target), the range it vouches for: written with a pitch table (`pitch into-model`,
+  // docs/pitch-error-file.md). Beyond it by more than kMeasuredRangeToleranceMm, Predict holds the
+  // geometric part at the nearer end and flags the prediction (Prediction::position_outside_range;
+  // the runtime's alarm outside_measured_range). NaN: not recorded (never flagged, as before).
+  std::array<double, 2> measured_range_mm{std::numeric_limits<double>::quiet_NaN(),
+                                          std::numeric_limits<double>::quiet_NaN()};
+  bool HasMeasuredRange() const { return std::isfinite(measured_range_mm[0]) && std::isfinite(measured_range_mm[1]); }
   bool AmbientOutsideFittedRange(double ambient_c) const {
     return ambient_c < ambient_fitted_range_c[0] - 1e-9 || ambient_c > ambient_fitted_range_c[1] + 1e-9;
   }  // false for NaN (either side)
@@ -254,6 +267,9 @@ struct Prediction {
   // The room temperature lay outside the fit's (AxisModel::ambient_fitted_range_c): the ρ term was
   // extrapolated, not held (an alarm for the user, as tan_beta_limited).
   bool ambient_extrapolated = false;
+  // The position lay beyond the axis's measured range (AxisModel::measured_range_mm) by more than
+  // kMeasuredRangeToleranceMm: the geometric part was held at the nearer end (an alarm for the user).
+  bool position_outside_range = false;
 };
 
 // Predicted error at `position_mm` approached in `direction`. Pure; no allocation.

@@ -9,11 +9,19 @@
 // Interpolation (docs/pitch-error-file.md):
 //   - inside the table: linear between the two neighbouring samples of the
 //     direction asked for;
-//   - beyond the ends: the end sample is held (a controller does the same);
-//     the lookup says `outside`, so a caller can count it and warn;
+//   - the table vouches for the range it was measured over (the laser run's
+//     first…last target, `measured_from_mm`…`measured_to_mm`); beyond it the
+//     value at its end is held (a controller holds its end values the same
+//     way), never extrapolated, and the lookup says `outside` once the
+//     position lies more than model::kMeasuredRangeToleranceMm beyond it, so a
+//     caller can count it, report it apart and alarm. A table without the
+//     range (a file that does not record it) vouches for its own ends;
 //   - the direction is the direction of approach (+1 forward, −1 reverse);
 //     which one applies across a reversal is the interpolator's decision
 //     (sim/interpolator.hpp): the table itself holds both curves.
+#include <cmath>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,14 +41,34 @@ struct PitchErrorTable {
   std::vector<double> error_up_um;  // error approaching forward (+)
   std::vector<double> error_down_um;  // error approaching in reverse (−)
   std::vector<std::string> provenance;  // free text: what it was made from
+  // The range it was measured over (first…last target): what it vouches for. Inside the table's
+  // own span; its end samples may lie up to one spacing beyond it (the grid point past an end
+  // target off the grid). NaN: unknown (the table's ends are taken; MeasuredRangeWarning).
+  double measured_from_mm = std::numeric_limits<double>::quiet_NaN();
+  double measured_to_mm = std::numeric_limits<double>::quiet_NaN();
 
   std::size_t size() const { return position_mm.size(); }
   double SpacingMm() const { return lead_mm / samples_per_lead; }
+  bool HasMeasuredRange() const { return std::isfinite(measured_from_mm) && std::isfinite(measured_to_mm); }
+  double VouchedFromMm() const { return HasMeasuredRange() ? measured_from_mm : position_mm.front(); }
+  double VouchedToMm() const { return HasMeasuredRange() ? measured_to_mm : position_mm.back(); }
+  // Outside the vouched range by more than model::kMeasuredRangeToleranceMm.
+  bool OutsideVouchedRange(double x_mm) const;
 };
+
+// For a table whose range is unknown: one line saying so and which range is assumed; nullopt when
+// the table records it. `source` names the file.
+std::optional<std::string> MeasuredRangeWarning(const PitchErrorTable& table, const std::string& source);
+
+// For a measurement that leaves part of the axis's travel 0…travel_mm unmeasured (beyond
+// model::kMeasuredRangeToleranceMm at either end): one line naming the uncovered zones; nullopt
+// when it covers the travel or the travel is unknown (NaN).
+std::optional<std::string> UncoveredTravelWarning(double first_mm, double last_mm, double travel_mm,
+                                                  const std::string& source);
 
 struct TableLookup {
   double error_um = 0;
-  bool outside = false;  // beyond the table's ends: the end value was held
+  bool outside = false;  // beyond the vouched range (more than the tolerance): the end value was held
 };
 
 TableLookup LookupError(const PitchErrorTable& table, double x_mm, Direction direction);
@@ -60,9 +88,11 @@ struct TableFromMeasurementOptions {
 };
 
 // From a laser run (a fine cycle, or a user's own file): the mean deviation per
-// target and direction (ISO 230-2 x̄_i↑, x̄_i↓), sampled on the grid inside the
+// target and direction (ISO 230-2 x̄_i↑, x̄_i↓), sampled on the grid over the
 // measured range — exactly at targets that lie on the grid, else linearly
-// between the two neighbouring targets. Refused (InputError) when the targets
+// between the two neighbouring targets; an end target off the grid gets the
+// grid point beyond it too, with its value (held), so the table spans the
+// whole measured range, which it records (measured_from_mm…measured_to_mm). Refused (InputError) when the targets
 // are further apart than the table's spacing: a once-per-lead table cannot be
 // read off a coarse ISO run (the lead's harmonics alias).
 PitchErrorTable TableFromMeasurement(const measure::Measurement& m, const TableFromMeasurementOptions& options);
@@ -85,7 +115,8 @@ SamplesPerLeadChoice ChooseSamplesPerLead(const measure::Measurement& m, const T
 
 // From a fitted model (docs/model-file.md): its geometric + thermal error at
 // the frozen state of `freeze` (cold by default), on the grid through the
-// model's reference point.
+// model's reference point inside its valid range (its measured_range_mm when
+// it records one); the table vouches for that span.
 PitchErrorTable TableFromModel(const model::AxisModel& axis, double lead_mm, int samples_per_lead,
                                const exporter::ThermalFreeze& freeze, const std::string& source);
 

@@ -1,6 +1,6 @@
 #pragma once
 // Fine calibration of a ball-screw axis (seed 002 §1.3, §2.4): a bidirectional
-// laser cycle over the full travel with targets on the lead grid — every lead
+// laser cycle over the full travel (its ends included, FineTargets) with targets on the lead grid — every lead
 // and finer (lead/per_lead, default lead/4, so the first harmonic of the lead
 // is resolved without aliasing) — moved by the virtual CNC's interpolator
 // (sim/interpolator.hpp), with or without a pitch table applied.
@@ -33,12 +33,18 @@ struct FineCycleOptions {
   int runs = 3;                // bidirectional runs (2–20)
   double feed_mm_min = 2000;   // between targets
   double dwell_s = 1;          // settle + averaging at each target
-  double overrun_mm = std::numeric_limits<double>::quiet_NaN();  // NaN: min(5 mm, one lead)
+  double overrun_mm = std::numeric_limits<double>::quiet_NaN();  // NaN: min(5 mm, one lead); cut at the travel's ends
+  // The shortest reversal: the end targets lie this far inside the travel's ends, so each is still
+  // approached from its own side after reversing at the end (the lost motion is taken up within a
+  // few µm). At most model::kMeasuredRangeToleranceMm: the table then vouches for the whole travel.
+  double end_margin_mm = 0.25;
 
   bool IsValid(std::string* why) const;
 };
 
-// reference + k·lead/per_lead inside [overrun, travel − overrun].
+// Covers the whole travel: reference + k·lead/per_lead inside [end_margin, travel − end_margin],
+// and the two end targets end_margin and travel − end_margin themselves (when off that grid).
+// The reversals overrun by `overrun_mm` where the travel allows, else reverse at its end.
 std::vector<double> FineTargets(const sim::AxisDescription& axis, const FineCycleOptions& options);
 
 // One bidirectional fine cycle on an axis whose laser is set up: the moves go

@@ -32,14 +32,23 @@ PositioningFigures Figures(const measure::Measurement& m);
 // The readings of `m` at targets on the grid reference + k·spacing (1 µm).
 measure::Measurement AtGrid(const measure::Measurement& m, double reference_mm, double spacing_mm);
 
-// Before/after figures of one table: at every fine target and at the lead
-// points only (as seed 002 measured), and what is left and why.
+// The readings of `m` at targets inside (or outside) the table's vouched range
+// (PitchErrorTable::OutsideVouchedRange: beyond it by more than the tolerance).
+measure::Measurement InVouchedRange(const measure::Measurement& m, const PitchErrorTable& table, bool inside = true);
+
+// Before/after figures of one table: at every fine target inside the range the
+// table vouches for and at the lead points only (as seed 002 measured), and
+// what is left and why. Targets beyond that range (where the table's end
+// values were held) are reported apart, never mixed into the figures.
 struct PitchComparison {
-  PositioningFigures before, after;                  // at every fine target
+  PositioningFigures before, after;                  // at every fine target in the vouched range
   PositioningFigures before_at_lead, after_at_lead;  // at the lead points only
   double interpolation_error_um = 0;  // max |before mean − table|, per direction (what the table cannot see)
   double drift_um = 0;  // max |after bidirectional mean| at the lead points, where the table was exact:
                         // what moved between calibration and use (thermal growth, reference after re-homing)
+  double vouched_from_mm = 0, vouched_to_mm = 0;  // the table's measured range
+  int outside_targets = 0;               // targets of `after` beyond it
+  double outside_before_max_um = 0, outside_after_max_um = 0;  // largest |deviation| there, before → after
   // The largest share of the residual: "interpolation" (interpolation_error_um), "repeatability"
   // (after.repeatability_3s_um) or "drift" (drift_um).
   std::string Dominant() const;

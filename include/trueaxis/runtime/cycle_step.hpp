@@ -52,6 +52,8 @@ enum Alarm : std::uint32_t {
                                        // thermal slope is held at the envelope (model::Prediction::tan_beta_limited)
   kAlarmVisionStop = 1u << 10,         // the camera's stop rule (seed 001): > 5 non-credible readings in a row;
                                        // the CNC is in feed hold until the marker is redrawn (docs/vision.md)
+  kAlarmOutsideMeasuredRange = 1u << 11,  // the axis is beyond the range its geometric part (a pitch table) was
+                                          // measured over: the end value is held (model::Prediction::position_outside_range)
 };
 std::string AlarmNames(std::uint32_t alarms);  // "sensor_held|link_read", "" when none (not for the RT thread)
 // The same with the axes behind each alarm an axis raised (AxisStatus::alarms), as a user reads
