@@ -94,7 +94,7 @@ TEST_F(ShopBackendTest, ALostTerminalIsShownUnavailableNeverAsItsLastNumbers) {
   vshop_->SetFault(2, sim::TerminalFault::kDown);
   ASSERT_TRUE(WaitFor([&] { return !backend_->Machine(Name(2)).summary.connected; }));
   const auto m = backend_->Machine(Name(2)).summary;
-  for (const auto& a : m.axes) EXPECT_TRUE(std::isnan(a.position_mm)) << a.axis;
+  for (const auto& a : m.axes) EXPECT_TRUE(std::isnan(a.position_mm)) << a.name;
   for (const auto& c : m.channels) EXPECT_TRUE(std::isnan(c.temp_c)) << c.name;
   EXPECT_FALSE(m.alarms.empty());
   // the alarm reaches the alarm list, and acknowledging it acknowledges it on the shop
