@@ -1,7 +1,9 @@
-# trueaxis_forbid_links(<target> FORBID <target>...)
+# trueaxis_forbid_links(<target> FORBID <target>... [WHY <text>])
 #   Fails the configuration when <target> links any of the FORBID targets, directly or through
 #   any library it links (the transitive closure of LINK_LIBRARIES and INTERFACE_LINK_LIBRARIES).
-#   Keeps the machine side lean: the compensator must not pull in the offline fitting.
+#   Keeps the machine side lean: the compensator must not pull in the offline fitting, nor the
+#   deployment (MODBUS drivers, history store, station wiring, web) that stays in station::.
+#   WHY: the reason the message gives (default: the offline fitting's).
 
 # The targets <target> links, transitively (generator expressions such as $<LINK_ONLY:x> unwrapped).
 function(trueaxis_linked_targets target out_var)
@@ -43,7 +45,10 @@ function(trueaxis_linked_targets target out_var)
 endfunction()
 
 function(trueaxis_forbid_links target)
-  cmake_parse_arguments(ARG "" "" "FORBID" ${ARGN})
+  cmake_parse_arguments(ARG "" "WHY" "FORBID" ${ARGN})
+  if(NOT ARG_WHY)
+    set(ARG_WHY "the machine side must stay free of the offline fitting and its report")
+  endif()
   if(NOT TARGET ${target})
     message(FATAL_ERROR "trueaxis_forbid_links: no target ${target}")
   endif()
@@ -57,8 +62,7 @@ function(trueaxis_forbid_links target)
     endif()
     if(forbidden IN_LIST linked)
       message(FATAL_ERROR "${target} links ${forbidden} (it links: ${linked}); "
-                          "the machine side must stay free of the offline fitting and its report "
-                          "(docs/ARCHITECTURE.md, build shape)")
+                          "${ARG_WHY} (docs/ARCHITECTURE.md, build shape)")
     endif()
   endforeach()
   message(STATUS "${target} links no ${ARG_FORBID}")

@@ -18,7 +18,7 @@
 #include "trueaxis/linuxcnc/hal_component.hpp"
 #include "trueaxis/linuxcnc/hal_temperature_source.hpp"
 #include "trueaxis/linuxcnc/hal_temperatures.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/site_config.hpp"
 
 namespace trueaxis::hal_app {
 namespace {
@@ -81,9 +81,9 @@ void AddCampaignOptions(CLI::App& app, station::CampaignLogOptions& o) {
 
 int RunHalCampaignLog(const std::string& config_path, const std::string& name, bool temperatures_from_hal,
                       const station::CampaignLogOptions& options) {
-  runtime::RunConfig c = runtime::ReadRunConfig(config_path, /*model_required=*/false);
-  if (c.machine != runtime::MachineKind::kModbus)
-    throw InputError(c.source, 0, "machine.kind",
+  const station::SiteConfig c = station::ReadSiteConfig(config_path, /*model_required=*/false);
+  if (c.machine != station::MachineKind::kModbus)
+    throw InputError(c.source(), 0, "machine.kind",
                      "trueaxis-hal needs kind = \"modbus\": [machine] axes are the LinuxCNC axes, channels the "
                      "temperature channels");
   if (!(options.duration_s >= 0 && std::isfinite(options.duration_s)))

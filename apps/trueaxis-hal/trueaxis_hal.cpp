@@ -3,7 +3,8 @@
 // runtime::Step, limiter, fault policies and model file) with LinuxCNC as the CNC — positions,
 // velocities, coolant and an enable from HAL pins, the correction out to the axes' external
 // offsets (axis.L.eoffset-counts) — and the temperatures from the terminal's RTD modules over
-// MODBUS TCP ([machine] of the run config) or from HAL pins. Load it from a HAL file:
+// MODBUS TCP ([machine] of the run config) or from HAL pins; its history and CSV log ([history])
+// and model reload ([model] reload) as `run`'s. Load it from a HAL file:
 //   loadusr -W trueaxis-hal --config /etc/trueaxis/run.toml
 // Pins, INI and HAL snippets: docs/linuxcnc.md. Stops on SIGTERM (halcmd unloadusr) / SIGINT:
 // the correction first ramps to zero through the limiter, then the component leaves HAL.
@@ -26,8 +27,9 @@
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/cycle_log.hpp"
 #include "trueaxis/station/installation.hpp"
+#include "trueaxis/station/site_config.hpp"
 #include "trueaxis/station/machine_connection.hpp"
 
 namespace {
@@ -44,10 +46,25 @@ struct Options {
   double ramp_out_s = 10;  // longest wait for the correction to ramp to zero at stop
 };
 
+// The loop's cycles to the status pins and to the installation's record.
+class StatusAndRecord : public runtime::CycleObserver {
+ public:
+  StatusAndRecord(runtime::CycleObserver& status, runtime::CycleObserver& record) : status_(status), record_(record) {}
+  void OnCycle(const runtime::CycleStatus& s) override {
+    status_.OnCycle(s);
+    record_.OnCycle(s);
+  }
+
+ private:
+  runtime::CycleObserver& status_;
+  runtime::CycleObserver& record_;
+};
+
 // The axes LinuxCNC has ([machine] axes), each with its interface from [[axis]] (δ = eoffset count).
-std::vector<runtime::AxisInterface> AxisInterfaces(const runtime::RunConfig& c) {
+std::vector<runtime::AxisInterface> AxisInterfaces(const station::SiteConfig& site) {
+  const station::InstallationConfig& c = site.installation;
   std::vector<runtime::AxisInterface> out;
-  for (const auto& name : c.modbus.axis_names) {
+  for (const auto& name : site.modbus.axis_names) {
     runtime::AxisInterface it;
     it.axis = name;
     for (const auto& a : c.axes)
@@ -63,15 +80,16 @@ std::vector<runtime::AxisInterface> AxisInterfaces(const runtime::RunConfig& c) 
 }
 
 int Run(const Options& o) {
-  const runtime::RunConfig c = runtime::ReadRunConfig(o.config);
-  if (c.machine != runtime::MachineKind::kModbus)
+  const station::SiteConfig site = station::ReadSiteConfig(o.config);
+  const station::InstallationConfig& c = site.installation;
+  if (site.machine != station::MachineKind::kModbus)
     throw InputError(c.source, 0, "machine.kind",
                      "trueaxis-hal needs kind = \"modbus\": [machine] axes are the LinuxCNC axes, channels the "
                      "temperature channels (RTD modules at host:port, or HAL pins with --temperatures hal)");
 
   linuxcnc::HalComponent hal(o.name);
-  linuxcnc::HalCncLink link(hal, AxisInterfaces(c));
-  linuxcnc::HalTemperatures temperatures = linuxcnc::OpenHalTemperatures(hal, c, o.temperatures == "hal");
+  linuxcnc::HalCncLink link(hal, AxisInterfaces(site));
+  linuxcnc::HalTemperatures temperatures = linuxcnc::OpenHalTemperatures(hal, site, o.temperatures == "hal");
   hw::TemperatureSource* source = temperatures.source;
   std::vector<std::string> axis_names;
   for (std::size_t i = 0; i < link.AxisCount(); ++i) axis_names.push_back(link.AxisName(i));
@@ -82,10 +100,18 @@ int Run(const Options& o) {
   const auto t0_pipeline = std::chrono::steady_clock::now();
   station::Installation installation(
       c, link, *source, [t0_pipeline] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_pipeline).count(); },
-      c.modbus.machine_name);
+      site.modbus.machine_name);
   for (const auto& w : installation.warnings()) fmt::print(stderr, "warning: {}\n", w);
   runtime::Compensator* comp = &installation.compensator();
-  runtime::LoopRunner runner(*comp, link, installation.temperatures(), runtime::LoopOptions{c.period_s, c.temperature_period_s}, &status);
+  // Its record, as `run`'s: [history] database and CSV log, the model loaded and reloaded. The
+  // loop's time 0 is its construction (its records' times stay Unix times across the enable wait);
+  // a [history] the machine cannot open stops the component before LinuxCNC goes on.
+  const double unix0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  station::CycleLog& log = installation.OpenLog(site.history, unix0);
+  for (const auto& n : log.notes()) fmt::print(stderr, "trueaxis-hal: note: {}\n", n);
+  StatusAndRecord observer(status, log.recorder());
+  runtime::LoopRunner runner(*comp, link, installation.temperatures(), runtime::LoopOptions{c.period_s, c.temperature_period_s},
+                             &observer);
 
   g_stop = false;
   std::signal(SIGINT, OnStopSignal);
@@ -97,12 +123,13 @@ int Run(const Options& o) {
   if (g_stop.load()) return 0;  // stopped before the first enable
   runner.Start();
   fmt::print(stderr, "trueaxis-hal: component {} | {} axes | temperatures {} | model {} | cycle {} ms\n", o.name,
-             axis_names.size(), o.temperatures == "hal" ? "from HAL pins" : fmt::format("MODBUS {}:{}", c.modbus.host, c.modbus.port),
+             axis_names.size(), o.temperatures == "hal" ? "from HAL pins" : fmt::format("MODBUS {}:{}", site.modbus.host, site.modbus.port),
              c.model_file, c.period_s * 1000);
   std::string last_alarms;
   std::vector<std::uint32_t> axis_alarms(axis_names.size());
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  auto next_housekeeping = t0 + std::chrono::seconds(1);
   while (!g_stop.load()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     const runtime::CycleStatus& st = comp->LastStatus();  // a racy read for the log line only
@@ -110,7 +137,20 @@ int Run(const Options& o) {
     std::string alarms = runtime::AlarmNamesWithAxes(st.alarms, axis_alarms, axis_names);  // with the axis
     if (alarms != last_alarms) fmt::print(stderr, "[{:.1f} s] alarms: {}\n", elapsed(), alarms.empty() ? "cleared" : alarms);
     last_alarms = std::move(alarms);
-    comp->CollectRetired();
+    log.Drain();
+    if (std::chrono::steady_clock::now() >= next_housekeeping) {
+      next_housekeeping = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+      comp->CollectRetired();
+      log.Flush();
+      if (c.model_reload) {
+        try {
+          if (installation.ReloadIfChanged())
+            fmt::print(stderr, "[{:.1f} s] model reloaded from {} (ramping to it)\n", elapsed(), c.model_file);
+        } catch (const std::exception& e) {
+          fmt::print(stderr, "[{:.1f} s] model NOT reloaded, keeping the running one: {}\n", elapsed(), e.what());
+        }
+      }
+    }
     if (c.duration_s > 0 && elapsed() >= c.duration_s) break;
   }
   // Stop: ramp the correction out through the limiter (never a jump), then leave HAL.
@@ -124,7 +164,10 @@ int Run(const Options& o) {
   }
   runner.Stop();
   link.ReleaseOffsets();
+  log.Close();
   fmt::print(stderr, "trueaxis-hal: stopped ({})\n", runner.Stats().BriefReport());
+  if (const store::HistoryWriter* writer = log.writer())
+    fmt::print(stderr, "trueaxis-hal: history {} ({})\n", writer->path(), writer->Stats().BriefReport());
   return 0;
 }
 

@@ -39,7 +39,7 @@
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/site_config.hpp"
 #include "trueaxis/signal/monitored_temperature_source.hpp"
 #include "trueaxis/sim/laser_interferometer.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
@@ -222,7 +222,7 @@ int RunHalPlant(const Options& o) {
 // The same state and laser cycle in process, the compensator of the run config cycling in the
 // machine's time (runtime::LoopRunner::StepSimulated, as the demo), compensation on then off.
 int RunReference(const Options& o) {
-  const runtime::RunConfig c = runtime::ReadRunConfig(o.reference);
+  const station::InstallationConfig c = station::ReadSiteConfig(o.reference).installation;
   auto p = Prepare(o);
   Plant& pl = *p;
   pl.vm.SetCompensationEnabled(true);

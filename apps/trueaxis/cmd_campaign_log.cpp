@@ -15,7 +15,7 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/core/toml_reader.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/site_config.hpp"
 #include "trueaxis/station/campaign_log_loop.hpp"
 #include "trueaxis/station/machine_connection.hpp"
 #include "trueaxis/terminal/terminal_config.hpp"
@@ -55,8 +55,8 @@ Channels OpenChannels(const std::string& path) {
   const toml::table root = ParseTomlOrThrow(ReadTextFile(path), path);
   std::string why;
   if (root.contains("machine")) {
-    runtime::RunConfig c = runtime::ReadRunConfig(path, /*model_required=*/false);
-    c.signal_processing = false;
+    station::SiteConfig c = station::ReadSiteConfig(path, /*model_required=*/false);
+    c.installation.signal_processing = false;
     ch.machine = station::OpenMachine(c);
     for (const auto& w : ch.machine.warnings) fmt::print(stderr, "warning: {}\n", w);
     ch.link = ch.machine.link;

@@ -7,27 +7,20 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
-#include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <thread>
 
 #include <fmt/format.h>
 
 #include "command.hpp"
-#include "trueaxis/core/input_error.hpp"
-#include "trueaxis/core/text_file.hpp"
-#include "trueaxis/model/model_json.hpp"
-#include "trueaxis/model/sha256.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
-#include "trueaxis/station/history_logger.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
-#include "trueaxis/runtime/run_config.hpp"
-#include "trueaxis/station/machine_connection.hpp"
+#include "trueaxis/station/cycle_log.hpp"
 #include "trueaxis/station/installation.hpp"
-#include "trueaxis/station/model_loading.hpp"
+#include "trueaxis/station/machine_connection.hpp"
+#include "trueaxis/station/site_config.hpp"
 #include "trueaxis/store/history_writer.hpp"
 #include "trueaxis/store/open_history_sink.hpp"
 #include "trueaxis/web/coolant_override_link.hpp"
@@ -54,115 +47,54 @@ struct Options {
   std::string iso_dir = "auto";  // laser test pairs for the web page's ISO figures
 };
 
-// A decimated CSV log of the loop: time, alarms, per axis position/correction, per channel value.
-// A run appends to the log of earlier runs (never overwrites it); a last row cut short by a
-// kill -9 is removed first, and a log with other columns is refused rather than mixed.
-class CsvLog {
- public:
-  CsvLog(const std::string& path, const runtime::Compensator& comp) {
-    for (const auto& a : comp.axes()) axis_names_.push_back(a.axis);
-    std::string header = "time_s,alarms";
-    for (const auto& a : comp.axes()) header += "," + a.axis + "_position_mm," + a.axis + "_correction_um";
-    for (const auto& ch : comp.channel_names()) header += ",t_" + ch + "_c";
-    std::error_code ec;
-    const bool existing = fs::exists(path, ec) && fs::file_size(path, ec) > 0;
-    if (existing) {
-      const std::string text = ReadTextFile(path);
-      const std::string first = text.substr(0, text.find('\n'));
-      if (first != header)
-        throw InputError(path, 1, "header",
-                         "the log has other columns (written by another configuration): move it away or name "
-                         "another [history] csv");
-      const auto last_newline = text.rfind('\n');
-      if (last_newline + 1 != text.size()) {
-        fs::resize_file(path, last_newline + 1);  // drop the row a kill -9 cut short
-        repaired_ = true;
-      }
-    }
-    out_.open(path, std::ios::app);
-    if (!out_) throw InputError(path, 0, "history.csv", "cannot open for writing");
-    if (!existing) out_ << header << "\n";
-  }
-  bool repaired() const { return repaired_; }
-  void Write(const runtime::CycleRecord& r) {
-    out_ << fmt::format("{:.3f},{}", r.time_s, runtime::RecordAlarmNames(r, axis_names_));
-    for (std::size_t i = 0; i < r.axis_count; ++i)
-      out_ << fmt::format(",{:.4f},{:.3f}", r.axes[i].cnc_position_mm, r.axes[i].output_um);
-    for (std::size_t i = 0; i < r.channel_count; ++i) out_ << fmt::format(",{:.3f}", r.temp_c[i]);
-    out_ << "\n";
-  }
-  void Flush() { out_.flush(); }
-
- private:
-  std::ofstream out_;
-  std::vector<std::string> axis_names_;
-  bool repaired_ = false;
-};
-
 void Run(const Options& o) {
   if (o.duration_given) cli::CheckSecondsOption(o.duration_s, "--duration-s", "until SIGINT/SIGTERM");
   cli::CheckSecondsOption(o.status_interval_s, "--status-interval-s", "every 50 ms");
-  runtime::RunConfig c = runtime::ReadRunConfig(o.config);
+  station::SiteConfig site = station::ReadSiteConfig(o.config);
+  station::InstallationConfig& c = site.installation;
   if (o.duration_given) c.duration_s = o.duration_s;
-  station::Machine m = station::OpenMachine(c, /*with_pipeline=*/false);  // the hardware
+  station::Machine m = station::OpenMachine(site, /*with_pipeline=*/false);  // the hardware
   for (const auto& w : m.warnings) fmt::print(stderr, "warning: {}\n", w);
   // The coolant state the compensator sees can be forced from the web page.
   web::CoolantOverrideLink link(*m.link);
   // The installation: the temperature pipeline ([signal], on by default), the compensator and the
-  // model — InputError (exit 2) on a model that does not fit the machine.
+  // model — InputError (exit 2) on a model that does not fit the machine — and its record
+  // ([history]: the history database, the CSV log).
   station::Installation installation(c, link, *m.source, m.Clock(), m.name);
   for (const auto& w : installation.warnings()) fmt::print(stderr, "warning: {}\n", w);
   runtime::Compensator* comp = &installation.compensator();
-  const station::PublishedModel first_model = installation.model();
-  const std::string& first_revision = first_model.revision;
-
-  const auto every = static_cast<std::uint64_t>(std::max(1.0, std::round(c.record_interval_s / c.period_s)));
-  runtime::CycleRecorder recorder(8192, every);
-  runtime::LoopRunner runner(*comp, link, installation.temperatures(), runtime::LoopOptions{c.period_s, c.temperature_period_s}, &recorder);
+  const double unix0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  station::CycleLog& log = installation.OpenLog(site.history, unix0);
+  for (const auto& n : log.notes()) fmt::print(stderr, "note: {}\n", n);
+  runtime::LoopRunner runner(*comp, link, installation.temperatures(), runtime::LoopOptions{c.period_s, c.temperature_period_s},
+                             &log.recorder());
   if (m.advance) runner.SetPlantAdvance(m.advance);
 
-  const double unix0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-  std::unique_ptr<store::HistoryWriter> writer;
-  std::unique_ptr<station::HistoryLogger> history;
-  std::vector<std::string> axis_names;
-  for (const auto& a : comp->axes()) axis_names.push_back(a.axis);
-  if (!c.history_db.empty()) {
-    if (!store::IsPostgresUrl(c.history_db) && fs::path(c.history_db).has_parent_path())
-      fs::create_directories(fs::path(c.history_db).parent_path());
-    writer = std::make_unique<store::HistoryWriter>(store::OpenHistorySink(c.history_db));
-    history = std::make_unique<station::HistoryLogger>(*writer, axis_names, comp->channel_names(), unix0);
-    history->LogModelChange(0, model::Sha256OfFile(c.model_file), first_revision, "loaded " + c.model_file);
-  }
   std::unique_ptr<web::RunBackend> web_backend;
   cli::WebFrontEnd web_front_end;
   cli::WebCliOptions web_options = o.web;  // the command line over the config's [web]
-  for (auto [cli_value, config_value] : {std::pair{&web_options.listen, &c.web.listen}, {&web_options.users, &c.web.users},
-                                         {&web_options.cert, &c.web.cert}, {&web_options.key, &c.web.key}})
+  for (auto [cli_value, config_value] : {std::pair{&web_options.listen, &site.web.listen}, {&web_options.users, &site.web.users},
+                                         {&web_options.cert, &site.web.cert}, {&web_options.key, &site.web.key}})
     if (cli_value->empty()) *cli_value = *config_value;
   if (!web_options.listen.empty()) {
     web::RunBackendOptions wo;
-    wo.machine_id = o.machine_id_given || c.web.machine_id.empty() ? o.machine_id : c.web.machine_id;
-    wo.machine_name = fs::path(c.virtual_machine.machine_file).stem().string();
-    if (c.machine != runtime::MachineKind::kVirtual || wo.machine_name.empty()) wo.machine_name = o.machine_id;
+    wo.machine_id = o.machine_id_given || site.web.machine_id.empty() ? o.machine_id : site.web.machine_id;
+    wo.machine_name = fs::path(site.virtual_machine.machine_file).stem().string();
+    if (site.machine != station::MachineKind::kVirtual || wo.machine_name.empty()) wo.machine_name = o.machine_id;
     // The page reads a SQLite history; a PostgreSQL history is read with psql or `history` tools.
-    if (store::IsPostgresUrl(c.history_db))
+    if (store::IsPostgresUrl(site.history.db))
       fmt::print(stderr, "warning: the web page's history and export read a SQLite history only; {} is not shown there\n",
-                 writer ? writer->path() : std::string("the PostgreSQL history"));
+                 log.writer() ? log.writer()->path() : std::string("the PostgreSQL history"));
     else
-      wo.history_db = c.history_db;
+      wo.history_db = site.history.db;
     wo.iso_dir = o.iso_dir == "auto" ? (fs::path(c.model_file).parent_path() / "day").string() : o.iso_dir;
     wo.unix0 = unix0;
-    web_backend = std::make_unique<web::RunBackend>(*comp, &link, writer.get(), wo);
-    web_backend->OnModelPublished(first_model, model::Sha256OfFile(c.model_file), c.model_file, unix0);
+    web_backend = std::make_unique<web::RunBackend>(*comp, &link, log.writer(), wo);
+    web::RunBackend* backend = web_backend.get();
+    log.Watch({[backend](const runtime::CycleRecord& r) { backend->OnRecord(r); },
+               [backend](const station::PublishedModel& model, const std::string& sha, const std::string& label,
+                         double unix_s) { backend->OnModelPublished(model, sha, label, unix_s); }});
     web_front_end = cli::StartWebFrontEnd(web_options, *web_backend);
-  }
-  std::unique_ptr<CsvLog> csv;
-  if (!c.log_csv.empty()) {
-    if (fs::path(c.log_csv).has_parent_path()) fs::create_directories(fs::path(c.log_csv).parent_path());
-    csv = std::make_unique<CsvLog>(c.log_csv, *comp);
-    if (csv->repaired())
-      fmt::print(stderr, "note: {}: its last row was cut short (the previous run was killed); removed, appending\n",
-                 c.log_csv);
   }
 
   g_stop = false;
@@ -176,40 +108,32 @@ void Run(const Options& o) {
   const auto t0 = Clock::now();
   auto next_status = t0 + std::chrono::duration<double>(o.status_interval_s);
   auto next_housekeeping = t0;
+  std::vector<std::string> axis_names;
+  for (const auto& a : comp->axes()) axis_names.push_back(a.axis);
   runtime::CycleRecord rec;
   std::string last_alarms;
   bool have_record = false;
-  auto drain = [&] {
-    while (recorder.Pop(rec)) {
-      have_record = true;
-      if (history) history->Log(rec);
-      if (web_backend) web_backend->OnRecord(rec);
-      if (csv) csv->Write(rec);
-      std::string alarms = runtime::RecordAlarmNames(rec, axis_names);  // "no_model_for_axis(Y)": which axis
-      if (alarms != last_alarms && !o.quiet)
-        fmt::print(stderr, "[{:.2f} s] alarms: {}\n", rec.time_s, alarms.empty() ? "cleared" : alarms);
-      last_alarms = std::move(alarms);
-    }
+  auto on_record = [&](const runtime::CycleRecord& r) {
+    rec = r;
+    have_record = true;
+    std::string alarms = runtime::RecordAlarmNames(r, axis_names);  // "no_model_for_axis(Y)": which axis
+    if (alarms != last_alarms && !o.quiet)
+      fmt::print(stderr, "[{:.2f} s] alarms: {}\n", r.time_s, alarms.empty() ? "cleared" : alarms);
+    last_alarms = std::move(alarms);
   };
   while (!g_stop.load()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    drain();
+    log.Drain(on_record);
     const auto now = Clock::now();
     const double elapsed = std::chrono::duration<double>(now - t0).count();
     if (now >= next_housekeeping) {
       next_housekeeping = now + std::chrono::seconds(1);
       comp->CollectRetired();
-      if (csv) csv->Flush();  // at most a second of rows lost to a kill -9
+      log.Flush();  // at most a second of CSV rows lost to a kill -9
       if (c.model_reload) {
         try {
-          if (const auto next = installation.ReloadIfChanged()) {
-            if (web_backend)
-              web_backend->OnModelPublished(*next, model::Sha256OfFile(c.model_file), "reloaded " + c.model_file,
-                                            unix0 + elapsed);
-            if (history)
-              history->LogModelChange(elapsed, model::Sha256OfFile(c.model_file), next->revision, "reloaded " + c.model_file);
-            if (!o.quiet) fmt::print(stderr, "[{:.2f} s] model reloaded from {} (ramping to it)\n", elapsed, c.model_file);
-          }
+          if (installation.ReloadIfChanged() && !o.quiet)
+            fmt::print(stderr, "[{:.2f} s] model reloaded from {} (ramping to it)\n", elapsed, c.model_file);
         } catch (const std::exception& e) {
           fmt::print(stderr, "[{:.2f} s] model NOT reloaded, keeping the running one: {}\n", elapsed, e.what());
         }
@@ -227,17 +151,15 @@ void Run(const Options& o) {
   if (web_front_end.server) web_front_end.server->Stop();
   runner.Stop();
   m.Close();
-  drain();
+  log.Drain(on_record);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
-  if (csv) csv->Flush();
+  log.Close();
   const auto stats = runner.Stats();
   fmt::print("{}\n", stats.BriefReport());
-  if (recorder.Dropped()) fmt::print("log records dropped (consumer too slow): {}\n", recorder.Dropped());
-  if (writer) {
-    writer->Close();
-    fmt::print("history: {} ({})\n", writer->path(), writer->Stats().BriefReport());  // path(): a URL without its password
-  }
+  if (log.Dropped()) fmt::print("log records dropped (consumer too slow): {}\n", log.Dropped());
+  if (const store::HistoryWriter* writer = log.writer())  // path(): a URL without its password
+    fmt::print("history: {} ({})\n", writer->path(), writer->Stats().BriefReport());
 }
 
 void Setup(CLI::App& app) {

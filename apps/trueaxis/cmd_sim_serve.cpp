@@ -103,7 +103,7 @@ void RunServe(const ServeOptions& o) {
   const auto coolant = ParseCoolantState(o.coolant);
   if (!coolant) throw InputError("command line", 0, "--coolant", "'" + o.coolant + "' is not one of off, flood, mist, air");
 
-  runtime::VirtualMachineConfig vc;
+  station::VirtualMachineConfig vc;
   vc.machine_file = o.machine;
   vc.seed = o.seed;
   vc.time_scale = o.time_scale;

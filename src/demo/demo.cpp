@@ -24,7 +24,7 @@
 #include "trueaxis/model/sha256.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/cycle_recorder.hpp"
-#include "trueaxis/station/history_logger.hpp"
+#include "trueaxis/station/cycle_log.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
 #include "trueaxis/sim/ambient_profile.hpp"
 #include "trueaxis/sim/campaign.hpp"
@@ -35,7 +35,6 @@
 #include "trueaxis/sim/machine_log.hpp"
 #include "trueaxis/sim/machine_description.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
-#include "trueaxis/store/history_writer.hpp"
 #include "demo_report.hpp"
 
 namespace trueaxis::demo {
@@ -157,11 +156,11 @@ double MeanSensor(const measure::Measurement& m, const std::string& name) {
   return n ? sum / n : std::nan("");
 }
 
-// Samples the day once per minute of machine time, and writes the history database.
+// Samples the day once per minute of machine time, and writes those cycles to the installation's
+// record (station::CycleLog: the history database, as `run` writes it).
 class DayObserver : public runtime::CycleObserver {
  public:
-  DayObserver(sim::VirtualMachine& vm, DemoResult& result, station::HistoryLogger* history)
-      : vm_(vm), result_(result), history_(history) {}
+  DayObserver(sim::VirtualMachine& vm, DemoResult& result, station::CycleLog* log) : vm_(vm), result_(result), log_(log) {}
   void OnCycle(const runtime::CycleStatus& s) override {
     alarms_ |= s.alarms;
     ++result_.day_cycles;
@@ -198,10 +197,10 @@ class DayObserver : public runtime::CycleObserver {
     d.alarms = s.alarms;
     d.other_day = other_day_;
     result_.day.push_back(std::move(d));
-    if (history_) {
+    if (log_) {
       runtime::FillRecord(s, record_);
       record_.time_s = vm_.UnixTimeS();
-      history_->Log(record_);
+      log_->Log(record_);
     }
   }
   void SetDayStart(double t_s, bool other_day) {
@@ -220,7 +219,7 @@ class DayObserver : public runtime::CycleObserver {
   double last_cycle_unix_s_ = 0;
   sim::VirtualMachine& vm_;
   DemoResult& result_;
-  station::HistoryLogger* history_;
+  station::CycleLog* log_;
   runtime::CycleRecord record_;
   double day_start_s_ = 0, next_sample_s_ = 0;
   bool other_day_ = false;
@@ -243,7 +242,7 @@ class WorkingDay {
  public:
   WorkingDay(const sim::MachineDescription& md, const DemoOptions& o, const sim::LaserOptions& laser,
              std::shared_ptr<const model::CompositeModel> model, const std::string& model_label, DemoResult& result,
-             store::HistoryWriter* writer)
+             const station::HistoryConfig& history)
       : o_(o),
         result_(result),
         vm_(md, o.seed + 1000),  // another run of the same machine: the day is held out from the fit
@@ -281,7 +280,7 @@ class WorkingDay {
       source = temp_client_.get();
     }
     // The installation: the one temperature pipeline (timed by the machine's clock), the compensator.
-    runtime::RunConfig rc;
+    station::InstallationConfig rc;
     rc.source = "demo";
     rc.compensator = o.compensator;
     rc.axes = interfaces;
@@ -291,8 +290,9 @@ class WorkingDay {
                                                   : "; temperatures judged unfiltered by signal::MonitoredTemperatureSource";
     installation_ = std::make_unique<station::Installation>(rc, *link, *source, [this] { return vm_.TimeS(); }, "");
     comp_ = &installation_->compensator();
-    if (writer) history_ = std::make_unique<station::HistoryLogger>(*writer, all_axes_, result_.channel_names);
-    observer_ = std::make_unique<DayObserver>(vm_, result_, history_.get());
+    // Its record: the history database; the day's records carry their Unix time (time 0 = 1970).
+    if (!history.db.empty()) installation_->OpenLog(history, 0);
+    observer_ = std::make_unique<DayObserver>(vm_, result_, installation_->log());
     runner_ = std::make_unique<runtime::LoopRunner>(*comp_, *link, installation_->temperatures(), runtime::LoopOptions{o.period_s},
                                                     observer_.get());
     advance_ = [this](double dt) { vm_.Advance(dt); };
@@ -300,8 +300,8 @@ class WorkingDay {
     installation_->Publish(station::PublishedModel{revision, std::move(model), {}}, model_label);
   }
 
-  // `model_loaded(unix_s)` is told when the day starts with the model in force.
-  void Run(const std::vector<std::string>& axes, const std::function<void(double)>& model_loaded) {
+  // The model in force is recorded (history: `note`, file SHA-256 `model_sha`) when the day starts.
+  void Run(const std::vector<std::string>& axes, const std::string& model_sha, const std::string& note) {
     const bool fast = o_.fast;  // fast: fewer states measured (the machine time is cheap)
     // The working day starts at 07:00, `day_offset` days after the campaign's first day.
     IdleUntil(o_.day_offset * 86400.0);
@@ -311,7 +311,8 @@ class WorkingDay {
     machine_log_ = sim::MachineLogHeader(vm_);
     vm_.SetLogger(30, [this](const sim::VirtualMachine& vm) { machine_log_ += sim::MachineLogRow(vm); });
     ScheduleDayFaults();
-    if (model_loaded) model_loaded(vm_.UnixTimeS());
+    if (station::CycleLog* log = installation_->log())
+      log->ModelPublished(installation_->model(), model_sha, note, note, vm_.UnixTimeS());
     Progress(fmt::format("working day {}: machine cold, compensator running every {:.0f} ms", vm_.IsoTime(), o_.period_s * 1000));
     Step(60);
     MeasureState("cold", axes);
@@ -344,6 +345,10 @@ class WorkingDay {
     result_.alarm_summary = observer_->AlarmSummary();
     vm_.SetLogger(0, nullptr);
     WriteTextFile((std::filesystem::path(result_.out_dir) / "day" / "machine_log.csv").string(), machine_log_);
+  }
+
+  void CloseLog() {
+    if (station::CycleLog* log = installation_->log()) log->Close();
   }
 
   ~WorkingDay() {
@@ -384,7 +389,7 @@ class WorkingDay {
       if (o_.modbus_port) break;
     }
     if (!server_) throw std::runtime_error("demo: cannot start the MODBUS terminal on 127.0.0.1: " + error);
-    runtime::ModbusConfig mc;
+    station::ModbusConfig mc;
     mc.port = port;
     mc.response_timeout_s = 0.5;
     mc.cnc_unit_id = so.pmc_unit_id;
@@ -548,7 +553,6 @@ class WorkingDay {
   std::vector<std::string> all_axes_;
   std::unique_ptr<station::Installation> installation_;
   runtime::Compensator* comp_ = nullptr;
-  std::unique_ptr<station::HistoryLogger> history_;
   std::string machine_log_;
   std::unique_ptr<DayObserver> observer_;
   std::unique_ptr<runtime::LoopRunner> runner_;
@@ -680,13 +684,12 @@ DemoResult RunDemo(const DemoOptions& o) {
   std::error_code ec;
   for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(result.history_path + suffix, ec);
   {
-    store::HistoryWriter writer(result.history_path);
     sim::LaserOptions laser = c.laser;
-    WorkingDay day(md, o, laser, std::make_shared<const model::CompositeModel>(fit.model), result.model_path, result, &writer);
-    day.Run(axes, [&](double unix_s) {
-      writer.PushModelChange(unix_s, model_sha, std::to_string(fit.model.revision), "demo: fitted from " + result.campaign_dir);
-    });
-    writer.Close();
+    station::HistoryConfig history;
+    history.db = result.history_path;
+    WorkingDay day(md, o, laser, std::make_shared<const model::CompositeModel>(fit.model), result.model_path, result, history);
+    day.Run(axes, model_sha, "demo: fitted from " + result.campaign_dir);
+    day.CloseLog();
   }
   result.day_wall_s = since(t_day);
 

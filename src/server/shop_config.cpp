@@ -14,15 +14,12 @@
 #include "trueaxis/store/open_history_sink.hpp"
 #include "trueaxis/core/toml_reader.hpp"
 #include "trueaxis/drivers/pmc_window_map.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/runtime/compensator_tables.hpp"
 
 namespace trueaxis::server {
 namespace {
 
-std::string Resolve(const std::string& base_dir, const std::string& p) {
-  if (p.empty() || std::filesystem::path(p).is_absolute() || base_dir.empty()) return p;
-  return (std::filesystem::path(base_dir) / p).lexically_normal().string();
-}
+using station::ResolveConfigPath;
 
 bool ValidName(const std::string& n) {
   if (n.empty() || n.size() > 31) return false;
@@ -40,9 +37,9 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
   const std::string base = std::filesystem::path(source).parent_path().string();
   TomlTableReader r(root, source, "");
   // A PostgreSQL URL is kept as written; a file name resolves against the shop file's folder.
-  if (r.String("history", c.history) && !store::IsPostgresUrl(c.history)) c.history = Resolve(base, c.history);
+  if (r.String("history", c.history) && !store::IsPostgresUrl(c.history)) c.history = ResolveConfigPath(base, c.history);
   if (r.String("audit_log", c.audit_log)) {
-    c.audit_log = Resolve(base, c.audit_log);
+    c.audit_log = ResolveConfigPath(base, c.audit_log);
     c.audit_log_line = r.Line(r.Node("audit_log"));
   }
   if (c.audit_log.empty() && !c.history.empty()) {
@@ -88,7 +85,6 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
     TomlTableReader m(t, source, fmt::format("machine[{}]", i));
     MachineConfig mc;
     mc.line = m.Line(&t);
-    mc.compensator = defaults;
     m.String("name", mc.name, true);
     if (!ValidName(mc.name))
       m.Fail("name", t.get("name"), "must be 1–31 characters of A–Z a–z 0–9 _ - . (it prefixes the history names)");
@@ -108,7 +104,7 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
       m.Fail("axes", t.get("axes"), fmt::format("must list 1..{} axes (the PMC window's order)", drivers::pmc::kMaxAxes));
     // One name for two inputs would mix two sensors in the history and the model's reading.
     m.UniqueStrings("rtd_channels", mc.channels, "channel");
-    if (m.String("model", mc.model_file, true)) mc.model_file = Resolve(base, mc.model_file);
+    if (m.String("model", mc.model_file, true)) mc.model_file = ResolveConfigPath(base, mc.model_file);
     m.Double("period_s", mc.period_s, 1e-3, 60);
     m.Double("temperature_period_s", mc.temperature_period_s, 1e-3, 600);
     if (t.get("temperature_period_s") && mc.temperature_period_s < mc.period_s)
@@ -121,11 +117,12 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
     m.Double("max_backoff_s", mc.max_backoff_s, 1e-3, 3600);
     if (mc.max_backoff_s < mc.min_backoff_s) m.Fail("max_backoff_s", t.get("max_backoff_s"), "must be at least min_backoff_s");
     std::vector<runtime::AxisInterface> axes;
-    runtime::ReadCompensatorTables(m, mc.period_s, mc.compensator, axes);
+    station::InstallationConfig& run = mc.installation;
+    run.compensator = defaults;  // the shop's, overridden key by key
+    runtime::ReadCompensatorTables(m, mc.period_s, run.compensator, axes);
     // The machine's temperature pipeline and data-driven thermal models, as `run` reads them.
-    runtime::RunConfig& run = mc.installation;
-    runtime::ReadThermalChannels(m, run);
-    runtime::ReadSignalTable(m, base, run);
+    station::ReadThermalChannels(m, run);
+    station::ReadSignalTable(m, base, run);
     m.RejectUnknown();
     for (const auto& name : mc.axes) {
       runtime::AxisInterface a;
@@ -138,26 +135,13 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
       if (std::find(mc.axes.begin(), mc.axes.end(), given.axis) == mc.axes.end())
         m.Fail("axis", t.get("axis"), fmt::format("axis '{}' is not one of the machine's axes", given.axis));
     std::string why;
-    if (!mc.compensator.IsValid(&why)) throw InputError(source, mc.line, m.Key("limits"), why);
+    if (!run.compensator.IsValid(&why)) throw InputError(source, mc.line, m.Key("limits"), why);
     run.source = source;
-    run.machine = runtime::MachineKind::kModbus;
     run.model_file = mc.model_file;
     run.lines["model.file"] = m.Line(t.get("model"));
     run.period_s = mc.period_s;
     run.temperature_period_s = mc.temperature_period_s;
-    // The machine's limits, with the judge's disagreement limit its [machine.signal] table gave.
-    const double max_disagreement_c = run.compensator.sensor.judge.max_disagreement_c;
-    run.compensator = mc.compensator;
-    run.compensator.sensor.judge.max_disagreement_c = max_disagreement_c;
-    mc.compensator.sensor.judge.max_disagreement_c = max_disagreement_c;
     run.axes = mc.axis_interfaces;
-    run.modbus.host = mc.host;
-    run.modbus.port = mc.port;
-    run.modbus.cnc_unit_id = mc.pmc_unit_id;
-    run.modbus.first_rtd_unit_id = mc.first_rtd_unit_id;
-    run.modbus.axis_names = mc.axes;
-    run.modbus.channel_names = mc.channels;
-    run.modbus.response_timeout_s = mc.response_timeout_s;
     c.machines.push_back(std::move(mc));
   }
   r.RejectUnknown();

@@ -1,14 +1,16 @@
 #include "trueaxis/station/installation.hpp"
 
+#include <chrono>
 #include <filesystem>
 
+#include "trueaxis/model/sha256.hpp"
 #include "trueaxis/station/machine_connection.hpp"
 
 namespace trueaxis::station {
 
 namespace fs = std::filesystem;
 
-Installation::Installation(runtime::RunConfig config, hw::CncLink& link, hw::TemperatureSource& raw_temperatures,
+Installation::Installation(InstallationConfig config, hw::CncLink& link, hw::TemperatureSource& raw_temperatures,
                            std::function<double()> clock_s, std::string machine_name)
     : config_(std::move(config)), link_(link), raw_(raw_temperatures), machine_name_(std::move(machine_name)) {
   // Always judged; [signal] enabled = false only turns the filter off (MakeTemperaturePipeline).
@@ -48,7 +50,23 @@ std::optional<PublishedModel> Installation::ReloadIfChanged() {
   const auto mtime = fs::last_write_time(config_.model_file, ec);
   if (ec || (model_mtime_ && mtime == *model_mtime_)) return std::nullopt;
   model_mtime_ = mtime;  // a refused file is not tried again until it changes again
-  return LoadModel(config_.model_file);
+  const PublishedModel& next = LoadModel(config_.model_file);
+  if (log_) {
+    const double unix_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+    const std::string note = "reloaded " + config_.model_file;
+    log_->ModelPublished(next, model::Sha256OfFile(config_.model_file), note, note, unix_s);
+  }
+  return next;
+}
+
+CycleLog& Installation::OpenLog(const HistoryConfig& history, double unix0) {
+  std::vector<std::string> axis_names;
+  for (const auto& a : compensator_->axes()) axis_names.push_back(a.axis);
+  log_ = std::make_unique<CycleLog>(history, std::move(axis_names), compensator_->channel_names(), config_.period_s, unix0);
+  if (!config_.model_file.empty())
+    log_->ModelPublished(model_, model::Sha256OfFile(config_.model_file), "loaded " + config_.model_file,
+                         config_.model_file, unix0);
+  return *log_;
 }
 
 }  // namespace trueaxis::station

@@ -13,7 +13,7 @@
 
 namespace trueaxis::station {
 
-ModbusClients MakeModbusClients(const runtime::ModbusConfig& b, const std::string& source,
+ModbusClients MakeModbusClients(const ModbusConfig& b, const std::string& source,
                                 double heartbeat_stale_after_s) {
   drivers::ModbusEndpoint ep;
   ep.host = b.host;
@@ -38,17 +38,11 @@ ModbusClients MakeModbusClients(const runtime::ModbusConfig& b, const std::strin
   return c;
 }
 
-signal::MonitorOptions MonitorOptionsFor(const runtime::SensorFaultPolicy& policy) {
-  signal::MonitorOptions o;
-  o.faults = policy.judge;
-  return o;
-}
-
 namespace {
 
-void OpenVirtual(const runtime::RunConfig& c, Machine& m) {
+void OpenVirtual(const SiteConfig& c, Machine& m) {
   const auto& v = c.virtual_machine;
-  c.RequireFile("machine.file", v.machine_file);
+  c.installation.RequireFile("machine.file", v.machine_file);
   m.vm = OpenVirtualMachine(v);
   m.name = m.vm->description().name;
   sim::VirtualMachine* vm = m.vm.get();
@@ -60,7 +54,7 @@ void OpenVirtual(const runtime::RunConfig& c, Machine& m) {
                               v.seed, v.time_scale);
 }
 
-void OpenModbus(const runtime::RunConfig& c, Machine& m) {
+void OpenModbus(const SiteConfig& c, Machine& m) {
   const auto& b = c.modbus;
   // The PMC window and the RTD modules share one terminal: their unit ids must differ and stay
   // within MODBUS's 247 (the RTD modules hold 7 channels each, unit ids from first_rtd_unit_id).
@@ -68,20 +62,20 @@ void OpenModbus(const runtime::RunConfig& c, Machine& m) {
   const std::vector<int> rtd_units =
       b.channel_names.empty() ? std::vector<int>{} : drivers::RtdModuleUnitIds(b.first_rtd_unit_id, b.channel_names.size());
   if (!rtd_units.empty() && rtd_units.back() > 247)
-    throw InputError(c.source, c.LineOf("machine.first_rtd_unit_id"), "machine.first_rtd_unit_id",
+    throw InputError(c.source(), c.LineOf("machine.first_rtd_unit_id"), "machine.first_rtd_unit_id",
                      fmt::format("{} channels need {} RTD modules: unit ids {}..{} go beyond 247", b.channel_names.size(),
                                  rtd_units.size(), rtd_units.front(), rtd_units.back()));
   if (std::find(rtd_units.begin(), rtd_units.end(), b.cnc_unit_id) != rtd_units.end())
-    throw InputError(c.source, c.LineOf("machine.cnc_unit_id"), "machine.cnc_unit_id",
+    throw InputError(c.source(), c.LineOf("machine.cnc_unit_id"), "machine.cnc_unit_id",
                      fmt::format("{} is also an RTD module's unit id ({}..{} from first_rtd_unit_id)", b.cnc_unit_id,
                                  rtd_units.front(), rtd_units.back()));
-  m.modbus = MakeModbusClients(b, c.source);
+  m.modbus = MakeModbusClients(b, c.source());
   m.name = b.machine_name;
   // The hardware lifecycle: configure (options), activate (connect; a terminal not reachable yet is
   // a warning — its Read/Write fail and retry on their own).
   std::string why;
   if (!m.modbus.cnc->Configure(&why) || (m.modbus.temperatures && !m.modbus.temperatures->Configure(&why)))
-    throw InputError(c.source, 0, "machine", why);
+    throw InputError(c.source(), 0, "machine", why);
   if (!m.modbus.cnc->Activate(&why))
     m.warnings.push_back(fmt::format("CNC terminal {}:{} not reachable yet ({}); the loop keeps trying", b.host, b.port, why));
   if (m.modbus.temperatures && !m.modbus.temperatures->Activate(&why))
@@ -110,13 +104,10 @@ std::function<double()> Machine::Clock() const {
   return [t0] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
 }
 
-std::unique_ptr<signal::MonitoredTemperatureSource> MakeTemperaturePipeline(const runtime::RunConfig& c,
+std::unique_ptr<signal::MonitoredTemperatureSource> MakeTemperaturePipeline(const InstallationConfig& c,
                                                                             hw::TemperatureSource& raw,
                                                                             std::function<double()> clock_s,
                                                                             std::vector<std::string>* warnings) {
-  signal::MonitorOptions mo = MonitorOptionsFor(c.compensator.sensor);
-  mo.neighbour_groups = c.redundant_groups;
-  if (!c.signal_processing) mo.filter = signal::FilterOptions::PassThrough();  // judged all the same
   std::vector<std::string> channels;
   for (std::size_t i = 0; i < raw.ChannelCount(); ++i) channels.push_back(raw.ChannelName(i));
   for (const auto& group : c.redundant_groups)
@@ -124,7 +115,7 @@ std::unique_ptr<signal::MonitoredTemperatureSource> MakeTemperaturePipeline(cons
       if (std::find(channels.begin(), channels.end(), name) == channels.end())
         throw InputError(c.source, c.redundant_groups_line, "signal.groups",
                          fmt::format("'{}' is not a temperature channel of the machine ({})", name, fmt::join(channels, ", ")));
-  auto pipeline = std::make_unique<signal::MonitoredTemperatureSource>(raw, mo, std::move(clock_s));
+  auto pipeline = std::make_unique<signal::MonitoredTemperatureSource>(raw, TemperatureJudgeOptions(c), std::move(clock_s));
   if (!c.calibration_file.empty()) {
     c.RequireFile("signal.calibration", c.calibration_file);
     for (const auto& name : pipeline->monitor().SetCalibration(signal::ReadCalibrationFile(c.calibration_file)))
@@ -133,12 +124,12 @@ std::unique_ptr<signal::MonitoredTemperatureSource> MakeTemperaturePipeline(cons
   return pipeline;
 }
 
-Machine OpenMachine(const runtime::RunConfig& c, bool with_pipeline) {
+Machine OpenMachine(const SiteConfig& c, bool with_pipeline) {
   Machine m;
-  if (c.machine == runtime::MachineKind::kVirtual) OpenVirtual(c, m);
+  if (c.machine == MachineKind::kVirtual) OpenVirtual(c, m);
   else OpenModbus(c, m);
-  for (std::size_t k = 0; k < c.axes.size(); ++k) {
-    const auto& a = c.axes[k];
+  for (std::size_t k = 0; k < c.installation.axes.size(); ++k) {
+    const auto& a = c.installation.axes[k];
     bool found = false;
     std::vector<std::string> names;
     for (std::size_t i = 0; i < m.link->AxisCount(); ++i) {
@@ -147,10 +138,10 @@ Machine OpenMachine(const runtime::RunConfig& c, bool with_pipeline) {
     }
     const std::string key = fmt::format("axis[{}].name", k);
     if (!found)
-      throw InputError(c.source, c.LineOf(key), key,
+      throw InputError(c.source(), c.LineOf(key), key,
                        fmt::format("the machine has no axis '{}' (its axes: {})", a.axis, fmt::join(names, ", ")));
   }
-  if (with_pipeline) m.monitored = MakeTemperaturePipeline(c, *m.source, m.Clock(), &m.warnings);
+  if (with_pipeline) m.monitored = MakeTemperaturePipeline(c.installation, *m.source, m.Clock(), &m.warnings);
   return m;
 }
 

@@ -36,7 +36,7 @@ std::optional<std::string> ModelMachineMismatch(const model::CompositeModel& m, 
   return std::nullopt;
 }
 
-PublishedModel ReadModelFor(const runtime::Compensator& comp, const runtime::RunConfig& c, const std::string& machine_name,
+PublishedModel ReadModelFor(const runtime::Compensator& comp, const InstallationConfig& c, const std::string& machine_name,
                             const std::string& model_file) {
   const bool configured = model_file == c.model_file;  // errors of the model a config names point at its line
   if (configured) c.RequireFile("model.file", model_file);
@@ -62,7 +62,7 @@ PublishedModel ReadModelFor(const runtime::Compensator& comp, const runtime::Run
   return published;
 }
 
-PublishedModel PublishModelFile(runtime::Compensator& comp, const runtime::RunConfig& c, const std::string& machine_name) {
+PublishedModel PublishModelFile(runtime::Compensator& comp, const InstallationConfig& c, const std::string& machine_name) {
   PublishedModel published = ReadModelFor(comp, c, machine_name, c.model_file);
   PublishTo(comp, published, c.model_file);
   return published;

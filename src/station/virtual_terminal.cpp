@@ -14,7 +14,7 @@
 
 namespace trueaxis::station {
 
-void StartProgram(sim::VirtualMachine& vm, const runtime::VirtualMachineConfig& v) {
+void StartProgram(sim::VirtualMachine& vm, const VirtualMachineConfig& v) {
   if (!v.reciprocate) return;
   for (std::size_t i = 0; i < vm.AxisCount(); ++i) {
     const double travel = vm.description().axes[i].travel_mm;
@@ -22,14 +22,14 @@ void StartProgram(sim::VirtualMachine& vm, const runtime::VirtualMachineConfig& 
   }
 }
 
-std::unique_ptr<sim::VirtualMachine> OpenVirtualMachine(const runtime::VirtualMachineConfig& v) {
+std::unique_ptr<sim::VirtualMachine> OpenVirtualMachine(const VirtualMachineConfig& v) {
   auto vm = std::make_unique<sim::VirtualMachine>(sim::ReadMachineFile(v.machine_file), v.seed);
   StartProgram(*vm, v);
   vm->SetCoolant(v.coolant);
   return vm;
 }
 
-VirtualTerminal::VirtualTerminal(const runtime::VirtualMachineConfig& config, drivers::ModbusMachineServerOptions server)
+VirtualTerminal::VirtualTerminal(const VirtualMachineConfig& config, drivers::ModbusMachineServerOptions server)
     : config_(config), vm_(OpenVirtualMachine(config)) {
   for (std::size_t a = 0; a < vm_->AxisCount(); ++a) axis_names_.push_back(vm_->AxisName(a));
   for (std::size_t c = 0; c < vm_->ChannelCount(); ++c) channel_names_.push_back(vm_->ChannelName(c));

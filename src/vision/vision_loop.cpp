@@ -23,7 +23,7 @@ VisionLoopResult RunVisionLoop(const MarkerDescription& marker, const CameraMode
   const auto z = static_cast<std::size_t>(zi);
   // The machine installation `run` uses, without a model: the camera's Δz is the only term (the
   // temperatures are judged all the same; nothing here computes with them, so no filter).
-  runtime::RunConfig installation_config;
+  station::InstallationConfig installation_config;
   installation_config.source = "vision run";
   installation_config.compensator = loop.compensator;
   installation_config.signal_processing = false;

@@ -103,6 +103,26 @@ def analyze_a(cli, path):
 CAMPAIGN_SENSORS_C = {"x_nut": 20.0, "x_bearing": 20.5, "ambient": 19.5}  # sim/trueaxis_campaign.toml's channels
 
 
+def check_history(path, model_file, figures):
+    """trueaxis-hal's [history]: X's corrections while LinuxCNC ran and the model it loaded."""
+    import sqlite3
+    if not os.path.exists(path):
+        return [f"no history database {path} (trueaxis-hal with [history] db)"]
+    db = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+    rows = db.execute("SELECT COUNT(*), MAX(ABS(c.correction_um)) FROM compensation c JOIN axis a ON a.id = c.axis_id "
+                      "WHERE a.name = 'X'").fetchone()
+    notes = [r[0] for r in db.execute("SELECT note FROM model_change")]
+    figures["history_x_rows"], figures["history_x_max_correction_um"] = rows[0], rows[1]
+    failures = []
+    if not rows[0] or rows[0] < 10:
+        failures.append(f"history: {rows[0]} compensation rows of X (a record every 0.1 s while LinuxCNC ran)")
+    elif not rows[1] or rows[1] <= 0:
+        failures.append("history: X's corrections are all zero (the model compensates X)")
+    if notes != ["loaded " + model_file]:
+        failures.append(f"history: model changes {notes}, expected the model loaded at start")
+    return failures
+
+
 def check_campaign_log(cli, campaign_dir, figures):
     """The log trueaxis-hal --campaign wrote while the driver moved X: the fit's layout (the header of
     `trueaxis campaign log`), X's positions and travelled path, the coolant and the temperature pins as
@@ -196,6 +216,15 @@ def main():
                TRUEAXIS_RUN_CONFIG=os.path.join(HERE, "sim/trueaxis_run.toml"), TRUEAXIS_TEMPERATURES="hal",
                TRUEAXIS_HAL_EXTRA="")
     terminal = None
+    history_db = None
+    if a.scenario == "hal":
+        # With [history], as `run`: the installation records its cycles and the model it loaded.
+        history_db = os.path.join(work, "history.sqlite")
+        run_config = os.path.join(work, "hal_run.toml")
+        text = open(os.path.join(HERE, "sim/trueaxis_run.toml")).read()
+        text = text.replace('file = "../../export/golden/example_model.json"', f'file = "{env["TRUEAXIS_MODEL"]}"')
+        open(run_config, "w").write(text + f'\n[history]\ndb = "{history_db}"\nrecord_interval_s = 0.1\n')
+        env["TRUEAXIS_RUN_CONFIG"] = run_config
     if a.scenario == "compfile":
         ini = ini_without_trueaxis(ini)
         comp = os.path.join(config, "x.comp")
@@ -314,6 +343,8 @@ def main():
                 if abs(lc[n][0] - ref[n][0]) > tol:
                     result["failures"].append(f"A {n}: LinuxCNC {lc[n][0]:.2f} µm vs in process {ref[n][0]:.2f} µm differ "
                                               f"by more than the repeatability {tol:.2f} µm")
+    if history_db:
+        result["failures"] += check_history(history_db, env["TRUEAXIS_MODEL"], result["figures"])
     if a.scenario == "campaign":
         result["failures"] += check_campaign_log(a.cli, campaign_dir, result["figures"])
         if "X: no cold test yet (campaign add" not in output:  # the warm-up watch, live in LinuxCNC's output

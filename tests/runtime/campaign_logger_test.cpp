@@ -12,7 +12,7 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/core/text_file.hpp"
 #include "trueaxis/measure/campaign_log.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/site_config.hpp"
 #include "trueaxis/station/campaign_logger.hpp"
 
 namespace trueaxis::station {
@@ -87,10 +87,10 @@ TEST(CampaignLogger, RefusesALogOfOtherChannels) {
 
 TEST(CampaignLogger, ARunConfigWithoutAModelIsReadForTheLog) {
   const std::string text = "[machine]\nkind = \"modbus\"\naxes = [\"X\"]\nchannels = [\"x_nut\"]\n";
-  EXPECT_THROW(runtime::ParseRunConfig(text, "c.toml"), InputError);
-  const auto c = runtime::ParseRunConfig(text, "c.toml", /*model_required=*/false);
+  EXPECT_THROW(station::ParseSiteConfig(text, "c.toml"), InputError);
+  const auto c = station::ParseSiteConfig(text, "c.toml", /*model_required=*/false);
   EXPECT_EQ(c.modbus.channel_names, std::vector<std::string>{"x_nut"});
-  EXPECT_TRUE(c.model_file.empty());
+  EXPECT_TRUE(c.installation.model_file.empty());
 }
 
 }  // namespace

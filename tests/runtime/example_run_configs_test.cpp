@@ -9,9 +9,9 @@
 #include <gtest/gtest.h>
 
 #include "trueaxis/core/input_error.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/site_config.hpp"
 
-namespace trueaxis::runtime {
+namespace trueaxis::station {
 namespace {
 namespace fs = std::filesystem;
 
@@ -33,9 +33,9 @@ TEST(ExampleRunConfigs, EveryOneIsReadByTheRealReader) {
   for (const auto& p : configs) {
     SCOPED_TRACE(p.string());
     try {
-      const RunConfig c = ReadRunConfig(p.string());
-      EXPECT_FALSE(c.model_file.empty());
-      EXPECT_GT(c.period_s, 0);
+      const SiteConfig c = ReadSiteConfig(p.string());
+      EXPECT_FALSE(c.installation.model_file.empty());
+      EXPECT_GT(c.installation.period_s, 0);
       if (c.machine == MachineKind::kModbus) EXPECT_FALSE(c.modbus.axis_names.empty());
     } catch (const InputError& e) {
       ADD_FAILURE() << e.what();
@@ -46,15 +46,15 @@ TEST(ExampleRunConfigs, EveryOneIsReadByTheRealReader) {
 // The LinuxCNC example says what it says in its comments: three axes with 0.1 µm counts, the
 // terminal's channels, the direction threshold.
 TEST(ExampleRunConfigs, LinuxCncExampleMeansWhatItsCommentsSay) {
-  const RunConfig c = ReadRunConfig(std::string(TRUEAXIS_SOURCE_DIR) + "/examples/run/linuxcnc.toml");
+  const SiteConfig c = ReadSiteConfig(std::string(TRUEAXIS_SOURCE_DIR) + "/examples/run/linuxcnc.toml");
   EXPECT_EQ(c.machine, MachineKind::kModbus);
   EXPECT_EQ(c.modbus.axis_names, (std::vector<std::string>{"X", "Y", "Z"}));
-  ASSERT_EQ(c.axes.size(), 3u);
-  for (const auto& a : c.axes) EXPECT_DOUBLE_EQ(a.pulse_equivalent_um, 0.1) << a.axis;
-  EXPECT_DOUBLE_EQ(c.period_s, 0.005);
-  EXPECT_DOUBLE_EQ(c.compensator.direction_min_move_um, 2.0);
+  ASSERT_EQ(c.installation.axes.size(), 3u);
+  for (const auto& a : c.installation.axes) EXPECT_DOUBLE_EQ(a.pulse_equivalent_um, 0.1) << a.axis;
+  EXPECT_DOUBLE_EQ(c.installation.period_s, 0.005);
+  EXPECT_DOUBLE_EQ(c.installation.compensator.direction_min_move_um, 2.0);
   EXPECT_NE(std::find(c.modbus.channel_names.begin(), c.modbus.channel_names.end(), "ambient"), c.modbus.channel_names.end());
 }
 
 }  // namespace
-}  // namespace trueaxis::runtime
+}  // namespace trueaxis::station

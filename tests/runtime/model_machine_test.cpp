@@ -12,7 +12,7 @@
 #include "trueaxis/model/composite_model.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/runtime/compensator.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/site_config.hpp"
 #include "trueaxis/station/model_loading.hpp"
 
 namespace trueaxis::station {
@@ -56,17 +56,18 @@ TEST(ModelMachine, PublishRefusesAModelOfAnotherMachineNamingTheConfigLine) {
   const std::string config_text = "[machine]\nkind = \"modbus\"\nname = \"VMC-850\"\naxes = [\"X\", \"Z\"]\n"
                                   "channels = [\"x_nut\"]\n[model]\nfile = \"model.json\"\n";
   const std::string source = (dir / "run.toml").string();
-  const runtime::RunConfig c = runtime::ParseRunConfig(config_text, source);
-  EXPECT_EQ(c.modbus.machine_name, "VMC-850");
+  const SiteConfig site = ParseSiteConfig(config_text, source);
+  const InstallationConfig& c = site.installation;
+  EXPECT_EQ(site.modbus.machine_name, "VMC-850");
   runtime::Compensator comp(runtime::CompensatorOptions{}, {runtime::AxisInterface{"X"}, runtime::AxisInterface{"Z"}},
                             {"x_nut"});
 
   model::WriteModelFile(XModel("VMC-850"), (dir / "model.json").string());
-  EXPECT_NO_THROW(PublishModelFile(comp, c, c.modbus.machine_name));
+  EXPECT_NO_THROW(PublishModelFile(comp, c, site.modbus.machine_name));
 
   model::WriteModelFile(XModel("TC-620"), (dir / "model.json").string());  // the reload of a lathe's model
   try {
-    PublishModelFile(comp, c, c.modbus.machine_name);
+    PublishModelFile(comp, c, site.modbus.machine_name);
     ADD_FAILURE() << "a model of machine TC-620 was published on VMC-850";
   } catch (const InputError& e) {
     EXPECT_EQ(e.source(), source);
@@ -77,7 +78,7 @@ TEST(ModelMachine, PublishRefusesAModelOfAnotherMachineNamingTheConfigLine) {
 
   model::WriteModelFile(XModel("VMC-850", "Y"), (dir / "model.json").string());  // the machine has no Y
   try {
-    PublishModelFile(comp, c, c.modbus.machine_name);
+    PublishModelFile(comp, c, site.modbus.machine_name);
     ADD_FAILURE() << "a model of axis Y was published on a machine with X and Z";
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "model.file") << e.what();
@@ -86,7 +87,7 @@ TEST(ModelMachine, PublishRefusesAModelOfAnotherMachineNamingTheConfigLine) {
 
   fs::remove(dir / "model.json");
   try {
-    PublishModelFile(comp, c, c.modbus.machine_name);
+    PublishModelFile(comp, c, site.modbus.machine_name);
     ADD_FAILURE() << "a missing model file was not refused";
   } catch (const InputError& e) {
     EXPECT_EQ(e.line(), 7) << e.what();

@@ -1,11 +1,15 @@
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/site_config.hpp"
 
 #include <gtest/gtest.h>
 
 #include "trueaxis/core/input_error.hpp"
 
-namespace trueaxis::runtime {
+namespace trueaxis::station {
 namespace {
+
+using runtime::LinkLossPolicy;
+using runtime::Programming;
+using runtime::SensorFallback;
 
 constexpr const char* kFull = R"(
 [machine]
@@ -66,13 +70,24 @@ db = "out/history.sqlite"
 record_interval_s = 0.5
 )";
 
+// The installation — and with it the pure runtime it configures — holds no deployment: where the
+// machine is (MODBUS host), its history and its web page are the SiteConfig's alone (the runtime
+// library cannot link them either: trueaxis_forbid_links in CMakeLists.txt).
+template <class T>
+concept HoldsDeployment = requires(const T& c) { c.modbus; } || requires(const T& c) { c.web; } ||
+                          requires(const T& c) { c.history; } || requires(const T& c) { c.history_db; } ||
+                          requires(const T& c) { c.virtual_machine; } || requires(const T& c) { c.machine; };
+static_assert(!HoldsDeployment<InstallationConfig>);
+static_assert(HoldsDeployment<SiteConfig>);  // the check sees them where they are
+
 TEST(RunConfig, ParsesEveryField) {
-  const RunConfig c = ParseRunConfig(kFull, "/etc/trueaxis/run/run.toml");
-  EXPECT_EQ(c.machine, MachineKind::kVirtual);
-  EXPECT_EQ(c.virtual_machine.machine_file, "/etc/trueaxis/machines/vmc.toml");
-  EXPECT_EQ(c.virtual_machine.seed, 7u);
-  EXPECT_EQ(c.virtual_machine.time_scale, 60);
-  EXPECT_EQ(c.virtual_machine.coolant, CoolantState::kFlood);
+  const SiteConfig site = ParseSiteConfig(kFull, "/etc/trueaxis/run/run.toml");
+  const InstallationConfig& c = site.installation;
+  EXPECT_EQ(site.machine, MachineKind::kVirtual);
+  EXPECT_EQ(site.virtual_machine.machine_file, "/etc/trueaxis/machines/vmc.toml");
+  EXPECT_EQ(site.virtual_machine.seed, 7u);
+  EXPECT_EQ(site.virtual_machine.time_scale, 60);
+  EXPECT_EQ(site.virtual_machine.coolant, CoolantState::kFlood);
   EXPECT_EQ(c.model_file, "/etc/trueaxis/run/model.json");
   EXPECT_FALSE(c.model_reload);
   EXPECT_DOUBLE_EQ(c.period_s, 0.005);
@@ -95,7 +110,8 @@ TEST(RunConfig, ParsesEveryField) {
   EXPECT_DOUBLE_EQ(c.axes[0].reference_position_mm, 10);
   EXPECT_FALSE(c.axes[1].enabled);
   EXPECT_TRUE(std::isnan(c.axes[1].reference_position_mm));
-  EXPECT_EQ(c.history_db, "/etc/trueaxis/run/out/history.sqlite");
+  EXPECT_EQ(site.history.db, "/etc/trueaxis/run/out/history.sqlite");
+  EXPECT_DOUBLE_EQ(site.history.record_interval_s, 0.5);
   EXPECT_TRUE(c.signal_processing);
   EXPECT_EQ(c.calibration_file, "/etc/trueaxis/run/cal.json");
   ASSERT_EQ(c.redundant_groups.size(), 2u);
@@ -106,17 +122,19 @@ TEST(RunConfig, ParsesEveryField) {
 }
 
 TEST(RunConfig, HistoryDatabaseUrlIsKeptAsWritten) {
-  const RunConfig c = ParseRunConfig(
+  const SiteConfig c = ParseSiteConfig(
       "[machine]\nkind = \"modbus\"\naxes = [\"X\"]\n[model]\nfile = \"/m.json\"\n[history]\ndb = \"postgresql://trueaxis@db.shop/hall3\"\n",
       "/etc/trueaxis/run.toml");
-  EXPECT_EQ(c.history_db, "postgresql://trueaxis@db.shop/hall3");  // not joined to the config's folder like a path
+  EXPECT_EQ(c.history.db, "postgresql://trueaxis@db.shop/hall3");  // not joined to the config's folder like a path
 }
 
 TEST(RunConfig, MinimalModbusConfigGetsDefaults) {
-  const RunConfig c = ParseRunConfig("[machine]\nkind = \"modbus\"\nport = 15020\n[model]\nfile = \"/m.json\"\n", "run.toml");
-  EXPECT_EQ(c.machine, MachineKind::kModbus);
-  EXPECT_EQ(c.modbus.port, 15020);
-  EXPECT_EQ(c.modbus.host, "127.0.0.1");
+  const SiteConfig site = ParseSiteConfig("[machine]\nkind = \"modbus\"\nport = 15020\n[model]\nfile = \"/m.json\"\n", "run.toml");
+  const InstallationConfig& c = site.installation;
+  EXPECT_EQ(site.machine, MachineKind::kModbus);
+  EXPECT_EQ(site.modbus.port, 15020);
+  EXPECT_EQ(site.modbus.host, "127.0.0.1");
+  EXPECT_TRUE(site.history.db.empty() && site.history.csv.empty() && site.web.listen.empty());
   EXPECT_EQ(c.model_file, "/m.json");
   EXPECT_DOUBLE_EQ(c.period_s, 0.01);
   EXPECT_EQ(c.compensator.link_loss, LinkLossPolicy::kHold);
@@ -128,11 +146,11 @@ TEST(RunConfig, MinimalModbusConfigGetsDefaults) {
 
 TEST(RunConfig, StalenessLimitsFollowTheLoopPeriod) {
   const std::string head = "[machine]\nkind = \"modbus\"\n[model]\nfile = \"/m.json\"\n";
-  const RunConfig slow = ParseRunConfig(head + "[loop]\nperiod_s = 0.5\n", "run.toml");
+  const InstallationConfig slow = ParseSiteConfig(head + "[loop]\nperiod_s = 0.5\n", "run.toml").installation;
   EXPECT_DOUBLE_EQ(slow.compensator.link_stale_after_s, 1.5);  // 3 periods when not given
   EXPECT_DOUBLE_EQ(slow.temperature_period_s, 0.5);            // never more often than the loop
-  const RunConfig given = ParseRunConfig(
-      head + "[loop]\ntemperature_period_s = 1\n[link]\nstale_after_s = 0.05\n[sensor_fault]\nstale_after_s = 9\n", "run.toml");
+  const InstallationConfig given = ParseSiteConfig(
+      head + "[loop]\ntemperature_period_s = 1\n[link]\nstale_after_s = 0.05\n[sensor_fault]\nstale_after_s = 9\n", "run.toml").installation;
   EXPECT_DOUBLE_EQ(given.temperature_period_s, 1.0);
   EXPECT_DOUBLE_EQ(given.compensator.link_stale_after_s, 0.05);
   EXPECT_DOUBLE_EQ(given.compensator.sensor.stale_after_s, 9);
@@ -140,7 +158,7 @@ TEST(RunConfig, StalenessLimitsFollowTheLoopPeriod) {
 
 void ExpectError(const std::string& text, int line, const std::string& field, const std::string& words) {
   try {
-    ParseRunConfig(text, "run.toml");
+    ParseSiteConfig(text, "run.toml");
     FAIL() << "accepted: " << text;
   } catch (const InputError& e) {
     EXPECT_EQ(e.source(), "run.toml");
@@ -154,17 +172,18 @@ void ExpectError(const std::string& text, int line, const std::string& field, co
 // (SensorFaultPolicy::judge) under the keys the run config has always had.
 TEST(RunConfig, SensorFaultLimitsAreTheTemperatureJudges) {
   const std::string head = "[machine]\nkind = \"modbus\"\n[model]\nfile = \"m.json\"\n";
-  const RunConfig d = ParseRunConfig(head, "/r.toml");
+  const InstallationConfig d = ParseSiteConfig(head, "/r.toml").installation;
   const signal::FaultOptions& dj = d.compensator.sensor.judge;
   EXPECT_DOUBLE_EQ(dj.min_plausible_c, -20);
   EXPECT_DOUBLE_EQ(dj.max_plausible_c, 120);
   EXPECT_DOUBLE_EQ(dj.max_rate_c_per_s, 2.0);
   EXPECT_DOUBLE_EQ(dj.rate_allowance_c, 0.5);
   EXPECT_DOUBLE_EQ(dj.max_disagreement_c, 3.0);
-  const RunConfig c = ParseRunConfig(head +
-                                         "[sensor_fault]\nmin_valid_c = 5\nmax_valid_c = 60\nmax_rate_c_per_s = 0\n"
-                                         "rate_allowance_c = 0.2\n[signal]\nmax_disagreement_c = 1.5\n",
-                                     "/r.toml");
+  const InstallationConfig c = ParseSiteConfig(head +
+                                                   "[sensor_fault]\nmin_valid_c = 5\nmax_valid_c = 60\nmax_rate_c_per_s = 0\n"
+                                                   "rate_allowance_c = 0.2\n[signal]\nmax_disagreement_c = 1.5\n",
+                                               "/r.toml")
+                                    .installation;
   const signal::FaultOptions& j = c.compensator.sensor.judge;
   EXPECT_DOUBLE_EQ(j.min_plausible_c, 5);
   EXPECT_DOUBLE_EQ(j.max_plausible_c, 60);
@@ -215,13 +234,13 @@ TEST(RunConfig, ModbusNamesAreUniqueAndTheHostAnAddress) {
   ExpectError("[machine]\nkind = \"virtual\"\nfile = \"m.toml\"\nname = \"VMC-850\"\n" + tail, 4, "machine.name",
               "only for kind = \"modbus\"");
   // host names stay allowed (libmodbus looks them up); lines are kept for later checks
-  const RunConfig c = ParseRunConfig("[machine]\nkind = \"modbus\"\nhost = \"cnc-7.local\"\n" + tail +
-                                         "[[axis]]\nname = \"Y\"\n",
-                                     "run.toml");
+  const SiteConfig c = ParseSiteConfig("[machine]\nkind = \"modbus\"\nhost = \"cnc-7.local\"\n" + tail +
+                                           "[[axis]]\nname = \"Y\"\n",
+                                       "run.toml");
   EXPECT_EQ(c.modbus.host, "cnc-7.local");
   EXPECT_EQ(c.LineOf("model.file"), 5);
   EXPECT_EQ(c.LineOf("axis[0].name"), 7);
 }
 
 }  // namespace
-}  // namespace trueaxis::runtime
+}  // namespace trueaxis::station

@@ -10,9 +10,9 @@
 #include "trueaxis/hw/no_temperature_source.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
-#include "trueaxis/runtime/run_config.hpp"
 #include "trueaxis/signal/monitored_temperature_source.hpp"
 #include "trueaxis/station/machine_connection.hpp"
+#include "trueaxis/station/site_config.hpp"
 
 namespace trueaxis::runtime {
 namespace {
@@ -82,15 +82,14 @@ TEST(TemperatureJudge, TheStepTakesTheVerdictAndJudgesNoValueAgain) {
 // The judge in front of the compensator, with the limits of a run config: a range fault is judged
 // once, with the judge's hysteresis, and held then lost by the step.
 TEST(TemperatureJudge, ARunConfigsRangeIsJudgedOnceThenHeldThenLost) {
-  const RunConfig c = ParseRunConfig(
-      "[machine]\nkind = \"modbus\"\naxes = [\"X\"]\n[model]\nfile = \"/m.json\"\n"
-      "[sensor_fault]\nmax_valid_c = 40\nhold_last_good_s = 2\n",
-      "/etc/trueaxis/run.toml");
+  const station::InstallationConfig c =
+      station::ParseSiteConfig("[machine]\nkind = \"modbus\"\naxes = [\"X\"]\n[model]\nfile = \"/m.json\"\n"
+                               "[sensor_fault]\nmax_valid_c = 40\nhold_last_good_s = 2\n",
+                               "/etc/trueaxis/run.toml")
+          .installation;
   MockTemperatures raw({"ambient", "nut", "bearing"}, 20.0);
   double now = 0;
-  signal::MonitorOptions mo;
-  mo.faults = c.compensator.sensor.judge;
-  signal::MonitoredTemperatureSource judged(raw, mo, [&] { return now; });
+  signal::MonitoredTemperatureSource judged(raw, station::TemperatureJudgeOptions(c), [&] { return now; });
   MockCnc cnc({"X"});
   cnc.axes[0] = {400, +1, true};
   auto comp = Compensator::ForHardware(c.compensator, cnc, judged, {});
@@ -175,14 +174,39 @@ TEST(TemperatureJudge, AStaleJudgedSnapshotIsHeldThenLost) {
   EXPECT_TRUE(s.alarms & kAlarmSensorFallback);
 }
 
+// The judge's options are built in one place from the installation's config: the fault limits of
+// [sensor_fault] and [signal] max_disagreement_c, the redundant groups, the filter on or off.
+TEST(TemperatureJudge, ItsOptionsComeFromTheConfigThroughOneFunction) {
+  station::InstallationConfig c =
+      station::ParseSiteConfig("[machine]\nkind = \"modbus\"\naxes = [\"X\"]\n[model]\nfile = \"/m.json\"\n"
+                               "[sensor_fault]\nmax_valid_c = 45\nmax_rate_c_per_s = 0.5\n"
+                               "[signal]\ngroups = [[\"nut\", \"nut_b\"]]\nmax_disagreement_c = 2\n",
+                               "/etc/trueaxis/run.toml")
+          .installation;
+  const signal::MonitorOptions on = station::TemperatureJudgeOptions(c);
+  EXPECT_DOUBLE_EQ(on.faults.max_plausible_c, 45);
+  EXPECT_DOUBLE_EQ(on.faults.max_rate_c_per_s, 0.5);
+  EXPECT_DOUBLE_EQ(on.faults.max_disagreement_c, 2);
+  EXPECT_EQ(on.neighbour_groups, (std::vector<std::vector<std::string>>{{"nut", "nut_b"}}));
+  EXPECT_GT(on.filter.median_window, 1) << "the filter is on by default";
+  c.signal_processing = false;  // [signal] enabled = false (no groups then): judged all the same
+  c.redundant_groups.clear();
+  const signal::MonitorOptions off = station::TemperatureJudgeOptions(c);
+  EXPECT_EQ(off.filter.hampel_window, 1);
+  EXPECT_EQ(off.filter.median_window, 1);
+  EXPECT_DOUBLE_EQ(off.filter.lowpass_time_constant_s, 0);
+  EXPECT_DOUBLE_EQ(off.faults.max_plausible_c, 45);
+  EXPECT_DOUBLE_EQ(off.faults.max_rate_c_per_s, 0.5);
+}
+
 // The machine's wiring always puts the judge in front: [signal] enabled = false switches off only
 // its filter, the run config's fault limits still apply.
 TEST(TemperatureJudge, TheMachinesTemperaturesAreJudgedWithTheFilterOffToo) {
   const std::string machine = std::string(TRUEAXIS_SOURCE_DIR) + "/examples/machines/vmc850.toml";
-  const RunConfig c = ParseRunConfig("[machine]\nkind = \"virtual\"\nfile = \"" + machine +
-                                         "\"\n[model]\nfile = \"m.json\"\n[sensor_fault]\nmax_valid_c = 45\n"
-                                         "[signal]\nenabled = false\n",
-                                     "/etc/trueaxis/run.toml");
+  const station::SiteConfig c = station::ParseSiteConfig("[machine]\nkind = \"virtual\"\nfile = \"" + machine +
+                                                             "\"\n[model]\nfile = \"m.json\"\n[sensor_fault]\nmax_valid_c = 45\n"
+                                                             "[signal]\nenabled = false\n",
+                                                         "/etc/trueaxis/run.toml");
   station::Machine m = station::OpenMachine(c);
   ASSERT_NE(m.monitored, nullptr);
   const signal::MonitorOptions& judge = m.monitored->monitor().options();

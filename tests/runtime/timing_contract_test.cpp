@@ -78,11 +78,18 @@ CompensatorOptions ContractOptions() {
   return o;
 }
 
+// An installation with these compensator options and the defaults otherwise (the filter on).
+station::InstallationConfig InstallationWith(const CompensatorOptions& o) {
+  station::InstallationConfig c;
+  c.compensator = o;
+  return c;
+}
+
 // The compensator (axis X, TestModel) behind the real-time loop with its I/O workers; the raw
 // temperatures through the temperature judge, as `run` reads them.
 struct ContractLoop {
   ContractLoop(hw::CncLink& cnc, hw::TemperatureSource& temps, const CompensatorOptions& o, double period_s)
-      : judged(temps, station::MonitorOptionsFor(o.sensor)),
+      : judged(temps, station::TemperatureJudgeOptions(InstallationWith(o))),
         comp(Compensator::ForHardware(o, cnc, judged, {})),
         runner(*comp, cnc, judged, LoopOptions{period_s, 10 * period_s}, &obs) {
     comp->PublishModel(TestModel(1.0, {"X"}), "m");
@@ -95,7 +102,7 @@ struct ContractLoop {
 
 // The MODBUS clients of a terminal on 127.0.0.1:port (one axis, one RTD module), as `run` makes them.
 station::ModbusClients TerminalClients(int port, double response_timeout_s) {
-  runtime::ModbusConfig mc;
+  station::ModbusConfig mc;
   mc.port = port;
   mc.response_timeout_s = response_timeout_s;
   mc.axis_names = {"X"};

@@ -16,7 +16,7 @@
 
 #include "shop_fixture.hpp"
 #include "trueaxis/runtime/loop_runner.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/site_config.hpp"
 #include "trueaxis/server/shop.hpp"
 #include "trueaxis/signal/calibration.hpp"
 #include "trueaxis/station/installation.hpp"
@@ -112,8 +112,9 @@ TEST(InstallationEquivalence, RunAndServerGiveTheSameCorrectionsOnOneTerminal) {
       << "\nchannels = " << list(vm.channels) << "\n\n[model]\nfile = \"model.json\"\nreload = false\n\n[loop]\nperiod_s = "
       << period_s << "\n\n[signal]\ncalibration = \"cal.json\"\n";
   }
-  const runtime::RunConfig c = runtime::ReadRunConfig(run_path);
-  station::Machine m = station::OpenMachine(c, false);
+  const station::SiteConfig site = station::ReadSiteConfig(run_path);
+  const station::InstallationConfig& c = site.installation;
+  station::Machine m = station::OpenMachine(site, false);
   station::Installation installation(c, *m.link, *m.source, m.Clock(), m.name);
   runtime::LoopRunner runner(installation.compensator(), *m.link, installation.temperatures(),
                              runtime::LoopOptions{c.period_s, c.temperature_period_s});

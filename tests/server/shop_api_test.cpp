@@ -49,8 +49,8 @@ TEST(ShopModels, LoadRollbackAreRampedRecordedAndABadModelKeepsTheRunningOne) {
   ShopConfig config = ConfigFor(*vshop, m1);
   config.audit_log = dir + "/audit.jsonl";
   config.history = dir + "/shop.db";
-  for (auto& m : config.machines) m.compensator.shaper.max_step_um = 5;  // ramps of a few cycles keep the test short
-  const double step_um = config.machines[0].compensator.shaper.max_step_um;
+  for (auto& m : config.machines) m.installation.compensator.shaper.max_step_um = 5;  // ramps of a few cycles keep the test short
+  const double step_um = config.machines[0].installation.compensator.shaper.max_step_um;
   auto writer = std::make_unique<store::HistoryWriter>(config.history);
   Shop shop(config, writer.get());
   shop.Start();

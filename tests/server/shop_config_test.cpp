@@ -33,12 +33,12 @@ TEST(ShopConfig, ReadsMachinesWithShopDefaultsAndTheirOwnTables) {
   ASSERT_EQ(c.machines.size(), 1u);
   const MachineConfig& m = c.machines[0];
   EXPECT_EQ(m.model_file, "/shops/a/m.json");
-  EXPECT_EQ(m.compensator.shaper.max_step_um, 0.5);          // shop default
-  EXPECT_EQ(m.compensator.shaper.max_correction_um, 40);     // the machine's own
+  EXPECT_EQ(m.installation.compensator.shaper.max_step_um, 0.5);          // shop default
+  EXPECT_EQ(m.installation.compensator.shaper.max_correction_um, 40);     // the machine's own
   ASSERT_EQ(m.axis_interfaces.size(), 2u);
   EXPECT_EQ(m.axis_interfaces[1].pulse_equivalent_um, 0.5);
   EXPECT_EQ(m.axis_interfaces[0].pulse_equivalent_um, 1.0);
-  EXPECT_GE(m.compensator.link_stale_after_s, 3 * m.period_s);
+  EXPECT_GE(m.installation.compensator.link_stale_after_s, 3 * m.period_s);
 }
 
 TEST(ShopConfig, APostgresHistoryIsKeptAsWrittenAndNeedsAnAuditFile) {
@@ -94,7 +94,7 @@ TEST(ShopConfig, AMachineHasItsOwnSignalTableAndThermalChannels) {
                "thermal_channels = { X = \"X_at_300mm\" }\n[machine.signal]\ncalibration = \"cal/mill-1.json\"\n"
                "groups = [[\"x_nut\", \"ambient\"]]\nmax_disagreement_c = 4\n[machine.limits]");
   const ShopConfig c = ParseShopConfig(text, "/shops/a/shop.toml");
-  const runtime::RunConfig& r = c.machines.at(0).installation;
+  const station::InstallationConfig& r = c.machines.at(0).installation;
   EXPECT_TRUE(r.signal_processing);
   EXPECT_EQ(r.calibration_file, "/shops/a/cal/mill-1.json");  // relative to the shop file
   ASSERT_EQ(r.redundant_groups.size(), 1u);
@@ -102,7 +102,6 @@ TEST(ShopConfig, AMachineHasItsOwnSignalTableAndThermalChannels) {
   EXPECT_EQ(r.compensator.sensor.judge.max_disagreement_c, 4);
   EXPECT_EQ(r.thermal_channels.at("X"), "X_at_300mm");
   EXPECT_EQ(r.model_file, "/shops/a/m.json");
-  EXPECT_EQ(r.modbus.channel_names, (std::vector<std::string>{"x_nut", "ambient"}));
   EXPECT_EQ(r.compensator.shaper.max_correction_um, 40);
   // Its errors name the machine's table, as `run`'s name [signal].
   std::string bad = kShop;

@@ -107,7 +107,7 @@ TEST(ShopRestart, ANewServerContinuesFromTheAppliedCompensationWithoutAJump) {
   auto vshop = StartVirtualShop(1);
   ASSERT_NE(vshop, nullptr);
   ShopConfig config = ConfigFor(*vshop, model);
-  const double step_um = config.machines[0].compensator.shaper.max_step_um;
+  const double step_um = config.machines[0].installation.compensator.shaper.max_step_um;
   {
     Shop first(config, nullptr);
     first.Start();

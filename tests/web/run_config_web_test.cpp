@@ -2,15 +2,15 @@
 #include <gtest/gtest.h>
 
 #include "trueaxis/core/input_error.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/site_config.hpp"
 
-namespace trueaxis::runtime {
+namespace trueaxis::station {
 namespace {
 
 constexpr const char* kHead = "[machine]\nkind = \"modbus\"\nport = 15020\n[model]\nfile = \"/m.json\"\n";
 
 TEST(RunConfigWeb, ReadsTheFrontEndWithPathsRelativeToTheConfig) {
-  const RunConfig c = ParseRunConfig(std::string(kHead) +
+  const SiteConfig c = ParseSiteConfig(std::string(kHead) +
                                          "[web]\nlisten = \"127.0.0.1:8443\"\nusers = \"users.db\"\ncert = \"c.pem\"\n"
                                          "key = \"/etc/k.pem\"\nmachine_id = \"vmc7\"\n",
                                      "/etc/trueaxis/run.toml");
@@ -19,13 +19,13 @@ TEST(RunConfigWeb, ReadsTheFrontEndWithPathsRelativeToTheConfig) {
   EXPECT_EQ(c.web.cert, "/etc/trueaxis/c.pem");
   EXPECT_EQ(c.web.key, "/etc/k.pem");
   EXPECT_EQ(c.web.machine_id, "vmc7");
-  EXPECT_TRUE(ParseRunConfig(kHead, "run.toml").web.listen.empty()) << "no [web]: no front end";
+  EXPECT_TRUE(ParseSiteConfig(kHead, "run.toml").web.listen.empty()) << "no [web]: no front end";
 }
 
 TEST(RunConfigWeb, RefusesUnknownKeysAndWrongTypes) {
-  EXPECT_THROW(ParseRunConfig(std::string(kHead) + "[web]\npassword = \"x\"\n", "run.toml"), InputError);
-  EXPECT_THROW(ParseRunConfig(std::string(kHead) + "[web]\nlisten = 8080\n", "run.toml"), InputError);
+  EXPECT_THROW(ParseSiteConfig(std::string(kHead) + "[web]\npassword = \"x\"\n", "run.toml"), InputError);
+  EXPECT_THROW(ParseSiteConfig(std::string(kHead) + "[web]\nlisten = 8080\n", "run.toml"), InputError);
 }
 
 }  // namespace
-}  // namespace trueaxis::runtime
+}  // namespace trueaxis::station

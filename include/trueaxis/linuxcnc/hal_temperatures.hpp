@@ -7,7 +7,7 @@
 
 #include "trueaxis/hw/temperature_source.hpp"
 #include "trueaxis/linuxcnc/hal_component.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/site_config.hpp"
 #include "trueaxis/station/machine_connection.hpp"
 
 namespace trueaxis::linuxcnc {
@@ -21,6 +21,6 @@ struct HalTemperatures {
 // Creates the pins (before component.Ready) or connects to the RTD modules; an unreachable
 // terminal is a warning on stderr (the reader keeps trying). InputError(config.source) when the
 // MODBUS client refuses the configuration.
-HalTemperatures OpenHalTemperatures(HalComponent& component, const runtime::RunConfig& config, bool from_hal_pins);
+HalTemperatures OpenHalTemperatures(HalComponent& component, const station::SiteConfig& config, bool from_hal_pins);
 
 }  // namespace trueaxis::linuxcnc

@@ -9,7 +9,7 @@
 
 #include "trueaxis/runtime/axis_interface.hpp"
 #include "trueaxis/runtime/compensator_options.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/installation_config.hpp"
 
 namespace trueaxis::server {
 
@@ -29,12 +29,12 @@ struct MachineConfig {
   double connect_timeout_s = 0.5;
   double min_backoff_s = 0.1;       // reconnect delay after a fault, doubling up to max_backoff_s
   double max_backoff_s = 5.0;
-  runtime::CompensatorOptions compensator;
   std::vector<runtime::AxisInterface> axis_interfaces;  // one per axis, in `axes` order
-  // The machine as an installation sees it (station::Installation), in the form `run` reads:
-  // the fields above plus its [machine.signal] table (the temperature pipeline) and
-  // thermal_channels (a data-driven thermal model on these axes).
-  runtime::RunConfig installation;
+  // The machine as an installation sees it (station::Installation), in the form `run` reads: its
+  // compensator's tables (installation.compensator: the one copy of its options, the temperature
+  // judge's limits included), model, periods and axes above, its [machine.signal] table (the
+  // temperature pipeline) and thermal_channels (a data-driven thermal model on these axes).
+  station::InstallationConfig installation;
   int line = 0;                     // where it is in the shop file
 };
 

@@ -9,6 +9,8 @@
 //              ─► runtime::Compensator (the pure step on explicit state, pick-up without a jump)
 //              ◄─ the model: composite, or data-driven thermal models on [model] thermal_channels;
 //                 loaded, reloaded, rolled back                     — model_loading.hpp
+//              ─► its record (OpenLog, [history]): history database, CSV log, watchers such as the
+//                 web page; cycles and model changes                — cycle_log.hpp
 //
 // Driven two ways, with the same code in between:
 //   - by its own periodic loop: runtime::LoopRunner over compensator(), link(), temperatures()
@@ -28,8 +30,9 @@
 #include "trueaxis/hw/temperature_source.hpp"
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/io_snapshot.hpp"
-#include "trueaxis/runtime/run_config.hpp"
 #include "trueaxis/signal/monitored_temperature_source.hpp"
+#include "trueaxis/station/cycle_log.hpp"
+#include "trueaxis/station/installation_config.hpp"
 #include "trueaxis/station/model_loading.hpp"
 
 namespace trueaxis::station {
@@ -41,10 +44,10 @@ class Installation {
   // another name is refused ("" = not compared). Loads the config's model (InputError naming the
   // config or the model file when it does not fit the machine); a config without a model file
   // starts without one (the caller publishes a model built in memory, as the demo does).
-  Installation(runtime::RunConfig config, hw::CncLink& link, hw::TemperatureSource& raw_temperatures,
+  Installation(InstallationConfig config, hw::CncLink& link, hw::TemperatureSource& raw_temperatures,
                std::function<double()> clock_s, std::string machine_name);
 
-  const runtime::RunConfig& config() const { return config_; }
+  const InstallationConfig& config() const { return config_; }
   runtime::Compensator& compensator() { return *compensator_; }
   const runtime::Compensator& compensator() const { return *compensator_; }
   hw::CncLink& link() { return link_; }
@@ -75,11 +78,20 @@ class Installation {
   // Publishes a model loaded before (a rollback).
   void Publish(const PublishedModel& model, const std::string& label);
   // Reloads the config's model file when it changed since it was loaded (model_reload): the new
-  // model, or nullopt when unchanged. Throws InputError when the changed file is refused.
+  // model, or nullopt when unchanged. Throws InputError when the changed file is refused. A
+  // reloaded model is recorded in the log (when open).
   std::optional<PublishedModel> ReloadIfChanged();
 
+  // ---- its record (the thread that drains; not the cycle's) ----
+  // Opens the record of this installation's cycles ([history]: database, CSV log; throws
+  // InputError naming them) and records the config's model in force as loaded at `unix0`, the
+  // Unix time of the loop's time 0. A loop driving this installation records into
+  // log()->recorder(); the owner drains it (CycleLog::Drain) and closes it after the loop stopped.
+  CycleLog& OpenLog(const HistoryConfig& history, double unix0);
+  CycleLog* log() { return log_.get(); }
+
  private:
-  runtime::RunConfig config_;
+  InstallationConfig config_;
   hw::CncLink& link_;
   hw::TemperatureSource& raw_;
   std::string machine_name_;
@@ -88,6 +100,7 @@ class Installation {
   std::unique_ptr<runtime::Compensator> compensator_;
   PublishedModel model_;
   std::optional<std::filesystem::file_time_type> model_mtime_;
+  std::unique_ptr<CycleLog> log_;
   runtime::CncSnapshot cnc_;
   runtime::TemperatureSnapshot temperatures_;
   std::uint64_t cnc_reads_ = 0, temperature_reads_ = 0;

@@ -14,9 +14,9 @@
 #include "trueaxis/hw/cnc_link.hpp"
 #include "trueaxis/hw/no_temperature_source.hpp"
 #include "trueaxis/hw/temperature_source.hpp"
-#include "trueaxis/runtime/run_config.hpp"
 #include "trueaxis/signal/monitored_temperature_source.hpp"
 #include "trueaxis/signal/temperature_monitor.hpp"
+#include "trueaxis/station/site_config.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
 
 namespace trueaxis::station {
@@ -29,12 +29,8 @@ struct ModbusClients {
 };
 // Throws InputError(source, ...) on options the clients refuse. `heartbeat_stale_after_s`: the
 // terminal's heartbeat frozen this long is a link fault.
-ModbusClients MakeModbusClients(const runtime::ModbusConfig& config, const std::string& source,
+ModbusClients MakeModbusClients(const ModbusConfig& config, const std::string& source,
                                 double heartbeat_stale_after_s = 0.5);
-
-// The temperature judge's options from the configuration's one policy ([sensor_fault] and
-// [signal] max_disagreement_c, read into SensorFaultPolicy::judge); the step judges no value.
-signal::MonitorOptions MonitorOptionsFor(const runtime::SensorFaultPolicy& policy);
 
 // The hardware behind the loop; owns whichever implementation the config names.
 struct Machine {
@@ -62,13 +58,13 @@ struct Machine {
 // fault rules always) — timed by the machine's clock for the in-process virtual machine, by the
 // steady clock otherwise.
 // `with_pipeline` false: the raw hardware only (station::Installation puts the pipeline in front).
-Machine OpenMachine(const runtime::RunConfig& config, bool with_pipeline = true);
+Machine OpenMachine(const SiteConfig& config, bool with_pipeline = true);
 
-// The one temperature pipeline of a configuration in front of `raw`: fault limits from
-// [sensor_fault], redundant groups and their disagreement limit, calibration from [signal]
+// The one temperature pipeline of a configuration in front of `raw`: the judge's options
+// (TemperatureJudgeOptions: fault limits, redundant groups, filter on or off), calibration from [signal]
 // (throws InputError naming the config on a group channel the source lacks or a missing
 // calibration file; a calibration entry matching no channel is a warning).
-std::unique_ptr<signal::MonitoredTemperatureSource> MakeTemperaturePipeline(const runtime::RunConfig& config,
+std::unique_ptr<signal::MonitoredTemperatureSource> MakeTemperaturePipeline(const InstallationConfig& config,
                                                                             hw::TemperatureSource& raw,
                                                                             std::function<double()> clock_s,
                                                                             std::vector<std::string>* warnings);

@@ -12,7 +12,7 @@
 #include "trueaxis/model/composite_model.hpp"
 
 #include "trueaxis/runtime/compensator.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/installation_config.hpp"
 
 namespace trueaxis::station {
 
@@ -39,13 +39,13 @@ std::optional<std::string> ModelMachineMismatch(const model::CompositeModel& mod
 // thermal_channels) and checks it against the machine and the compensator's axes and channels,
 // without publishing it: InputError naming the config's [model] file line (when `model_file` is the
 // config's) or the file.
-PublishedModel ReadModelFor(const runtime::Compensator& compensator, const runtime::RunConfig& config,
+PublishedModel ReadModelFor(const runtime::Compensator& compensator, const InstallationConfig& config,
                             const std::string& machine_name, const std::string& model_file);
 
 // Throws InputError naming the file (or the config — its [model] file line — for a model of
 // another machine or an axis/channel mismatch); the running model stays in force when it throws.
 // `machine_name`: station::Machine::name.
-PublishedModel PublishModelFile(runtime::Compensator& compensator, const runtime::RunConfig& config,
+PublishedModel PublishModelFile(runtime::Compensator& compensator, const InstallationConfig& config,
                                 const std::string& machine_name);
 
 }  // namespace trueaxis::station

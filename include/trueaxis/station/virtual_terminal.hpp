@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "trueaxis/drivers/modbus_machine_server.hpp"
-#include "trueaxis/runtime/run_config.hpp"
+#include "trueaxis/station/site_config.hpp"
 #include "trueaxis/sim/laser_interferometer.hpp"
 #include "trueaxis/sim/virtual_machine.hpp"
 
@@ -24,9 +24,9 @@ namespace trueaxis::station {
 // The virtual machine a config names, with its working program started (every axis reciprocating
 // over 10…90 % of its travel at the config's feed and duty, or idle) and its coolant state.
 // Throws InputError on a bad machine file.
-std::unique_ptr<sim::VirtualMachine> OpenVirtualMachine(const runtime::VirtualMachineConfig& config);
+std::unique_ptr<sim::VirtualMachine> OpenVirtualMachine(const VirtualMachineConfig& config);
 // Starts the config's working program on `vm` (reciprocate, or nothing for idle).
-void StartProgram(sim::VirtualMachine& vm, const runtime::VirtualMachineConfig& config);
+void StartProgram(sim::VirtualMachine& vm, const VirtualMachineConfig& config);
 
 // A laser interferometer set up on one axis of the served machine (`sim serve --laser-axis`): what
 // a user gets from the laser software on a real machine — a test file with its start date (the
@@ -56,7 +56,7 @@ struct VirtualTerminalStatus {
 
 class VirtualTerminal {
  public:
-  VirtualTerminal(const runtime::VirtualMachineConfig& config, drivers::ModbusMachineServerOptions server);
+  VirtualTerminal(const VirtualMachineConfig& config, drivers::ModbusMachineServerOptions server);
   ~VirtualTerminal();  // Stop()
   VirtualTerminal(const VirtualTerminal&) = delete;
   VirtualTerminal& operator=(const VirtualTerminal&) = delete;
@@ -83,7 +83,7 @@ class VirtualTerminal {
   void Advance(double wall_elapsed_s);  // machine thread
   void TakeLaserTest();                 // machine thread
 
-  runtime::VirtualMachineConfig config_;
+  VirtualMachineConfig config_;
   std::optional<ServedLaser> laser_;
   std::unique_ptr<sim::LaserInterferometer> interferometer_;
   std::size_t laser_axis_ = 0;
