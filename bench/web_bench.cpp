@@ -154,6 +154,8 @@ void BM_PollingViewers(benchmark::State& state) {
       std::vector<double> my_latency, my_age;
       // Spread the viewers over the second, like browsers opened at different times.
       auto next = Clock::now() + std::chrono::milliseconds(1000 * k / (overview ? overview_viewers : viewers));
+      // A simulated browser (hundreds at once, each its own thread ending at `end`), not a service
+      // of the program: a plain deadline loop, not core::PeriodicThread.
       for (int tick = 0; Clock::now() < end; ++tick) {
         std::this_thread::sleep_until(next);
         next += std::chrono::seconds(overview ? 2 : 1);

@@ -85,6 +85,7 @@ void RunProbe(const ProbeOptions& o) {
   std::vector<hw::AxisState> axes(names.size());
   std::vector<hw::RawTemperature> temps(drivers::adam6015::kChannelCount);
   for (int i = 0; i < o.count; ++i) {
+    // --interval-s is the pause between two probes (each waits for its answers), not a period.
     if (i > 0) std::this_thread::sleep_for(std::chrono::duration<double>(o.interval_s));
     hw::CncState state;
     if (!link.Read(axes, state)) throw std::runtime_error("PMC window: " + link.last_error() + " (or stale / CNC not readable)");

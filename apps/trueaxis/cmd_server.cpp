@@ -159,6 +159,9 @@ void RunServer(const ServerOptions& o) {
   auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   double next_status = o.status_interval_s, last_status = 0;
   std::uint64_t last_cycles = 0;
+  // Not a core::PeriodicThread: the main thread watches the flag SIGINT/SIGTERM set (a signal
+  // handler can set an atomic, not wake a thread), so it looks every 20 ms; the status lines keep
+  // their own grid (next_status += interval: no drift).
   while (!g_stop.load() && (o.duration_s <= 0 || wall() < o.duration_s)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     if (!o.quiet && o.status_interval_s > 0 && wall() >= next_status) {
@@ -251,9 +254,10 @@ void PrintStatus(const std::string& url, bool json) {
                           a["applied_um"].is_null() ? "UNAVAILABLE" : fmt::format("{:+.1f} um", a["applied_um"].get<double>()),
                           state == "full" || state == "link_lost" ? "" : " (" + state + ")");
     }
-    const std::string alarms = m["alarms"].get<std::string>();
+    std::string alarms;
+    for (const auto& name : m["alarms"]) alarms += (alarms.empty() ? "" : "|") + name.get<std::string>();
     fmt::print("{:<12} {:<9} model rev {} | applied{} | alarms {}\n", m["name"].get<std::string>(),
-               m["connected"].get<bool>() ? "connected" : "DOWN", m["model"]["revision"].get<int>(), axes,
+               m["connected"].get<bool>() ? "connected" : "DOWN", m["model"]["revision"].get<std::string>(), axes,
                alarms.empty() ? "none" : alarms);
   }
 }

@@ -17,6 +17,7 @@
 
 #include <fmt/format.h>
 
+#include "trueaxis/core/periodic_thread.hpp"
 #include "trueaxis/drivers/mbap.hpp"
 #include "trueaxis/drivers/register_codec.hpp"
 #include "trueaxis/drivers/terminal_registers.hpp"
@@ -89,12 +90,11 @@ struct ModbusMachineServer::Impl {
 
   // --- register image, guarded by mu ---
   mutable std::mutex mu;
-  std::condition_variable wake_machine;
   modbus_mapping_t* pmc_map = nullptr;
   std::vector<modbus_mapping_t*> rtd_maps;
   std::vector<const adam6015::RtdRange*> channel_range;  // per channel
   std::vector<bool> history_valid;                       // per channel: max/min hold a reading
-  bool compensation_dirty = false;  // a client wrote new compensation registers (wakes the machine thread)
+  bool compensation_dirty = false;  // a client wrote new compensation registers (wakes the machine loop)
   Clock::time_point last_client_write{};  // of any PMC holding register (watchdog)
   bool temperatures_online = false;
   std::uint32_t heartbeat = 0;
@@ -109,6 +109,7 @@ struct ModbusMachineServer::Impl {
   TravelCounter travel;  // per axis: the path travelled
   Clock::time_point last_read_ok{};
   bool ever_read_ok = false;
+  Clock::time_point last_exchange{};
 
   // --- network thread only ---
   modbus_t* ctx = nullptr;
@@ -119,7 +120,8 @@ struct ModbusMachineServer::Impl {
 
   std::atomic<bool> stop{false};
   std::thread net_thread;
-  std::thread machine_thread;
+  // Every machine_period_s, and at once when a client writes compensation registers (Wake).
+  core::PeriodicThread machine_loop;
 
   ~Impl() {
     if (pmc_map) modbus_mapping_free(pmc_map);
@@ -223,7 +225,7 @@ struct ModbusMachineServer::Impl {
           fc == MODBUS_FC_WRITE_AND_READ_REGISTERS) {
         compensation_dirty = true;
         last_client_write = Clock::now();
-        wake_machine.notify_one();
+        machine_loop.Wake();
       }
       return;
     }
@@ -473,22 +475,10 @@ struct ModbusMachineServer::Impl {
     for (auto* m : rtd_maps) MirrorInputRegisters(m);
   }
 
-  void MachineLoop() {
-    const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(opt.machine_period_s));
-    auto last = Clock::now();
-    auto next = last;
-    while (!stop.load()) {
-      {
-        std::unique_lock<std::mutex> lock(mu);
-        wake_machine.wait_until(lock, next, [&] { return stop.load() || compensation_dirty; });
-      }
-      if (stop.load()) break;
-      const auto now = Clock::now();
-      Exchange(std::chrono::duration<double>(now - last).count());
-      last = now;
-      if (now >= next) next += period;
-      if (next < now) next = now + period;  // fell behind (slow machine): do not burst
-    }
+  void MachineTick() {
+    const auto now = Clock::now();
+    Exchange(std::chrono::duration<double>(now - last_exchange).count());
+    last_exchange = now;
   }
 };
 
@@ -594,8 +584,9 @@ bool ModbusMachineServer::Start(std::string* error) {
   s.stop.store(false);
   // One exchange before answering anyone, so the first read sees real state.
   s.Exchange(0.0);
+  s.last_exchange = Clock::now();
   s.net_thread = std::thread([&s] { s.NetworkLoop(); });
-  s.machine_thread = std::thread([&s] { s.MachineLoop(); });
+  s.machine_loop.Start(options_.machine_period_s, [&s](double) { s.MachineTick(); });
   running_.store(true);
   return true;
 }
@@ -607,11 +598,10 @@ void ModbusMachineServer::Stop() {
     std::lock_guard<std::mutex> lock(s.mu);
     s.stop.store(true);
   }
-  s.wake_machine.notify_all();
+  s.machine_loop.Stop();
   const char b = 1;
   [[maybe_unused]] auto w = write(s.wake_pipe[1], &b, 1);
   if (s.net_thread.joinable()) s.net_thread.join();
-  if (s.machine_thread.joinable()) s.machine_thread.join();
   close(s.listen_fd);
   s.listen_fd = -1;
   for (int& fd : s.wake_pipe) {

@@ -52,7 +52,7 @@ void ShopMqttRelay::PublishOnce() {
 }
 
 void ShopMqttRelay::Start() {
-  if (!closed_ && !worker_.running()) worker_.Start(config_.period_s, [this] { PublishOnce(); });
+  if (!closed_ && !worker_.Running()) worker_.Start(config_.period_s, [this](double) { PublishOnce(); });
 }
 
 void ShopMqttRelay::Stop() {

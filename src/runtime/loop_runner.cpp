@@ -37,7 +37,7 @@ LoopRunner::LoopRunner(Compensator& compensator, hw::CncLink& link, signal::Judg
       source_(source),
       options_(options),
       observer_(observer),
-      epoch_(PeriodicThread::Clock::now()),
+      epoch_(core::PeriodicThread::Clock::now()),
       temperatures_(compensator.MakeTemperatureSnapshot()),
       cnc_(compensator.MakeCncSnapshot()),
       temperature_slot_(compensator.MakeTemperatureSnapshot()),
@@ -61,7 +61,7 @@ LoopRunner::LoopRunner(Compensator& compensator, hw::CncLink& link, signal::Judg
 LoopRunner::~LoopRunner() { Stop(); }
 
 double LoopRunner::Now() const {
-  return std::chrono::duration<double>(PeriodicThread::Clock::now() - epoch_).count();
+  return std::chrono::duration<double>(core::PeriodicThread::Clock::now() - epoch_).count();
 }
 
 void LoopRunner::Start() {
@@ -146,7 +146,7 @@ void LoopRunner::TemperatureWorkerCall() {
 }
 
 void LoopRunner::StepSimulated(std::uint64_t cycles, const std::function<void(double)>& advance) {
-  using Clock = PeriodicThread::Clock;
+  using Clock = core::PeriodicThread::Clock;
   for (std::uint64_t c = 0; c < cycles; ++c) {
     if (advance) advance(options_.period_s);
     ++sim_cycles_;
@@ -157,7 +157,7 @@ void LoopRunner::StepSimulated(std::uint64_t cycles, const std::function<void(do
 }
 
 LoopStats LoopRunner::Stats() const {
-  const PeriodicStats p = loop_.Stats();
+  const core::PeriodicStats p = loop_.Stats();
   LoopStats s;
   s.cycles = p.calls;
   s.overruns = p.overruns;

@@ -23,47 +23,54 @@
 namespace trueaxis::server {
 namespace {
 
-nlohmann::json Value(const Reading& r) { return r ? nlohmann::json(*r) : nlohmann::json(nullptr); }
-
-nlohmann::json ToJson(const ModelInfo& m) {
-  return {{"file", m.file}, {"sha256", m.sha256}, {"revision", m.revision}, {"slot", m.slot}};
+nlohmann::json ModelJson(const ModelInfo& m) {
+  nlohmann::json j = runtime::ModelViewJson(ModelViewOf(m));
+  j["slot"] = m.slot;
+  return j;
 }
 
 }  // namespace
 
-nlohmann::json ToJson(const MachineStatus& s) {
-  nlohmann::json j = {{"name", s.name},
-                      {"endpoint", s.endpoint},
-                      {"connected", s.connected},
-                      {"last_good_read_unix_s", s.last_good_read_unix_s > 0 ? nlohmann::json(s.last_good_read_unix_s) : nlohmann::json(nullptr)},
-                      {"alarms", s.alarm_names},
-                      {"alarm_bits", s.alarms},
-                      {"unacknowledged", runtime::AlarmNames(s.unacknowledged)},
-                      {"last_fault", s.last_fault},
-                      {"cycles", s.cycles},
-                      {"complete_cycles", s.complete_cycles},
-                      {"faults", s.faults},
-                      {"connects", s.connects},
-                      {"overruns", s.overruns},
-                      {"last_latency_ms", s.last_latency_ms},
-                      {"coolant", s.coolant},
-                      {"coolant_override", s.coolant_override ? nlohmann::json(*s.coolant_override) : nlohmann::json(nullptr)},
-                      {"model", ToJson(s.model)}};
+runtime::MachineModelView ModelViewOf(const ModelInfo& m) {
+  return {m.file.empty() ? "" : std::to_string(m.revision), m.sha256, m.file};
+}
+
+runtime::MachineView MachineViewOf(const MachineStatus& s) {
+  runtime::MachineView v;
+  v.id = s.name;
+  v.name = s.name;
+  v.connected = s.connected;
+  if (s.last_good_read_unix_s > 0) v.updated_unix_s = s.last_good_read_unix_s;
+  v.alarms = runtime::SplitAlarmNames(s.alarm_names);
+  v.coolant = s.coolant;
+  v.coolant_override = s.coolant_override.value_or("");
+  v.model = ModelViewOf(s.model);
+  const auto known = [](const Reading& r) { return r ? *r : runtime::kUnknown; };  // UNAVAILABLE is never a number
   for (const auto& a : s.axes)
-    j["axes"].push_back({{"name", a.name},
-                         {"position_mm", Value(a.position_mm)},
-                         {"applied_um", Value(a.applied_um)},
-                         {"target_um", std::isfinite(a.target_um) ? nlohmann::json(a.target_um) : nlohmann::json(nullptr)},
-                         {"output_um", a.output_um},
-                         {"enabled", a.enabled},
-                         {"state", a.state}});
-  for (const auto& c : s.channels) j["channels"].push_back({{"name", c.name}, {"temp_c", Value(c.temp_c)}, {"health", c.health}});
+    v.axes.push_back({a.name, a.enabled, a.state, known(a.position_mm), a.output_um, a.target_um, known(a.applied_um)});
+  for (const auto& c : s.channels) v.channels.push_back({c.name, known(c.temp_c), c.health});
+  return v;
+}
+
+nlohmann::json ToJson(const MachineStatus& s) {
+  nlohmann::json j = runtime::MachineViewJson(MachineViewOf(s));
+  j["endpoint"] = s.endpoint;
+  j["alarm_bits"] = s.alarms;
+  j["unacknowledged"] = runtime::SplitAlarmNames(runtime::AlarmNames(s.unacknowledged));
+  j["last_fault"] = s.last_fault;
+  j["cycles"] = s.cycles;
+  j["complete_cycles"] = s.complete_cycles;
+  j["faults"] = s.faults;
+  j["connects"] = s.connects;
+  j["overruns"] = s.overruns;
+  j["last_latency_ms"] = s.last_latency_ms;
+  j["model"]["slot"] = s.model.slot;
   return j;
 }
 
 nlohmann::json ToJson(const ModelChange& c) {
   return {{"machine", c.machine}, {"action", c.action}, {"user", c.user}, {"from", c.from}, {"time_unix_s", c.time_unix_s},
-          {"old", ToJson(c.old_model)}, {"new", ToJson(c.new_model)}};
+          {"old", ModelJson(c.old_model)}, {"new", ModelJson(c.new_model)}};
 }
 
 nlohmann::json ToJson(const ShopStats& s) {

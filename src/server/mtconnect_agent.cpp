@@ -14,7 +14,7 @@
 #include <pugixml.hpp>
 
 #include "trueaxis/core/input_error.hpp"
-#include "trueaxis/core/periodic_worker.hpp"
+#include "trueaxis/core/periodic_thread.hpp"
 #include "trueaxis/runtime/cycle_step.hpp"
 #include "trueaxis/server/gated_http_server.hpp"
 #include "trueaxis/server/http_guard.hpp"
@@ -172,7 +172,7 @@ struct MtconnectAgent::Impl {
   GatedHttpServer http{kWorkers, kRequestTimeoutS, kMaxBodyBytes};
   std::thread thread;
   int listen_socket = -1;
-  core::PeriodicWorker worker;  // last: stopped first
+  core::PeriodicThread worker;  // last: stopped first
 
   Impl(const Shop& s, MtconnectOptions o)
       : shop(s), options(std::move(o)), model(BuildDeviceModel(s.Snapshot())), buffer(options.buffer_size, model.items.size()),
@@ -389,7 +389,7 @@ bool MtconnectAgent::Start(std::string* error) {
   if (impl_->listen_socket >= 0) ::listen(impl_->listen_socket, SOMAXCONN);
   impl_->thread = std::thread([this] { impl_->http.listen_after_bind(); });
   while (!impl_->http.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  impl_->worker.Start(impl_->options.period_s, [this] { impl_->PublishOnce(); });
+  impl_->worker.Start(impl_->options.period_s, [this](double) { impl_->PublishOnce(); });
   return true;
 }
 

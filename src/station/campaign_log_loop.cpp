@@ -154,6 +154,8 @@ std::size_t RunCampaignLog(const CampaignLogOptions& o, const CampaignLogChannel
         last_events = events;
         std::fflush(stdout);
       }
+      // Rows are due on the campaign's clock (a virtual machine's may run faster than the wall),
+      // not the steady clock: so this loop polls the clock instead of being a core::PeriodicThread.
       next_row_s += o.period_s;
       if (next_row_s <= t) next_row_s = t + o.period_s;  // a stall (suspended laptop): no burst of rows
     }

@@ -25,45 +25,27 @@ bool PolledTemperatureSource::Configure(std::string* error) {
 
 bool PolledTemperatureSource::Activate(std::string* error) {
   const bool ok = inner_->Activate(error);
-  if (thread_.joinable()) return ok;
-  {
-    std::lock_guard<std::mutex> lock(mu_);
-    stop_ = false;
-  }
-  thread_ = std::thread([this] { Run(); });
+  if (poller_.Running()) return ok;
+  buffer_.assign(inner_->ChannelCount(), hw::RawTemperature{});
+  poller_.Start(period_.count(), [this](double) { Poll(); });
   return ok;
 }
 
 void PolledTemperatureSource::Deactivate() {
-  if (thread_.joinable()) {
-    {
-      std::lock_guard<std::mutex> lock(mu_);
-      stop_ = true;
-    }
-    wake_.notify_all();
-    thread_.join();
+  if (poller_.Running()) {
+    poller_.Stop();
     inner_->Deactivate();
   }
 }
 
-void PolledTemperatureSource::Run() {
-  std::vector<hw::RawTemperature> buffer(inner_->ChannelCount());
-  auto next = std::chrono::steady_clock::now();
-  for (;;) {
-    const bool ok = inner_->Read(buffer);  // may block (kernel conversion, network): no lock held
-    ++polls_;
-    {
-      std::unique_lock<std::mutex> lock(mu_);
-      latest_ok_ = ok;
-      if (ok) {
-        latest_ = buffer;
-        latest_time_ = std::chrono::steady_clock::now();
-      }
-      next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period_);
-      const auto now = std::chrono::steady_clock::now();
-      if (next < now) next = now;  // a read longer than the period: no burst to catch up
-      if (wake_.wait_until(lock, next, [&] { return stop_; })) return;
-    }
+void PolledTemperatureSource::Poll() {
+  const bool ok = inner_->Read(buffer_);  // may block (kernel conversion, network): no lock held
+  ++polls_;
+  std::lock_guard<std::mutex> lock(mu_);
+  latest_ok_ = ok;
+  if (ok) {
+    latest_ = buffer_;
+    latest_time_ = std::chrono::steady_clock::now();
   }
 }
 

@@ -4,18 +4,6 @@
 
 namespace trueaxis::web {
 
-std::vector<std::string> SplitAlarmNames(const std::string& names) {
-  std::vector<std::string> out;
-  std::size_t pos = 0;
-  while (pos < names.size()) {
-    const auto bar = names.find('|', pos);
-    out.push_back(names.substr(pos, bar == std::string::npos ? std::string::npos : bar - pos));
-    if (bar == std::string::npos) break;
-    pos = bar + 1;
-  }
-  return out;
-}
-
 void AlarmBook::Update(const std::string& machine_id, const std::vector<std::string>& active_names, double unix_s,
                        const std::map<std::string, std::string>& messages) {
   std::lock_guard lock(mutex_);

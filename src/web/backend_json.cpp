@@ -27,21 +27,8 @@ json Traces(const std::vector<HistoryTrace>& traces) {
 }
 }  // namespace
 
-json ToJson(const MachineSummary& m) {
-  json axes = json::array(), channels = json::array();
-  for (const auto& a : m.axes)
-    axes.push_back({{"axis", a.axis}, {"enabled", a.enabled}, {"position_mm", Number(a.position_mm)},
-                    {"correction_um", Number(a.correction_um)}, {"state", a.state}});
-  for (const auto& c : m.channels)
-    channels.push_back({{"channel", c.channel}, {"temp_c", Number(c.temp_c)}, {"health", c.health}});
-  return {{"id", m.id},           {"name", m.name},         {"connected", m.connected},
-          {"alarms", m.alarms},   {"axes", axes},           {"channels", channels},
-          {"model_revision", m.model_revision}, {"coolant", m.coolant}, {"updated_unix_s", m.updated_unix_s}};
-}
-
 json ToJson(const MachineDetail& m) {
-  json j = ToJson(m.summary);
-  j["coolant_override"] = m.coolant_override;
+  json j = runtime::MachineViewJson(m.summary);
   json available = json::array(), figures = json::array();
   for (const auto& r : m.model.available)
     available.push_back({{"revision", r.revision}, {"sha256", r.sha256}, {"label", r.label},
@@ -49,8 +36,9 @@ json ToJson(const MachineDetail& m) {
   for (const auto& f : m.model.figures)
     figures.push_back({{"axis", f.axis}, {"quantity", f.quantity}, {"before_um", Number(f.before_um)},
                        {"after_um", Number(f.after_um)}, {"source", f.source}});
-  j["model"] = {{"revision", m.model.revision}, {"sha256", m.model.sha256}, {"label", m.model.label},
-                {"available", available}, {"figures", figures}};
+  j["model"]["label"] = m.model.label;
+  j["model"]["available"] = available;
+  j["model"]["figures"] = figures;
   return j;
 }
 

@@ -17,7 +17,7 @@ std::string Lower(std::string s) {
 bool Matches(const MachineSummary& m, const std::string& needle) {
   if (needle.empty()) return true;
   auto has = [&](const std::string& s) { return Lower(s).find(needle) != std::string::npos; };
-  if (has(m.id) || has(m.name) || has(m.model_revision) || has(m.coolant)) return true;
+  if (has(m.id) || has(m.name) || has(m.model.revision) || has(m.coolant)) return true;
   return std::any_of(m.alarms.begin(), m.alarms.end(), has);
 }
 // NaN sorts last in either order.
@@ -45,7 +45,7 @@ MachinePage ApplyQuery(std::vector<MachineSummary> machines, const MachineQuery&
   else if (q.sort == "name") less = [](const auto& a, const auto& b) { return a.name < b.name; };
   else if (q.sort == "connected") less = [](const auto& a, const auto& b) { return a.connected < b.connected; };
   else if (q.sort == "alarms") less = [](const auto& a, const auto& b) { return a.alarms.size() < b.alarms.size(); };
-  else if (q.sort == "revision") less = [](const auto& a, const auto& b) { return a.model_revision < b.model_revision; };
+  else if (q.sort == "revision") less = [](const auto& a, const auto& b) { return a.model.revision < b.model.revision; };
   else if (q.sort == "max_temp")
     less = [](const auto& a, const auto& b) { return OrLowest(MaxTemperatureC(a)) < OrLowest(MaxTemperatureC(b)); };
   else if (q.sort == "max_correction")

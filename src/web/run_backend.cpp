@@ -30,14 +30,14 @@ RunBackend::RunBackend(runtime::Compensator& compensator, CoolantOverrideLink* c
   channels_ = compensator_.channel_names();
   summary_.id = options_.machine_id;
   summary_.name = options_.machine_name.empty() ? options_.machine_id : options_.machine_name;
-  for (const auto& a : axes_) summary_.axes.push_back({a, false, 0, 0});
-  for (const auto& c : channels_) summary_.channels.push_back({c, std::nan(""), "lost"});
+  for (const auto& a : axes_) summary_.axes.push_back({.name = a, .state = "link_lost"});
+  for (const auto& c : channels_) summary_.channels.push_back({.name = c});
   iso_figures_ = IsoFiguresFromLaserPairs(options_.iso_dir);
 }
 
 void RunBackend::OnRecord(const runtime::CycleRecord& r) {
   const double t = options_.unix0 + r.time_s;
-  const std::vector<std::string> alarms = SplitAlarmNames(runtime::RecordAlarmNames(r, axes_));  // "no_model_for_axis(Y)"
+  const std::vector<std::string> alarms = runtime::SplitAlarmNames(runtime::RecordAlarmNames(r, axes_));  // "no_model_for_axis(Y)"
   {
     std::lock_guard lock(mutex_);
     summary_.connected = r.link_read_ok;
@@ -49,6 +49,7 @@ void RunBackend::OnRecord(const runtime::CycleRecord& r) {
       summary_.axes[i].enabled = r.axes[i].enabled;
       summary_.axes[i].position_mm = r.axes[i].cnc_position_mm;
       summary_.axes[i].correction_um = r.axes[i].output_um;
+      summary_.axes[i].target_um = r.axes[i].desired_um;
       summary_.axes[i].state =
           runtime::AxisCompensationState(r.link_read_ok, r.axes[i].enabled, r.axes[i].thermal_used, r.axes[i].fallback_model);
       s.correction_um.push_back(r.axes[i].output_um);
@@ -77,7 +78,7 @@ void RunBackend::OnModelPublished(station::PublishedModel model, const std::stri
   std::lock_guard lock(mutex_);
   loaded_.push_back(std::move(l));
   in_use_.push_back(loaded_.size() - 1);
-  summary_.model_revision = loaded_.back().info.revision;
+  summary_.model = {loaded_.back().info.revision, loaded_.back().info.sha256, ""};
 }
 
 std::string RunBackend::Describe() const { return "1 machine: " + summary_.name; }
@@ -86,21 +87,25 @@ void RunBackend::CheckId(const std::string& id) const {
   if (id != options_.machine_id) throw BackendError(404, "no machine '" + id + "' (this run is '" + options_.machine_id + "')");
 }
 
-std::vector<MachineSummary> RunBackend::ListMachines() const {
-  std::lock_guard lock(mutex_);
-  return {summary_};
+MachineSummary RunBackend::Summary() const {
+  MachineSummary s;
+  {
+    std::lock_guard lock(mutex_);
+    s = summary_;
+  }
+  if (coolant_)
+    if (const auto forced = coolant_->Override()) s.coolant_override = std::string(CoolantStateName(*forced));
+  return s;
 }
+
+std::vector<MachineSummary> RunBackend::ListMachines() const { return {Summary()}; }
 
 MachineDetail RunBackend::Machine(const std::string& id) const {
   CheckId(id);
+  MachineDetail d{Summary(), {}};
   std::lock_guard lock(mutex_);
-  MachineDetail d{summary_, "", {}};
-  if (coolant_)
-    if (const auto forced = coolant_->Override()) d.coolant_override = std::string(CoolantStateName(*forced));
   if (!in_use_.empty()) {
     const Loaded& cur = loaded_[in_use_.back()];
-    d.model.revision = cur.info.revision;
-    d.model.sha256 = cur.info.sha256;
     d.model.label = cur.info.label;
     d.model.figures = cur.figures;
   }
@@ -157,7 +162,7 @@ void RunBackend::Publish(const Loaded& l, const std::string& note) {
   } catch (const std::exception& e) {
     throw BackendError(409, std::string("the model does not fit this machine: ") + e.what());
   }
-  summary_.model_revision = l.info.revision;
+  summary_.model = {l.info.revision, l.info.sha256, ""};
   if (writer_) writer_->PushModelChange(NowUnixS(), l.info.sha256, l.info.revision, note);
 }
 

@@ -9,6 +9,7 @@
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/model/model_json.hpp"
 #include "trueaxis/model/sha256.hpp"
+#include "trueaxis/server/http_api.hpp"
 #include "trueaxis/store/history_writer.hpp"
 #include "trueaxis/web/history_files.hpp"
 #include "trueaxis/web/model_figures.hpp"
@@ -23,20 +24,6 @@ double NowUnixS() {
 }
 
 double ValueOrNaN(const server::Reading& r) { return r ? *r : kNaN; }  // UNAVAILABLE is never a number
-
-MachineSummary Summarise(const server::MachineStatus& m) {
-  MachineSummary s;
-  s.id = m.name;
-  s.name = m.name;
-  s.connected = m.connected;
-  s.alarms = SplitAlarmNames(m.alarm_names);
-  for (const auto& a : m.axes) s.axes.push_back({a.name, a.enabled, ValueOrNaN(a.position_mm), a.output_um, a.state});
-  for (const auto& c : m.channels) s.channels.push_back({c.name, ValueOrNaN(c.temp_c), c.health});
-  s.model_revision = m.model.file.empty() ? "" : std::to_string(m.model.revision);
-  s.coolant = m.coolant;
-  s.updated_unix_s = m.last_good_read_unix_s;
-  return s;
-}
 
 // The model files a machine has run, oldest first (its start model, then every file loaded since).
 std::vector<ModelRevision> FilesRun(const server::MachineStatus& m, const std::vector<server::ModelChange>& changes) {
@@ -79,14 +66,14 @@ void ShopBackend::Sample(double unix_s) {
       std::lock_guard lock(mutex_);
       live_[it->second].Push(std::move(s));
     }
-    alarms_.Update(m.name, SplitAlarmNames(m.alarm_names), unix_s,
+    alarms_.Update(m.name, runtime::SplitAlarmNames(m.alarm_names), unix_s,
                    m.last_fault.empty() ? std::map<std::string, std::string>{}
                                         : std::map<std::string, std::string>{{"link_read", m.last_fault}});
   }
 }
 
 void ShopBackend::Start() {
-  worker_.Start(options_.sample_period_s, [this] { Sample(NowUnixS()); });
+  worker_.Start(options_.sample_period_s, [this](double) { Sample(NowUnixS()); });
 }
 
 void ShopBackend::Stop() { worker_.Stop(); }
@@ -107,7 +94,7 @@ const server::MachineConfig& ShopBackend::ConfigOrThrow(const std::string& id) c
 
 std::vector<MachineSummary> ShopBackend::ListMachines() const {
   std::vector<MachineSummary> out;
-  for (const auto& m : shop_.Snapshot()) out.push_back(Summarise(m));
+  for (const auto& m : shop_.Snapshot()) out.push_back(server::MachineViewOf(m));
   return out;
 }
 
@@ -133,10 +120,8 @@ ShopBackend::Figures ShopBackend::FiguresOf(const server::ModelInfo& model) cons
 
 MachineDetail ShopBackend::Machine(const std::string& id) const {
   const server::MachineStatus m = StatusOrThrow(id);
-  MachineDetail d{Summarise(m), m.coolant_override.value_or(""), {}};
+  MachineDetail d{server::MachineViewOf(m), {}};
   if (!m.model.file.empty()) {
-    d.model.revision = m.model.file;
-    d.model.sha256 = m.model.sha256;
     d.model.label = fmt::format("revision {} of {}", m.model.revision, m.model.file);
     const Figures f = FiguresOf(m.model);
     d.model.figures = f.figures;

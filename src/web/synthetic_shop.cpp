@@ -16,6 +16,9 @@ double NowUnixS() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 const char* const kKinds[] = {"vmc850", "hmc800", "lathe_tc620", "gantry2000", "vmc400"};
+runtime::MachineModelView ModelOf(const std::string& id, const std::string& revision) {
+  return {revision, fmt::format("{:064x}", std::hash<std::string>{}(id + revision)), ""};
+}
 }  // namespace
 
 const std::vector<std::string> SyntheticShop::kAxes = {"X", "Y", "Z"};
@@ -30,10 +33,10 @@ SyntheticShop::SyntheticShop(std::size_t machine_count, std::size_t live_capacit
     m.summary.name = fmt::format("{}-{:04d}", kKinds[i % std::size(kKinds)], i + 1);
     m.summary.connected = i % 250 != 7;  // a few machines are off the network
     m.summary.coolant = i % 3 == 0 ? "flood" : "off";
-    for (const auto& a : kAxes) m.summary.axes.push_back({a, true, 0, 0});
-    for (const auto& c : kChannels) m.summary.channels.push_back({c, std::nan(""), "lost"});
+    for (const auto& a : kAxes) m.summary.axes.push_back({.name = a, .enabled = true, .state = "full"});
+    for (const auto& c : kChannels) m.summary.channels.push_back({.name = c});
     m.revision_stack = {"1", std::to_string(2 + i % 2)};
-    m.summary.model_revision = m.revision_stack.back();
+    m.summary.model = ModelOf(m.summary.id, m.revision_stack.back());
     m.phase = 2 * std::numbers::pi * static_cast<double>((i * 7919) % 1000) / 1000.0;
     m.gain = 0.8 + 0.4 * static_cast<double>((i * 104729) % 100) / 100.0;
     machines_.push_back(std::move(m));
@@ -81,7 +84,7 @@ void SyntheticShop::Tick(double unix_s) {
         }
         if (i % 120 == 11 && std::sin(unix_s / 30.0) > 0) alarms.push_back("model_extrapolated");
       }
-      m.summary.coolant = !m.coolant_override.empty() ? m.coolant_override : (i % 3 == 0 ? "flood" : "off");
+      m.summary.coolant = !m.summary.coolant_override.empty() ? m.summary.coolant_override : (i % 3 == 0 ? "flood" : "off");
       if (m.summary.alarms != alarms) {
         m.summary.alarms = alarms;
         alarm_updates.emplace_back(m.summary.id, alarms);
@@ -93,23 +96,11 @@ void SyntheticShop::Tick(double unix_s) {
 
 void SyntheticShop::Start(double period_s) {
   Stop();
-  stop_ = false;
-  Tick(NowUnixS());
-  thread_ = std::thread([this, period_s] {
-    auto next = std::chrono::steady_clock::now();
-    while (!stop_.load()) {
-      next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(period_s));
-      while (!stop_.load() && std::chrono::steady_clock::now() < next)
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      if (!stop_.load()) Tick(NowUnixS());
-    }
-  });
+  Tick(NowUnixS());  // values before Start() returns
+  ticker_.Start(period_s, [this](double) { Tick(NowUnixS()); });
 }
 
-void SyntheticShop::Stop() {
-  stop_ = true;
-  if (thread_.joinable()) thread_.join();
-}
+void SyntheticShop::Stop() { ticker_.Stop(); }
 
 std::size_t SyntheticShop::Index(const std::string& id) const {
   // ids are m0001 … in order: parse rather than search (1,000 machines, every poll).
@@ -137,9 +128,7 @@ MachineDetail SyntheticShop::Machine(const std::string& id) const {
   const std::size_t i = Index(id);
   std::shared_lock lock(mutex_);
   const Machine_& m = machines_[i];
-  MachineDetail d{m.summary, m.coolant_override, {}};
-  d.model.revision = m.revision_stack.back();
-  d.model.sha256 = fmt::format("{:064x}", std::hash<std::string>{}(id + d.model.revision));
+  MachineDetail d{m.summary, {}};
   d.model.label = "synthetic model";
   for (int r = 1; r <= 3; ++r) d.model.available.push_back({std::to_string(r), "", "synthetic revision", 0});
   for (std::size_t a = 0; a < kAxes.size(); ++a)
@@ -182,7 +171,7 @@ void SyntheticShop::SetAxisEnabled(const Actor&, const std::string& id, const st
   const std::size_t i = Index(id);
   std::unique_lock lock(mutex_);
   for (auto& a : machines_[i].summary.axes)
-    if (a.axis == axis) {
+    if (a.name == axis) {
       a.enabled = enabled;
       return;
     }
@@ -198,7 +187,7 @@ void SyntheticShop::SetCoolantOverride(const Actor&, const std::string& id, cons
     throw BackendError(400, "coolant state '" + state + "' is not one of off, flood, mist, air (or \"\" to clear)");
   const std::size_t i = Index(id);
   std::unique_lock lock(mutex_);
-  machines_[i].coolant_override = state;
+  machines_[i].summary.coolant_override = state;
   if (!state.empty()) machines_[i].summary.coolant = state;
 }
 
@@ -208,7 +197,7 @@ void SyntheticShop::LoadModelRevision(const Actor&, const std::string& id, const
   const std::size_t i = Index(id);
   std::unique_lock lock(mutex_);
   machines_[i].revision_stack.push_back(revision);
-  machines_[i].summary.model_revision = revision;
+  machines_[i].summary.model = ModelOf(id, revision);
 }
 
 std::string SyntheticShop::RollbackModel(const Actor&, const std::string& id) {
@@ -217,7 +206,7 @@ std::string SyntheticShop::RollbackModel(const Actor&, const std::string& id) {
   auto& stack = machines_[i].revision_stack;
   if (stack.size() < 2) throw BackendError(409, "machine '" + id + "': no earlier model revision to roll back to");
   stack.pop_back();
-  machines_[i].summary.model_revision = stack.back();
+  machines_[i].summary.model = ModelOf(id, stack.back());
   return stack.back();
 }
 

@@ -431,7 +431,7 @@ void WebServer::Routes() {
     q.limit = ParamCount(c.req, "limit", 200, 2000);
     const MachinePage page = ApplyQuery(backend_.ListMachines(), q);
     json list = json::array();
-    for (const auto& m : page.machines) list.push_back(ToJson(m));
+    for (const auto& m : page.machines) list.push_back(runtime::MachineViewJson(m));
     return json{{"total", page.total}, {"matched", page.matched}, {"offset", q.offset}, {"machines", list}};
   });
   api(Method::kGet, machine, Role::kViewer, "", [this](Call& c) { return ToJson(backend_.Machine(c.req.matches[1])); });

@@ -152,7 +152,7 @@ TEST(ShopHttpApi, StatusModelsAndErrorsOverHttpAndTheCli) {
   const std::string url = "http://127.0.0.1:" + std::to_string(api.port());
   auto cli = trueaxis::testing::RunCli("server model load --url " + url + " --machine vm-0000 --file " + m2 + " --user carol");
   EXPECT_EQ(cli.exit_code, 0) << cli.output;
-  EXPECT_EQ(nlohmann::json::parse(cli.output)["new"]["revision"], 2) << cli.output;
+  EXPECT_EQ(nlohmann::json::parse(cli.output)["new"]["revision"], "2") << cli.output;
   cli = trueaxis::testing::RunCli("server model rollback --url " + url + " --machine vm-0001 --user carol");
   EXPECT_EQ(cli.exit_code, 2) << cli.output;  // nothing to roll back to
   cli = trueaxis::testing::RunCli("server status --url " + url);

@@ -86,9 +86,10 @@ TEST_F(RunBackendTest, ShowsTheRunningMachineAndItsLiveValues) {
   ASSERT_EQ(m.axes.size(), 1u);
   EXPECT_DOUBLE_EQ(m.axes[0].correction_um, rec.axes[0].output_um);
   EXPECT_NE(m.axes[0].correction_um, 0.0) << "a warm nut gives a correction";
+  EXPECT_DOUBLE_EQ(m.axes[0].target_um, rec.axes[0].desired_um);
   ASSERT_EQ(m.channels.size(), 2u);
   EXPECT_NEAR(m.channels[0].temp_c, 26, 0.5);
-  EXPECT_EQ(m.model_revision, std::to_string(model_->revision));
+  EXPECT_EQ(m.model.revision, std::to_string(model_->revision));
   const LiveSeries live = backend_->Live("vmc1", 0, 1000);
   EXPECT_EQ(live.samples.size(), 30u);
   EXPECT_EQ(live.last_sequence, 30u);
@@ -115,7 +116,7 @@ TEST_F(RunBackendTest, CoolantOverrideReachesTheCompensator) {
   backend_->SetCoolantOverride(kWho, "vmc1", "flood");
   Cycles(20);
   EXPECT_EQ(backend_->ListMachines()[0].coolant, "flood");
-  EXPECT_EQ(backend_->Machine("vmc1").coolant_override, "flood");
+  EXPECT_EQ(backend_->Machine("vmc1").summary.coolant_override, "flood");
   EXPECT_THROW(backend_->SetCoolantOverride(kWho, "vmc1", "steam"), BackendError);
   backend_->SetCoolantOverride(kWho, "vmc1", "");
   Cycles(20);
@@ -127,12 +128,12 @@ TEST_F(RunBackendTest, LoadsAndRollsBackModelRevisions) {
   second->revision = model_->revision + 1;
   comp_->PublishModel(second, "second");
   backend_->OnModelPublished({std::to_string(second->revision), second, {}}, "bb", "reloaded", unix0_ + 1);
-  EXPECT_EQ(backend_->Machine("vmc1").model.revision, std::to_string(second->revision));
+  EXPECT_EQ(backend_->Machine("vmc1").summary.model.revision, std::to_string(second->revision));
   EXPECT_EQ(backend_->RollbackModel(kWho, "vmc1"), std::to_string(model_->revision));
-  EXPECT_EQ(backend_->Machine("vmc1").model.revision, std::to_string(model_->revision));
+  EXPECT_EQ(backend_->Machine("vmc1").summary.model.revision, std::to_string(model_->revision));
   EXPECT_THROW(backend_->RollbackModel(kWho, "vmc1"), BackendError) << "nothing earlier";
   backend_->LoadModelRevision(kWho, "vmc1", std::to_string(second->revision));
-  EXPECT_EQ(backend_->Machine("vmc1").model.revision, std::to_string(second->revision));
+  EXPECT_EQ(backend_->Machine("vmc1").summary.model.revision, std::to_string(second->revision));
   EXPECT_EQ(backend_->Machine("vmc1").model.available.size(), 2u);
   EXPECT_THROW(backend_->LoadModelRevision(kWho, "vmc1", "77"), BackendError);
 }
@@ -166,7 +167,7 @@ TEST_F(RunBackendTest, AThermalModelIsListedAndCanBeRolledBackAndLoadedAgain) {
   };
   EXPECT_NEAR(target(), -7.0, 1e-9);  // correction = −error
   MachineDetail d = backend_->Machine("vmc1");
-  EXPECT_EQ(d.model.revision, "ridge-cc012345");  // its kind, told apart by the file's hash
+  EXPECT_EQ(d.summary.model.revision, "ridge-cc012345");  // its kind, told apart by the file's hash
   EXPECT_EQ(d.model.available.size(), 2u);
   EXPECT_EQ(backend_->RollbackModel(kWho, "vmc1"), std::to_string(model_->revision));
   EXPECT_GT(std::fabs(target() + 7.0), 0.1) << "the seed-000 model runs again";

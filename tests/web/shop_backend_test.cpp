@@ -69,7 +69,7 @@ TEST_F(ShopBackendTest, ListsEveryMachineWithItsValuesAndLiveSamples) {
     EXPECT_EQ(list[i].id, Name(i));
     EXPECT_EQ(list[i].axes.size(), config_.machines[i].axes.size());
     EXPECT_EQ(list[i].channels.size(), config_.machines[i].channels.size());
-    EXPECT_EQ(list[i].model_revision, "1");
+    EXPECT_EQ(list[i].model.revision, "1");
   }
   // temperatures arrive (read once per second by the shop)
   ASSERT_TRUE(WaitFor([&] {
@@ -94,8 +94,8 @@ TEST_F(ShopBackendTest, ALostTerminalIsShownUnavailableNeverAsItsLastNumbers) {
   vshop_->SetFault(2, sim::TerminalFault::kDown);
   ASSERT_TRUE(WaitFor([&] { return !backend_->Machine(Name(2)).summary.connected; }));
   const auto m = backend_->Machine(Name(2)).summary;
-  for (const auto& a : m.axes) EXPECT_TRUE(std::isnan(a.position_mm)) << a.axis;
-  for (const auto& c : m.channels) EXPECT_TRUE(std::isnan(c.temp_c)) << c.channel;
+  for (const auto& a : m.axes) EXPECT_TRUE(std::isnan(a.position_mm)) << a.name;
+  for (const auto& c : m.channels) EXPECT_TRUE(std::isnan(c.temp_c)) << c.name;
   EXPECT_FALSE(m.alarms.empty());
   // the alarm reaches the alarm list, and acknowledging it acknowledges it on the shop
   ASSERT_TRUE(WaitFor([&] {
@@ -131,9 +131,9 @@ TEST_F(ShopBackendTest, OperationsReachTheShopAndBadOnesAreRefused) {
     EXPECT_EQ(e.status(), 404);
   }
   backend_->SetCoolantOverride(anna_, Name(1), "flood");
-  EXPECT_EQ(backend_->Machine(Name(1)).coolant_override, "flood");
+  EXPECT_EQ(backend_->Machine(Name(1)).summary.coolant_override, "flood");
   backend_->SetCoolantOverride(anna_, Name(1), "");
-  EXPECT_EQ(backend_->Machine(Name(1)).coolant_override, "");
+  EXPECT_EQ(backend_->Machine(Name(1)).summary.coolant_override, "");
   try {
     backend_->SetCoolantOverride(anna_, Name(1), "lava");
     FAIL() << "lava is no coolant";
@@ -145,7 +145,7 @@ TEST_F(ShopBackendTest, OperationsReachTheShopAndBadOnesAreRefused) {
 TEST_F(ShopBackendTest, ModelRevisionsAreTheFilesTheMachineRanWithWhoAndFromWhere) {
   MachineDetail d = backend_->Machine(Name(0));
   ASSERT_EQ(d.model.available.size(), 1u);
-  EXPECT_EQ(d.model.revision, model_);
+  EXPECT_EQ(d.summary.model.file, model_);
   EXPECT_EQ(d.model.figures.size(), FiguresFromFitSummary(model::ReadModelFile(model_)).size());  // the file's fit summary
   EXPECT_EQ(d.model.label.find("not shown"), std::string::npos) << d.model.label;
   // nothing to roll back to, and a file the machine never ran cannot be loaded from the page
@@ -153,13 +153,13 @@ TEST_F(ShopBackendTest, ModelRevisionsAreTheFilesTheMachineRanWithWhoAndFromWher
   EXPECT_THROW(backend_->LoadModelRevision(anna_, Name(0), model_b_), BackendError);
   // loaded from the server's CLI, then back and forth from the page
   shop_->LoadModel(Name(0), model_b_, "bob", "cli");
-  ASSERT_TRUE(WaitFor([&] { return backend_->Machine(Name(0)).model.revision == model_b_; }));
+  ASSERT_TRUE(WaitFor([&] { return backend_->Machine(Name(0)).summary.model.file == model_b_; }));
   d = backend_->Machine(Name(0));
-  EXPECT_EQ(d.model.revision, model_b_);
-  EXPECT_EQ(d.summary.model_revision, "2");
+  EXPECT_EQ(d.summary.model.file, model_b_);
+  EXPECT_EQ(d.summary.model.revision, "2");
   ASSERT_EQ(d.model.available.size(), 2u);
   EXPECT_EQ(backend_->RollbackModel(anna_, Name(0)), model_);
-  ASSERT_TRUE(WaitFor([&] { return backend_->Machine(Name(0)).model.revision == model_; }));
+  ASSERT_TRUE(WaitFor([&] { return backend_->Machine(Name(0)).summary.model.file == model_; }));
   backend_->LoadModelRevision(anna_, Name(0), model_b_);
   const auto changes = shop_->ModelChanges(Name(0));
   ASSERT_EQ(changes.size(), 3u);
@@ -167,7 +167,7 @@ TEST_F(ShopBackendTest, ModelRevisionsAreTheFilesTheMachineRanWithWhoAndFromWher
   EXPECT_EQ(changes[1].from, "127.0.0.1");
   EXPECT_EQ(changes[1].action, "rollback");
   EXPECT_EQ(changes[2].new_model.file, model_b_);
-  EXPECT_TRUE(WaitFor([&] { return backend_->Machine(Name(0)).model.revision == model_b_; }));
+  EXPECT_TRUE(WaitFor([&] { return backend_->Machine(Name(0)).summary.model.file == model_b_; }));
 }
 
 TEST_F(ShopBackendTest, AModelFileRewrittenSinceItWasLoadedShowsNoFiguresAndSaysWhy) {

@@ -231,15 +231,15 @@ TEST_F(WebServerTest, OperationsTakeEffectAndAreAudited) {
   const LoggedIn op = LoginAs("op", kOperatorPassword);
   const LoggedIn admin = LoginAs("admin", kAdminPassword);
   EXPECT_EQ(Post(op, "/api/machines/m0003/coolant", {{"state", "mist"}})->status, 200);
-  EXPECT_EQ(shop_->Machine("m0003").coolant_override, "mist");
+  EXPECT_EQ(shop_->Machine("m0003").summary.coolant_override, "mist");
   EXPECT_EQ(Post(op, "/api/machines/m0003/coolant", {{"state", "lava"}})->status, 400);
   EXPECT_EQ(Post(op, "/api/machines/m0003/coolant", {{"state", ""}})->status, 200);
-  EXPECT_EQ(shop_->Machine("m0003").coolant_override, "");
+  EXPECT_EQ(shop_->Machine("m0003").summary.coolant_override, "");
   EXPECT_EQ(Post(op, "/api/machines/m0003/axes/Q", {{"enabled", true}})->status, 404);
   // Model: load 3, roll back to what was before.
-  const std::string before = shop_->Machine("m0003").model.revision;
+  const std::string before = shop_->Machine("m0003").summary.model.revision;
   EXPECT_EQ(Post(admin, "/api/machines/m0003/model", {{"revision", "3"}})->status, 200);
-  EXPECT_EQ(shop_->Machine("m0003").model.revision, "3");
+  EXPECT_EQ(shop_->Machine("m0003").summary.model.revision, "3");
   EXPECT_EQ(Json(Post(admin, "/api/machines/m0003/model/rollback"))["revision"], before);
   EXPECT_EQ(Post(admin, "/api/machines/m0003/model", {{"revision", "99"}})->status, 404);
   // Alarms: acknowledge once; twice is a conflict.

@@ -218,7 +218,7 @@ TEST(MachineQuery, FiltersSortsAndPages) {
     m.connected = i % 7 != 0;
     if (i % 5 == 0) m.alarms = {"sensor_held"};
     m.channels = {{"a", i == 3 ? std::nan("") : 20.0 + (i * 37 % 30), "ok"}};
-    m.axes = {{"X", true, 0, -1.0 * i}};
+    m.axes = {{.name = "X", .enabled = true, .state = "full", .position_mm = 0, .correction_um = -1.0 * i}};
     ms.push_back(m);
   }
   auto page = ApplyQuery(ms, MachineQuery{"LATHE", "id", true, false, false, 0, 5});

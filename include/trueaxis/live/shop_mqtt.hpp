@@ -8,7 +8,7 @@
 // shop nothing; its faults show in Stats().
 #include <string>
 
-#include "trueaxis/core/periodic_worker.hpp"
+#include "trueaxis/core/periodic_thread.hpp"
 #include "trueaxis/live/mqtt_publisher.hpp"
 #include "trueaxis/server/shop.hpp"
 
@@ -32,7 +32,7 @@ class ShopMqttRelay {
   server::MqttConfig config_;
   MqttPublisher publisher_;
   bool closed_ = false;
-  core::PeriodicWorker worker_;  // last: stopped first
+  core::PeriodicThread worker_;  // last: stopped first
 };
 
 }  // namespace trueaxis::live

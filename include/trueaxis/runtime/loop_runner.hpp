@@ -30,7 +30,7 @@
 #include "trueaxis/runtime/compensator.hpp"
 #include "trueaxis/runtime/io_snapshot.hpp"
 #include "trueaxis/runtime/latest_value.hpp"
-#include "trueaxis/runtime/periodic_thread.hpp"
+#include "trueaxis/core/periodic_thread.hpp"
 
 namespace trueaxis::runtime {
 
@@ -53,8 +53,8 @@ struct LoopStats {
   // (StepSimulated) there is no deadline, so no overrun is counted, but these would have been.
   std::uint64_t long_cycles = 0;
   bool io_workers = false;  // the I/O ran on its own workers
-  PeriodicStats cnc_io;     // the CNC worker's calls (write + read), when io_workers
-  PeriodicStats temperature_io;
+  core::PeriodicStats cnc_io;     // the CNC worker's calls (write + read), when io_workers
+  core::PeriodicStats temperature_io;
   std::string BriefReport() const;
 };
 
@@ -108,7 +108,7 @@ class LoopRunner {
   LoopOptions options_;
   CycleObserver* observer_;
   std::function<void(double)> plant_advance_;
-  PeriodicThread::Clock::time_point epoch_;
+  core::PeriodicThread::Clock::time_point epoch_;
 
   // Inline I/O (simulated time, in-process plant).
   TemperatureSnapshot temperatures_;
@@ -129,9 +129,9 @@ class LoopRunner {
   std::uint64_t worker_cnc_reads_ = 0;
   std::atomic<bool> io_workers_{false};
 
-  PeriodicThread loop_;
-  PeriodicThread cnc_worker_;
-  PeriodicThread temperature_worker_;
+  core::PeriodicThread loop_;
+  core::PeriodicThread cnc_worker_;
+  core::PeriodicThread temperature_worker_;
   std::uint64_t sim_cycles_ = 0;
   double sim_pause_s_ = 0;
 };

@@ -20,11 +20,19 @@
 
 #include <nlohmann/json.hpp>
 
+#include "trueaxis/runtime/machine_view.hpp"
 #include "trueaxis/server/shop.hpp"
 
 namespace trueaxis::server {
 
-nlohmann::json ToJson(const MachineStatus& status);  // UNAVAILABLE values are JSON null
+// A shop machine in the one vocabulary of both HTTP servers (runtime::MachineView; the web front
+// end's ShopBackend shows the same): id = name, UNAVAILABLE values NaN.
+runtime::MachineView MachineViewOf(const MachineStatus& status);
+runtime::MachineModelView ModelViewOf(const ModelInfo& model);
+// runtime::MachineViewJson of MachineViewOf, plus what only the server knows: the terminal's
+// endpoint, its link counters and latency, the alarm bits and the unacknowledged alarms, the
+// model's slot. UNAVAILABLE values are JSON null.
+nlohmann::json ToJson(const MachineStatus& status);
 nlohmann::json ToJson(const ModelChange& change);
 nlohmann::json ToJson(const ShopStats& stats);
 

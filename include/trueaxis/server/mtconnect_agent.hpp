@@ -11,7 +11,7 @@
 // INVALID_REQUEST, UNSUPPORTED (400; `interval` streaming is not served: poll /sample), INVALID_URI
 // (404), UNAUTHORIZED (403: a Host that is not this computer's, as the control API).
 //
-// A publisher thread (core::PeriodicWorker, every period_s) takes one Shop::Snapshot() and appends a
+// A publisher thread (core::PeriodicThread, every period_s) takes one Shop::Snapshot() and appends a
 // new observation for each value that changed since the last one (as the document shows it) to the
 // bounded ObservationBuffer; the shop's event loop is never touched. Its own port, cpp-httplib
 // behind GatedHttpServer and the control API's Host and body-framing checks (http_guard.hpp).

@@ -4,17 +4,19 @@
 // period_s, so the terminal's machine thread, which calls Read() every few
 // milliseconds, never waits for it. Read() copies the latest values.
 //
+// The poller is a core::PeriodicThread: a read longer than the period is an overrun, the next
+// starts on the period grid (no burst to catch up); Deactivate() does not wait out a period.
+//
 // Read() returns false when the inner source's last read failed, or when no
 // read has completed for stale_after_s (a reader stuck in the kernel or the
 // network): a stale number is never served as a live one.
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <memory>
 #include <mutex>
-#include <thread>
 #include <vector>
 
+#include "trueaxis/core/periodic_thread.hpp"
 #include "trueaxis/hw/temperature_source.hpp"
 
 namespace trueaxis::terminal {
@@ -40,17 +42,16 @@ class PolledTemperatureSource final : public hw::TemperatureSource {
   std::uint64_t polls() const { return polls_.load(); }
 
  private:
-  void Run();
+  void Poll();  // one read of the inner source (the poller thread)
   std::unique_ptr<hw::TemperatureSource> inner_;
   std::chrono::duration<double> period_, stale_after_;
   std::mutex mu_;
-  std::condition_variable wake_;
   std::vector<hw::RawTemperature> latest_;
   bool latest_ok_ = false;
   std::chrono::steady_clock::time_point latest_time_{};
   std::atomic<std::uint64_t> polls_{0};
-  bool stop_ = false;
-  std::thread thread_;
+  std::vector<hw::RawTemperature> buffer_;  // the poller's own
+  core::PeriodicThread poller_;  // last: stopped first
 };
 
 }  // namespace trueaxis::terminal

@@ -15,9 +15,6 @@
 
 namespace trueaxis::web {
 
-// "link_read|stale_input" → {"link_read", "stale_input"} (runtime::AlarmNames, the server's status).
-std::vector<std::string> SplitAlarmNames(const std::string& names);
-
 class AlarmBook {
  public:
   explicit AlarmBook(std::size_t capacity = 10000) : capacity_(capacity) {}

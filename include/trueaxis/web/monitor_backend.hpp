@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "trueaxis/runtime/machine_view.hpp"
+
 namespace trueaxis::web {
 
 class BackendError : public std::runtime_error {
@@ -25,34 +27,9 @@ class BackendError : public std::runtime_error {
   int status_;
 };
 
-struct AxisValue {
-  std::string axis;
-  bool enabled = false;        // the compensation of this axis is switched on (ramps through the limiter)
-  double position_mm = 0;
-  double correction_um = 0;    // the shaped correction now applied (correction sign)
-  // How the compensator treats it (runtime::AxisCompensationState): full, fallback_model,
-  // geometric, disabled, link_lost.
-  std::string state = "full";
-};
-
-struct ChannelValue {
-  std::string channel;
-  double temp_c = 0;           // NaN when the sensor is lost
-  std::string health;          // "ok", "held", "lost", ...
-};
-
-// One row of the shop overview.
-struct MachineSummary {
-  std::string id;              // URL-safe: [A-Za-z0-9_.-]
-  std::string name;
-  bool connected = false;
-  std::vector<std::string> alarms;  // names of the active alarms
-  std::vector<AxisValue> axes;
-  std::vector<ChannelValue> channels;
-  std::string model_revision;  // "" when no model is loaded
-  std::string coolant;         // the coolant state the compensator uses ("off", "flood", ...)
-  double updated_unix_s = 0;   // time of the values
-};
+// One machine's live state, one row of the shop overview: the one vocabulary of both HTTP servers
+// (runtime/machine_view.hpp: axes, channels, alarms, coolant and override, the model in use).
+using MachineSummary = runtime::MachineView;
 
 // One live sample: the values of every channel and axis at one instant, in the order of
 // LiveSeries::channels / axes.
@@ -86,17 +63,15 @@ struct ModelRevision {
   double loaded_unix_s = 0;
 };
 
+// What the machine page shows of its models beyond the one in use (MachineSummary::model).
 struct ModelInfo {
-  std::string revision;  // in use, "" = none
-  std::string sha256;
-  std::string label;
+  std::string label;     // the model in use, as a user reads it
   std::vector<ModelRevision> available;  // revisions that can be loaded (newest last)
   std::vector<ModelFigure> figures;
 };
 
 struct MachineDetail {
   MachineSummary summary;
-  std::string coolant_override;  // "" = none (the CNC's own state), else the forced state
   ModelInfo model;
 };
 

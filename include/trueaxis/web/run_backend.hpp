@@ -64,6 +64,7 @@ class RunBackend : public MonitorBackend {
     std::vector<ModelFigure> figures;
   };
   void CheckId(const std::string& id) const;
+  MachineSummary Summary() const;  // the machine now, with the coolant override
   void Publish(const Loaded& loaded, const std::string& note);  // throws BackendError 409 on a model that does not bind
   std::string HistoryDbOrThrow() const;
 

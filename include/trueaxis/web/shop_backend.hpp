@@ -18,7 +18,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "trueaxis/core/periodic_worker.hpp"
+#include "trueaxis/core/periodic_thread.hpp"
 #include "trueaxis/server/shop.hpp"
 #include "trueaxis/web/alarm_book.hpp"
 #include "trueaxis/web/live_ring.hpp"
@@ -77,7 +77,7 @@ class ShopBackend : public MonitorBackend {
   std::vector<LiveRing> live_;  // per machine, under mutex_
   mutable std::unordered_map<std::string, Figures> figures_;  // by model sha256, under mutex_
   AlarmBook alarms_;
-  core::PeriodicWorker worker_;  // the sampler (last: stopped before the rest goes)
+  core::PeriodicThread worker_;  // the sampler (last: stopped before the rest goes)
 };
 
 }  // namespace trueaxis::web

@@ -5,13 +5,12 @@
 // swing; the corrections follow the temperatures; a few machines carry alarms or are
 // disconnected. Values come from a formula of time, so history is available for any range.
 // Tick() advances every machine to a time (a test calls it; Start() runs it at a period).
-#include <atomic>
 #include <mutex>
 #include <shared_mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "trueaxis/core/periodic_thread.hpp"
 #include "trueaxis/web/alarm_book.hpp"
 #include "trueaxis/web/live_ring.hpp"
 #include "trueaxis/web/monitor_backend.hpp"
@@ -43,7 +42,6 @@ class SyntheticShop : public MonitorBackend {
  private:
   struct Machine_ {
     MachineSummary summary;
-    std::string coolant_override;
     std::vector<std::string> revision_stack;  // loaded revisions, current last
     LiveRing live;
     double phase = 0;       // per-machine offset of the daily swing
@@ -57,8 +55,7 @@ class SyntheticShop : public MonitorBackend {
   mutable std::shared_mutex mutex_;
   std::vector<Machine_> machines_;
   AlarmBook alarms_;
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
+  core::PeriodicThread ticker_;  // last: stopped first
 };
 
 }  // namespace trueaxis::web

@@ -68,24 +68,24 @@ async function refreshMachine() {
   document.getElementById('m-connected').textContent = m.connected ? 'connected' : 'lost';
   document.getElementById('m-alarms').textContent = m.alarms.length ? m.alarms.join(', ') : 'none';
   document.getElementById('m-coolant').textContent = m.coolant;
-  document.getElementById('m-revision').textContent = m.model_revision || 'none';
+  document.getElementById('m-revision').textContent = m.model.revision || 'none';
   document.getElementById('coolant-override').textContent = m.coolant_override ? 'forced: ' + m.coolant_override : 'no override';
 
   const values = document.querySelector('#live-values tbody');
   values.replaceChildren(...m.channels.map((c) => TA.el('tr', {},
-    TA.el('td', {}, c.channel), TA.el('td', { id: 'temp-' + c.channel, class: 'mono' }, TA.num(c.temp_c, 2)), TA.el('td', {}, c.health))));
+    TA.el('td', {}, c.name), TA.el('td', { id: 'temp-' + c.name, class: 'mono' }, TA.num(c.temp_c, 2)), TA.el('td', {}, c.health))));
 
   const axes = document.querySelector('#axes tbody');
   axes.replaceChildren(...m.axes.map((a) => {
-    const button = TA.el('button', { id: 'axis-' + a.axis + '-toggle', type: 'button' }, a.enabled ? 'Disable' : 'Enable');
+    const button = TA.el('button', { id: 'axis-' + a.name + '-toggle', type: 'button' }, a.enabled ? 'Disable' : 'Enable');
     button.addEventListener('click', async () => {
-      await TA.operate((a.enabled ? 'disable ' : 'enable ') + a.axis, 'POST', base + '/axes/' + encodeURIComponent(a.axis), { enabled: !a.enabled });
+      await TA.operate((a.enabled ? 'disable ' : 'enable ') + a.name, 'POST', base + '/axes/' + encodeURIComponent(a.name), { enabled: !a.enabled });
       refreshMachine();
     });
-    return TA.el('tr', {}, TA.el('td', {}, a.axis), TA.el('td', { class: 'mono' }, TA.num(a.position_mm, 3)),
-      TA.el('td', { id: 'corr-' + a.axis, class: 'mono' }, TA.num(a.correction_um, 2)),
-      TA.el('td', { id: 'axis-' + a.axis + '-state' }, a.enabled ? 'on' : 'off'),
-      TA.el('td', { id: 'axis-' + a.axis + '-model' }, modelState[a.state] || a.state || ''), TA.el('td', {}, button));
+    return TA.el('tr', {}, TA.el('td', {}, a.name), TA.el('td', { class: 'mono' }, TA.num(a.position_mm, 3)),
+      TA.el('td', { id: 'corr-' + a.name, class: 'mono' }, TA.num(a.correction_um, 2)),
+      TA.el('td', { id: 'axis-' + a.name + '-state' }, a.enabled ? 'on' : 'off'),
+      TA.el('td', { id: 'axis-' + a.name + '-model' }, modelState[a.state] || a.state || ''), TA.el('td', {}, button));
   }));
 
   document.getElementById('model-revision').textContent = m.model.revision || 'none';

@@ -14,14 +14,14 @@ async function refresh() {
   const body = document.querySelector('#machines tbody');
   body.replaceChildren();
   for (const m of page.machines) {
-    const temps = m.channels.map((c) => c.channel + ' ' + TA.num(c.temp_c, 2) + (c.health !== 'ok' ? ' (' + c.health + ')' : '')).join('  ');
-    const corr = m.axes.map((a) => a.axis + ' ' + (a.enabled ? '' : 'off ') + TA.num(a.correction_um, 1)).join('  ');
+    const temps = m.channels.map((c) => c.name + ' ' + TA.num(c.temp_c, 2) + (c.health !== 'ok' ? ' (' + c.health + ')' : '')).join('  ');
+    const corr = m.axes.map((a) => a.name + ' ' + (a.enabled ? '' : 'off ') + TA.num(a.correction_um, 1)).join('  ');
     body.append(TA.el('tr', { class: m.alarms.length ? 'alarm' : '' },
       TA.el('td', {}, TA.el('a', { href: '/machine.html?id=' + encodeURIComponent(m.id) }, m.id)),
       TA.el('td', {}, m.name),
       TA.el('td', { class: m.connected ? 'ok' : 'bad' }, m.connected ? 'connected' : 'lost'),
       TA.el('td', {}, m.alarms.join(', ')),
-      TA.el('td', {}, m.model_revision),
+      TA.el('td', {}, m.model.revision),
       TA.el('td', {}, m.coolant),
       TA.el('td', { class: 'mono' }, temps),
       TA.el('td', { class: 'mono' }, corr)));

@@ -4,9 +4,9 @@
 
 #include <gtest/gtest.h>
 
-#include "trueaxis/runtime/periodic_thread.hpp"
+#include "trueaxis/core/periodic_thread.hpp"
 
-namespace trueaxis::runtime {
+namespace trueaxis::core {
 namespace {
 
 TEST(PeriodicStats, PercentilesMaxAndLongCallsFromAccountedCalls) {
@@ -39,4 +39,4 @@ TEST(PeriodicStats, NoCallsNoPercentiles) {
 }
 
 }  // namespace
-}  // namespace trueaxis::runtime
+}  // namespace trueaxis::core

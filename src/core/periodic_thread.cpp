@@ -1,9 +1,9 @@
-#include "trueaxis/runtime/periodic_thread.hpp"
+#include "trueaxis/core/periodic_thread.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace trueaxis::runtime {
+namespace trueaxis::core {
 
 PeriodicThread::PeriodicThread(double period_s, Clock::time_point epoch, std::function<void(double)> body)
     : period_s_(period_s), epoch_(epoch), body_(std::move(body)) {}
@@ -12,18 +12,38 @@ PeriodicThread::~PeriodicThread() { Stop(); }
 
 void PeriodicThread::Start() {
   if (running_.exchange(true)) return;
-  stop_.store(false);
+  {
+    std::lock_guard<std::mutex> lock(wake_mu_);
+    stop_ = false;
+    woken_ = false;
+  }
   thread_ = std::thread([this] { Main(); });
+}
+
+void PeriodicThread::Start(double period_s, std::function<void(double)> body) {
+  Stop();
+  period_s_ = period_s;
+  epoch_ = Clock::now();
+  body_ = std::move(body);
+  Start();
 }
 
 void PeriodicThread::Stop() {
   {
     std::lock_guard<std::mutex> lock(wake_mu_);
-    stop_.store(true);
+    stop_ = true;
   }
   wake_cv_.notify_all();
   if (thread_.joinable()) thread_.join();
   running_.store(false);
+}
+
+void PeriodicThread::Wake() {
+  {
+    std::lock_guard<std::mutex> lock(wake_mu_);
+    woken_ = true;
+  }
+  wake_cv_.notify_all();
 }
 
 namespace {
@@ -47,17 +67,20 @@ void PeriodicThread::Account(double call_s, bool overrun) {
 
 void PeriodicThread::Main() {
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(period_s_));
-  auto deadline = Clock::now();
-  while (!stop_.load(std::memory_order_relaxed)) {
+  auto deadline = Clock::now();  // the first call at once
+  std::unique_lock<std::mutex> lock(wake_mu_);
+  while (!stop_) {
+    woken_ = false;
+    lock.unlock();  // the call itself takes no lock
     const auto start = Clock::now();
     body_(std::chrono::duration<double>(start - epoch_).count());
     const auto end = Clock::now();
-    deadline += period;
+    if (start >= deadline) deadline += period;  // a call on the grid (a woken one ahead of it leaves the grid)
     const bool overrun = end > deadline;
     if (overrun) deadline += ((end - deadline) / period + 1) * period;  // skip the missed deadlines
     Account(std::chrono::duration<double>(end - start).count(), overrun);
-    std::unique_lock<std::mutex> lock(wake_mu_);  // outside the call: the call itself takes no lock
-    wake_cv_.wait_until(lock, deadline, [this] { return stop_.load(std::memory_order_relaxed); });
+    lock.lock();
+    wake_cv_.wait_until(lock, deadline, [this] { return stop_ || woken_; });
   }
 }
 
@@ -89,4 +112,4 @@ PeriodicStats PeriodicThread::Stats() const {
   return s;
 }
 
-}  // namespace trueaxis::runtime
+}  // namespace trueaxis::core
