@@ -19,7 +19,7 @@ std::map<int, ToolErrorModel> FitToolModels(const ToolTable& table, const ToolDa
       too_few[t.number] = static_cast<int>(rows.size());
       continue;
     }
-    models.emplace(t.number, FitToolErrorModel(t.number, rows, table.standard_temp_c, warnings));
+    models.emplace(t.number, FitToolErrorModel(t.number, rows, table.standard_temp_c, warnings, ZoneGrowthUmPerC(t)));
   }
   // A tool that cut too little gets a flagged stand-in from the others (tool_fallback.hpp).
   const std::map<int, ToolErrorModel> fitted = models;

@@ -39,6 +39,14 @@ bool FallbackModelFromOtherTools(const ToolDescription& tool, const std::map<int
   m.two_body_intercept_um = m.one.intercept_um;
   m.two_body_tv_um_per_c = m.one.per_c_um;
   m.best = m.best_without_zones = ToolModelKind::kOne;
+  // With zone means the stand-in spreads that slope over the zones by the free growth of each
+  // zone's part of the axis (ZoneGrowthUmPerC), from the others' median intercept.
+  const std::vector<double> zone_growth = ZoneGrowthUmPerC(tool);
+  if (!zone_growth.empty()) {
+    m.zone_intercept_um = m.one.intercept_um;
+    for (double g : zone_growth) m.zone_um_per_c.push_back(Median(slope_per_growth) * g);
+    m.best = ToolModelKind::kZones;
+  }
   m.training_rows = training_rows;
   m.fallback_from_tools = from;
   *out = m;
