@@ -15,6 +15,9 @@ namespace {
 
 constexpr int kMinIntervalRows = 20;
 constexpr std::size_t kMinZoneRowsPerTerm = 5;  // the zones fit needs this many rows per coefficient
+// Weight of the free growth in the zones fit, as a share of the mean diagonal of XᵀX: it settles
+// what the zone means cannot tell apart (zones that warm together) and leaves what they can to the data.
+constexpr double kZoneGrowthRidge = 0.1;
 
 // First-order lag of Tv, restarting at Tv on every mounting.
 std::vector<double> LagSeries(const std::vector<ToolRecord>& rows, double tau_s) {
@@ -239,10 +242,12 @@ std::vector<double> PredictSeries(const ToolErrorModel& model, ToolModelKind kin
 
 namespace {
 
-// Zones: e = a + Σ b_r·(Tr − T_std), ridge least squares (λ = 1e-4·mean diagonal). With the free
-// growth per zone (`growth`, from the tool file) the fit is continued beyond each zone's training
-// range of Tr by −growth_r (docs/tool-thermal.md, "Beyond the training range"), and a tool with too
-// few rows for its own zone slopes takes those of the free growth and fits the intercept alone.
+// Zones: e = a + Σ b_r·(Tr − T_std), ridge least squares. Without the free growth per zone the
+// ridge pulls towards 0 (λ = 1e-4·mean diagonal). With it (`growth`, from the tool file) the ridge
+// pulls the slopes towards −growth_r (λ = kZoneGrowthRidge·mean diagonal), the fit is continued
+// beyond each zone's training range of Tr by −growth_r (docs/tool-thermal.md, "Beyond the training
+// range"), and a tool with too few rows for its own zone slopes takes −growth_r and fits the
+// intercept alone.
 void FitZones(ToolErrorModel& m, const std::vector<ToolRecord>& rows, std::span<const double> growth) {
   const double t_std = m.standard_temp_c;
   const std::size_t nz = rows.front().zone_c.size();
@@ -262,9 +267,13 @@ void FitZones(ToolErrorModel& m, const std::vector<ToolRecord>& rows, std::span<
       y(i) = row.error_um;
     }
     Eigen::MatrixXd xtx = x.transpose() * x;
-    const double lambda = 1e-4 * xtx.diagonal().tail(nzi).mean();
-    for (Eigen::Index r = 1; r <= nzi; ++r) xtx(r, r) += lambda;
-    const Eigen::VectorXd b = xtx.ldlt().solve(x.transpose() * y);
+    Eigen::VectorXd rhs = x.transpose() * y;
+    const double lambda = (physics ? kZoneGrowthRidge : 1e-4) * xtx.diagonal().tail(nzi).mean();
+    for (Eigen::Index r = 1; r <= nzi; ++r) {
+      xtx(r, r) += lambda;
+      if (physics) rhs(r) -= lambda * growth[static_cast<std::size_t>(r - 1)];
+    }
+    const Eigen::VectorXd b = xtx.ldlt().solve(rhs);
     m.zone_intercept_um = b(0);
     m.zone_um_per_c.assign(b.data() + 1, b.data() + b.size());
   } else if (physics) {

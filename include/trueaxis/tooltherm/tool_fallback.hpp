@@ -8,9 +8,10 @@
 // (µm per °C when tool and holder warm alike); the fallback's slope is the median
 // ratio times this tool's g, its intercept the median intercept. The lag and
 // two-body forms use that line (the lag with the median τ), so every model kind
-// predicts with it. With zone means (the tool file has zones, as every tool does by
-// default) `best` is the zones model with the free growth of each zone's part of the
-// axis (ZoneGrowthUmPerC) as its slopes and the median intercept; else the one curve. `fallback_from_tools` names the
+// predicts with it. When the other tools have zones models, `best` is a zones model: the
+// median of their whole zone slope (Σ b_r) per µm of free growth, spread over this tool's
+// zones by each zone's free growth (ZoneGrowthUmPerC), and the median of their zones
+// intercepts; else the one curve. `fallback_from_tools` names the
 // tools it came from — the model is a stand-in until the tool is measured cutting.
 #include <map>
 
