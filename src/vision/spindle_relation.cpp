@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -29,7 +30,15 @@ SpindleRelation FitSpindleRelation(const std::vector<SpindleRelationSample>& s) 
     rpm_lo = std::min(rpm_lo, s[i].rpm);
     rpm_hi = std::max(rpm_hi, s[i].rpm);
   }
-  if (!(rpm_hi > rpm_lo)) throw std::invalid_argument("the reference run must change the spindle speed (heat and cool it)");
+  // At least two speeds (10 rpm apart), each held for three samples or more: a run at one speed
+  // cannot tell the marker's lag from the speed's.
+  std::map<long, int> held;
+  for (const auto& p : s) ++held[std::lround(p.rpm / 10.0)];
+  int levels = 0;
+  for (const auto& [rpm, count] : held) levels += count >= 3 ? 1 : 0;
+  if (levels < 2 || !(rpm_hi > rpm_lo))
+    throw std::invalid_argument("the reference run must change the spindle speed (heat and cool it): at least two speeds "
+                                "held for three samples each");
   SpindleRelation best;
   const auto n = static_cast<Eigen::Index>(s.size());
   Eigen::VectorXd y(n);

@@ -41,7 +41,7 @@ struct SpindleRelationSample {
   double reference_um = 0; // the real growth, measured (calibration only)
 };
 
-// Needs ≥ 10 samples with increasing time over a run whose speed changes (std::invalid_argument
+// Needs ≥ 10 samples with increasing time over a run that holds two speeds or more for ≥ 3 samples each (std::invalid_argument
 // otherwise, saying what is missing).
 SpindleRelation FitSpindleRelation(const std::vector<SpindleRelationSample>& samples);
 
