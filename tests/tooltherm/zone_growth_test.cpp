@@ -185,38 +185,5 @@ TEST(ZoneGrowth, EveryExampleToolOnBlocksDaysWithPyrometersKeepsEightyPercent) {
   }
 }
 
-// A tool that did not cut on its training day: its stand-in is a zones model, the other tools'
-// whole zone slope per µm of free growth spread over its zones by their free growth.
-TEST(ZoneGrowth, AStandInSpreadsTheOthersZoneSlopePerFreeGrowthOverItsZones) {
-  const ToolTable table = RandomToolTable(3, 7);
-  ToolDayOptions o;
-  o.hours = 4;
-  o.sample_s = 5;
-  o.program = ToolDayProgramKind::kBlocks;
-  o.sensor = TvSensor::kPyrometer;
-  ToolDayRecording training = RunToolDay(table, o);
-  const ToolDescription& missing = table.tools[1];
-  std::erase_if(training.samples, [&](const ToolDaySample& s) { return s.tool == missing.number; });
-  const auto models = FitToolModels(table, training, nullptr);
-  const ToolErrorModel& stand_in = models.at(missing.number);
-  ASSERT_FALSE(stand_in.fallback_from_tools.empty());
-  EXPECT_EQ(stand_in.best, ToolModelKind::kZones);
-  std::vector<double> ratio, intercept;
-  for (int n : stand_in.fallback_from_tools) {
-    const ToolErrorModel& m = models.at(n);
-    ASSERT_FALSE(m.zone_um_per_c.empty());
-    ratio.push_back(std::accumulate(m.zone_um_per_c.begin(), m.zone_um_per_c.end(), 0.0) / GaugeGrowthUmPerC(*table.Find(n)));
-    intercept.push_back(m.zone_intercept_um);
-  }
-  auto median = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-  };
-  const std::vector<double> g = ZoneGrowthUmPerC(missing);
-  ASSERT_EQ(stand_in.zone_um_per_c.size(), g.size());
-  for (std::size_t z = 0; z < g.size(); ++z) EXPECT_NEAR(stand_in.zone_um_per_c[z], median(ratio) * g[z], 1e-12);
-  EXPECT_NEAR(stand_in.zone_intercept_um, median(intercept), 1e-12);
-}
-
 }  // namespace
 }  // namespace trueaxis::tooltherm
