@@ -289,9 +289,18 @@ void FitZones(ToolErrorModel& m, const std::vector<ToolRecord>& rows, std::span<
     return;
   }
   if (!physics) return;
+  // The range a zone really had: each reading against its neighbours in the same mounting (median
+  // of three), so one frame's reflection or coolant splash does not widen it.
   for (std::size_t r = 0; r < nz; ++r) {
     double lo = INFINITY, hi = -INFINITY;
-    for (const auto& row : rows) lo = std::min(lo, row.zone_c[r]), hi = std::max(hi, row.zone_c[r]);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      double v = rows[i].zone_c[r];
+      if (i > 0 && i + 1 < rows.size() && !rows[i].restart && !rows[i + 1].restart) {
+        const double a = rows[i - 1].zone_c[r], c = rows[i + 1].zone_c[r];
+        v = std::max(std::min(a, v), std::min(std::max(a, v), c));
+      }
+      lo = std::min(lo, v), hi = std::max(hi, v);
+    }
     m.zone_training_range_c.emplace_back(lo, hi);
     m.zone_beyond_um_per_c.push_back(-growth[r]);
   }
