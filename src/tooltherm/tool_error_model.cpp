@@ -14,7 +14,6 @@ namespace trueaxis::tooltherm {
 namespace {
 
 constexpr int kMinIntervalRows = 20;
-constexpr std::size_t kMinZoneRowsPerTerm = 5;  // the zones fit needs this many rows per coefficient
 // Weight of the free growth in the zones fit, as a share of the mean diagonal of XᵀX: it settles
 // what the zone means cannot tell apart (zones that warm together) and leaves what they can to the data.
 constexpr double kZoneGrowthRidge = 0.1;
@@ -255,7 +254,7 @@ void FitZones(ToolErrorModel& m, const std::vector<ToolRecord>& rows, std::span<
   m.zone_um_per_c.clear();
   m.zone_training_range_c.clear();
   m.zone_beyond_um_per_c.clear();
-  if (rows.size() >= kMinZoneRowsPerTerm * (nz + 1)) {
+  if (rows.size() >= kMinZoneRowsPerCoefficient * (nz + 1)) {
     const auto n = static_cast<Eigen::Index>(rows.size());
     const auto nzi = static_cast<Eigen::Index>(nz);
     Eigen::MatrixXd x(n, nzi + 1);

@@ -185,5 +185,40 @@ TEST(ZoneGrowth, EveryExampleToolOnBlocksDaysWithPyrometersKeepsEightyPercent) {
   }
 }
 
+// The free growth a tool's zones continue with is scaled by the sensor's factor: the median over the
+// day's tools of their whole zone slope per µm of free growth (the virtual sensors read 0.85/0.95
+// of the rise, so the readings' slope is steeper than the free growth).
+TEST(ZoneGrowth, TheFreeGrowthIsScaledByTheSensorsFactorFromTheDaysTools) {
+  const ToolTable table = RandomToolTable(3, 11);
+  ToolDayOptions o;
+  o.hours = 6;
+  o.sample_s = 10;
+  o.program = ToolDayProgramKind::kBlocks;
+  o.sensor = TvSensor::kPyrometer;
+  const ToolDayRecording training = RunToolDay(table, o);
+  const auto models = FitToolModels(table, training, nullptr);
+  std::vector<double> ratios;
+  for (const auto& t : table.tools) {
+    const auto rows = ToolRecordsOf(training, t.number);
+    const auto g = ZoneGrowthUmPerC(t);
+    if (rows.size() < kMinZoneRowsPerCoefficient * (g.size() + 1)) continue;
+    const ToolErrorModel bare = FitToolErrorModel(t.number, rows, table.standard_temp_c, nullptr, g);
+    ratios.push_back(-std::accumulate(bare.zone_um_per_c.begin(), bare.zone_um_per_c.end(), 0.0) /
+                     std::accumulate(g.begin(), g.end(), 0.0));
+  }
+  ASSERT_GE(ratios.size(), 2u);
+  std::sort(ratios.begin(), ratios.end());
+  const std::size_t n = ratios.size();
+  const double factor = std::clamp(n % 2 ? ratios[n / 2] : 0.5 * (ratios[n / 2 - 1] + ratios[n / 2]), 0.5, 2.0);
+  EXPECT_GT(factor, 1.0);  // the readings see less than the bodies' rise
+  for (const auto& t : table.tools) {
+    const ToolErrorModel& m = models.at(t.number);
+    if (!m.fallback_from_tools.empty()) continue;
+    const auto g = ZoneGrowthUmPerC(t);
+    ASSERT_EQ(m.zone_beyond_um_per_c.size(), g.size());
+    for (std::size_t z = 0; z < g.size(); ++z) EXPECT_NEAR(m.zone_beyond_um_per_c[z], -factor * g[z], 1e-12);
+  }
+}
+
 }  // namespace
 }  // namespace trueaxis::tooltherm

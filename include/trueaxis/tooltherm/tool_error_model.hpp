@@ -155,6 +155,9 @@ class ToolErrorPredictor {
 
 std::vector<double> PredictSeries(const ToolErrorModel& model, ToolModelKind kind, const std::vector<ToolRecord>& rows);
 
+// The zones model fits its own slopes from this many rows per coefficient (zones + 1) on.
+inline constexpr std::size_t kMinZoneRowsPerCoefficient = 5;
+
 // Needs ≥ 20 rows, the first a restart, time increasing within each mounting
 // (std::invalid_argument otherwise). `warnings` gets intervals left to the one model.
 // zone_growth_um_per_c: the free growth per zone (µm/°C, ZoneGrowthUmPerC); empty: the zones
