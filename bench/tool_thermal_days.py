@@ -24,7 +24,7 @@ def run(cli, args):
         rms = [float(c.split("/")[0]) for c in cells[3:10]]
         mx = [float(re.split(r"[/(]", c)[1]) for c in cells[3:10]]
         found = re.search(r"\((\w+)\)", cells[9])
-        if not found:  # the tool was not used on the training day: no model, nothing to score
+        if not found:  # no model (alone on its day, never used; a stand-in shows "fallback"): nothing to score
             continue
         best = found.group(1)
         rows.append(dict(tool=tool, samples=samples, spread=spread, rms=rms, max=mx, best=best))
@@ -35,10 +35,13 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--cli", default="build/apps/trueaxis/trueaxis")
     ap.add_argument("--seeds", default="101,201,301,401,501")
-    ap.add_argument("--tools", type=int, default=4)
+    ap.add_argument("--tools", type=int, default=4, help="random tools per day")
+    ap.add_argument("--tool-file", default="", help="use this tool file instead of random tools (e.g. examples/tool/tools.toml)")
     ap.add_argument("--hours", default="10")
     args = ap.parse_args()
-    configs = [("camera", "2", "mixed"), ("camera", "30", "mixed"), ("pyrometer", "10", "mixed"), ("camera", "5", "blocks")]
+    configs = [("camera", "2", "mixed"), ("camera", "30", "mixed"), ("pyrometer", "10", "mixed"), ("camera", "5", "blocks"),
+               ("pyrometer", "10", "blocks")]
+    tools = ["--tools", args.tool_file] if args.tool_file else ["--random-tools", str(args.tools)]
     print("| program, sensor, sample | tools | RMS reduction, all tools pooled: one / sub-models / lag / two-body / zones / best | "
           "worst tool's reduction: one / sub-models / zones / best | worst tool by best | where hysteresis > 1 µm: one vs sub-models RMS µm | "
           "sub-models vs one curve per tool: > 10 % worse / > 10 % better, worst RMS ratio |")
@@ -46,7 +49,7 @@ def main():
     for sensor, sample, program in configs:
         allrows = []
         for s in args.seeds.split(","):
-            for r in run(args.cli, ["--random-tools", str(args.tools), "--seed", s, "--hours", args.hours,
+            for r in run(args.cli, [*tools, "--seed", s, "--hours", args.hours,
                                     "--sample-s", sample, "--sensor", sensor, "--program", program]):
                 r["seed"] = s
                 allrows.append(r)

@@ -361,8 +361,12 @@ void Setup(CLI::App& app) {
     auto loop_csv = std::make_shared<std::string>();
     auto report = std::make_shared<std::string>();
     auto machine = std::make_shared<std::string>();  // empty: the example VMC-850, found at run time
+    auto relation_from = std::make_shared<std::string>();
     auto lo = std::make_shared<VisionLoopOptions>();
     AddDayArgs(cmd, a.get());
+    cmd->add_option("--relation-from", *relation_from,
+                    "calibrate the marker-to-spindle relation on a reference run of this speed program (seconds:rpm,…, over "
+                    "--hours; the real growth measured beside the marker every 5 min) and read Δz through it");
     cmd->add_option("--csv", *csv, "write the readings and the truth as CSV");
     cmd->add_option("--loop-csv", *loop_csv, "write the Z error at the tool with/without the term, the correction and alarms per frame");
     cmd->add_option("--report", *report, "write an HTML report");
@@ -375,10 +379,24 @@ void Setup(CLI::App& app) {
     cmd->add_option("--max-correction-um", lo->compensator.shaper.max_correction_um, "output shaper: bound (µm)")->capture_default_str();
     cmd->add_option("--term-valid-s", lo->term_valid_s, "how long a Δz reading stays in force (0: until the stop rule could trip)")
         ->capture_default_str();
-    cmd->callback([a, csv, loop_csv, report, machine, lo] {
+    cmd->callback([a, csv, loop_csv, report, machine, relation_from, lo] {
       const MarkerDescription m = ReadMarker(a->marker);
       const CameraModel cam = ReadCameraFile(a->camera);
-      const VisionDayOptions o = MakeDayOptions(*a);
+      VisionDayOptions o = MakeDayOptions(*a);
+      if (!relation_from->empty()) {
+        sim::SpindleSpeedProgram reference;
+        try {
+          reference = sim::SpindleSpeedProgram::Parse(*relation_from);
+          o.relation = FitSpindleRelation(VirtualRelationReference(m, o, reference, a->hours, 300.0));
+        } catch (const std::invalid_argument& e) {
+          throw InputError("command line", 0, "--relation-from", e.what());
+        }
+        const SpindleRelation& rel = *o.relation;
+        fmt::print("marker-to-spindle relation (reference run {}): Δz = {:.3f}·M + {:.3f}·lag(M) + {:.2f} µm·lag((n/{:.0f})²), "
+                   "τ {:.0f} s, calibrated up to {:.0f} rpm, {:.2f} µm RMS on the reference\n",
+                   *relation_from, rel.marker_gain, rel.marker_lag_gain, rel.speed_lag_um, rel.reference_rpm, rel.tau_s,
+                   rel.calibrated_rpm_max, rel.calibration_rms_um);
+      }
       if (!(lo->cycle_s > 0 && lo->cycle_s <= o.frame_interval_s))
         throw InputError("command line", 0, "--cycle-s", "must be > 0 and ≤ --interval-s");
       if (!(lo->term_valid_s >= 0)) throw InputError("command line", 0, "--term-valid-s", "must be ≥ 0");
@@ -398,6 +416,7 @@ void Setup(CLI::App& app) {
         if (!report->empty()) images.emplace_back(static_cast<int>(rows.size()) - 1, img.clone());
       });
       const auto& r = lr.day;
+      if (!r.relation_warning.empty()) fmt::print(stderr, "warning: {}\n", r.relation_warning);
       if (lr.feed_hold_at_s >= 0)
         fmt::print(stderr, "ALARM vision_stop at {:.2f} h: the virtual CNC is in feed hold. {}\n", lr.feed_hold_at_s / 3600.0,
                    lr.alarm_message);

@@ -14,6 +14,9 @@ namespace trueaxis::tooltherm {
 namespace {
 
 constexpr int kMinIntervalRows = 20;
+// Weight of the free growth in the zones fit, as a share of the mean diagonal of XᵀX: it settles
+// what the zone means cannot tell apart (zones that warm together) and leaves what they can to the data.
+constexpr double kZoneGrowthRidge = 0.1;
 
 // First-order lag of Tv, restarting at Tv on every mounting.
 std::vector<double> LagSeries(const std::vector<ToolRecord>& rows, double tau_s) {
@@ -209,8 +212,14 @@ double ToolErrorPredictor::Push(double time_s, double tv_c, bool restart, std::s
     case ToolModelKind::kLag: return m.lag.intercept_um + m.lag.per_c_um * (lag_c_ - m.standard_temp_c);
     case ToolModelKind::kZones:
       if (!m.zone_um_per_c.empty() && zone_c.size() == m.zone_um_per_c.size()) {
+        const bool beyond = m.zone_training_range_c.size() == zone_c.size() && m.zone_beyond_um_per_c.size() == zone_c.size();
         double e = m.zone_intercept_um;
-        for (std::size_t r = 0; r < zone_c.size(); ++r) e += m.zone_um_per_c[r] * (zone_c[r] - m.standard_temp_c);
+        for (std::size_t r = 0; r < zone_c.size(); ++r) {
+          const double inside = beyond ? std::clamp(zone_c[r], m.zone_training_range_c[r].first, m.zone_training_range_c[r].second)
+                                       : zone_c[r];
+          e += m.zone_um_per_c[r] * (inside - m.standard_temp_c);
+          if (beyond) e += m.zone_beyond_um_per_c[r] * (zone_c[r] - inside);
+        }
         return e;
       }
       return m.one.intercept_um + m.one.per_c_um * d;
@@ -232,8 +241,72 @@ std::vector<double> PredictSeries(const ToolErrorModel& model, ToolModelKind kin
 
 namespace {
 
+// Zones: e = a + Σ b_r·(Tr − T_std), ridge least squares. Without the free growth per zone the
+// ridge pulls towards 0 (λ = 1e-4·mean diagonal). With it (`growth`, from the tool file) the ridge
+// pulls the slopes towards −growth_r (λ = kZoneGrowthRidge·mean diagonal), the fit is continued
+// beyond each zone's training range of Tr by −growth_r (docs/tool-thermal.md, "Beyond the training
+// range"), and a tool with too few rows for its own zone slopes takes −growth_r and fits the
+// intercept alone.
+void FitZones(ToolErrorModel& m, const std::vector<ToolRecord>& rows, std::span<const double> growth) {
+  const double t_std = m.standard_temp_c;
+  const std::size_t nz = rows.front().zone_c.size();
+  const bool physics = growth.size() == nz;
+  m.zone_um_per_c.clear();
+  m.zone_training_range_c.clear();
+  m.zone_beyond_um_per_c.clear();
+  if (rows.size() >= kMinZoneRowsPerCoefficient * (nz + 1)) {
+    const auto n = static_cast<Eigen::Index>(rows.size());
+    const auto nzi = static_cast<Eigen::Index>(nz);
+    Eigen::MatrixXd x(n, nzi + 1);
+    Eigen::VectorXd y(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const ToolRecord& row = rows[static_cast<std::size_t>(i)];
+      x(i, 0) = 1;
+      for (std::size_t r = 0; r < nz; ++r) x(i, static_cast<Eigen::Index>(r + 1)) = row.zone_c[r] - t_std;
+      y(i) = row.error_um;
+    }
+    Eigen::MatrixXd xtx = x.transpose() * x;
+    Eigen::VectorXd rhs = x.transpose() * y;
+    const double lambda = (physics ? kZoneGrowthRidge : 1e-4) * xtx.diagonal().tail(nzi).mean();
+    for (Eigen::Index r = 1; r <= nzi; ++r) {
+      xtx(r, r) += lambda;
+      if (physics) rhs(r) -= lambda * growth[static_cast<std::size_t>(r - 1)];
+    }
+    const Eigen::VectorXd b = xtx.ldlt().solve(rhs);
+    m.zone_intercept_um = b(0);
+    m.zone_um_per_c.assign(b.data() + 1, b.data() + b.size());
+  } else if (physics) {
+    double sum = 0;
+    for (const auto& row : rows) {
+      double e = row.error_um;
+      for (std::size_t r = 0; r < nz; ++r) e += growth[r] * (row.zone_c[r] - t_std);
+      sum += e;
+    }
+    m.zone_intercept_um = sum / static_cast<double>(rows.size());
+    for (double g : growth) m.zone_um_per_c.push_back(-g);
+  } else {
+    return;
+  }
+  if (!physics) return;
+  // The range a zone really had: each reading against its neighbours in the same mounting (median
+  // of three), so one frame's reflection or coolant splash does not widen it.
+  for (std::size_t r = 0; r < nz; ++r) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      double v = rows[i].zone_c[r];
+      if (i > 0 && i + 1 < rows.size() && !rows[i].restart && !rows[i + 1].restart) {
+        const double a = rows[i - 1].zone_c[r], c = rows[i + 1].zone_c[r];
+        v = std::max(std::min(a, v), std::min(std::max(a, v), c));
+      }
+      lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+    m.zone_training_range_c.emplace_back(lo, hi);
+    m.zone_beyond_um_per_c.push_back(-growth[r]);
+  }
+}
+
 ToolErrorModel FitStructures(int tool, const std::vector<ToolRecord>& rows, double t_std,
-                             std::vector<std::string>* warnings) {
+                             std::span<const double> zone_growth_um_per_c, std::vector<std::string>* warnings) {
   if (rows.size() < 20) throw std::invalid_argument(fmt::format("tool {}: {} rows, a fit needs ≥ 20", tool, rows.size()));
   if (!rows.front().restart) throw std::invalid_argument("the first row must start a mounting (restart)");
   for (std::size_t i = 1; i < rows.size(); ++i)
@@ -284,21 +357,8 @@ ToolErrorModel FitStructures(int tool, const std::vector<ToolRecord>& rows, doub
 
   // Zones: ridge least squares on the zone means, when every row has them.
   const std::size_t nz = rows.front().zone_c.size();
-  const bool zones = nz > 0 && rows.size() >= 5 * (nz + 1) &&
-                     std::all_of(rows.begin(), rows.end(), [&](const ToolRecord& r) { return r.zone_c.size() == nz; });
-  if (zones) {
-    Eigen::MatrixXd x(n, static_cast<Eigen::Index>(nz + 1));
-    for (Eigen::Index i = 0; i < n; ++i) {
-      x(i, 0) = 1;
-      for (std::size_t r = 0; r < nz; ++r) x(i, static_cast<Eigen::Index>(r + 1)) = rows[static_cast<std::size_t>(i)].zone_c[r] - t_std;
-    }
-    Eigen::MatrixXd xtx = x.transpose() * x;
-    const double lambda = 1e-4 * xtx.diagonal().tail(static_cast<Eigen::Index>(nz)).mean();
-    for (std::size_t r = 0; r < nz; ++r) xtx(static_cast<Eigen::Index>(r + 1), static_cast<Eigen::Index>(r + 1)) += lambda;
-    const Eigen::VectorXd b = xtx.ldlt().solve(x.transpose() * y);
-    m.zone_intercept_um = b(0);
-    m.zone_um_per_c.assign(b.data() + 1, b.data() + b.size());
-  }
+  const bool zones = nz > 0 && std::all_of(rows.begin(), rows.end(), [&](const ToolRecord& r) { return r.zone_c.size() == nz; });
+  if (zones) FitZones(m, rows, zone_growth_um_per_c);
 
   // Intervals: the classifier's window (in sample steps) and dead band floor from the data.
   double best_int = INFINITY;
@@ -331,7 +391,8 @@ ToolErrorModel FitStructures(int tool, const std::vector<ToolRecord>& rows, doub
 // interval, the share w ∈ [0, 1] of its difference from the one curve that predicts them best
 // (least squares of the blend one + w·(sub − one)). w = 0 (the sub-model did not help, or no
 // held-out rows fell in it, or the data are too short to tell): the one model stands in.
-void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows, std::vector<std::string>* warnings) {
+void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows, std::span<const double> zone_growth_um_per_c,
+                std::vector<std::string>* warnings) {
   constexpr std::size_t kFolds = 4;
   std::array<double, 3> sse_int{}, sse_one{}, blend_num{}, blend_den{};
   std::array<int, 3> n_int{};
@@ -373,7 +434,7 @@ void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows, std::vec
     train.front().restart = true;
     std::vector<ToolRecord> test(rows.begin() + static_cast<long>(lo), rows.begin() + static_cast<long>(hi));
     test.front().restart = true;
-    const ToolErrorModel fm = FitStructures(m.tool, train, m.standard_temp_c, nullptr);
+    const ToolErrorModel fm = FitStructures(m.tool, train, m.standard_temp_c, zone_growth_um_per_c, nullptr);
     zones = zones && !fm.zone_um_per_c.empty();
     for (std::size_t k = 0; k < kinds.size(); ++k) {
       const auto p = PredictSeries(fm, kinds[k], test);
@@ -405,9 +466,9 @@ void ChooseBest(ToolErrorModel& m, const std::vector<ToolRecord>& rows, std::vec
 }  // namespace
 
 ToolErrorModel FitToolErrorModel(int tool, const std::vector<ToolRecord>& rows, double t_std,
-                                 std::vector<std::string>* warnings) {
-  ToolErrorModel m = FitStructures(tool, rows, t_std, warnings);
-  ChooseBest(m, rows, warnings);
+                                 std::vector<std::string>* warnings, std::span<const double> zone_growth_um_per_c) {
+  ToolErrorModel m = FitStructures(tool, rows, t_std, zone_growth_um_per_c, warnings);
+  ChooseBest(m, rows, zone_growth_um_per_c, warnings);
   // The growth is linear in the bodies' temperatures, which the zone means sample: with zone
   // means the zones model is the structure (cross-validation over the one or two mountings a
   // tool has in a day proved unreliable, docs/tool-thermal.md).
@@ -427,6 +488,16 @@ std::optional<std::pair<double, double>> ToolErrorModel::TrainingTvRangeC() cons
                   : std::pair{it.tv_from_c, it.tv_to_c};
   }
   return range;
+}
+
+nlohmann::json ToolErrorModel::ZonesJson() const {
+  nlohmann::json z = {{"intercept_um", zone_intercept_um}, {"um_per_c", zone_um_per_c}};
+  if (!zone_beyond_um_per_c.empty()) {
+    z["training_range_c"] = nlohmann::json::array();
+    for (const auto& [lo, hi] : zone_training_range_c) z["training_range_c"].push_back({lo, hi});
+    z["beyond_um_per_c"] = zone_beyond_um_per_c;
+  }
+  return z;
 }
 
 nlohmann::json ToolErrorModel::ToJson() const {
@@ -461,7 +532,7 @@ nlohmann::json ToolErrorModel::ToJson() const {
           {"cv_rms_um",
            {{"one", cv_rms_um[1]}, {"intervals", cv_rms_um[2]}, {"lag", cv_rms_um[3]}, {"two_body", cv_rms_um[4]},
             {"zones", cv_rms_um[5]}}},
-          {"zones", {{"intercept_um", zone_intercept_um}, {"um_per_c", zone_um_per_c}}},
+          {"zones", ZonesJson()},
           {"training", {{"rows", training_rows}, {"sample_s", training.sample_s}, {"noise_c", training.noise_c}}}};
   if (std::isfinite(training_tv_from_c) && std::isfinite(training_tv_to_c))
     out["training"]["tv_range_c"] = {training_tv_from_c, training_tv_to_c};
@@ -533,6 +604,23 @@ ToolErrorModel ToolErrorModel::FromJson(const nlohmann::json& j, const std::stri
     for (const auto& v : z.at("um_per_c")) {
       if (!v.is_number()) throw InputError(source, 0, "zones.um_per_c", "must hold numbers");
       m.zone_um_per_c.push_back(v.get<double>());
+    }
+    // Absent in files written before the free-growth continuation: the fit extrapolates.
+    if (z.contains("training_range_c") || z.contains("beyond_um_per_c")) {
+      const auto& ranges = z.value("training_range_c", nlohmann::json());
+      const auto& beyond = z.value("beyond_um_per_c", nlohmann::json());
+      if (!ranges.is_array() || ranges.size() != m.zone_um_per_c.size())
+        throw InputError(source, 0, "zones.training_range_c", "must hold one [from, to] per zone coefficient");
+      if (!beyond.is_array() || beyond.size() != m.zone_um_per_c.size())
+        throw InputError(source, 0, "zones.beyond_um_per_c", "must hold one number per zone coefficient");
+      for (std::size_t r = 0; r < ranges.size(); ++r) {
+        const auto& a = ranges[r];
+        if (!a.is_array() || a.size() != 2 || !a[0].is_number() || !a[1].is_number() || !(a[0].get<double>() <= a[1].get<double>()))
+          throw InputError(source, 0, fmt::format("zones.training_range_c[{}]", r), "must be [from, to] with from <= to");
+        if (!beyond[r].is_number()) throw InputError(source, 0, fmt::format("zones.beyond_um_per_c[{}]", r), "must be a number");
+        m.zone_training_range_c.emplace_back(a[0].get<double>(), a[1].get<double>());
+        m.zone_beyond_um_per_c.push_back(beyond[r].get<double>());
+      }
     }
   }
   auto kind_of = [&](const char* key) {

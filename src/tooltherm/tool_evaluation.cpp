@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "trueaxis/core/median.hpp"
 #include "trueaxis/tooltherm/tool_fallback.hpp"
 
 namespace trueaxis::tooltherm {
@@ -13,13 +14,30 @@ std::map<int, ToolErrorModel> FitToolModels(const ToolTable& table, const ToolDa
                                             std::vector<std::string>* warnings) {
   std::map<int, ToolErrorModel> models;
   std::map<int, int> too_few;  // tool → its training rows
+  // The sensor's factor on the free growth, shared by the tools of one machine and sensor: the
+  // median of the whole zone slope per µm of free growth of the tools with enough rows for their own
+  // zone slopes (first fit with the bare free growth); needs two such tools, else 1.
+  std::vector<double> ratios;
   for (const auto& t : table.tools) {
     const auto rows = ToolRecordsOf(training, t.number);
+    const auto g = ZoneGrowthUmPerC(t);
     if (rows.size() < kMinToolTrainingRows) {
       too_few[t.number] = static_cast<int>(rows.size());
       continue;
     }
-    models.emplace(t.number, FitToolErrorModel(t.number, rows, table.standard_temp_c, warnings));
+    if (g.empty() || rows.size() < kMinZoneRowsPerCoefficient * (g.size() + 1)) continue;
+    const ToolErrorModel m = FitToolErrorModel(t.number, rows, table.standard_temp_c, nullptr, g);
+    if (m.zone_um_per_c.size() != g.size()) continue;
+    double slope = 0, growth = 0;
+    for (std::size_t z = 0; z < g.size(); ++z) slope += m.zone_um_per_c[z], growth += g[z];
+    ratios.push_back(-slope / growth);
+  }
+  const double factor = ratios.size() >= 2 ? std::clamp(Median(ratios), kMinSensorGrowthFactor, kMaxSensorGrowthFactor) : 1.0;
+  for (const auto& t : table.tools) {
+    if (too_few.count(t.number)) continue;
+    std::vector<double> g = ZoneGrowthUmPerC(t);
+    for (double& v : g) v *= factor;
+    models.emplace(t.number, FitToolErrorModel(t.number, ToolRecordsOf(training, t.number), table.standard_temp_c, warnings, g));
   }
   // A tool that cut too little gets a flagged stand-in from the others (tool_fallback.hpp).
   const std::map<int, ToolErrorModel> fitted = models;

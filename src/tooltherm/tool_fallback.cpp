@@ -17,7 +17,7 @@ bool FallbackModelFromOtherTools(const ToolDescription& tool, const std::map<int
                                  const ToolTable& table, int training_rows, ToolErrorModel* out) {
   const double growth = GaugeGrowthUmPerC(tool);
   if (!(growth > 0)) return false;
-  std::vector<double> slope_per_growth, intercept, lag_tau;
+  std::vector<double> slope_per_growth, intercept, zone_slope_per_growth, zone_intercept, lag_tau;
   std::vector<int> from;
   for (const auto& [number, m] : fitted) {
     const ToolDescription* other = table.Find(number);
@@ -26,6 +26,12 @@ bool FallbackModelFromOtherTools(const ToolDescription& tool, const std::map<int
     if (!(g > 0)) continue;
     slope_per_growth.push_back(m.one.per_c_um / g);
     intercept.push_back(m.one.intercept_um);
+    if (!m.zone_um_per_c.empty()) {
+      double zone_slope = 0;
+      for (double b : m.zone_um_per_c) zone_slope += b;
+      zone_slope_per_growth.push_back(zone_slope / g);
+      zone_intercept.push_back(m.zone_intercept_um);
+    }
     lag_tau.push_back(m.lag_tau_s);
     from.push_back(number);
   }
@@ -39,6 +45,16 @@ bool FallbackModelFromOtherTools(const ToolDescription& tool, const std::map<int
   m.two_body_intercept_um = m.one.intercept_um;
   m.two_body_tv_um_per_c = m.one.per_c_um;
   m.best = m.best_without_zones = ToolModelKind::kOne;
+  // With zone means the stand-in is the zones model of the others scaled the same way: their
+  // whole zone slope per µm of free growth (a Tv line's slope is not that: Tv underweights a thin
+  // hot tip), spread over this tool's zones by each zone's free growth (ZoneGrowthUmPerC), and the
+  // median of their zones intercepts (the error with every zone at the standard temperature).
+  const std::vector<double> zone_growth = ZoneGrowthUmPerC(tool);
+  if (!zone_growth.empty() && !zone_slope_per_growth.empty()) {
+    m.zone_intercept_um = Median(zone_intercept);
+    for (double g : zone_growth) m.zone_um_per_c.push_back(Median(zone_slope_per_growth) * g);
+    m.best = ToolModelKind::kZones;
+  }
   m.training_rows = training_rows;
   m.fallback_from_tools = from;
   *out = m;

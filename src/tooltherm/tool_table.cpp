@@ -1,5 +1,6 @@
 #include "trueaxis/tooltherm/tool_table.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -33,6 +34,32 @@ std::string ToolMaterialNames() {
   std::string s;
   for (const auto& m : kMaterials) s += (s.empty() ? "" : ", ") + m.name;
   return s;
+}
+
+std::vector<double> ZoneGrowthUmPerC(const ToolDescription& tool) {
+  const ToolMaterial* body = FindToolMaterial(tool.material);
+  const ToolMaterial* holder = FindToolMaterial(tool.holder_material);
+  const std::size_t nz = tool.zones.size();
+  if (!body || !holder || nz == 0 || !(tool.GaugeLengthMm() > 0)) return {};
+  std::vector<double> growth(nz, 0.0);
+  constexpr int kSteps = 2000;  // midpoint rule along the gauge length
+  const double dz = tool.GaugeLengthMm() / kSteps;
+  for (int i = 0; i < kSteps; ++i) {
+    const double z = (i + 0.5) * dz;
+    const double alpha = z < tool.length_mm ? body->expansion_per_k : holder->expansion_per_k;
+    // Distance of z to each band (0 inside); the nearest band(s) share this slice.
+    double nearest = INFINITY;
+    std::vector<double> dist(nz);
+    for (std::size_t r = 0; r < nz; ++r) {
+      dist[r] = std::max({tool.zones[r].from_mm - z, z - tool.zones[r].to_mm, 0.0});
+      nearest = std::min(nearest, dist[r]);
+    }
+    std::size_t ties = 0;
+    for (double d : dist) ties += d <= nearest + 1e-12 ? 1 : 0;
+    for (std::size_t r = 0; r < nz; ++r)
+      if (dist[r] <= nearest + 1e-12) growth[r] += 1e3 * alpha * dz / static_cast<double>(ties);
+  }
+  return growth;
 }
 
 double ZoneAreaMm2(const ToolDescription& tool, double from_mm, double to_mm) {

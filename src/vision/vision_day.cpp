@@ -5,6 +5,7 @@
 #include <deque>
 #include <numeric>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -46,17 +47,39 @@ std::pair<double, double> ReferenceK(const std::vector<MarkerReading>& readings)
   return {s1 / n, s2 / n};
 }
 
+namespace {
+sim::SpindleDescription SpindleFor(const MarkerDescription& marker, const VisionDayOptions& o) {
+  sim::SpindleDescription sd = o.spindle;
+  sd.diameter_mm = marker.diameter_mm;
+  sd.length_mm = marker.spindle_length_mm;
+  sd.front_length_mm = std::min(sd.front_length_mm, sd.length_mm);
+  sd.standard_temp_c = marker.standard_temp_c;
+  return sd;
+}
+}  // namespace
+
+std::vector<SpindleRelationSample> VirtualRelationReference(const MarkerDescription& marker, const VisionDayOptions& o,
+                                                            const sim::SpindleSpeedProgram& program, double hours,
+                                                            double interval_s) {
+  if (!(hours > 0) || !(interval_s > 0)) throw std::invalid_argument("reference run: hours and interval must be > 0");
+  sim::VirtualSpindle spindle(SpindleFor(marker, o), program, marker.standard_temp_c);
+  std::vector<SpindleRelationSample> out;
+  for (double t = 0; t <= hours * 3600.0 + 1e-9; t += interval_s) {
+    spindle.AdvanceTo(t);
+    out.push_back({t, marker.spindle_length_mm * 1000.0 * spindle.MarkerStrain(), spindle.Rpm(), spindle.GrowthUm()});
+  }
+  return out;
+}
+
 VisionDayResult RunVisionDay(const MarkerDescription& marker_in, const CameraModel& camera, const VisionDayOptions& o,
                              const std::function<void(const VisionFrame&, const cv::Mat&)>& sink,
                              const std::function<void(sim::VirtualSpindle&, double t_s)>& advance_to) {
   if (!(o.frame_interval_s > 0) || !(o.hours > 0)) throw std::invalid_argument("hours and frame interval must be > 0");
   if (o.average_frames < 1) throw std::invalid_argument("average_frames must be ≥ 1");
-  sim::SpindleDescription sd = o.spindle;
-  sd.diameter_mm = marker_in.diameter_mm;
-  sd.length_mm = marker_in.spindle_length_mm;
-  sd.front_length_mm = std::min(sd.front_length_mm, sd.length_mm);
-  sd.standard_temp_c = marker_in.standard_temp_c;
-  sim::VirtualSpindle spindle(sd, o.program, marker_in.standard_temp_c);
+  sim::VirtualSpindle spindle(SpindleFor(marker_in, o), o.program, marker_in.standard_temp_c);
+  std::optional<SpindleRelationPredictor> relation;
+  if (o.relation) relation.emplace(*o.relation);
+  double last_marker_um = 0;  // the relation's lags run on through frames without a credible reading
   VirtualCamera cam(camera);
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
@@ -111,8 +134,11 @@ VisionDayResult RunVisionDay(const MarkerDescription& marker_in, const CameraMod
       out.stop_message = monitor.message();
       spindle.Hold(true);
     }
+    out.max_rpm = std::max(out.max_rpm, f.rpm);
+    if (f.reading.credible()) last_marker_um = f.reading.growth_um;
+    f.growth_um = relation ? relation->Push(t, last_marker_um, f.rpm) : f.reading.growth_um;
     if (f.reading.credible()) {
-      recent.push_back(f.reading.growth_um);
+      recent.push_back(f.growth_um);
       if (static_cast<int>(recent.size()) > o.average_frames) recent.pop_front();
     }
     f.growth_in_force_um = recent.empty() ? 0.0 : std::accumulate(recent.begin(), recent.end(), 0.0) / recent.size();
@@ -120,7 +146,7 @@ VisionDayResult RunVisionDay(const MarkerDescription& marker_in, const CameraMod
     if (f.reading.credible()) {
       out.accepted_bad += bad;
       ++out.credible;
-      const double e = f.reading.growth_um - f.true_growth_um;
+      const double e = f.growth_um - f.true_growth_um;
       const double em = f.reading.growth_um - f.marker_growth_um;
       ss += e * e, ssm += em * em;
       out.max_um = std::max(out.max_um, std::abs(e));
@@ -138,6 +164,7 @@ VisionDayResult RunVisionDay(const MarkerDescription& marker_in, const CameraMod
   }
   if (out.credible > 0) out.rms_um = std::sqrt(ss / out.credible), out.rms_vs_marker_um = std::sqrt(ssm / out.credible);
   out.z_error_without_rms_um = std::sqrt(ss_without / frames);
+  if (o.relation) out.relation_warning = SpindleRelationSpeedWarning(*o.relation, out.max_rpm);
   out.z_error_with_rms_um = std::sqrt(ss_with / frames);
   return out;
 }

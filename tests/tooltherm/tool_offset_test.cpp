@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "trueaxis/core/input_error.hpp"
+#include "trueaxis/core/median.hpp"
 #include "trueaxis/tooltherm/tool_evaluation.hpp"
 #include "trueaxis/tooltherm/tool_fallback.hpp"
 
@@ -134,6 +135,21 @@ TEST(ToolModels, AToolWithoutTrainingGetsAFlaggedStandInFromTheOthers) {
   const std::size_t n = ratios.size();
   const double median = n % 2 ? ratios[n / 2] : 0.5 * (ratios[n / 2 - 1] + ratios[n / 2]);
   EXPECT_NEAR(stand_in.one.per_c_um, median * GaugeGrowthUmPerC(table.tools[1]), 1e-12);
+  // `best` is a zones stand-in: the others' whole zone slope per µm of free growth, spread over
+  // this tool's zones by their free growth, and the others' median zones intercept.
+  EXPECT_EQ(stand_in.best, ToolModelKind::kZones);
+  std::vector<double> zone_ratios, zone_intercepts;
+  for (int number : own) {
+    const ToolErrorModel& m = models.at(number);
+    double slope = 0;
+    for (double b : m.zone_um_per_c) slope += b;
+    zone_ratios.push_back(slope / GaugeGrowthUmPerC(*table.Find(number)));
+    zone_intercepts.push_back(m.zone_intercept_um);
+  }
+  const std::vector<double> g = ZoneGrowthUmPerC(table.tools[1]);
+  ASSERT_EQ(stand_in.zone_um_per_c.size(), g.size());
+  for (std::size_t z = 0; z < g.size(); ++z) EXPECT_NEAR(stand_in.zone_um_per_c[z], Median(zone_ratios) * g[z], 1e-12);
+  EXPECT_NEAR(stand_in.zone_intercept_um, Median(zone_intercepts), 1e-12);
 
   const ToolEvaluation ev = EvaluateToolModels(table, training, test);
   for (const auto& sc : ev.tools)

@@ -20,7 +20,11 @@
 //              a lagged body (slow); the hysteresis of two bodies is exactly this shape
 //   zones      e = a + Σ b_r·(Tr − T_std)                   ours: the zone means themselves
 //              (Tv's area weights are not the growth's: a hot tip on a thin tool weighs
-//              little in Tv but grows a lot; needs the zone means, ridge λ = 1e-4·mean diag)
+//              little in Tv but grows a lot; needs the zone means, ridge λ = 1e-4·mean diag).
+//              Given the free growth per zone (ZoneGrowthUmPerC of the tool file), each Tr
+//              beyond the range it was trained on adds −growth_r per °C past the edge (the
+//              fit is not extrapolated: a narrow training range fixes no slope), and with
+//              under 5 rows per coefficient the slopes are −growth_r, the intercept fitted
 //   best       zones when the training rows carry zone means (the growth is linear in the
 //              bodies' temperatures, which they sample); else the one of {one, intervals, lag,
 //              two_body} with the lowest error in a four-fold blocked cross-validation of the
@@ -100,6 +104,11 @@ struct ToolErrorModel {
   double two_body_intercept_um = 0, two_body_tv_um_per_c = 0, two_body_lag_um_per_c = 0;
   double zone_intercept_um = 0;
   std::vector<double> zone_um_per_c;          // empty: no zones model (no zone means in training)
+  // Beyond the zone means the tool was trained on, the free growth of the gauge length (docs/tool-thermal.md,
+  // "Beyond the training range"): per zone the training range of Tr (°C) and the slope that continues
+  // the fit past it (−free growth of the zone's part of the axis, µm/°C). Empty: the fit extrapolates.
+  std::vector<std::pair<double, double>> zone_training_range_c;
+  std::vector<double> zone_beyond_um_per_c;
   ToolModelKind best = ToolModelKind::kOne;          // see `best` above
   ToolModelKind best_without_zones = ToolModelKind::kOne;  // the cross-validation's choice of the Tv models
   std::array<double, kToolModelKinds.size()> cv_rms_um{};          // by ToolModelKind (0 where not evaluated)
@@ -119,6 +128,7 @@ struct ToolErrorModel {
   std::optional<std::pair<double, double>> TrainingTvRangeC() const;
 
   nlohmann::json ToJson() const;
+  nlohmann::json ZonesJson() const;  // the "zones" object of ToJson
   static ToolErrorModel FromJson(const nlohmann::json& j, const std::string& source);
 };
 
@@ -145,9 +155,15 @@ class ToolErrorPredictor {
 
 std::vector<double> PredictSeries(const ToolErrorModel& model, ToolModelKind kind, const std::vector<ToolRecord>& rows);
 
+// The zones model fits its own slopes from this many rows per coefficient (zones + 1) on.
+inline constexpr std::size_t kMinZoneRowsPerCoefficient = 5;
+
 // Needs ≥ 20 rows, the first a restart, time increasing within each mounting
 // (std::invalid_argument otherwise). `warnings` gets intervals left to the one model.
+// zone_growth_um_per_c: the free growth per zone (µm/°C, ZoneGrowthUmPerC); empty: the zones
+// model is the fit alone.
 ToolErrorModel FitToolErrorModel(int tool, const std::vector<ToolRecord>& rows, double standard_temp_c,
-                                 std::vector<std::string>* warnings = nullptr);
+                                 std::vector<std::string>* warnings = nullptr,
+                                 std::span<const double> zone_growth_um_per_c = {});
 
 }  // namespace trueaxis::tooltherm

@@ -33,7 +33,14 @@ struct ToolEvaluation {
 // Fewer rows than this on the training day: the tool gets a flagged stand-in (tool_fallback.hpp).
 inline constexpr std::size_t kMinToolTrainingRows = 20;
 
+// Bounds of the sensor's factor on the free growth (FitToolModels).
+inline constexpr double kMinSensorGrowthFactor = 0.5, kMaxSensorGrowthFactor = 2.0;
+
 // Every tool's models; a tool with too little training gets FallbackModelFromOtherTools (warned).
+// The zones models get each zone's free growth (ZoneGrowthUmPerC) times the sensor's factor: the
+// median, over the tools with enough rows for their own zone slopes (two or more, else 1), of the
+// whole zone slope per µm of free growth — what the readings make of the free growth on this
+// machine and sensor (emissivity setting, parts not seen), clamped to [0.5, 2].
 std::map<int, ToolErrorModel> FitToolModels(const ToolTable& table, const ToolDayRecording& training,
                                             std::vector<std::string>* warnings);
 

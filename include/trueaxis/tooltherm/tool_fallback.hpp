@@ -8,7 +8,10 @@
 // (µm per °C when tool and holder warm alike); the fallback's slope is the median
 // ratio times this tool's g, its intercept the median intercept. The lag and
 // two-body forms use that line (the lag with the median τ), so every model kind
-// predicts with it; `best` is the one curve. `fallback_from_tools` names the
+// predicts with it. When the other tools have zones models, `best` is a zones model: the
+// median of their whole zone slope (Σ b_r) per µm of free growth, spread over this tool's
+// zones by each zone's free growth (ZoneGrowthUmPerC), and the median of their zones
+// intercepts; else the one curve. `fallback_from_tools` names the
 // tools it came from — the model is a stand-in until the tool is measured cutting.
 #include <map>
 

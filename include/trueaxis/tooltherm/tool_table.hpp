@@ -57,6 +57,13 @@ std::vector<ToolZone> DefaultToolZones(const ToolDescription& tool);
 // when the band straddles the tool/holder step or leaves the gauge length).
 double ZoneAreaMm2(const ToolDescription& tool, double from_mm, double to_mm);
 
+// Free growth per °C (µm/°C) of the part of the gauge length each zone stands for: every point of
+// the axis belongs to the band that holds it (shared equally where bands overlap) or, between bands,
+// to the nearest one; α is the tool's material on the stick-out and the holder's beyond it. The
+// sum over the zones is the whole gauge length's free growth. Empty when a material is unknown or
+// the tool has no zones.
+std::vector<double> ZoneGrowthUmPerC(const ToolDescription& tool);
+
 struct ToolTable {
   double standard_temp_c = 20.0;
   std::vector<ToolDescription> tools;

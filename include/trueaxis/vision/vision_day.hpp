@@ -7,6 +7,7 @@
 // (last credible reading) is the additional Z term. Truth is recorded beside.
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "trueaxis/vision/camera_model.hpp"
 #include "trueaxis/vision/marker.hpp"
 #include "trueaxis/vision/marker_measurement.hpp"
+#include "trueaxis/vision/spindle_relation.hpp"
 #include "trueaxis/vision/virtual_camera.hpp"
 
 namespace trueaxis::vision {
@@ -35,6 +37,9 @@ struct VisionDayOptions {
   double bad_um = 5.0;              // a reading off by more than this (vs Czb·(K_true − 1)) is "bad"
   sim::SpindleSpeedProgram program = sim::SpindleSpeedProgram::HeatingCoolingDay(10.0);
   sim::SpindleDescription spindle;  // its diameter and length are set from the marker file
+  // Given: every credible reading goes through the calibrated marker-to-spindle relation (with the
+  // spindle's speed) instead of the seed's Czb·(K − 1) alone (spindle_relation.hpp).
+  std::optional<SpindleRelation> relation;
 };
 
 // Named disturbance sets: clean, noise, blur, light, glints, droplets, chips, drift, wear, rotation, all.
@@ -47,6 +52,7 @@ struct VisionFrame {
   double true_k = 1, true_growth_um = 0;  // marker scale and the spindle's real Δz
   double marker_growth_um = 0;            // Czb·(K_true − 1): what a perfect reading would give
   MarkerReading reading;
+  double growth_um = 0;                   // this frame's Δz: the reading's, or through the relation (credible frames)
   double growth_in_force_um = 0;          // the Z term the compensator gets (mean of the last credible readings)
   bool stop = false;                      // the stop rule tripped at this frame (the spindle is held from here on)
 };
@@ -63,7 +69,16 @@ struct VisionDayResult {
   int rejected_bad = 0;   // rejected frames that were bad (unmeasurable or off by > bad_um): correct rejections
   int accepted_bad = 0;   // credible frames off by > bad_um: what the ε test let through
   double z_error_without_rms_um = 0, z_error_with_rms_um = 0;  // Z error at the tool without / with the vision term
+  double max_rpm = 0;               // the highest speed of the day
+  std::string relation_warning;     // the relation was used beyond its calibrated speeds (empty: not)
 };
+
+// A virtual reference run for the relation: the spindle's real growth and the marker's perfect
+// reading Czb·(K_true − 1) every interval_s over `hours` of `program` (what a displacement probe
+// and the camera give on a calibration day).
+std::vector<SpindleRelationSample> VirtualRelationReference(const MarkerDescription& marker, const VisionDayOptions& options,
+                                                            const sim::SpindleSpeedProgram& program, double hours,
+                                                            double interval_s);
 
 // frame_sink, if given, receives each rendered frame (e.g. to write PNGs). advance_to, if given,
 // moves the spindle (and whatever runs beside it: the virtual machine and its compensator,
