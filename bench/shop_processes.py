@@ -212,8 +212,8 @@ def run_pymodbus(args, tmp, n):
             "load": f"{load0} → {load1}"}
 
 
-def held(r, args):
-    return r["hz_min"] >= args.hold_hz and r.get("overruns", 0) == 0
+def held(r, hz):
+    return r["hz_min"] >= hz and r.get("overruns", 0) == 0
 
 
 def main():
@@ -266,11 +266,12 @@ def main():
         a, b = srv[0], srv[-1]
         print(f"\nserver memory per machine (RSS difference {a['machines']} → {b['machines']} machines): "
               f"{1024 * (b['server_rss_mb'] - a['server_rss_mb']) / (b['machines'] - a['machines']):.0f} kB")
-    best_server = max([r["machines"] for r in results["server"] if held(r, args)], default=0)
-    best_py = max([r["machines"] for r in results["pymodbus"] if held(r, args)], default=0)
-    print(f"\nheld ≥ {args.hold_hz} Hz on every machine without overruns: server {best_server or 'none'} machines, "
-          f"pymodbus poller {best_py or 'none'}" +
-          (f": {best_server / best_py:.1f}× by machine count (of the counts run)" if best_server and best_py else ""))
+    for hz in sorted({args.hold_hz, 9.5}, reverse=True):
+        best_server = max([r["machines"] for r in results["server"] if held(r, hz)], default=0)
+        best_py = max([r["machines"] for r in results["pymodbus"] if held(r, hz)], default=0)
+        print(f"held ≥ {hz} Hz on every machine without overruns: server {best_server or 'none'} machines, "
+              f"pymodbus poller {best_py or 'none'}" +
+              (f": {best_server / best_py:.1f}× by machine count (of the counts run)" if best_server and best_py else ""))
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=1)
