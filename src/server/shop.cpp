@@ -396,6 +396,10 @@ struct Shop::Impl {
     mbap::Request& r = m.request;
     r.transaction = m.next_transaction++;
     const std::size_t axes = m.cfg.axes.size();
+    std::uint16_t values[drivers::CommandBlockLength(pmc::kMaxAxes)];  // the command block of a write
+    if ((m.phase == Phase::kWrite || m.phase == Phase::kReadWrite) &&
+        !drivers::EncodeCommand({m.installation->command().correction_um.data(), axes}, values))
+      return Fault(m, now, "a correction that cannot be sent (not a number or beyond ±214 m)");
     switch (m.phase) {
       case Phase::kConfig:
         r.unit = static_cast<std::uint8_t>(m.cfg.first_rtd_unit_id + m.module);
@@ -409,10 +413,7 @@ struct Shop::Impl {
         r.address = 0;
         r.count = static_cast<std::uint16_t>(pmc::InputWindowLength(axes));
         break;
-      case Phase::kReadWrite: {  // the last step's command, then the window's copy, in one transaction
-        std::uint16_t values[drivers::CommandBlockLength(pmc::kMaxAxes)];
-        if (!drivers::EncodeCommand({m.installation->command().correction_um.data(), axes}, values))
-          return Fault(m, now, "a correction that cannot be sent (not a number or beyond ±214 m)");
+      case Phase::kReadWrite:  // the last step's command, then the window's copy, in one transaction
         r.unit = static_cast<std::uint8_t>(m.cfg.pmc_unit_id);
         r.function = mbap::kReadWriteMultipleRegisters;
         r.address = pmc::kHrWindowCopyBase;
@@ -420,24 +421,19 @@ struct Shop::Impl {
         len = mbap::EncodeWriteAndRead(frame, r.transaction, r.unit, r.address, r.count, pmc::kHrCompensationBase,
                                        {values, static_cast<std::size_t>(drivers::CommandBlockLength(axes))});
         break;
-      }
       case Phase::kTemperatures:
         r.unit = static_cast<std::uint8_t>(m.cfg.first_rtd_unit_id + m.module);
         r.function = mbap::kReadHoldingRegisters;
         r.address = adam::kAiValueAddress;
         r.count = static_cast<std::uint16_t>(ModuleChannels(m, m.module));
         break;
-      case Phase::kWrite: {
-        std::uint16_t values[drivers::CommandBlockLength(pmc::kMaxAxes)];
-        if (!drivers::EncodeCommand({m.installation->command().correction_um.data(), axes}, values))
-          return Fault(m, now, "a correction that cannot be sent (not a number or beyond ±214 m)");
+      case Phase::kWrite:
         r.unit = static_cast<std::uint8_t>(m.cfg.pmc_unit_id);
         r.function = mbap::kWriteMultipleRegisters;
         r.address = pmc::kHrCompensationBase;
         r.count = static_cast<std::uint16_t>(drivers::CommandBlockLength(axes));
         len = mbap::EncodeWriteRegisters(frame, r.transaction, r.unit, r.address, {values, r.count});
         break;
-      }
       case Phase::kIdle:
         return;
     }

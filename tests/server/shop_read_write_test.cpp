@@ -9,6 +9,7 @@
 
 #include "shop_fixture.hpp"
 #include "trueaxis/drivers/mbap.hpp"
+#include "trueaxis/runtime/cycle_step.hpp"
 #include "trueaxis/server/shop.hpp"
 
 namespace trueaxis::server {
@@ -78,6 +79,38 @@ TEST(ShopReadWrite, OneTransactionPerCycleWhereTheTerminalAnswersFc23AndFc04Fc16
     EXPECT_EQ(s.overruns, 0u) << s.name;
     EXPECT_EQ(s.alarms, 0u) << s.name << ": " << s.alarm_names;  // the refused FC 23 is no link fault
   }
+}
+
+TEST(ShopReadWrite, AnFc23WhoseWriteTheTerminalRefusesRaisesLinkWriteAndTheWindowIsStillReadEachCycle) {
+  const std::string dir = TempDir("read_write_refused");
+  const std::string model = WriteModel(dir + "/model.json");  // tens of µm of correction
+  VirtualShopOptions o;
+  o.max_compensation_um = 5;  // the terminal refuses (0x03) any vector beyond ±5 µm
+  auto vshop = StartVirtualShop(1, o);
+  ASSERT_NE(vshop, nullptr);
+  Shop shop(ConfigFor(*vshop, model), nullptr);
+  shop.Start();
+  // The refused write is shown (alarm link_write) …
+  ASSERT_TRUE(WaitFor([&] { return (shop.Snapshot()[0].alarms & runtime::kAlarmLinkWrite) != 0; }));
+  const Counts before = CountsOf(*vshop, 0);
+  const std::uint64_t refused_before = vshop->Stats().exceptions;
+  const auto cycles_before = shop.Snapshot()[0].cycles;
+  ASSERT_TRUE(WaitFor([&] { return shop.Snapshot()[0].cycles >= cycles_before + 20; }));
+  const Counts after = CountsOf(*vshop, 0);
+  const std::uint64_t refused = vshop->Stats().exceptions - refused_before;
+  const auto s = shop.Snapshot()[0];
+  shop.Stop();
+  // … each refused FC 23 read nothing, so the window is read alone (FC 04) in the same cycle: the
+  // machine stays connected and its positions known while the terminal keeps refusing.
+  EXPECT_GE(refused, 3u);
+  // (the span may cut one cycle between its refused FC 23 and its FC 04; a cycle with nothing to
+  // write reads by FC 04 too)
+  EXPECT_GE(after.read_input - before.read_input + 1, refused);
+  EXPECT_GE(after.read_write - before.read_write, refused);
+  EXPECT_TRUE(s.connected);
+  EXPECT_EQ(s.faults, 0u) << s.last_fault;
+  for (const auto& a : s.axes) EXPECT_TRUE(a.position_mm.has_value()) << a.name;
+  for (double applied_um : vshop->AppliedUm(0)) EXPECT_LE(std::abs(applied_um), 5.0);  // never beyond its bound
 }
 
 TEST(ShopReadWrite, TheLatencyHistogramCountsEveryCompleteCycleAndResets) {
