@@ -82,6 +82,7 @@ nlohmann::json ToJson(const ShopStats& s) {
           {"latency_p99_ms", s.latency_p99_ms},
           {"latency_max_ms", s.latency_max_ms},
           {"latency_samples", s.latency_samples},
+          {"latency_histogram", s.latency_histogram},  // [[upper edge ms, count], …]: the p99 of any window by difference
           {"history_dropped", s.history_dropped}};
 }
 

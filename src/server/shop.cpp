@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <chrono>
 #include <cerrno>
@@ -17,6 +18,7 @@
 #include <cstring>
 #include <mutex>
 #include <queue>
+#include <thread>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -46,24 +48,64 @@ using drivers::EnsureOpenFileLimit;
 using drivers::EventLoop;
 using drivers::ThreadCpuSeconds;
 using Clock = std::chrono::steady_clock;
+constexpr double kBatchS = 0.002;  // the event loop's pass: ticks may start and answers be taken this much late
 
 double UnixNowS() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
 // What a cycle is doing: the request in flight belongs to this phase.
-enum class Phase { kIdle, kConfig, kWindow, kTemperatures, kWrite };
+enum class Phase { kIdle, kConfig, kWindow, kReadWrite, kTemperatures, kWrite };
 const char* PhaseName(Phase p) {
   switch (p) {
     case Phase::kIdle: return "idle";
     case Phase::kConfig: return "reading the ADAM-6015 type codes";
     case Phase::kWindow: return "reading the PMC window";
+    case Phase::kReadWrite: return "writing the compensation and reading the PMC window (FC 23)";
     case Phase::kTemperatures: return "reading the ADAM-6015 AI values";
     case Phase::kWrite: return "writing the compensation";
   }
   return "?";
 }
 enum class Link { kDown, kConnecting, kOpen };
+// Whether the terminal answers FC 23 (write the command block, read the window's copy) on this
+// connection: until it refuses it (exception 0x01 or 0x02), a cycle is one transaction.
+enum class ReadWrite { kUnknown, kAnswered, kRefused };
+
+// Read → write latencies without storing them: 40 logarithmic buckets per decade from 10 µs
+// (each 6 % wide) to 100 s; a percentile is the upper edge of its bucket.
+class LatencyHistogram {
+ public:
+  static constexpr int kBuckets = 280;
+  static double UpperEdgeMs(int k) { return 0.01 * std::pow(10.0, k / 40.0); }
+  void Add(double ms) {
+    const int k = ms <= 0.01 ? 0 : static_cast<int>(std::ceil(40.0 * std::log10(ms / 0.01) - 1e-9));
+    ++counts_[static_cast<std::size_t>(std::clamp(k, 0, kBuckets - 1))];
+    ++total_;
+    max_ms_ = std::max(max_ms_, ms);
+  }
+  void Clear() { *this = LatencyHistogram(); }
+  std::uint64_t total() const { return total_; }
+  double max_ms() const { return max_ms_; }
+  double Quantile(double q) const {
+    const auto want = static_cast<std::uint64_t>(std::ceil(q * static_cast<double>(total_)));
+    std::uint64_t seen = 0;
+    for (int k = 0; k < kBuckets; ++k)
+      if ((seen += counts_[static_cast<std::size_t>(k)]) >= std::max<std::uint64_t>(want, 1)) return std::min(UpperEdgeMs(k), max_ms_);
+    return max_ms_;
+  }
+  std::vector<std::pair<double, std::uint64_t>> NonEmpty() const {
+    std::vector<std::pair<double, std::uint64_t>> out;
+    for (int k = 0; k < kBuckets; ++k)
+      if (counts_[static_cast<std::size_t>(k)]) out.emplace_back(UpperEdgeMs(k), counts_[static_cast<std::size_t>(k)]);
+    return out;
+  }
+
+ private:
+  std::array<std::uint64_t, kBuckets> counts_{};
+  std::uint64_t total_ = 0;
+  double max_ms_ = 0;
+};
 
 struct ModelEntry {
   station::PublishedModel model;
@@ -92,6 +134,10 @@ struct MachineSlot {
   Link link = Link::kDown;
   int fd = -1;
   Phase phase = Phase::kIdle;
+  ReadWrite read_write = ReadWrite::kUnknown;
+  bool write_pending = false;       // the last step's command waits for this cycle's FC 23
+  bool cycle_written = false;       // this cycle's FC 23 wrote the command (a complete cycle once stepped)
+  std::uint32_t published_alarms = ~0u;  // alarm_names of the status were made for these bits
   std::size_t module = 0;           // ADAM module of the request in flight
   mbap::Request request;
   std::uint16_t next_transaction = 1;
@@ -151,7 +197,7 @@ struct Shop::Impl {
   };
   std::priority_queue<Timer, std::vector<Timer>, std::greater<Timer>> timers;
   mutable std::mutex stats_mu;
-  std::vector<float> latency_ms;
+  LatencyHistogram latency;
   ShopStats totals;
   std::mutex audit_mu;
 
@@ -201,17 +247,21 @@ struct Shop::Impl {
     s.connected = m.link == Link::kOpen;
     s.last_good_read_unix_s = m.last_good_read_unix_s;
     s.alarms = o.status.alarms;
-    s.alarm_names = runtime::AlarmNames(o.status.alarms);
+    if (m.published_alarms != o.status.alarms) {  // the names only when the bits change: no allocation per cycle
+      s.alarm_names = runtime::AlarmNames(o.status.alarms);
+      m.published_alarms = o.status.alarms;
+    }
     s.unacknowledged |= o.status.alarms;
-    s.last_fault = m.last_fault;
+    if (s.last_fault != m.last_fault) s.last_fault = m.last_fault;
     s.cycles = m.cycles;
     s.complete_cycles = m.complete_cycles;
     s.faults = m.faults;
     s.connects = m.connects;
     s.overruns = m.overruns;
     s.last_latency_ms = m.last_latency_ms;
-    s.coolant = std::string(CoolantStateName(o.status.coolant));
-    s.coolant_override = m.controls.coolant_override ? std::optional<std::string>(std::string(CoolantStateName(*m.controls.coolant_override))) : std::nullopt;
+    s.coolant = CoolantStateName(o.status.coolant);
+    if (m.controls.coolant_override) s.coolant_override = CoolantStateName(*m.controls.coolant_override);
+    else s.coolant_override.reset();
     s.model = m.model_info;
     const bool fresh = s.connected && m.cnc_ok;
     for (std::size_t a = 0; a < s.axes.size(); ++a) {
@@ -278,6 +328,7 @@ struct Shop::Impl {
     m.link = Link::kDown;
     m.phase = Phase::kIdle;
     m.in_len = 0;
+    m.write_pending = false;  // never written: the compensator's shaper still holds what the CNC has
     ++m.deadline_generation;
   }
 
@@ -334,6 +385,7 @@ struct Shop::Impl {
     ++m.deadline_generation;
     ++m.connects;
     m.ranges_known = false;
+    m.read_write = ReadWrite::kUnknown;  // a new terminal (or a new firmware) may answer FC 23 again
     if (history && m.faults > 0)
       history->PushAlarm(now + unix_offset_s, "info", m.cfg.name, fmt::format("terminal {}:{}: connected", m.cfg.host, m.cfg.port));
   }
@@ -344,6 +396,10 @@ struct Shop::Impl {
     mbap::Request& r = m.request;
     r.transaction = m.next_transaction++;
     const std::size_t axes = m.cfg.axes.size();
+    std::uint16_t values[drivers::CommandBlockLength(pmc::kMaxAxes)];  // the command block of a write
+    if ((m.phase == Phase::kWrite || m.phase == Phase::kReadWrite) &&
+        !drivers::EncodeCommand({m.installation->command().correction_um.data(), axes}, values))
+      return Fault(m, now, "a correction that cannot be sent (not a number or beyond ±214 m)");
     switch (m.phase) {
       case Phase::kConfig:
         r.unit = static_cast<std::uint8_t>(m.cfg.first_rtd_unit_id + m.module);
@@ -357,23 +413,27 @@ struct Shop::Impl {
         r.address = 0;
         r.count = static_cast<std::uint16_t>(pmc::InputWindowLength(axes));
         break;
+      case Phase::kReadWrite:  // the last step's command, then the window's copy, in one transaction
+        r.unit = static_cast<std::uint8_t>(m.cfg.pmc_unit_id);
+        r.function = mbap::kReadWriteMultipleRegisters;
+        r.address = pmc::kHrWindowCopyBase;
+        r.count = static_cast<std::uint16_t>(pmc::InputWindowLength(axes));
+        len = mbap::EncodeWriteAndRead(frame, r.transaction, r.unit, r.address, r.count, pmc::kHrCompensationBase,
+                                       {values, static_cast<std::size_t>(drivers::CommandBlockLength(axes))});
+        break;
       case Phase::kTemperatures:
         r.unit = static_cast<std::uint8_t>(m.cfg.first_rtd_unit_id + m.module);
         r.function = mbap::kReadHoldingRegisters;
         r.address = adam::kAiValueAddress;
         r.count = static_cast<std::uint16_t>(ModuleChannels(m, m.module));
         break;
-      case Phase::kWrite: {
-        std::uint16_t values[drivers::CommandBlockLength(pmc::kMaxAxes)];
-        if (!drivers::EncodeCommand({m.installation->command().correction_um.data(), axes}, values))
-          return Fault(m, now, "a correction that cannot be sent (not a number or beyond ±214 m)");
+      case Phase::kWrite:
         r.unit = static_cast<std::uint8_t>(m.cfg.pmc_unit_id);
         r.function = mbap::kWriteMultipleRegisters;
         r.address = pmc::kHrCompensationBase;
         r.count = static_cast<std::uint16_t>(drivers::CommandBlockLength(axes));
         len = mbap::EncodeWriteRegisters(frame, r.transaction, r.unit, r.address, {values, r.count});
         break;
-      }
       case Phase::kIdle:
         return;
     }
@@ -394,23 +454,51 @@ struct Shop::Impl {
     // Temperatures every temperature_period_s (half a period early rather than a period late).
     m.temps_read = m.module_count > 0 && now - m.temps_read_s >= m.cfg.temperature_period_s - 0.5 * m.cfg.period_s;
     m.temps_ok = m.temps_read ? true : m.temps->ok;
+    m.cycle_written = false;
     m.module = 0;
-    m.phase = (!m.ranges_known && m.module_count > 0) ? Phase::kConfig : Phase::kWindow;
+    if (!m.ranges_known && m.module_count > 0) {
+      m.phase = Phase::kConfig;
+      return Send(m, now);
+    }
+    SendWindow(m, now);
+  }
+
+  // The window: with the pending command in one FC 23 where the terminal takes it, else FC 04.
+  void SendWindow(MachineSlot& m, double now) {
+    m.phase = (m.write_pending && m.read_write != ReadWrite::kRefused) ? Phase::kReadWrite : Phase::kWindow;
     Send(m, now);
   }
 
-  // After the reads: the step, then the write (which also refreshes the terminal's watchdog).
+  // After the reads: the step, then the write (which also refreshes the terminal's watchdog): with
+  // the next cycle's FC 23 where the terminal answers it (one transaction per cycle: the command
+  // reaches the CNC one period after its step), else at once with FC 16.
   void StepAndWrite(MachineSlot& m, double now) {
     RunStep(m, now);
     if (m.installation->compensator().PickUpPending()) {  // no applied values read yet since the connect: writing could jump
       m.installation->CommitWrite(false);
       AfterStep(m, now);
       m.phase = Phase::kIdle;
+      m.write_pending = false;
       return;
     }
     AfterStep(m, now);
-    m.phase = Phase::kWrite;
-    Send(m, now);
+    if (m.read_write == ReadWrite::kRefused) {
+      m.phase = Phase::kWrite;
+      return Send(m, now);
+    }
+    m.phase = Phase::kIdle;
+    m.write_pending = true;
+    if (m.cycle_written) CycleComplete(m, now);
+  }
+
+  // A cycle whose reads, step and write were answered.
+  void CycleComplete(MachineSlot& m, double now) {
+    ++m.complete_cycles;
+    m.backoff_s = 0;
+    m.last_latency_ms = (now - m.cycle_start_s) * 1000.0;
+    std::lock_guard<std::mutex> lock(stats_mu);
+    ++totals.complete_cycles;
+    latency.Add(m.last_latency_ms);
   }
 
   void OnFrame(MachineSlot& m, std::span<const std::uint8_t> frame, double now) {
@@ -442,8 +530,26 @@ struct Shop::Impl {
         if (ok && ++m.module < m.module_count) return Send(m, now);
         m.ranges_known = ok;
         m.module = 0;
-        m.phase = Phase::kWindow;
-        return Send(m, now);
+        return SendWindow(m, now);
+      case Phase::kReadWrite:
+        if (reply == mbap::Reply::kException &&
+            (exception == mbap::kIllegalFunction || exception == mbap::kIllegalDataAddress)) {
+          // No FC 23 (or no window copy) on this terminal: FC 04 + FC 16 until the next reconnect. Nothing
+          // was written (a refused request writes nothing): the pending command is dropped, the step runs again.
+          m.read_write = ReadWrite::kRefused;
+          m.write_pending = false;
+          m.phase = Phase::kWindow;
+          return Send(m, now);
+        }
+        m.read_write = ReadWrite::kAnswered;
+        m.write_pending = false;
+        m.installation->CommitWrite(ok);  // the previous step's command: written, or refused (alarm link_write)
+        m.cycle_written = ok;
+        if (!ok) {  // refused (e.g. 0x03, beyond the terminal's bound): nothing was read either; read the window alone
+          m.phase = Phase::kWindow;
+          return Send(m, now);
+        }
+        [[fallthrough]];
       case Phase::kWindow:
         if (ok && !DecodeWindow(m, now)) return;
         if (!ok) m.cnc_ok = false;
@@ -462,18 +568,11 @@ struct Shop::Impl {
         }
         if (++m.module < m.module_count) return Send(m, now);
         return StepAndWrite(m, now);
-      case Phase::kWrite: {
+      case Phase::kWrite:
         m.installation->CommitWrite(ok);
         m.phase = Phase::kIdle;
-        if (!ok) return;
-        ++m.complete_cycles;
-        m.backoff_s = 0;
-        m.last_latency_ms = (now - m.cycle_start_s) * 1000.0;
-        std::lock_guard<std::mutex> lock(stats_mu);
-        ++totals.complete_cycles;
-        if (latency_ms.size() < (1u << 22)) latency_ms.push_back(static_cast<float>(m.last_latency_ms));
+        if (ok) CycleComplete(m, now);
         return;
-      }
       case Phase::kIdle:
         return Fault(m, now, "unsolicited data from the terminal");
     }
@@ -514,8 +613,9 @@ struct Shop::Impl {
         if (errno == EINTR) continue;
         return Fault(m, now, fmt::format("recv: {}", std::strerror(errno)));
       }
+      const bool drained = static_cast<std::size_t>(n) < sizeof m.in - m.in_len;  // no second recv to hear EAGAIN
       m.in_len += static_cast<std::size_t>(n);
-      if (m.in_len == sizeof m.in) break;
+      if (drained || m.in_len == sizeof m.in) break;  // the event is level-triggered: more data wakes the loop again
     }
     while (m.link == Link::kOpen && m.in_len > 0) {
       const int frame = mbap::FrameLength({m.in, m.in_len});
@@ -567,8 +667,13 @@ struct Shop::Impl {
 
   void Loop() {
     std::vector<epoll_event> events(1024);
+    double iteration_s = -1;
     while (!loop.stopping()) {
-      double now = Now();
+      // At most one pass per kBatchS: the answers that arrive meanwhile are taken together, so a
+      // thousand terminals cost a few hundred wake-ups a second instead of one per answer.
+      if (const double since = Now() - iteration_s; since < kBatchS)
+        std::this_thread::sleep_for(std::chrono::duration<double>(kBatchS - since));
+      double now = iteration_s = Now();
       while (!timers.empty() && timers.top().due_s <= now) {
         const Timer t = timers.top();
         timers.pop();
@@ -714,19 +819,18 @@ std::vector<std::string> Shop::MachineNames() const {
 }
 
 ShopStats Shop::Stats() const {
-  std::lock_guard<std::mutex> lock(impl_->stats_mu);
-  ShopStats s = impl_->totals;
-  std::vector<float> v = impl_->latency_ms;
-  s.latency_samples = v.size();
-  if (!v.empty()) {
-    auto at = [&](double q) {
-      const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())));
-      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-      return static_cast<double>(v[k]);
-    };
-    s.latency_p50_ms = at(0.5);
-    s.latency_p99_ms = at(0.99);
-    s.latency_max_ms = *std::max_element(v.begin(), v.end());
+  ShopStats s;
+  {
+    std::lock_guard<std::mutex> lock(impl_->stats_mu);
+    s = impl_->totals;
+    const LatencyHistogram& h = impl_->latency;
+    s.latency_samples = h.total();
+    if (h.total() > 0) {
+      s.latency_p50_ms = h.Quantile(0.5);
+      s.latency_p99_ms = h.Quantile(0.99);
+      s.latency_max_ms = h.max_ms();
+    }
+    s.latency_histogram = h.NonEmpty();
   }
   if (impl_->history) s.history_dropped = impl_->history->Stats().dropped;
   s.loop_cpu_s = ThreadCpuSeconds(impl_->loop.thread());
@@ -735,7 +839,7 @@ ShopStats Shop::Stats() const {
 
 void Shop::ResetLatency() {
   std::lock_guard<std::mutex> lock(impl_->stats_mu);
-  impl_->latency_ms.clear();
+  impl_->latency.Clear();
 }
 
 ModelChange Shop::LoadModel(const std::string& machine, const std::string& model_file, const std::string& user,

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cerrno>
@@ -85,6 +86,7 @@ struct Terminal {
   int day_phase = -1;
   TerminalFault fault = TerminalFault::kNone;
   double fault_delay_s = 0;
+  std::array<std::uint64_t, 24> requests_by_function{};  // function codes 1…23 received
 };
 
 }  // namespace
@@ -261,6 +263,7 @@ struct VirtualShop::Impl {
   std::size_t Answer(Terminal& t, const mbap::ParsedRequest& q, bool parsed, std::uint8_t* out, double now) {
     const mbap::Request& h = q.head;
     ++stats.requests;
+    if (h.function < t.requests_by_function.size()) ++t.requests_by_function[h.function];
     auto refuse = [&](std::uint8_t code) {
       ++stats.exceptions;
       return mbap::EncodeException(out, h, code);
@@ -268,7 +271,8 @@ struct VirtualShop::Impl {
     const bool known = h.function == mbap::kReadCoils || h.function == mbap::kReadHoldingRegisters ||
                        h.function == mbap::kReadInputRegisters || h.function == mbap::kWriteSingleRegister ||
                        h.function == mbap::kWriteMultipleRegisters || h.function == mbap::kReadWriteMultipleRegisters;
-    if (!known) return refuse(mbap::kIllegalFunction);
+    if (!known || (h.function == mbap::kReadWriteMultipleRegisters && t.fault == TerminalFault::kNoReadWrite))
+      return refuse(mbap::kIllegalFunction);
     if (!parsed) return refuse(mbap::kIllegalDataValue);
     const int end = h.address + h.count;
     if (h.unit == opt.pmc_unit_id) {
@@ -343,8 +347,9 @@ struct VirtualShop::Impl {
         if (errno == EINTR) continue;
         return false;
       }
+      const bool drained = static_cast<std::size_t>(n) < sizeof c.in - c.in_len;  // no second recv to hear EAGAIN
       c.in_len += static_cast<std::size_t>(n);
-      if (c.in_len == sizeof c.in) break;
+      if (drained || c.in_len == sizeof c.in) break;  // level-triggered: more data wakes the loop again
     }
     while (c.in_len > 0) {
       const int frame = mbap::FrameLength({c.in, c.in_len});
@@ -418,6 +423,8 @@ struct VirtualShop::Impl {
         delayed.pop_front();
         [[maybe_unused]] auto n = send(d.connection->fd, d.bytes.data(), d.bytes.size(), MSG_NOSIGNAL);
       }
+      // Answers at once (no batching here: a terminal that made its client wait would favour a client
+      // that keeps many requests in flight over one that asks each terminal in turn).
       const int n = epoll_wait(epoll_fd, events.data(), static_cast<int>(events.size()), 2);
       now = Now();
       for (int i = 0; i < n; ++i) {
@@ -536,6 +543,12 @@ std::vector<double> VirtualShop::AppliedUm(std::size_t machine) const {
 bool VirtualShop::WatchdogRamping(std::size_t machine) const {
   std::lock_guard<std::mutex> lock(impl_->mu);
   return (impl_->terminals.at(machine)->ir[pmc::kIrStatus] & pmc::kStatusWatchdogRamping) != 0;
+}
+
+std::uint64_t VirtualShop::Requests(std::size_t machine, int function) const {
+  std::lock_guard<std::mutex> lock(impl_->mu);
+  const auto& counts = impl_->terminals.at(machine)->requests_by_function;
+  return function >= 0 && static_cast<std::size_t>(function) < counts.size() ? counts[static_cast<std::size_t>(function)] : 0;
 }
 
 VirtualMachine& VirtualShop::Machine(std::size_t machine) { return *impl_->terminals.at(machine)->vm; }

@@ -264,9 +264,8 @@ void HistoryDb::Migrate(int from_version) {
 }
 
 std::int64_t HistoryDb::NameId(const char* table, const char* name) {
-  auto& cache = std::string_view(table) == "channel" ? channel_ids_ : axis_ids_;
-  for (const auto& [n, id] : cache)
-    if (n == name) return id;
+  NameIds& cache = std::string_view(table) == "channel" ? channel_ids_ : axis_ids_;
+  if (const auto it = cache.ids.find(std::string_view(name)); it != cache.ids.end()) return it->second;
   const std::string insert = fmt::format("INSERT OR IGNORE INTO {}(name) VALUES (?1)", table);
   const std::string select = fmt::format("SELECT id FROM {} WHERE name = ?1", table);
   {
@@ -280,7 +279,8 @@ std::int64_t HistoryDb::NameId(const char* table, const char* name) {
   sqlite3_bind_text(st.s, 1, name, -1, SQLITE_TRANSIENT);
   if (sqlite3_step(st.s) != SQLITE_ROW) Fail(fmt::format("cannot find {} '{}'", table, name));
   const std::int64_t id = sqlite3_column_int64(st.s, 0);
-  cache.emplace_back(name, id);
+  cache.ids.emplace(name, id);
+  cache.added.emplace_back(name);
   return id;
 }
 
@@ -295,7 +295,8 @@ void HistoryDb::InsertBatch(std::span<const HistoryRecord> records) {
   }
   Exec("BEGIN IMMEDIATE");
   // Name caches may gain entries that a rollback removes from the tables.
-  const auto channels_before = channel_ids_.size(), axes_before = axis_ids_.size();
+  channel_ids_.added.clear();
+  axis_ids_.added.clear();
   try {
     for (const auto& r : records) {
       sqlite3_stmt* s = nullptr;
@@ -336,8 +337,8 @@ void HistoryDb::InsertBatch(std::span<const HistoryRecord> records) {
     Exec("COMMIT");
   } catch (...) {
     sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
-    channel_ids_.resize(channels_before);
-    axis_ids_.resize(axes_before);
+    for (NameIds* cache : {&channel_ids_, &axis_ids_})
+      for (const auto& name : cache->added) cache->ids.erase(name);
     throw;
   }
 }

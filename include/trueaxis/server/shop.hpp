@@ -22,6 +22,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "trueaxis/core/coolant.hpp"
@@ -92,8 +93,11 @@ struct ShopStats {
   std::uint64_t complete_cycles = 0;  // read → step → write acknowledged
   std::uint64_t faults = 0;
   std::uint64_t overruns = 0;         // a tick found the previous cycle still in flight
-  double latency_p50_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;  // read → write, since the last ResetLatency
+  // read → write of complete cycles since the last ResetLatency: p50 and p99 are the upper edge of
+  // their bucket (buckets 6 % wide), max exact
+  double latency_p50_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
   std::uint64_t latency_samples = 0;
+  std::vector<std::pair<double, std::uint64_t>> latency_histogram;  // (bucket's upper edge ms, count), non-empty buckets
   std::uint64_t history_dropped = 0;
   double loop_cpu_s = 0;              // CPU time of the event-loop thread so far
 };

@@ -54,6 +54,7 @@ enum class TerminalFault {
   kDropMidRequest,// closes the connection when a request arrives
   kGarbage,       // answers with bytes that are not MODBUS TCP
   kWrongUnit,     // answers as another unit id
+  kNoReadWrite,   // an older terminal: answers FC 23 (read/write multiple registers) with exception 0x01
 };
 
 struct VirtualShopStats {
@@ -85,6 +86,8 @@ class VirtualShop {
   // Compensation the machine's CNC applies now (µm, CNC units), and whether its watchdog is ramping.
   std::vector<double> AppliedUm(std::size_t machine) const;
   bool WatchdogRamping(std::size_t machine) const;
+  // Requests terminal `machine` has received with MODBUS function code `function` (1…23).
+  std::uint64_t Requests(std::size_t machine, int function) const;
   // The virtual machine behind terminal `machine`, and the mutex the serving thread holds while
   // it ticks a machine or answers a terminal: hold it while touching the machine from another
   // thread (e.g. serving the same machine through a second terminal,

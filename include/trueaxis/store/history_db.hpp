@@ -16,6 +16,8 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "trueaxis/signal/calibration.hpp"
@@ -134,8 +136,18 @@ class HistoryDb : public HistorySink {
   sqlite3* db_ = nullptr;
   int schema_version_ = 0;
   bool read_only_ = false;
-  // Writer-side caches of name -> id (channel, axis tables).
-  std::vector<std::pair<std::string, std::int64_t>> channel_ids_, axis_ids_;
+  // Writer-side caches of name -> id (channel, axis tables): hashed, since a shop-wide history
+  // holds thousands of names and every row looks its name up. `added` lists the names the batch
+  // being written added, so a rolled-back batch takes them out again.
+  struct NameHash {
+    using is_transparent = void;
+    std::size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+  };
+  struct NameIds {
+    std::unordered_map<std::string, std::int64_t, NameHash, std::equal_to<>> ids;
+    std::vector<std::string> added;
+  };
+  NameIds channel_ids_, axis_ids_;
   sqlite3_stmt* insert_temperature_ = nullptr;
   sqlite3_stmt* insert_compensation_ = nullptr;
   sqlite3_stmt* insert_alarm_ = nullptr;
