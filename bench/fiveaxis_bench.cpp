@@ -34,7 +34,7 @@ void BM_CorrectionPerBlock(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(s.trajectory.joints.size()));
   state.counters["blocks"] = static_cast<double>(s.trajectory.joints.size());
 }
-BENCHMARK(BM_CorrectionPerBlock)->Arg(1)->Arg(6)->Unit(benchmark::kMillisecond);  // passes
+BENCHMARK(BM_CorrectionPerBlock)->Arg(1)->Arg(6)->Arg(16)->Unit(benchmark::kMillisecond);  // passes
 
 void BM_PredictionPerBlock(benchmark::State& state) {
   const Setup& s = Get();
