@@ -32,7 +32,13 @@ std::map<int, ToolErrorModel> FitToolModels(const ToolTable& table, const ToolDa
     for (std::size_t z = 0; z < g.size(); ++z) slope += m.zone_um_per_c[z], growth += g[z];
     ratios.push_back(-slope / growth);
   }
-  const double factor = ratios.size() >= 2 ? std::clamp(Median(ratios), kMinSensorGrowthFactor, kMaxSensorGrowthFactor) : 1.0;
+  const double measured_factor = ratios.size() >= 2 ? Median(ratios) : 1.0;
+  const double factor = std::clamp(measured_factor, kMinSensorGrowthFactor, kMaxSensorGrowthFactor);
+  if (warnings && factor != measured_factor)
+    warnings->push_back(fmt::format(
+        "the sensors see {:.2f}× the tools' free growth per °C (median of {} tools), outside {:.1f}…{:.1f}: held at {:.2f} — "
+        "check the emissivity setting and where the sensors look",
+        measured_factor, ratios.size(), kMinSensorGrowthFactor, kMaxSensorGrowthFactor, factor));
   for (const auto& t : table.tools) {
     if (too_few.count(t.number)) continue;
     std::vector<double> g = ZoneGrowthUmPerC(t);

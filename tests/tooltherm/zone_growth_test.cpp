@@ -220,5 +220,41 @@ TEST(ZoneGrowth, TheFreeGrowthIsScaledByTheSensorsFactorFromTheDaysTools) {
   }
 }
 
+TEST(ZoneGrowth, ASensorFactorOutsideItsLimitsIsHeldAndSaidSo) {
+  const ToolTable table = RandomToolTable(3, 11);
+  ToolDayOptions o;
+  o.hours = 6;
+  o.sample_s = 10;
+  o.program = ToolDayProgramKind::kBlocks;
+  o.sensor = TvSensor::kPyrometer;
+  const ToolDayRecording training = RunToolDay(table, o);
+  auto held_warning = [](const std::vector<std::string>& warnings) {
+    return std::count_if(warnings.begin(), warnings.end(),
+                         [](const std::string& w) { return w.find("free growth per °C") != std::string::npos; });
+  };
+  std::vector<std::string> plain;
+  FitToolModels(table, training, &plain);
+  EXPECT_EQ(held_warning(plain), 0);
+  // Readings that see a quarter of the rise (a badly set emissivity): the factor comes out beyond 2.
+  ToolDayRecording dim = training;
+  for (auto& sample : dim.samples) {
+    sample.tv_c = table.standard_temp_c + (sample.tv_c - table.standard_temp_c) / 4;
+    for (double& z : sample.zone_c) z = table.standard_temp_c + (z - table.standard_temp_c) / 4;
+  }
+  std::vector<std::string> warnings;
+  const auto models = FitToolModels(table, dim, &warnings);
+  ASSERT_EQ(held_warning(warnings), 1);
+  const std::string& w = *std::find_if(warnings.begin(), warnings.end(),
+                                       [](const std::string& x) { return x.find("free growth per °C") != std::string::npos; });
+  EXPECT_NE(w.find("held at 2.00"), std::string::npos) << w;
+  for (const auto& t : table.tools) {
+    const ToolErrorModel& m = models.at(t.number);
+    if (!m.fallback_from_tools.empty()) continue;
+    const auto g = ZoneGrowthUmPerC(t);
+    ASSERT_EQ(m.zone_beyond_um_per_c.size(), g.size());
+    for (std::size_t z = 0; z < g.size(); ++z) EXPECT_NEAR(m.zone_beyond_um_per_c[z], -2.0 * g[z], 1e-12);
+  }
+}
+
 }  // namespace
 }  // namespace trueaxis::tooltherm
