@@ -188,14 +188,19 @@ TEST(ZoneGrowth, EveryExampleToolOnBlocksDaysWithPyrometersKeepsEightyPercent) {
 // The free growth a tool's zones continue with is scaled by the sensor's factor: the median over the
 // day's tools of their whole zone slope per µm of free growth (the virtual sensors read 0.85/0.95
 // of the rise, so the readings' slope is steeper than the free growth).
-TEST(ZoneGrowth, TheFreeGrowthIsScaledByTheSensorsFactorFromTheDaysTools) {
-  const ToolTable table = RandomToolTable(3, 11);
+// A six-hour blocks day read by pyrometers every 10 s: the day the sensor factor is learnt from.
+ToolDayRecording SixHourBlocksDayWithPyrometers(const ToolTable& table) {
   ToolDayOptions o;
   o.hours = 6;
   o.sample_s = 10;
   o.program = ToolDayProgramKind::kBlocks;
   o.sensor = TvSensor::kPyrometer;
-  const ToolDayRecording training = RunToolDay(table, o);
+  return RunToolDay(table, o);
+}
+
+TEST(ZoneGrowth, TheFreeGrowthIsScaledByTheSensorsFactorFromTheDaysTools) {
+  const ToolTable table = RandomToolTable(3, 11);
+  const ToolDayRecording training = SixHourBlocksDayWithPyrometers(table);
   const auto models = FitToolModels(table, training, nullptr);
   std::vector<double> ratios;
   for (const auto& t : table.tools) {
@@ -222,12 +227,7 @@ TEST(ZoneGrowth, TheFreeGrowthIsScaledByTheSensorsFactorFromTheDaysTools) {
 
 TEST(ZoneGrowth, ASensorFactorOutsideItsLimitsIsHeldAndSaidSo) {
   const ToolTable table = RandomToolTable(3, 11);
-  ToolDayOptions o;
-  o.hours = 6;
-  o.sample_s = 10;
-  o.program = ToolDayProgramKind::kBlocks;
-  o.sensor = TvSensor::kPyrometer;
-  const ToolDayRecording training = RunToolDay(table, o);
+  const ToolDayRecording training = SixHourBlocksDayWithPyrometers(table);
   auto held_warning = [](const std::vector<std::string>& warnings) {
     return std::count_if(warnings.begin(), warnings.end(),
                          [](const std::string& w) { return w.find("free growth per °C") != std::string::npos; });
