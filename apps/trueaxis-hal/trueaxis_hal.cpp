@@ -87,6 +87,12 @@ int Run(const Options& o) {
                      "trueaxis-hal needs kind = \"modbus\": [machine] axes are the LinuxCNC axes, channels the "
                      "temperature channels (RTD modules at host:port, or HAL pins with --temperatures hal)");
 
+  if (!site.web.listen.empty())
+    fmt::print(stderr,
+               "trueaxis-hal: warning: {}:{}: [web] listen = \"{}\" is ignored: trueaxis-hal serves no web page; "
+               "read its [history] with `trueaxis history` (docs/linuxcnc.md)\n",
+               site.source(), site.LineOf("web.listen"), site.web.listen);
+
   linuxcnc::HalComponent hal(o.name);
   linuxcnc::HalCncLink link(hal, AxisInterfaces(site));
   linuxcnc::HalTemperatures temperatures = linuxcnc::OpenHalTemperatures(hal, site, o.temperatures == "hal");
