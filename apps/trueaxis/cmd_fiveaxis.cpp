@@ -46,9 +46,16 @@ ToolPath LoadPath(const PathOptions& o, const FiveAxisMachine& m) {
   return p;
 }
 
+// Says on stderr which axes the model describes poorly (the correction's limit).
+void WarnAboutModelFit(const TrackingErrorModel& model, const FiveAxisMachine& m) {
+  for (const std::string& w : ModelFitWarnings(model, m.axis_names())) fmt::print(stderr, "warning: {}: {}\n", m.name, w);
+}
+
 TrackingErrorModel LoadOrIdentify(const std::string& model_path, const FiveAxisMachine& m) {
-  if (!model_path.empty()) return ModelFromJson(ReadTextFile(model_path), model_path, m.axis_names());
-  return IdentifyTrackingModel(m, AxisTestOptions{}, VirtualMachineRunner(m));
+  TrackingErrorModel model = model_path.empty() ? IdentifyTrackingModel(m, AxisTestOptions{}, VirtualMachineRunner(m))
+                                                : ModelFromJson(ReadTextFile(model_path), model_path, m.axis_names());
+  WarnAboutModelFit(model, m);
+  return model;
 }
 
 void PrintRuns(const Experiment& x, const FiveAxisMachine& m) {
@@ -91,6 +98,7 @@ void Setup(CLI::App& app) {
         fmt::print("{:<5} {:>12.4f} {:>12.5f} {:>12.6f} {:>12.5f} {:>14.6f}\n", names[a], ax.without_ff[0] * 1e3,
                    ax.full_ff[1] * 1e6, ax.full_ff[2] * 1e9, ax.signal_rms, ax.fit_rms);
       }
+      WarnAboutModelFit(model, m);
       WriteTextFile(*out, ModelToJson(model, names));
       fmt::print("model written to {}\n", *out);
     });
@@ -220,6 +228,7 @@ void Setup(CLI::App& app) {
       for (int v = 0; v <= *variants; ++v) {
         const FiveAxisMachine m = v == 0 ? base : VaryMachine(base, *seed + v);
         const TrackingErrorModel model = IdentifyTrackingModel(m, AxisTestOptions{}, VirtualMachineRunner(m));
+        WarnAboutModelFit(model, m);
         for (const std::string& name : TestPathNames())
           for (double feed : *feeds) {
             ToolPath path = MakeTestPath(name, Kinematics(m.kinematics), feed);

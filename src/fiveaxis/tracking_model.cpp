@@ -158,6 +158,21 @@ FeedForwardChoice ChooseFeedForward(const TrackingErrorModel& model, const std::
   return choice;
 }
 
+std::vector<std::string> ModelFitWarnings(const TrackingErrorModel& model, const std::array<std::string, kAxisCount>& names) {
+  std::vector<std::string> out;
+  for (int a = 0; a < kAxisCount; ++a) {
+    const auto& ax = model.axes[a];
+    if (!(ax.signal_rms > 0) || ax.fit_rms <= kPoorFitFraction * ax.signal_rms) continue;
+    out.push_back(fmt::format(
+        "axis {}: the tracking-error model leaves {:.1f} % of its identification run's tracking error unexplained "
+        "(fit residual {:.4g} of {:.4g} RMS; a well-described axis: under {:.0f} %): the drive behaves beyond the model "
+        "(e.g. a slow, lightly damped speed loop under a heavy load), so the correction will remove markedly less of "
+        "the contour error than usual; check the drive's tuning and identify again",
+        names[a], 100.0 * ax.fit_rms / ax.signal_rms, ax.fit_rms, ax.signal_rms, 100.0 * kPoorFitFraction));
+  }
+  return out;
+}
+
 std::string ModelToJson(const TrackingErrorModel& model, const std::array<std::string, kAxisCount>& names) {
   nlohmann::ordered_json j;
   j["format"] = kModelFormat;

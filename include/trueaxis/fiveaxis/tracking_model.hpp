@@ -78,6 +78,16 @@ struct FeedForwardChoice {
 };
 FeedForwardChoice ChooseFeedForward(const TrackingErrorModel& model, const std::vector<AxisVector>& command, double dt_s);
 
+// An axis whose identification residual exceeds this share of the identification
+// run's tracking error (RMS, feed-forward on) is one the model does not describe
+// well: the correction removes what the model predicts, so on such an axis it
+// delivers markedly less (docs/fiveaxis.md, "Model fit").
+inline constexpr double kPoorFitFraction = 0.06;
+
+// Warnings, one per axis whose fit_rms exceeds kPoorFitFraction × signal_rms
+// (empty when every axis is described well, or the model holds no fit figures).
+std::vector<std::string> ModelFitWarnings(const TrackingErrorModel& model, const std::array<std::string, kAxisCount>& names);
+
 std::string ModelToJson(const TrackingErrorModel& model, const std::array<std::string, kAxisCount>& names);
 // InputError naming the source and the field for a malformed model: a missing
 // or non-numeric field, coefficients not 21 finite plausible numbers, a
