@@ -538,6 +538,10 @@ struct Shop::Impl {
           // was written (a refused request writes nothing): the pending command is dropped, the step runs again.
           m.read_write = ReadWrite::kRefused;
           m.write_pending = false;
+          fmt::print(stderr,
+                     "trueaxis server: machine '{}': the terminal refuses FC 23 (exception {:#04x}): two transactions a "
+                     "cycle (FC 04 + FC 16) until it reconnects\n",
+                     m.cfg.name, exception);
           m.phase = Phase::kWindow;
           return Send(m, now);
         }

@@ -47,6 +47,7 @@ TEST(ShopReadWrite, OneTransactionPerCycleWhereTheTerminalAnswersFc23AndFc04Fc16
   ASSERT_NE(vshop, nullptr);
   vshop->SetFault(1, TerminalFault::kNoReadWrite);  // an older terminal
   Shop shop(ConfigFor(*vshop, model), nullptr);  // (temperatures are FC 03: not among the counts below)
+  ::testing::internal::CaptureStderr();
   shop.Start();
   ASSERT_TRUE(WaitFor([&] {
     const auto snap = shop.Snapshot();
@@ -64,6 +65,13 @@ TEST(ShopReadWrite, OneTransactionPerCycleWhereTheTerminalAnswersFc23AndFc04Fc16
   ASSERT_TRUE(WaitFor([&] { return AppliedMatches(*vshop, shop, 0) && AppliedMatches(*vshop, shop, 1); }));
   const auto snap = shop.Snapshot();
   shop.Stop();
+  const std::string log = ::testing::internal::GetCapturedStderr();
+
+  // The older terminal's two transactions a cycle are said once, naming it; the other is not named.
+  const std::string said = "machine '" + snap[1].name + "': the terminal refuses FC 23";
+  EXPECT_NE(log.find(said), std::string::npos) << log;
+  EXPECT_EQ(log.find(said), log.rfind(said)) << log;
+  EXPECT_EQ(log.find("machine '" + snap[0].name + "': the terminal refuses"), std::string::npos) << log;
 
   // The terminal that answers FC 23: every cycle one FC 23, no FC 04 or FC 16.
   EXPECT_GE(fc23_after.read_write - fc23_before.read_write, 10u);
