@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "trueaxis/fiveaxis/model_inverse.hpp"
+
 namespace trueaxis::fiveaxis {
 namespace {
 
@@ -37,13 +39,17 @@ std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErr
   const std::size_t n = command.size();
   std::vector<Eigen::Vector3d> target_tip(n);
   for (std::size_t i = 0; i < n; ++i) target_tip[i] = kin.Forward(command[i]).tip_mm;
-  std::vector<AxisVector> corrected = command;
+  // The passes start from the model's inverse per axis (model_inverse.hpp), which a drive that rings
+  // needs: there the passes alone converge slowly or not at all.
+  std::vector<AxisVector> corrected = InvertTrackingModel(model, command, dt_s, kf);
   // Per servo period: tip x, y, z, tilt, rot — the virtual target (state), the
   // predicted residual of the current command, and of the one before the last step.
   using Five = std::array<double, 5>;
   std::vector<Five> state(n), residual(n), previous_residual(n), step(n);
-  for (std::size_t i = 0; i < n; ++i)
-    state[i] = {target_tip[i].x(), target_tip[i].y(), target_tip[i].z(), command[i][kTilt], command[i][kRot]};
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d tip = kin.Forward(corrected[i]).tip_mm;
+    state[i] = {tip.x(), tip.y(), tip.z(), corrected[i][kTilt], corrected[i][kRot]};
+  }
   auto apply_state = [&] {
     for (std::size_t i = 0; i < n; ++i)
       corrected[i] = kin.Inverse(Eigen::Vector3d(state[i][0], state[i][1], state[i][2]), state[i][3], state[i][4]);
