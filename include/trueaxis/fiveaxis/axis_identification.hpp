@@ -29,6 +29,7 @@ struct AxisTestOptions {
   double slow_frequency_hz = 0.25;
   double slow_peak_velocity = 1.0;
   std::vector<double> friction_bands = {0.01, 0.03, 0.1, 0.3, 1, 3};  // candidates, mm/s or deg/s
+  int friction_band_refinements = 8;  // golden-section steps between the best candidate's neighbours
   // Drive mode (tracking_model.hpp): searched from a grid of frequencies (this lowest one, each next
   // mode_grid_ratio higher, up to the servo rate / 8) and dampings, then refined; kept when it lowers
   // the feed-forward run's residual by at least mode_min_gain (a share of it).
