@@ -216,7 +216,7 @@ std::vector<std::string> ModelFitWarnings(const TrackingErrorModel& model, const
     out.push_back(fmt::format(
         "axis {}: the tracking-error model leaves {:.1f} % of its identification run's tracking error unexplained "
         "(fit residual {:.4g} of {:.4g} RMS; a well-described axis: under {:.0f} %): the drive behaves beyond the model "
-        "(e.g. a slow, lightly damped speed loop under a heavy load), so the correction will remove markedly less of "
+        "(e.g. more than one lightly damped mode, or a drive at its current limit), so the correction will remove markedly less of "
         "the contour error than usual; check the drive's tuning and identify again",
         names[a], 100.0 * ax.fit_rms / ax.signal_rms, ax.fit_rms, ax.signal_rms, 100.0 * kPoorFitFraction));
   }
