@@ -19,6 +19,24 @@
 
 namespace trueaxis::fiveaxis {
 
+// How the corrected command is found (docs/fiveaxis.md, "Correction").
+enum class CorrectionMethod {
+  kModelInverse,  // the command whose predicted motion is the programmed one, solved per axis (default)
+  kPasses,        // seed 004's correction through the kinematics, repeated `iterations` times
+};
+
+// The model inverted per axis: with the friction's direction of motion held at
+// the programmed one the model is a linear filter of the command, so the
+// command whose predicted actual motion is the programmed one follows by
+// deconvolution (frequency domain, Tikhonov-regularised: the correction's gain
+// is at most 1 / (2·regularization) at any frequency). Every axis's predicted
+// actual position then equals its programmed one, so the tip and the tool axis
+// do too (forward kinematics). The correction fades out over the final rest,
+// like CorrectCommands's.
+inline constexpr double kInverseRegularization = 0.05;
+std::vector<AxisVector> InvertTrackingModel(const TrackingErrorModel& model, const std::vector<AxisVector>& command,
+                                            double dt_s, double kf, double regularization = kInverseRegularization);
+
 std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErrorModel& model,
                                         const std::vector<AxisVector>& command, double dt_s, double kf, int iterations = 16,
                                         double update_filter_s = 0.005);
