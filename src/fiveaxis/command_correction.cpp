@@ -15,23 +15,31 @@ constexpr double kStepWindowS = 0.03;  // windows of the step fraction (s)
 constexpr double kInverseKernelS = 1.0;  // the model's impulse response is taken over ±this (s)
 constexpr double kInversePaddingS = 2.0; // zeros after the command, so the inverse's tails do not wrap round (s)
 
-// The end point is a constraint: over the second half of the final rest (the
+// The end points are constraints: over the second half of the final rest (the
 // samples equal to the last command) the correction fades out with a raised
 // cosine, so the corrected command stands exactly on the programmed end.
 // ExtendRestUntilSettled makes that rest long enough for the correction to
-// have decayed before it fades.
-void FadeOutAtEnd(const std::vector<AxisVector>& command, std::vector<AxisVector>& corrected) {
+// have decayed before it fades. Likewise over the first half of the rest
+// before the first move the correction fades in (the model's inverse starts
+// a little before the motion), so the corrected program starts where the
+// programmed one starts.
+void FadeAtTheEnds(const std::vector<AxisVector>& command, std::vector<AxisVector>& corrected) {
   const std::size_t n = command.size();
   if (n < 2) return;
+  auto fade = [&](std::size_t rest, auto index) {
+    const std::size_t samples = std::max<std::size_t>(1, rest / 2);
+    for (std::size_t k = 0; k <= samples && k < n; ++k) {
+      const std::size_t i = index(k);  // k samples from the end point
+      const double keep = 0.5 * (1.0 - std::cos(std::numbers::pi * static_cast<double>(k) / static_cast<double>(samples)));
+      for (int a = 0; a < kAxisCount; ++a) corrected[i][a] = command[i][a] + keep * (corrected[i][a] - command[i][a]);
+    }
+  };
   std::size_t rest_start = n - 1;
   while (rest_start > 0 && command[rest_start - 1] == command.back()) --rest_start;
-  const std::size_t rest = n - 1 - rest_start;
-  const std::size_t fade = std::max<std::size_t>(1, rest / 2);
-  for (std::size_t k = 0; k <= fade && k < n; ++k) {
-    const std::size_t i = n - 1 - k;  // k samples before the end
-    const double keep = 0.5 * (1.0 - std::cos(std::numbers::pi * static_cast<double>(k) / static_cast<double>(fade)));
-    for (int a = 0; a < kAxisCount; ++a) corrected[i][a] = command[i][a] + keep * (corrected[i][a] - command[i][a]);
-  }
+  fade(n - 1 - rest_start, [n](std::size_t k) { return n - 1 - k; });
+  std::size_t first_move = 0;
+  while (first_move + 1 < n && command[first_move + 1] == command.front()) ++first_move;
+  fade(first_move, [](std::size_t k) { return k; });
 }
 
 }  // namespace
@@ -121,7 +129,7 @@ std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErr
       for (int c = 0; c < 5; ++c) state[i][c] += step[i][c];
     apply_state();
   }
-  FadeOutAtEnd(command, corrected);
+  FadeAtTheEnds(command, corrected);
   return corrected;
 }
 
@@ -160,7 +168,7 @@ std::vector<AxisVector> InvertTrackingModel(const TrackingErrorModel& model, con
     fft.inv(delta, rhs_f);
     for (std::size_t i = 0; i < n; ++i) corrected[i][a] += delta[i];
   }
-  FadeOutAtEnd(command, corrected);
+  FadeAtTheEnds(command, corrected);
   return corrected;
 }
 

@@ -58,8 +58,12 @@ TEST(FiveAxisCorrection, ModelInverseLeavesNoPredictedResidual) {
   EXPECT_GT(ff_um, 2.0);
   EXPECT_LT(inverse_um, 0.02 * ff_um) << "passes leave " << passes_um << " µm";
   EXPECT_LT(inverse_um, 0.25 * passes_um);
-  // The correction ends on the programmed command, and it stays bounded.
-  for (int a = 0; a < kAxisCount; ++a) EXPECT_EQ(inverse.back()[a], q.back()[a]);
+  // The correction starts and ends on the programmed command (it fades in and
+  // out over the rests), and it stays bounded.
+  for (int a = 0; a < kAxisCount; ++a) {
+    EXPECT_EQ(inverse.front()[a], q.front()[a]);
+    EXPECT_EQ(inverse.back()[a], q.back()[a]);
+  }
   double largest = 0;
   for (std::size_t i = 0; i < q.size(); ++i) largest = std::max(largest, std::abs(inverse[i][kX] - q[i][kX]));
   EXPECT_LT(largest, 0.1);  // mm
@@ -80,6 +84,7 @@ TEST(FiveAxisExperiment, VariedHeadWhoseModelFitsIsCorrectedByNinetyPercentAndEn
     EXPECT_LT(x.corrected.contour.end_point_um, 0.1) << name;
     EXPECT_LT(x.with_ff.contour.end_point_um, 0.1) << name;  // the runs are judged over the same, longer rest
     EXPECT_LT((x.corrected_program.vertices.back().tip_mm - path.vertices.back().tip_mm).norm(), 1e-6) << name;
+    EXPECT_LT((x.corrected_program.vertices.front().tip_mm - path.vertices.front().tip_mm).norm(), 1e-6) << name;
     EXPECT_EQ(x.corrected.actual.size(), x.trajectory.joints.size()) << name;
     if (std::string(name) == "s-shape") EXPECT_GT(x.measured_rest_added_s, 0.0);
   }

@@ -9,9 +9,11 @@
 // command itself, their updates low-passed without phase (time constant
 // update_filter_s) and shortened, per 30 ms window, to the fraction that
 // leaves the least predicted residual; they converge towards the command
-// whose predicted motion is the programmed one (docs/fiveaxis.md, "Correction"). The end point is a
-// constraint: the correction fades out over the final rest, so the corrected
-// command ends exactly where the programmed one ends.
+// whose predicted motion is the programmed one, but may stall at sharp friction
+// transients (docs/fiveaxis.md, "Correction"). The end points are constraints:
+// the correction fades in over the rest before the first move and out over the
+// final rest, so the corrected command starts and ends exactly where the
+// programmed one does.
 #include <vector>
 
 #include "trueaxis/fiveaxis/tool_path.hpp"
@@ -31,8 +33,8 @@ enum class CorrectionMethod {
 // deconvolution (frequency domain, Tikhonov-regularised: the correction's gain
 // is at most 1 / (2·regularization) at any frequency). Every axis's predicted
 // actual position then equals its programmed one, so the tip and the tool axis
-// do too (forward kinematics). The correction fades out over the final rest,
-// like CorrectCommands's.
+// do too (forward kinematics). The correction fades in and out over the rests
+// at the ends, like CorrectCommands's.
 inline constexpr double kInverseRegularization = 0.05;
 std::vector<AxisVector> InvertTrackingModel(const TrackingErrorModel& model, const std::vector<AxisVector>& command,
                                             double dt_s, double kf, double regularization = kInverseRegularization);
