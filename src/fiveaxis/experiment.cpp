@@ -98,13 +98,10 @@ Experiment RunExperiment(const FiveAxisMachine& m, const TrackingErrorModel& mod
     const std::vector<AxisVector> replay_joints = ReplayProgram(x.corrected_gcode, m, kin, command.size());
     x.with_ff = SimulateRun(m, command, kf);
     x.corrected = SimulateRun(m, replay_joints, kf);
-    if (attempt > 0 || max_extra == 0) {
-      x.without_ff = SimulateRun(m, command, 0.0);
-      break;
-    }
-    const std::size_t needed = std::max(SettledLength(x.with_ff, chunk, o.settle_tolerance),
-                                        SettledLength(x.corrected, chunk, o.settle_tolerance));
-    if (needed <= command.size()) {
+    const bool done = attempt > 0 || max_extra == 0 ||
+                      std::max(SettledLength(x.with_ff, chunk, o.settle_tolerance),
+                               SettledLength(x.corrected, chunk, o.settle_tolerance)) <= command.size();
+    if (done) {
       x.without_ff = SimulateRun(m, command, 0.0);
       break;
     }
