@@ -1,4 +1,4 @@
-// Cost of seed 004's command correction per block (one block = one servo
+// Cost of the command correction per block (seed 004's passes and the model inverse) (one block = one servo
 // period of the corrected program), of the model prediction alone, and of
 // the contour-error evaluation, on the example A/C machine's cone path.
 //   ./build/bench/bench_fiveaxis --benchmark_min_time=0.5
@@ -35,6 +35,16 @@ void BM_CorrectionPerBlock(benchmark::State& state) {
   state.counters["blocks"] = static_cast<double>(s.trajectory.joints.size());
 }
 BENCHMARK(BM_CorrectionPerBlock)->Arg(1)->Arg(6)->Arg(16)->Unit(benchmark::kMillisecond);  // passes
+
+void BM_ModelInversePerBlock(benchmark::State& state) {
+  const Setup& s = Get();
+  for (auto _ : state) {
+    auto c = InvertTrackingModel(s.model, s.trajectory.joints, s.trajectory.dt_s, 1.0);
+    benchmark::DoNotOptimize(c.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(s.trajectory.joints.size()));
+}
+BENCHMARK(BM_ModelInversePerBlock)->Unit(benchmark::kMillisecond);
 
 void BM_PredictionPerBlock(benchmark::State& state) {
   const Setup& s = Get();

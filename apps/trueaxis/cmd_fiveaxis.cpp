@@ -58,6 +58,19 @@ TrackingErrorModel LoadOrIdentify(const std::string& model_path, const FiveAxisM
   return model;
 }
 
+// --method: how the corrected command is found (docs/fiveaxis.md, "Correction").
+void AddMethodOption(CLI::App* cmd, std::string* method) {
+  cmd->add_option("--method", *method,
+                  "inverse: the model inverted per axis; passes: seed 004's correction through the kinematics, "
+                  "repeated --iterations times")
+      ->check(CLI::IsMember({"inverse", "passes"}))
+      ->capture_default_str();
+}
+
+CorrectionMethod MethodFromOption(const std::string& method) {
+  return method == "passes" ? CorrectionMethod::kPasses : CorrectionMethod::kModelInverse;
+}
+
 void PrintRuns(const Experiment& x, const FiveAxisMachine& m) {
   fmt::print("{:<18} {:>10} {:>10} {:>14} {:>14} {:>10}\n", "run", "rms (µm)", "max (µm)", "orient. rms", "orient. max",
              "end (µm)");
@@ -68,8 +81,9 @@ void PrintRuns(const Experiment& x, const FiveAxisMachine& m) {
              x.feed_forward.averaged, ReductionPercent(x.with_ff.contour.rms_um, x.corrected.contour.rms_um),
              ReductionPercent(x.with_ff.contour.max_um, x.corrected.contour.max_um));
   fmt::print("end (µm): distance of the tip from the programmed end point after the runs stand {:.2f} s longer at the end "
-             "(until the drives settle); the corrected program's figures are those of the written program re-run\n",
-             x.end_rest_added_s);
+             "(until the model's predicted error and then the measured positions settle); the corrected program's "
+             "figures are those of the written program re-run with that rest\n",
+             x.end_rest_added_s + x.measured_rest_added_s);
   for (const SimulatedRun* r : {&x.without_ff, &x.with_ff, &x.corrected})
     for (int a = 0; a < kAxisCount; ++a)
       if (r->saturated_periods[a] > 0)
@@ -167,19 +181,23 @@ void Setup(CLI::App& app) {
     auto report = std::make_shared<std::string>();
     auto block = std::make_shared<int>(1);
     auto iterations = std::make_shared<int>(ExperimentOptions{}.correction_iterations);
+    auto method = std::make_shared<std::string>("inverse");
     AddPathOptions(cmd, o.get());
-    cmd->add_option("--iterations", *iterations, "correction passes (1 = a one-shot correction)")->capture_default_str();
+    AddMethodOption(cmd, method.get());
+    cmd->add_option("--iterations", *iterations, "--method passes: correction passes (1 = a one-shot correction)")
+        ->capture_default_str();
     cmd->add_option("--model", *model_path, "tracking-error model from `fiveaxis identify` (default: identify now)");
     cmd->add_option("--out,-o", *out, "corrected program to write (.csv for CSV, else G-code)");
     cmd->add_option("--report", *report, "HTML report to write");
     cmd->add_option("--block-samples", *block, "servo periods per block of the corrected program")->capture_default_str();
-    cmd->callback([o, model_path, out, report, block, iterations] {
+    cmd->callback([o, model_path, out, report, block, iterations, method] {
       RefuseOutputOverInput(*out, {o->machine, o->program, *model_path}, "--out");
       RefuseOutputOverInput(*report, {o->machine, o->program, *model_path, *out}, "--report");
       const FiveAxisMachine m = ReadFiveAxisMachineFile(o->machine);
       const ToolPath path = LoadPath(*o, m);
       const TrackingErrorModel model = LoadOrIdentify(*model_path, m);
       ExperimentOptions eo;
+      eo.correction_method = MethodFromOption(*method);
       eo.samples_per_block = *block;
       eo.correction_iterations = *iterations;
       if (*iterations < 1) throw InputError("command line", 0, "--iterations", "must be at least 1");
@@ -208,15 +226,19 @@ void Setup(CLI::App& app) {
     auto markdown = std::make_shared<std::string>();
     auto iterations = std::make_shared<int>(ExperimentOptions{}.correction_iterations);
     auto filter_ms = std::make_shared<double>(ExperimentOptions{}.correction_filter_s * 1e3);
-    cmd->add_option("--iterations", *iterations, "correction passes")->capture_default_str();
-    cmd->add_option("--filter-ms", *filter_ms, "zero-phase low-pass of the later passes' updates (0 = none)")->capture_default_str();
+    auto method = std::make_shared<std::string>("inverse");
+    AddMethodOption(cmd, method.get());
+    cmd->add_option("--iterations", *iterations, "--method passes: correction passes")->capture_default_str();
+    cmd->add_option("--filter-ms", *filter_ms, "--method passes: zero-phase low-pass of the later passes' updates (0 = none)")
+        ->capture_default_str();
     cmd->add_option("--machine", *machine, "five-axis machine TOML")->required();
     cmd->add_option("--feeds", *feeds, "feeds (mm/min), comma separated")->delimiter(',')->capture_default_str();
     cmd->add_option("--variants", *variants, "also this many machines with randomly varied drives")->capture_default_str();
     cmd->add_option("--seed", *seed, "random seed of the variations")->capture_default_str();
     cmd->add_option("--markdown", *markdown, "write the table as Markdown");
-    cmd->callback([machine, feeds, variants, seed, markdown, iterations, filter_ms] {
+    cmd->callback([machine, feeds, variants, seed, markdown, iterations, filter_ms, method] {
       ExperimentOptions eo;
+      eo.correction_method = MethodFromOption(*method);
       eo.correction_iterations = *iterations;
       eo.correction_filter_s = *filter_ms * 1e-3;
       if (*iterations < 1 || *filter_ms < 0) throw InputError("command line", 0, "--iterations", "passes >= 1, filter >= 0");

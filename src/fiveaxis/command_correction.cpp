@@ -3,32 +3,43 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <numbers>
 
-#include "trueaxis/fiveaxis/model_inverse.hpp"
+#include <unsupported/Eigen/FFT>
 
 namespace trueaxis::fiveaxis {
 namespace {
 
 constexpr double kStepWindowS = 0.03;  // windows of the step fraction (s)
+constexpr double kInverseKernelS = 1.0;  // the model's impulse response is taken over ±this (s)
+constexpr double kInversePaddingS = 2.0; // zeros after the command, so the inverse's tails do not wrap round (s)
 
-// The end point is a constraint: over the second half of the final rest (the
+// The end points are constraints: over the second half of the final rest (the
 // samples equal to the last command) the correction fades out with a raised
 // cosine, so the corrected command stands exactly on the programmed end.
 // ExtendRestUntilSettled makes that rest long enough for the correction to
-// have decayed before it fades.
-void FadeOutAtEnd(const std::vector<AxisVector>& command, std::vector<AxisVector>& corrected) {
+// have decayed before it fades. Likewise over the first half of the rest
+// before the first move the correction fades in (the model's inverse starts
+// a little before the motion), so the corrected program starts where the
+// programmed one starts.
+void FadeAtTheEnds(const std::vector<AxisVector>& command, std::vector<AxisVector>& corrected) {
   const std::size_t n = command.size();
   if (n < 2) return;
+  auto fade = [&](std::size_t rest, auto index) {
+    const std::size_t samples = std::max<std::size_t>(1, rest / 2);
+    for (std::size_t k = 0; k <= samples && k < n; ++k) {
+      const std::size_t i = index(k);  // k samples from the end point
+      const double keep = 0.5 * (1.0 - std::cos(std::numbers::pi * static_cast<double>(k) / static_cast<double>(samples)));
+      for (int a = 0; a < kAxisCount; ++a) corrected[i][a] = command[i][a] + keep * (corrected[i][a] - command[i][a]);
+    }
+  };
   std::size_t rest_start = n - 1;
   while (rest_start > 0 && command[rest_start - 1] == command.back()) --rest_start;
-  const std::size_t rest = n - 1 - rest_start;
-  const std::size_t fade = std::max<std::size_t>(1, rest / 2);
-  for (std::size_t k = 0; k <= fade && k < n; ++k) {
-    const std::size_t i = n - 1 - k;  // k samples before the end
-    const double keep = 0.5 * (1.0 - std::cos(std::numbers::pi * static_cast<double>(k) / static_cast<double>(fade)));
-    for (int a = 0; a < kAxisCount; ++a) corrected[i][a] = command[i][a] + keep * (corrected[i][a] - command[i][a]);
-  }
+  fade(n - 1 - rest_start, [n](std::size_t k) { return n - 1 - k; });
+  std::size_t first_move = 0;
+  while (first_move + 1 < n && command[first_move + 1] == command.front()) ++first_move;
+  fade(first_move, [](std::size_t k) { return k; });
 }
 
 }  // namespace
@@ -39,17 +50,13 @@ std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErr
   const std::size_t n = command.size();
   std::vector<Eigen::Vector3d> target_tip(n);
   for (std::size_t i = 0; i < n; ++i) target_tip[i] = kin.Forward(command[i]).tip_mm;
-  // The passes start from the model's inverse per axis (model_inverse.hpp), which a drive that rings
-  // needs: there the passes alone converge slowly or not at all.
-  std::vector<AxisVector> corrected = InvertTrackingModel(model, command, dt_s, kf);
+  std::vector<AxisVector> corrected = command;
   // Per servo period: tip x, y, z, tilt, rot — the virtual target (state), the
   // predicted residual of the current command, and of the one before the last step.
   using Five = std::array<double, 5>;
   std::vector<Five> state(n), residual(n), previous_residual(n), step(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d tip = kin.Forward(corrected[i]).tip_mm;
-    state[i] = {tip.x(), tip.y(), tip.z(), corrected[i][kTilt], corrected[i][kRot]};
-  }
+  for (std::size_t i = 0; i < n; ++i)
+    state[i] = {target_tip[i].x(), target_tip[i].y(), target_tip[i].z(), command[i][kTilt], command[i][kRot]};
   auto apply_state = [&] {
     for (std::size_t i = 0; i < n; ++i)
       corrected[i] = kin.Inverse(Eigen::Vector3d(state[i][0], state[i][1], state[i][2]), state[i][3], state[i][4]);
@@ -122,7 +129,46 @@ std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErr
       for (int c = 0; c < 5; ++c) state[i][c] += step[i][c];
     apply_state();
   }
-  FadeOutAtEnd(command, corrected);
+  FadeAtTheEnds(command, corrected);
+  return corrected;
+}
+
+std::vector<AxisVector> InvertTrackingModel(const TrackingErrorModel& model, const std::vector<AxisVector>& command,
+                                            double dt_s, double kf, double regularization) {
+  const std::size_t n = command.size();
+  if (n < 2) return command;
+  // The model is linear in the command once the friction's direction of motion
+  // is held at the programmed one: predicted actual(q + Δ) = q − e(q) + Δ − L(Δ),
+  // with L the model's terms without the friction. So the correction solves
+  // Δ − L(Δ) = e(q) — a convolution, inverted per axis in the frequency domain
+  // with Tikhonov regularisation (the gain stays below 1 / (2·regularization)
+  // where the model says the drive cannot follow).
+  const std::size_t half = static_cast<std::size_t>(std::lround(kInverseKernelS / dt_s));
+  std::size_t size = 1;
+  while (size < n + static_cast<std::size_t>(std::lround(kInversePaddingS / dt_s))) size *= 2;
+  std::vector<AxisVector> impulse(2 * half + 1, AxisVector{}), still(2 * half + 1, AxisVector{});
+  for (int a = 0; a < kAxisCount; ++a) impulse[half][a] = 1.0;
+  const std::vector<AxisVector> response = PredictTrackingError(model, impulse, dt_s, kf, &still);
+  const std::vector<AxisVector> error = PredictTrackingError(model, command, dt_s, kf);
+  Eigen::FFT<double> fft;
+  std::vector<double> kernel(size), rhs(size), delta;
+  std::vector<std::complex<double>> kernel_f, rhs_f;
+  std::vector<AxisVector> corrected = command;
+  for (int a = 0; a < kAxisCount; ++a) {
+    // Impulse response of command → predicted actual, centred on sample 0 (circular).
+    std::fill(kernel.begin(), kernel.end(), 0.0);
+    for (std::size_t k = 0; k <= 2 * half; ++k)
+      kernel[(k + size - half) % size] += impulse[k][a] - response[k][a];
+    std::fill(rhs.begin(), rhs.end(), 0.0);
+    for (std::size_t i = 0; i < n; ++i) rhs[i] = error[i][a];
+    fft.fwd(kernel_f, kernel);
+    fft.fwd(rhs_f, rhs);
+    for (std::size_t k = 0; k < rhs_f.size(); ++k)
+      rhs_f[k] *= std::conj(kernel_f[k]) / (std::norm(kernel_f[k]) + regularization * regularization);
+    fft.inv(delta, rhs_f);
+    for (std::size_t i = 0; i < n; ++i) corrected[i][a] += delta[i];
+  }
+  FadeAtTheEnds(command, corrected);
   return corrected;
 }
 

@@ -60,9 +60,10 @@ report::HtmlPage BuildExperimentReport(const Experiment& x, const FiveAxisMachin
   }
   page.AddTable(t);
   page.AddNote(fmt::format("Every run is judged standing at the end: the final rest was lengthened by {:.2f} s until "
-                           "the model's predicted tracking error had decayed; the corrected program ends on the "
-                           "programmed end point and its figures are those of the written program re-run.",
-                           x.end_rest_added_s));
+                           "the model's predicted tracking error had decayed and by {:.2f} s more until the measured "
+                           "positions stood; the corrected program ends on the programmed end point and its figures "
+                           "are those of the written program re-run with that rest.",
+                           x.end_rest_added_s, x.measured_rest_added_s));
   if (x.with_ff.saturated_periods != std::array<std::int64_t, kAxisCount>{})
     page.AddNote("A drive reached its current limit (saturated periods > 0): the linear model does not hold there.");
 

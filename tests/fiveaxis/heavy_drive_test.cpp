@@ -14,7 +14,6 @@
 #include "trueaxis/fiveaxis/axis_identification.hpp"
 #include "trueaxis/fiveaxis/command_correction.hpp"
 #include "trueaxis/fiveaxis/experiment.hpp"
-#include "trueaxis/fiveaxis/model_inverse.hpp"
 
 namespace trueaxis::fiveaxis {
 namespace {

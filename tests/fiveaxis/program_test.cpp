@@ -143,6 +143,17 @@ TEST(FiveAxisCli, BadProgramExitsWithCode2AndTheLine) {
   EXPECT_NE(r.output.find("W3"), std::string::npos) << r.output;
 }
 
+// --method chooses how the corrected command is found; anything else is refused.
+TEST(FiveAxisCli, CorrectionMethodIsChosenOrRefused) {
+  const std::string machine = " --machine " + std::string(TRUEAXIS_SOURCE_DIR) + "/examples/fiveaxis/table_ac.toml";
+  auto r = trueaxis::testing::RunCli("fiveaxis correct" + machine + " --path inclined-circle --feed 3000 --method newton");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--method"), std::string::npos) << r.output;
+  r = trueaxis::testing::RunCli("fiveaxis correct" + machine + " --path inclined-circle --feed 3000 --method passes --iterations 1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("FF + correction"), std::string::npos) << r.output;
+}
+
 // The sweep's A2: F0.001 exhausted memory (std::bad_alloc, exit 1); now a
 // clean exit 2 naming the line, before anything large is allocated.
 TEST(FiveAxisCli, SlowFeedIsRefusedWithTheLineInsteadOfExhaustingMemory) {

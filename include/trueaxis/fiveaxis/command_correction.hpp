@@ -9,15 +9,35 @@
 // command itself, their updates low-passed without phase (time constant
 // update_filter_s) and shortened, per 30 ms window, to the fraction that
 // leaves the least predicted residual; they converge towards the command
-// whose predicted motion is the programmed one (docs/fiveaxis.md, "Correction"). The end point is a
-// constraint: the correction fades out over the final rest, so the corrected
-// command ends exactly where the programmed one ends.
+// whose predicted motion is the programmed one, but may stall at sharp friction
+// transients (docs/fiveaxis.md, "Correction"). The end points are constraints:
+// the correction fades in over the rest before the first move and out over the
+// final rest, so the corrected command starts and ends exactly where the
+// programmed one does.
 #include <vector>
 
 #include "trueaxis/fiveaxis/tool_path.hpp"
 #include "trueaxis/fiveaxis/tracking_model.hpp"
 
 namespace trueaxis::fiveaxis {
+
+// How the corrected command is found (docs/fiveaxis.md, "Correction").
+enum class CorrectionMethod {
+  kModelInverse,  // the command whose predicted motion is the programmed one, solved per axis (default)
+  kPasses,        // seed 004's correction through the kinematics, repeated `iterations` times
+};
+
+// The model inverted per axis: with the friction's direction of motion held at
+// the programmed one the model is a linear filter of the command, so the
+// command whose predicted actual motion is the programmed one follows by
+// deconvolution (frequency domain, Tikhonov-regularised: the correction's gain
+// is at most 1 / (2·regularization) at any frequency). Every axis's predicted
+// actual position then equals its programmed one, so the tip and the tool axis
+// do too (forward kinematics). The correction fades in and out over the rests
+// at the ends, like CorrectCommands's.
+inline constexpr double kInverseRegularization = 0.05;
+std::vector<AxisVector> InvertTrackingModel(const TrackingErrorModel& model, const std::vector<AxisVector>& command,
+                                            double dt_s, double kf, double regularization = kInverseRegularization);
 
 std::vector<AxisVector> CorrectCommands(const Kinematics& kin, const TrackingErrorModel& model,
                                         const std::vector<AxisVector>& command, double dt_s, double kf, int iterations = 16,

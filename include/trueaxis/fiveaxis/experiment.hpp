@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "trueaxis/fiveaxis/command_correction.hpp"
 #include "trueaxis/fiveaxis/contour_error.hpp"
 #include "trueaxis/fiveaxis/interpolator.hpp"
 #include "trueaxis/fiveaxis/servo_drive.hpp"
@@ -29,16 +30,23 @@ SimulatedRun SimulateRun(const FiveAxisMachine& m, const std::vector<AxisVector>
                          double acceleration_ff = 0);
 
 struct ExperimentOptions {
+  CorrectionMethod correction_method = CorrectionMethod::kModelInverse;
+  // kPasses only:
   int correction_iterations = 16;       // 1 = seed 004's one-shot correction
   double correction_filter_s = 0.005;   // zero-phase low-pass of the later passes' updates
   int samples_per_block = 1;  // corrected program: one G93 block per this many servo periods
+  // The runs stand at the end until every axis's measured tracking error stays
+  // within this (mm or deg) for 50 ms, lengthening the rest by at most max_measured_rest_s.
+  double settle_tolerance = 5e-5;
+  double max_measured_rest_s = 2.0;
 };
 
 struct Experiment {
   ToolPath path;
   Trajectory trajectory;
   FeedForwardChoice feed_forward;
-  double end_rest_added_s = 0;  // rest added at the end until the drives settle (ExtendRestUntilSettled)
+  double end_rest_added_s = 0;  // rest added at the end until the model's predicted error settles (ExtendRestUntilSettled)
+  double measured_rest_added_s = 0;  // and then until the measured positions settle (the runs' own feedback)
   SimulatedRun without_ff, with_ff, corrected;
   ToolPath corrected_program;
   std::string corrected_gcode;
