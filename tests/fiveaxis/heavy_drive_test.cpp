@@ -100,7 +100,7 @@ TEST(FiveAxisHeavyDrive, ModelInverseMakesThePredictedActualTheCommand) {
 }
 
 // Before the drive mode and the model's inverse the corrected pocket kept about 90 % of FF's contour
-// error on such a head (helix: 36 %). Now the pocket keeps under 5 % (0.4 % measured; end within 1 µm),
+// error on such a head (helix: 36 %). Now the pocket keeps under 5 % (0.5 % measured; end within 1 µm),
 // and the drive mode is needed for it: without it the inverse of a model that misses the ringing keeps 27 %.
 TEST(FiveAxisHeavyDrive, PocketIsCorrectedByNinetyFivePercentWithTheDriveMode) {
   const FiveAxisMachine m = HeavyHead();
