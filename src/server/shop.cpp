@@ -816,6 +816,14 @@ std::optional<MachineStatus> Shop::Machine(const std::string& name) const {
   return std::nullopt;
 }
 
+std::size_t Shop::MachineCount() const { return impl_->machines.size(); }
+
+MachineStatus Shop::MachineAt(std::size_t i) const {
+  const MachineSlot& m = *impl_->machines.at(i);
+  std::lock_guard<std::mutex> lock(m.mu);
+  return m.status;
+}
+
 std::vector<std::string> Shop::MachineNames() const {
   std::vector<std::string> out;
   for (const auto& m : impl_->machines) out.push_back(m->cfg.name);
