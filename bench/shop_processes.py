@@ -11,7 +11,8 @@ Per server run: the complete cycles of every machine over the measured window (f
 HTTP API, /api/machines), so the rate per machine (mean and the slowest machine); the read→write
 latency p99 of the window (the difference of two /api/stats latency histograms); overruns and
 faults in the window; the CPU of the server process and of the virtual shop process (all their
-threads, /proc/PID/stat) as % of one core; the server's resident memory (VmRSS) at the end.
+threads, /proc/PID/stat) as % of one core and per machine-cycle (CPU time over the complete cycles
+of every machine in the window: robust to other work on the box, where Hz and p99 are not); the server's resident memory (VmRSS) at the end.
 The load average (/proc/loadavg) is printed beside every row: the box may be shared.
 Every process is started here and ended here (SIGTERM, then SIGKILL), also on Ctrl-C or a failure.
 """
