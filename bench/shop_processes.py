@@ -11,7 +11,8 @@ Per server run: the complete cycles of every machine over the measured window (f
 HTTP API, /api/machines), so the rate per machine (mean and the slowest machine); the read→write
 latency p99 of the window (the difference of two /api/stats latency histograms); overruns and
 faults in the window; the CPU of the server process and of the virtual shop process (all their
-threads, /proc/PID/stat) as % of one core; the server's resident memory (VmRSS) at the end.
+threads, /proc/PID/stat) as % of one core and per machine-cycle (CPU time over the complete cycles
+of every machine in the window: robust to other work on the box, where Hz and p99 are not); the server's resident memory (VmRSS) at the end.
 The load average (/proc/loadavg) is printed beside every row: the box may be shared.
 Every process is started here and ended here (SIGTERM, then SIGKILL), also on Ctrl-C or a failure.
 """
@@ -186,12 +187,15 @@ def run_server(args, tmp, n):
         stop(shop)
     wall = c1[2] - c0[2]
     hz = [(m1[k] - m0[k]) / (t1 - t0) for k in m0]
+    machine_cycles = max(1, sum(m1[k] - m0[k] for k in m0))  # complete cycles of every machine in the window
     p99 = latency_p99(s0, s1)
     if p99 != p99:  # a server without the histogram: its p99 since the start
         p99 = s1["latency_p99_ms"]
     return {"machines": n, "hz_mean": sum(hz) / len(hz), "hz_min": min(hz), "p99_ms": p99,
             "overruns": s1["overruns"] - s0["overruns"], "faults": s1["faults"] - s0["faults"],
             "server_cpu_pct": 100 * (c1[0] - c0[0]) / wall, "shop_cpu_pct": 100 * (c1[1] - c0[1]) / wall,
+            "server_us_per_cycle": 1e6 * (c1[0] - c0[0]) / machine_cycles,
+            "shop_us_per_cycle": 1e6 * (c1[1] - c0[1]) / machine_cycles,
             "server_rss_mb": rss_kb / 1024, "server_hwm_mb": hwm_kb / 1024, "load": f"{load0} → {load1}"}
 
 
@@ -211,6 +215,7 @@ def run_pymodbus(args, tmp, n):
     j = json.loads(out.stdout[out.stdout.find("{"):])
     return {"machines": n, "hz_mean": j["per_machine_hz"], "hz_min": j["min_machine_hz"], "p99_ms": j["p99_ms"],
             "poller_cpu_pct": 100 * j["cpu_s"] / j["elapsed_s"], "shop_cpu_pct": 100 * (c1 - c0) / j["elapsed_s"],
+            "poller_us_per_cycle": 1e6 * j["cpu_s"] / max(1e-9, j["per_machine_hz"] * n * j["elapsed_s"]),
             "load": f"{load0} → {load1}"}
 
 
@@ -241,25 +246,26 @@ def main():
             print(f"separate processes, period {args.period_s} s, warm-up {args.warmup_s} s, measured {args.measure_s} s, "
                   f"{os.cpu_count()} cores" + (f", niceness {args.nice}" if args.nice else ""))
             print("| N machines | Hz per machine mean (min) | p99 read→write | overruns | faults | server CPU | server RSS "
-                  "| virtual shop CPU | load average (start → end) |")
-            print("|---|---|---|---|---|---|---|---|---|")
+                  "| virtual shop CPU | server / shop CPU per machine-cycle | load average (start → end) |")
+            print("|---|---|---|---|---|---|---|---|---|---|")
             for n in [int(x) for x in args.machines.split(",") if x]:
                 r = run_server(args, tmp, n)
                 results["server"].append(r)
                 print(f"| {n} | {r['hz_mean']:.2f} ({r['hz_min']:.2f}) | {r['p99_ms']:.2f} ms | {r['overruns']} | "
                       f"{r['faults']} | {r['server_cpu_pct']:.1f} % | {r['server_rss_mb']:.1f} MB "
-                      f"| {r['shop_cpu_pct']:.1f} % | {r['load']} |",
+                      f"| {r['shop_cpu_pct']:.1f} % | {r['server_us_per_cycle']:.1f} / {r['shop_us_per_cycle']:.1f} µs | {r['load']} |",
                       flush=True)
             py = [int(x) for x in args.pymodbus.split(",") if x]
             if py:
                 print("\npymodbus poller (bench/pymodbus_poller.py, one process) against the virtual shop:")
-                print("| N machines | Hz per machine mean (min) | p99 cycle | poller CPU | virtual shop CPU | load average |")
-                print("|---|---|---|---|---|---|")
+                print("| N machines | Hz per machine mean (min) | p99 cycle | poller CPU | virtual shop CPU "
+                      "| poller CPU per machine-cycle | load average |")
+                print("|---|---|---|---|---|---|---|")
             for n in py:
                 r = run_pymodbus(args, tmp, n)
                 results["pymodbus"].append(r)
                 print(f"| {n} | {r['hz_mean']:.2f} ({r['hz_min']:.2f}) | {r['p99_ms']:.2f} ms | {r['poller_cpu_pct']:.1f} % | "
-                      f"{r['shop_cpu_pct']:.1f} % | {r['load']} |", flush=True)
+                      f"{r['shop_cpu_pct']:.1f} % | {r['poller_us_per_cycle']:.0f} µs | {r['load']} |", flush=True)
         finally:
             for p in STARTED:
                 stop(p)

@@ -84,6 +84,10 @@ void RunServer(const ServerOptions& o) {
   // every machine) are then reused instead of each worker's arena keeping its own (tens of MB in a
   // thousand-machine shop); the event loop allocates nothing per cycle, so it meets no contention.
   mallopt(M_ARENA_MAX, 2);
+  // Blocks from 256 kB up (such an answer's text) are mapped and returned to the system when freed;
+  // without a fixed threshold glibc raises it to the largest block freed, and each answer's
+  // megabytes then stay in the process.
+  mallopt(M_MMAP_THRESHOLD, 256 * 1024);
   g_stop.store(false);
   std::signal(SIGINT, OnServerStop);
   std::signal(SIGTERM, OnServerStop);

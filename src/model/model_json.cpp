@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <optional>
+#include <unordered_map>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -508,6 +510,23 @@ CompositeModel ModelFromJson(const nlohmann::json& doc, const std::string& sourc
 CompositeModel ReadModelFile(const std::string& path) {
   const std::string text = ReadTextFile(path);
   return ModelFromJson(ParseJsonOrThrow(text, path), path);
+}
+
+std::shared_ptr<const CompositeModel> ReadSharedModelFile(const std::string& path) {
+  static std::mutex mu;
+  struct Read {
+    std::string text;
+    std::weak_ptr<const CompositeModel> model;
+  };
+  static std::unordered_map<std::string, Read> read;  // by path: the bytes last read there and their model
+  std::string text = ReadTextFile(path);
+  std::lock_guard<std::mutex> lock(mu);
+  Read& last = read[path];
+  if (last.text == text)
+    if (auto model = last.model.lock()) return model;
+  auto model = std::make_shared<const CompositeModel>(ModelFromJson(ParseJsonOrThrow(text, path), path));
+  last = {std::move(text), model};
+  return model;
 }
 
 void WriteModelFile(const CompositeModel& model, const std::string& path) {

@@ -7,10 +7,12 @@
 
 namespace trueaxis::runtime {
 
-Compensator::Compensator(CompensatorOptions options, std::vector<AxisInterface> axes, std::vector<std::string> channel_names)
+Compensator::Compensator(CompensatorOptions options, std::vector<AxisInterface> axes, std::vector<std::string> channel_names,
+                         ModelKinds kinds)
     : options_(std::move(options)),
       axes_(std::move(axes)),
       channel_names_(std::move(channel_names)),
+      kinds_(kinds),
       out_(axes_.size(), channel_names_.size()),
       inline_temperatures_(channel_names_.size()),
       inline_cnc_(axes_.size()) {
@@ -26,14 +28,14 @@ Compensator::Compensator(CompensatorOptions options, std::vector<AxisInterface> 
   extra_valid_until_s_ = std::make_unique<std::atomic<double>[]>(n);
   for (std::size_t i = 0; i < n; ++i) extra_error_um_[i].store(std::numeric_limits<double>::quiet_NaN());
   extra_error_now_um_.assign(n, std::numeric_limits<double>::quiet_NaN());
-  state_ = StepState(n, channel_names_.size(), options_);
+  state_ = StepState(n, channel_names_.size(), options_, kinds_ == ModelKinds::kCompositeAndGeneric);
   pickup_applied_um_.assign(n, std::numeric_limits<double>::quiet_NaN());
   shaping_ = ShaperLimitsFor(options_, axes_);
 }
 
 std::unique_ptr<Compensator> Compensator::ForHardware(const CompensatorOptions& options, const hw::CncLink& link,
                                                       const signal::JudgedTemperatureSource& source,
-                                                      const std::vector<AxisInterface>& interfaces) {
+                                                      const std::vector<AxisInterface>& interfaces, ModelKinds kinds) {
   std::vector<AxisInterface> axes;
   for (std::size_t i = 0; i < link.AxisCount(); ++i) {
     AxisInterface a;
@@ -44,7 +46,7 @@ std::unique_ptr<Compensator> Compensator::ForHardware(const CompensatorOptions& 
   }
   std::vector<std::string> channels;
   for (std::size_t i = 0; i < source.ChannelCount(); ++i) channels.push_back(source.ChannelName(i));
-  return std::make_unique<Compensator>(options, std::move(axes), std::move(channels));
+  return std::make_unique<Compensator>(options, std::move(axes), std::move(channels), kinds);
 }
 
 void Compensator::PublishModel(std::shared_ptr<const model::CompositeModel> model, const std::string& label) {
@@ -55,6 +57,8 @@ void Compensator::PublishModel(std::shared_ptr<const model::CompositeModel> mode
 
 void Compensator::PublishAxisModels(std::vector<std::shared_ptr<const model::AxisErrorModel>> models,
                                     const std::string& label) {
+  if (kinds_ == ModelKinds::kCompositeOnly)
+    throw std::logic_error("compensator for composite models only: '" + label + "' is a model behind the generic interface");
   auto bound = BindAxisModels(std::move(models), label, axes_, channel_names_, options_.channel_map);
   bound->id = next_model_id_.fetch_add(1);
   exchange_.Publish(std::move(bound));

@@ -51,7 +51,8 @@ const char* AxisCompensationState(bool link_read_ok, bool enabled, bool thermal_
                               : "full";
 }
 
-StepState::StepState(std::size_t axis_count, std::size_t channel_count, const CompensatorOptions& options)
+StepState::StepState(std::size_t axis_count, std::size_t channel_count, const CompensatorOptions& options,
+                     bool generic_models)
     : channels(channel_count),
       good_reads_in_row(options.link_recovery_cycles),  // start as if connected; the first read decides
       direction(axis_count, Direction::kForward),
@@ -62,6 +63,7 @@ StepState::StepState(std::size_t axis_count, std::size_t channel_count, const Co
   dynamics.axes.resize(axis_count);
   dynamics.fallback_thermal.resize(axis_count);
   dynamics.fallback_handover.resize(axis_count);
+  if (generic_models) dynamics.generic.resize(axis_count);
 }
 
 StepOutputs::StepOutputs(std::size_t axis_count, std::size_t channel_count)
@@ -145,6 +147,11 @@ bool TakeCncSnapshot(const StepModel& model, const CncSnapshot* cs, double now_s
   return usable;
 }
 
+// What a model behind model::AxisErrorModel sees of its dynamics in a state sized without them
+// (ModelDynamics::generic empty): a model that has none ignores them; one that has them is refused
+// by a Compensator for composite models only before it could be stepped.
+const model::AxisModelDynamics kNoGenericDynamics{};
+
 // An axis bound to a model behind model::AxisErrorModel: its sensors' conditioned values; a lost
 // sensor ramps the axis to zero (there is no geometric-only part to fall back to).
 double GenericCorrection(const BoundAxis& ba, std::size_t i, const StepState& state, const StepOutputs& out,
@@ -161,7 +168,7 @@ double GenericCorrection(const BoundAxis& ba, std::size_t i, const StepState& st
   }
   const double error = ba.generic->ErrorUm(st.model_position_mm, st.direction,
                                            std::span<const double>(sensors, ba.generic_channel.size()), state.machine.coolant,
-                                           state.dynamics.axes[i].generic);
+                                           i < state.dynamics.generic.size() ? state.dynamics.generic[i] : kNoGenericDynamics);
   st.prediction.thermal_um = error;
   st.prediction.total_um = error;
   st.thermal_used = true;
@@ -317,7 +324,7 @@ namespace {
 // A model behind the generic interface with dynamics: advanced with its sensors while all are
 // usable; a lost sensor or a new model restarts it (the model then predicts as at start-up).
 void AdvanceGenericDynamics(const BoundAxis& ba, std::span<const ChannelStatus> channels, double now_s,
-                            std::uint64_t model_id, ModelDynamics::Axis& d) {
+                            std::uint64_t model_id, ModelDynamics::Axis& d, model::AxisModelDynamics& generic) {
   double sensors[kMaxKeySensors];
   bool lost = false;
   const std::size_t n = ba.generic_channel.size();
@@ -326,8 +333,8 @@ void AdvanceGenericDynamics(const BoundAxis& ba, std::span<const ChannelStatus> 
     lost = lost || c.health == ChannelHealth::kLost;
     sensors[k] = c.value_c;
   }
-  if (lost || d.model_id != model_id) ba.generic->ResetDynamics(d.generic);
-  if (!lost) ba.generic->Advance(d.generic, now_s, std::span<const double>(sensors, n));
+  if (lost || d.model_id != model_id) ba.generic->ResetDynamics(generic);
+  if (!lost) ba.generic->Advance(generic, now_s, std::span<const double>(sensors, n));
   d.time_s = now_s;
   d.model_id = lost ? 0 : model_id;
 }
@@ -436,7 +443,8 @@ void AdvanceModelDynamics(const BoundModel& bound, std::span<const ChannelStatus
     if (!ba.has_model) continue;
     ModelDynamics::Axis& d = dynamics.axes[i];
     if (ba.generic) {
-      if (ba.generic_dynamics) AdvanceGenericDynamics(ba, channels, now_s, bound.id, d);
+      if (ba.generic_dynamics && i < dynamics.generic.size())
+        AdvanceGenericDynamics(ba, channels, now_s, bound.id, d, dynamics.generic[i]);
       continue;
     }
     const double dt_s = now_s - d.time_s;

@@ -162,9 +162,12 @@ struct HttpApi::Impl {
   std::vector<Route> routes;  // to tell a wrong method (405) from an unknown path (404)
   explicit Impl(Shop& s, std::string b) : shop(s), bind(std::move(b)) {}
 
-  static void Reply(httplib::Response& res, int status, const nlohmann::json& j) {
+  static void Reply(httplib::Response& res, int status, const nlohmann::json& j) { ReplyJsonText(res, status, j.dump(2) + "\n"); }
+  // The body moved in, not copied (set_content copies: a thousand machines' JSON is megabytes).
+  static void ReplyJsonText(httplib::Response& res, int status, std::string&& text) {
     res.status = status;
-    res.set_content(j.dump(2) + "\n", "application/json");
+    res.body = std::move(text);
+    res.set_header("Content-Type", "application/json");
   }
   static void Error(httplib::Response& res, int status, const std::string& message) { Reply(res, status, {{"error", message}}); }
 
@@ -284,9 +287,16 @@ struct HttpApi::Impl {
 
   void Routes() {
     Get("/api/machines", [this](const httplib::Request&, httplib::Response& res) {
-      nlohmann::json j = nlohmann::json::array();
-      for (const auto& s : shop.Snapshot()) j.push_back(ToJson(s));
-      Reply(res, 200, j);
+      // One machine at a time — its status copied, its JSON made and written out, then freed — so
+      // a shop of thousands never holds every machine's status and JSON tree at once.
+      std::string text = "[";
+      const std::size_t n = shop.MachineCount();
+      for (std::size_t i = 0; i < n; ++i) {
+        text += i == 0 ? "\n" : ",\n";
+        text += ToJson(shop.MachineAt(i)).dump(2);
+      }
+      text += n == 0 ? "]\n" : "\n]\n";
+      ReplyJsonText(res, 200, std::move(text));
     });
     Get("/api/stats", [this](const httplib::Request&, httplib::Response& res) { Reply(res, 200, ToJson(shop.Stats())); });
     Get(R"(/api/machines/([^/]+))", [this](const httplib::Request& req, httplib::Response& res) {

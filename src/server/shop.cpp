@@ -124,11 +124,11 @@ struct Controls {
 
 // One machine: its terminal link, its compensator state and its published status.
 struct MachineSlot {
-  MachineConfig cfg;
+  explicit MachineSlot(const MachineConfig& c) : cfg(c) {}
+  const MachineConfig& cfg;  // the shop's own (Shop::config_ outlives every slot): not a copy per machine
   std::size_t index = 0;
   sockaddr_in addr{};
   std::size_t module_count = 0;
-  std::vector<std::string> channel_names;
 
   // ---- loop thread only ----
   Link link = Link::kDown;
@@ -445,7 +445,7 @@ struct Shop::Impl {
   }
 
   static std::size_t ModuleChannels(const MachineSlot& m, std::size_t k) {
-    return drivers::RtdModuleChannels(m.channel_names.size(), k);
+    return drivers::RtdModuleChannels(m.cfg.channels.size(), k);
   }
 
   void BeginCycle(MachineSlot& m, double now) {
@@ -562,7 +562,7 @@ struct Shop::Impl {
           m.module = 0;
           return Send(m, now);
         }
-        if (m.temps_read) m.temps_ok = m.channel_names.empty();  // the modules' ranges are unknown: no reading
+        if (m.temps_read) m.temps_ok = m.cfg.channels.empty();  // the modules' ranges are unknown: no reading
         return StepAndWrite(m, now);
       case Phase::kTemperatures:
         if (ok) {
@@ -715,14 +715,12 @@ Shop::Shop(ShopConfig config, store::HistoryWriter* history) : config_(std::move
   }
   const double unix0 = impl_->unix_offset_s;
   for (std::size_t i = 0; i < config_.machines.size(); ++i) {
-    auto m = std::make_unique<MachineSlot>();
-    MachineConfig& c = config_.machines[i];
-    m->cfg = c;
+    const MachineConfig& c = config_.machines[i];
+    auto m = std::make_unique<MachineSlot>(c);
     m->index = i;
     m->addr.sin_family = AF_INET;
     m->addr.sin_port = htons(static_cast<std::uint16_t>(c.port));
     inet_pton(AF_INET, c.host.c_str(), &m->addr.sin_addr);
-    m->channel_names = c.channels;
     m->module_count = (c.channels.size() + adam::kChannelCount - 1) / adam::kChannelCount;
     m->ranges.assign(c.channels.size(), nullptr);
     const std::size_t axes = c.axes.size();
@@ -814,6 +812,14 @@ std::optional<MachineStatus> Shop::Machine(const std::string& name) const {
       return m->status;
     }
   return std::nullopt;
+}
+
+std::size_t Shop::MachineCount() const { return impl_->machines.size(); }
+
+MachineStatus Shop::MachineAt(std::size_t i) const {
+  const MachineSlot& m = *impl_->machines.at(i);
+  std::lock_guard<std::mutex> lock(m.mu);
+  return m.status;
 }
 
 std::vector<std::string> Shop::MachineNames() const {

@@ -34,9 +34,22 @@ double MedianOf(const double* values, int n) {
   return m;
 }
 
+ChannelFilter::ChannelFilter(const FilterOptions& options)
+    : options_(options),
+      buffer_(static_cast<std::size_t>(std::clamp(options.hampel_window, 1, kMaxFilterWindow) +
+                                       std::clamp(options.median_window, 1, kMaxFilterWindow))) {
+  PointRings();
+}
+
+void ChannelFilter::PointRings() {
+  raw_.data = buffer_.data();
+  despiked_.data = buffer_.data() + std::clamp(options_.hampel_window, 1, kMaxFilterWindow);
+}
+
 void ChannelFilter::Reset() {
-  raw_ = Ring{};
-  despiked_ = Ring{};
+  std::fill(buffer_.begin(), buffer_.end(), 0.0);
+  raw_.size = raw_.next = 0;
+  despiked_.size = despiked_.next = 0;
   lowpass_c_ = 0;
   count_ = 0;
 }
@@ -48,7 +61,7 @@ ChannelFilter::Output ChannelFilter::Process(double sample_c, double dt_s) {
   if (options_.hampel_window > 1) {
     raw_.Push(sample_c, options_.hampel_window);
     if (raw_.size >= 3) {
-      const double m = MedianOf(raw_.data.data(), raw_.size);
+      const double m = MedianOf(raw_.data, raw_.size);
       std::array<double, kMaxFilterWindow> dev;
       for (int i = 0; i < raw_.size; ++i) dev[i] = std::abs(raw_.data[i] - m);
       const double mad = MedianOf(dev.data(), raw_.size);
@@ -63,7 +76,7 @@ ChannelFilter::Output ChannelFilter::Process(double sample_c, double dt_s) {
   double despiked = accepted;
   if (options_.median_window > 1) {
     despiked_.Push(accepted, options_.median_window);
-    despiked = MedianOf(despiked_.data.data(), despiked_.size);
+    despiked = MedianOf(despiked_.data, despiked_.size);
   }
   // 3. First-order low-pass.
   if (count_ == 0 || options_.lowpass_time_constant_s <= 0) {

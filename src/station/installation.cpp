@@ -15,7 +15,11 @@ Installation::Installation(InstallationConfig config, hw::CncLink& link, hw::Tem
     : config_(std::move(config)), link_(link), raw_(raw_temperatures), machine_name_(std::move(machine_name)) {
   // Always judged; [signal] enabled = false only turns the filter off (MakeTemperaturePipeline).
   pipeline_ = MakeTemperaturePipeline(config_, raw_, std::move(clock_s), &warnings_);
-  compensator_ = runtime::Compensator::ForHardware(config_.compensator, link_, temperatures(), config_.axes);
+  // A config without thermal_channels reads composite models only (ReadModelFor): its compensator
+  // holds no generic models' state.
+  compensator_ = runtime::Compensator::ForHardware(config_.compensator, link_, temperatures(), config_.axes,
+                                                   config_.thermal_channels.empty() ? runtime::ModelKinds::kCompositeOnly
+                                                                                    : runtime::ModelKinds::kCompositeAndGeneric);
   cnc_ = compensator_->MakeCncSnapshot();
   temperatures_ = compensator_->MakeTemperatureSnapshot();
   if (!config_.model_file.empty()) LoadModel(config_.model_file);

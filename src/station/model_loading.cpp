@@ -42,7 +42,7 @@ PublishedModel ReadModelFor(const runtime::Compensator& comp, const Installation
   if (configured) c.RequireFile("model.file", model_file);
   PublishedModel published;
   if (c.thermal_channels.empty()) {
-    auto composite = std::make_shared<const model::CompositeModel>(model::ReadModelFile(model_file));
+    std::shared_ptr<const model::CompositeModel> composite = model::ReadSharedModelFile(model_file);
     std::vector<std::string> axes;
     for (const auto& a : comp.axes()) axes.push_back(a.axis);
     if (auto why = ModelMachineMismatch(*composite, machine_name, axes))

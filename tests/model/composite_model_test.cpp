@@ -91,6 +91,27 @@ TEST(CompositeModel, NanTemperatureOrThermalOffGivesGeometricOnly) {
   EXPECT_DOUBLE_EQ(q.total_um, q.geometric_um);
 }
 
+// Machines that load the same model file share one parsed model; changed bytes are read anew.
+TEST(ModelJson, SharedReadParsesTheSameFileOnce) {
+  CompositeModel m;
+  m.machine = "VMC";
+  m.axes = {ExampleAxis()};
+  const std::string path = (std::filesystem::temp_directory_path() / "trueaxis_model_shared.json").string();
+  WriteModelFile(m, path);
+  const auto first = ReadSharedModelFile(path);
+  const auto second = ReadSharedModelFile(path);
+  EXPECT_EQ(first.get(), second.get());
+  EXPECT_EQ(first->machine, "VMC");
+  m.machine = "HMC";  // the file changes: its new content, not the shared old one
+  WriteModelFile(m, path);
+  const auto third = ReadSharedModelFile(path);
+  EXPECT_NE(third.get(), first.get());
+  EXPECT_EQ(third->machine, "HMC");
+  EXPECT_EQ(first->machine, "VMC");  // a model in use never changes under its holder
+  std::filesystem::remove(path);
+  EXPECT_THROW(ReadSharedModelFile(path), InputError);  // gone: an error, never the cached model
+}
+
 TEST(ModelJson, RoundTripPreservesPredictions) {
   CompositeModel m;
   m.machine = "VMC";

@@ -108,5 +108,35 @@ TEST(FilterOptions, Validation) {
   EXPECT_FALSE(o.IsValid(&why));
 }
 
+
+// A filter copied or moved in mid-stream (as a monitor's channels are) carries on exactly as the
+// original: its sample windows are its own, not the original's.
+TEST(ChannelFilter, ACopyContinuesLikeTheOriginal) {
+  FilterOptions o;
+  o.hampel_window = 7;
+  o.median_window = 5;
+  ChannelFilter a(o), reference(o);
+  auto sample = [](int i) { return 20.0 + 0.05 * i + (i % 9 == 0 ? 4.0 : 0.0) + 0.1 * (i % 3); };
+  for (int i = 0; i < 20; ++i) {
+    a.Process(sample(i), 0.1);
+    reference.Process(sample(i), 0.1);
+  }
+  ChannelFilter b = a;                 // copied
+  ChannelFilter c(o);
+  c = a;                               // copy-assigned
+  ChannelFilter d = ChannelFilter(a);  // moved from a temporary copy
+  for (int i = 20; i < 60; ++i) {
+    const double va = a.Process(sample(i), 0.1).value_c;
+    ASSERT_EQ(b.Process(sample(i), 0.1).value_c, va) << i;
+    ASSERT_EQ(c.Process(sample(i), 0.1).value_c, va) << i;
+    ASSERT_EQ(d.Process(sample(i), 0.1).value_c, va) << i;
+    reference.Process(sample(i), 0.1);
+  }
+  // The copies' windows are their own: what b is fed never reaches a.
+  for (int i = 0; i < 10; ++i) b.Process(100.0, 0.1);
+  for (int i = 60; i < 70; ++i) ASSERT_EQ(a.Process(sample(i), 0.1).value_c, reference.Process(sample(i), 0.1).value_c) << i;
+  EXPECT_GT(b.value_c(), a.value_c() + 1.0);  // b took the step
+}
+
 }  // namespace
 }  // namespace trueaxis::signal

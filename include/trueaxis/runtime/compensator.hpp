@@ -38,16 +38,24 @@
 
 namespace trueaxis::runtime {
 
+// The models a Compensator takes: composites only, or also models behind the generic interface
+// (model::AxisErrorModel, e.g. data-driven thermal models). A compensator for composites only does
+// not hold the generic models' dynamic state (ModelDynamics::generic, ≈ 7.8 kB an axis) — what a
+// workshop server running thousands of composite-model machines saves.
+enum class ModelKinds { kCompositeAndGeneric, kCompositeOnly };
+
 class Compensator {
  public:
   // `axes` in the CNC link's axis order; `channel_names` in the source's order.
   // Throws std::invalid_argument on invalid options.
-  Compensator(CompensatorOptions options, std::vector<AxisInterface> axes, std::vector<std::string> channel_names);
+  Compensator(CompensatorOptions options, std::vector<AxisInterface> axes, std::vector<std::string> channel_names,
+              ModelKinds kinds = ModelKinds::kCompositeAndGeneric);
   // Convenience: axis order and channel names taken from the link and source;
   // `interfaces` matched by axis name (missing axes get defaults).
   static std::unique_ptr<Compensator> ForHardware(const CompensatorOptions& options, const hw::CncLink& link,
                                                   const signal::JudgedTemperatureSource& source,
-                                                  const std::vector<AxisInterface>& interfaces);
+                                                  const std::vector<AxisInterface>& interfaces,
+                                                  ModelKinds kinds = ModelKinds::kCompositeAndGeneric);
 
   // ---- any thread except the real-time one ----
   // Binds and publishes; the loop picks it up at its next cycle and ramps to
@@ -55,6 +63,7 @@ class Compensator {
   void PublishModel(std::shared_ptr<const model::CompositeModel> model, const std::string& label);
   // The same for models behind the generic interface (e.g. data-driven thermal models through
   // their adapter), one per axis; axes without one ramp to zero (alarm no_model_for_axis).
+  // Throws std::logic_error on a compensator for composites only (ModelKinds::kCompositeOnly).
   void PublishAxisModels(std::vector<std::shared_ptr<const model::AxisErrorModel>> models, const std::string& label);
   void CollectRetired() { exchange_.CollectRetired(); }
   void SetEnabled(bool on) { enabled_.store(on, std::memory_order_relaxed); }
@@ -74,6 +83,7 @@ class Compensator {
   void SetVisionStop(bool on) { vision_stop_.store(on, std::memory_order_relaxed); }
 
   const CompensatorOptions& options() const { return options_; }
+  ModelKinds kinds() const { return kinds_; }
   const std::vector<AxisInterface>& axes() const { return axes_; }
   const std::vector<std::string>& channel_names() const { return channel_names_; }
   // Snapshot/command shapes for the I/O phases of this installation.
@@ -109,6 +119,7 @@ class Compensator {
   std::vector<AxisInterface> axes_;
   std::vector<ShaperLimits> shaping_;  // per axis, from options_ and axes_ (fixed for the compensator's life)
   std::vector<std::string> channel_names_;
+  ModelKinds kinds_;
   ModelExchange<BoundModel> exchange_;
   std::atomic<std::uint64_t> next_model_id_{1};
   std::atomic<bool> enabled_{true};

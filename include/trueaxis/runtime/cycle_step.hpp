@@ -128,8 +128,6 @@ struct ModelDynamics {
     // coolant, drawn to the room — issue 10's coolant memory).
     model::AxisThermalState thermal;
     std::uint64_t fallback_model_id = 0;  // model the fallback states belong to (0: restart them)
-    // The state of a model behind model::AxisErrorModel that has dynamics (the interval trend).
-    model::AxisModelDynamics generic;
     double time_s = 0;                            // time of the last update
     std::uint64_t model_id = 0;  // model the state belongs to; 0 = restart at the readings
     // The model's own sensors (keys and ambient) all read in the last cycle, and the room reading
@@ -138,6 +136,11 @@ struct ModelDynamics {
     double ambient_c = std::numeric_limits<double>::quiet_NaN();
   };
   std::vector<Axis> axes;
+  // Per axis, the state of a model behind model::AxisErrorModel that has dynamics (its lagged
+  // inputs and the interval trend: ≈ 7.8 kB an axis). Sized with the axes by a StepState that may
+  // step such models; empty for one that steps composite models only (StepState's
+  // `generic_models`), which then holds none of it.
+  std::vector<model::AxisModelDynamics> generic;
   // Per axis, the same state for each of its fallback models (BoundAxis::fallbacks), advanced
   // alongside so a fallback taking over has the machine's history, not a cold start. Kept apart
   // from `axes`: a cycle without fallbacks does not pull them through the cache.
@@ -189,7 +192,10 @@ struct StepState {
   std::vector<double> model_position_mm;   // per axis, this cycle's (NaN: not known): the motion-heat input
 
   StepState() = default;
-  StepState(std::size_t axis_count, std::size_t channel_count, const CompensatorOptions& options);
+  // `generic_models`: the state may step models behind model::AxisErrorModel (ModelDynamics::generic
+  // sized); false: composite models only.
+  StepState(std::size_t axis_count, std::size_t channel_count, const CompensatorOptions& options,
+            bool generic_models = true);
 };
 
 // ---- inputs and outputs ----

@@ -116,6 +116,10 @@ class Shop {
 
   std::vector<MachineStatus> Snapshot() const;
   std::optional<MachineStatus> Machine(const std::string& name) const;
+  // Machine i (0 .. MachineCount() − 1, the shop file's order): one status at a time, for answers
+  // about every machine that should not hold every status at once.
+  std::size_t MachineCount() const;
+  MachineStatus MachineAt(std::size_t i) const;
   std::vector<std::string> MachineNames() const;
   ShopStats Stats() const;
   void ResetLatency();

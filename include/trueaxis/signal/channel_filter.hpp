@@ -14,11 +14,14 @@
 // 3. Low-pass y += a·(x - y), a = 1 - exp(-dt/tau): dt is the actual time
 //    between samples, so irregular cycles filter consistently.
 //
-// State lives in fixed-size arrays inside the object: Process() never
-// allocates, so the filter runs inside the real-time cycle.
+// State lives in one buffer sized by the options when the filter is made
+// (hampel_window + median_window samples, not kMaxFilterWindow each: a
+// workshop server holds a filter per channel of thousands of machines):
+// Process() never allocates, so the filter runs inside the real-time cycle.
 #include <array>
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace trueaxis::signal {
 
@@ -38,8 +41,8 @@ struct FilterOptions {
 
 class ChannelFilter {
  public:
-  ChannelFilter() = default;
-  explicit ChannelFilter(const FilterOptions& options) : options_(options) {}
+  ChannelFilter() : ChannelFilter(FilterOptions{}) {}
+  explicit ChannelFilter(const FilterOptions& options);
 
   struct Output {
     double value_c = 0;         // filtered value
@@ -50,12 +53,21 @@ class ChannelFilter {
   Output Process(double sample_c, double dt_s);
   void Reset();
   bool primed() const { return count_ > 0; }
+  ChannelFilter(const ChannelFilter& o) : options_(o.options_), buffer_(o.buffer_), raw_(o.raw_), despiked_(o.despiked_),
+                                          lowpass_c_(o.lowpass_c_), count_(o.count_) { PointRings(); }
+  ChannelFilter& operator=(const ChannelFilter& o) {
+    if (this != &o) *this = ChannelFilter(o);
+    return *this;
+  }
+  ChannelFilter(ChannelFilter&& o) noexcept = default;  // the vector's buffer moves with its pointers
+  ChannelFilter& operator=(ChannelFilter&& o) noexcept = default;
   double value_c() const { return lowpass_c_; }
   const FilterOptions& options() const { return options_; }
 
  private:
+  // The last `window` samples, in `data` (a slice of buffer_).
   struct Ring {
-    std::array<double, kMaxFilterWindow> data{};
+    double* data = nullptr;
     int size = 0;
     int next = 0;
     void Push(double v, int window) {
@@ -64,8 +76,10 @@ class ChannelFilter {
       if (size < window) ++size;
     }
   };
+  void PointRings();  // the rings' slices of buffer_ (after a construction, copy or move)
 
   FilterOptions options_;
+  std::vector<double> buffer_;  // the raw ring's hampel_window samples, then the despiked ring's median_window
   Ring raw_;
   Ring despiked_;
   double lowpass_c_ = 0;
