@@ -105,12 +105,13 @@ void Setup(CLI::App& app) {
       const FiveAxisMachine m = ReadFiveAxisMachineFile(*machine);
       const TrackingErrorModel model = IdentifyTrackingModel(m, AxisTestOptions{}, VirtualMachineRunner(m));
       const auto names = m.axis_names();
-      fmt::print("{:<5} {:>12} {:>12} {:>12} {:>12} {:>14}\n", "axis", "c_v kf=0 ms", "c_a kf=1 ms²", "c_j kf=1 ms³",
-                 "test rms", "fit residual");
+      fmt::print("{:<5} {:>12} {:>12} {:>12} {:>12} {:>14} {:>16}\n", "axis", "c_v kf=0 ms", "c_a kf=1 ms²",
+                 "c_j kf=1 ms³", "test rms", "fit residual", "drive mode");
       for (int a = 0; a < kAxisCount; ++a) {
         const auto& ax = model.axes[a];
-        fmt::print("{:<5} {:>12.4f} {:>12.5f} {:>12.6f} {:>12.5f} {:>14.6f}\n", names[a], ax.without_ff[0] * 1e3,
-                   ax.full_ff[1] * 1e6, ax.full_ff[2] * 1e9, ax.signal_rms, ax.fit_rms);
+        fmt::print("{:<5} {:>12.4f} {:>12.5f} {:>12.6f} {:>12.5f} {:>14.6f} {:>16}\n", names[a], ax.without_ff[0] * 1e3,
+                   ax.full_ff[1] * 1e6, ax.full_ff[2] * 1e9, ax.signal_rms, ax.fit_rms,
+                   ax.mode.present() ? fmt::format("{:.1f} Hz ζ {:.2f}", ax.mode.frequency_hz, ax.mode.damping) : "none");
       }
       WarnAboutModelFit(model, m);
       WriteTextFile(*out, ModelToJson(model, names));

@@ -4,7 +4,9 @@
 #include <algorithm>
 
 #include <cmath>
+#include <complex>
 #include <limits>
+#include <numbers>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -80,19 +82,64 @@ void LaguerreBank(const std::vector<double>& x, double dt_s, std::vector<double>
 
 }  // namespace
 
+namespace {
+std::vector<double> DirectionFromVelocity(std::vector<double> v, double friction_band) {
+  for (double& x : v) x = std::tanh(x / friction_band);
+  return v;
+}
+}  // namespace
+
+std::vector<double> DirectionOfMotion(const std::vector<double>& position, double dt_s, double derivative_window_s,
+                                      double friction_band) {
+  return DirectionFromVelocity(SavitzkyGolay(position, dt_s, HalfWindowSamples(derivative_window_s, dt_s)).v,
+                               friction_band);
+}
+
+void KautzBank(const std::vector<double>& x, double dt_s, const DriveMode& mode, int count, std::vector<double>* out) {
+  // Discrete Kautz filters (Wahlberg 1994) of the pole pair p, p̄ = exp(s·dt): the denominator
+  // z² + b(c − 1)z − c with c = −|p|², b = 2 Re p / (1 + |p|²); each further pair through the all-pass
+  // (−c z² + b(c − 1) z + 1) / (z² + b(c − 1) z − c). Orthonormal, so well conditioned at any rate.
+  const double w = 2 * std::numbers::pi * mode.frequency_hz, zeta = std::clamp(mode.damping, 0.0, 1.0);
+  const std::complex<double> p = std::exp(std::complex<double>(-zeta * w, w * std::sqrt(1 - zeta * zeta)) * dt_s);
+  const double c = -std::norm(p), b = 2 * p.real() / (1 + std::norm(p));
+  const double d1 = b * (c - 1), d2 = -c;  // denominator 1 + d1 z⁻¹ + d2 z⁻²
+  const double g1 = std::sqrt(1 - c * c), g2 = std::sqrt((1 - c * c) * (1 - b * b));
+  const std::size_t n = x.size();
+  std::vector<double> in = x, pass(n);
+  for (int k = 0; k + 1 < count; k += 2) {
+    std::vector<double>& y1 = out[k];
+    std::vector<double>& y2 = out[k + 1];
+    y1.assign(n, 0.0);
+    y2.assign(n, 0.0);
+    double w1 = 0, w2 = 0;  // direct form II state
+    for (std::size_t i = 0; i < n; ++i) {
+      const double w0 = in[i] - d1 * w1 - d2 * w2;
+      y1[i] = g1 * (w1 - b * w2);
+      y2[i] = g2 * w2;
+      pass[i] = -c * w0 + d1 * w1 + w2;
+      w2 = w1;
+      w1 = w0;
+    }
+    in.swap(pass);
+  }
+}
+
 std::array<std::vector<double>, kModelTerms> ModelRegressors(const std::vector<double>& command, double dt_s,
                                                              double derivative_window_s, double friction_band,
+                                                             const DriveMode& mode,
                                                              const std::vector<double>* direction_from) {
-  const int half_window = HalfWindowSamples(derivative_window_s, dt_s);
-  Derivatives d = SavitzkyGolay(command, dt_s, half_window);
-  const std::vector<double> direction_v = direction_from ? SavitzkyGolay(*direction_from, dt_s, half_window).v : d.v;
+  Derivatives d = SavitzkyGolay(command, dt_s, HalfWindowSamples(derivative_window_s, dt_s));
   std::array<std::vector<double>, kModelTerms> r;
-  const std::size_t n = command.size();
   // Direction of motion, turning over within the friction band.
-  std::vector<double> sign(n);
-  for (std::size_t i = 0; i < n; ++i) sign[i] = std::tanh(direction_v[i] / friction_band);
+  const std::vector<double> sign = direction_from
+                                       ? DirectionOfMotion(*direction_from, dt_s, derivative_window_s, friction_band)
+                                       : DirectionFromVelocity(d.v, friction_band);
   LaguerreBank(d.a, dt_s, &r[kSeedTerms], kLagTerms);
   LaguerreBank(sign, dt_s, &r[kSeedTerms + kLagTerms], kFrictionTerms);
+  if (mode.present()) {
+    KautzBank(d.a, dt_s, mode, kModeTerms, &r[kModelTermsWithoutMode]);
+    KautzBank(sign, dt_s, mode, kModeFrictionTerms, &r[kModelTermsWithoutMode + kModeTerms]);
+  }
   r[0] = std::move(d.v);
   r[1] = std::move(d.a);
   r[2] = std::move(d.j);
@@ -107,7 +154,10 @@ std::vector<double> Column(const std::vector<AxisVector>& q, int axis) {
   return c;
 }
 
-int UsedTerms(const TrackingErrorModel& model) { return model.with_extensions ? kModelTerms : kSeedTerms; }
+int UsedTerms(const TrackingErrorModel& model, const AxisErrorModel& axis) {
+  if (!model.with_extensions) return kSeedTerms;
+  return axis.mode.present() ? kModelTerms : kModelTermsWithoutMode;
+}
 
 }  // namespace
 
@@ -117,9 +167,9 @@ std::vector<AxisVector> PredictTrackingError(const TrackingErrorModel& model, co
   for (int a = 0; a < kAxisCount; ++a) {
     const std::vector<double> direction = direction_from ? Column(*direction_from, a) : std::vector<double>{};
     const auto r = ModelRegressors(Column(command, a), dt_s, model.derivative_window_s, model.axes[a].friction_band,
-                                   direction_from ? &direction : nullptr);
+                                   model.axes[a].mode, direction_from ? &direction : nullptr);
     const auto c = model.axes[a].At(kf);
-    for (int t = 0; t < UsedTerms(model); ++t)
+    for (int t = 0; t < UsedTerms(model, model.axes[a]); ++t)
       for (std::size_t i = 0; i < command.size(); ++i) e[i][a] += c[t] * r[t][i];
   }
   return e;
@@ -137,12 +187,12 @@ FeedForwardChoice ChooseFeedForward(const TrackingErrorModel& model, const std::
     if (column.empty() || *std::max_element(column.begin(), column.end()) - *std::min_element(column.begin(), column.end()) <
                               kStandingAxisRange)
       continue;
-    const auto r = ModelRegressors(column, dt_s, model.derivative_window_s, model.axes[a].friction_band);
     const auto& ax = model.axes[a];
+    const auto r = ModelRegressors(column, dt_s, model.derivative_window_s, ax.friction_band, ax.mode);
     double num = 0, den = 0;
     for (std::size_t i = 0; i < command.size(); ++i) {
       double e0 = 0, e1 = 0;
-      for (int t = 0; t < UsedTerms(model); ++t) {
+      for (int t = 0; t < UsedTerms(model, ax); ++t) {
         e0 += ax.without_ff[t] * r[t][i];
         e1 += ax.full_ff[t] * r[t][i];
       }
@@ -166,7 +216,7 @@ std::vector<std::string> ModelFitWarnings(const TrackingErrorModel& model, const
     out.push_back(fmt::format(
         "axis {}: the tracking-error model leaves {:.1f} % of its identification run's tracking error unexplained "
         "(fit residual {:.4g} of {:.4g} RMS; a well-described axis: under {:.0f} %): the drive behaves beyond the model "
-        "(e.g. a slow, lightly damped speed loop under a heavy load), so the correction will remove markedly less of "
+        "(e.g. more than one lightly damped mode, or a drive at its current limit), so the correction will remove markedly less of "
         "the contour error than usual; check the drive's tuning and identify again",
         names[a], 100.0 * ax.fit_rms / ax.signal_rms, ax.fit_rms, ax.signal_rms, 100.0 * kPoorFitFraction));
   }
@@ -178,11 +228,14 @@ std::string ModelToJson(const TrackingErrorModel& model, const std::array<std::s
   j["format"] = kModelFormat;
   j["derivative_window_s"] = model.derivative_window_s;
   j["with_extensions"] = model.with_extensions;
-  j["terms"] = "v, a, j, 10 Laguerre filters of a, 8 of tanh(v / friction_band), pole 10 ms";
+  j["terms"] =
+      "v, a, j, 10 Laguerre filters of a, 8 of tanh(v / friction_band), pole 10 ms; 4 Kautz filters of a, 4 of "
+      "tanh(v / friction_band) at the axis's drive mode (mode_hz, mode_damping; mode_hz 0: none)";
   for (int a = 0; a < kAxisCount; ++a) {
     const auto& ax = model.axes[a];
     j["axes"].push_back({{"axis", names[a]}, {"without_ff", ax.without_ff}, {"full_ff", ax.full_ff},
-                         {"friction_band", ax.friction_band}, {"fit_rms", ax.fit_rms}, {"test_rms", ax.signal_rms}});
+                         {"friction_band", ax.friction_band}, {"mode_hz", ax.mode.frequency_hz},
+                         {"mode_damping", ax.mode.damping}, {"fit_rms", ax.fit_rms}, {"test_rms", ax.signal_rms}});
   }
   return j.dump(2) + "\n";
 }
@@ -195,6 +248,8 @@ namespace {
 constexpr double kMaxPlausibleCoefficient = 1e3;
 // Savitzky–Golay window of v, a, j: identify writes 0.01 s.
 constexpr double kMaxDerivativeWindowS = 1.0;
+// Drive mode: above this it would be no slow mode (and beyond any servo rate's Nyquist frequency).
+constexpr double kMaxModeHz = 1000.0;
 
 // Reads one field of the model file, refusing what is missing or of the wrong type.
 class ModelReader {
@@ -213,14 +268,23 @@ class ModelReader {
     if (!v.is_number()) Fail(path.empty() ? key : path + "." + key, "expected a number");
     return v.get<double>();
   }
-  ModelCoefficients Coefficients(const nlohmann::json& j, const std::string& path, const std::string& key) const {
+  // `terms`: kModelTerms, or kModelTermsWithoutMode for a model written before the drive mode.
+  ModelCoefficients Coefficients(const nlohmann::json& j, const std::string& path, const std::string& key,
+                                 int terms) const {
     const std::string field = path + "." + key;
     const nlohmann::json& v = At(j, path, key);
-    if (!v.is_array() || v.size() != kModelTerms)
-      Fail(field, fmt::format("expected an array of {} numbers (v, a, j, {} lag and {} friction terms), got {}",
-                              kModelTerms, kLagTerms, kFrictionTerms, v.is_array() ? std::to_string(v.size()) : "no array"));
+    if (!v.is_array() || v.size() != static_cast<std::size_t>(terms))
+      Fail(field,
+           terms == kModelTerms
+               ? fmt::format("expected an array of {} numbers (v, a, j, {} lag, {} friction, {} + {} drive-mode terms), got {}",
+                             kModelTerms, kLagTerms, kFrictionTerms, kModeTerms, kModeFrictionTerms,
+                             v.is_array() ? std::to_string(v.size()) : "no array")
+               : fmt::format("expected an array of {} numbers (v, a, j, {} lag and {} friction terms: a model without "
+                             "mode_hz, written before the drive mode), got {}",
+                             kModelTermsWithoutMode, kLagTerms, kFrictionTerms,
+                             v.is_array() ? std::to_string(v.size()) : "no array"));
     ModelCoefficients c{};
-    for (int i = 0; i < kModelTerms; ++i) {
+    for (int i = 0; i < terms; ++i) {
       const std::string item = fmt::format("{}[{}]", field, i);
       if (!v[i].is_number()) Fail(item, "expected a number");
       c[i] = v[i].get<double>();
@@ -267,8 +331,22 @@ TrackingErrorModel ModelFromJson(const std::string& text, const std::string& sou
                                          name.is_string() ? name.get<std::string>() : name.dump(), a + 1, machine_axes[a],
                                          fmt::join(machine_axes, " ")));
     AxisErrorModel& m = model.axes[a];
-    m.without_ff = r.Coefficients(ax, path, "without_ff");
-    m.full_ff = r.Coefficients(ax, path, "full_ff");
+    // A model written before the drive mode has no mode_hz and 21 coefficients: it reads as a model without a mode.
+    const bool has_mode_fields = ax.is_object() && ax.contains("mode_hz");
+    if (has_mode_fields) {
+      m.mode.frequency_hz = r.Number(ax, path, "mode_hz");
+      if (!(m.mode.frequency_hz >= 0 && m.mode.frequency_hz <= kMaxModeHz))
+        r.Fail(path + ".mode_hz", fmt::format("{:g} Hz is outside 0 … {:g} Hz (0: no drive mode)", m.mode.frequency_hz,
+                                              kMaxModeHz));
+      if (m.mode.present()) {
+        m.mode.damping = r.Number(ax, path, "mode_damping");
+        if (!(m.mode.damping > 0 && m.mode.damping <= 1))
+          r.Fail(path + ".mode_damping", fmt::format("{:g} is outside 0 … 1", m.mode.damping));
+      }
+    }
+    const int terms = has_mode_fields ? kModelTerms : kModelTermsWithoutMode;
+    m.without_ff = r.Coefficients(ax, path, "without_ff", terms);
+    m.full_ff = r.Coefficients(ax, path, "full_ff", terms);
     m.friction_band = r.Number(ax, path, "friction_band");
     if (!(m.friction_band > 0) || !std::isfinite(m.friction_band))
       r.Fail(path + ".friction_band", "must be a positive number (mm/s or deg/s)");

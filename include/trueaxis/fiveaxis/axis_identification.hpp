@@ -29,6 +29,15 @@ struct AxisTestOptions {
   double slow_frequency_hz = 0.25;
   double slow_peak_velocity = 1.0;
   std::vector<double> friction_bands = {0.01, 0.03, 0.1, 0.3, 1, 3};  // candidates, mm/s or deg/s
+  int friction_band_refinements = 8;  // golden-section steps between the best candidate's neighbours
+  // Drive mode (tracking_model.hpp): searched from a grid of frequencies (this lowest one, each next
+  // mode_grid_ratio higher, up to the servo rate / 8) and dampings, then refined; kept when it lowers
+  // the feed-forward run's residual by at least mode_min_gain (a share of it).
+  bool search_mode = true;
+  double mode_min_hz = 2;
+  double mode_grid_ratio = 1.4;
+  std::vector<double> mode_dampings = {0.05, 0.1, 0.2, 0.35, 0.6, 1.0};
+  double mode_min_gain = 0.25;
   double derivative_window_s = 0.01;
   bool with_extensions = true;
 };
@@ -41,9 +50,13 @@ struct AxisTrace {
   std::vector<double> command, measured;
 };
 // Fits one axis's coefficients from a trace.
-// with_extensions = false fits the seed's three terms only.
+// with_extensions = false fits the seed's three terms only; `mode` (when present) adds its terms.
 ModelCoefficients FitTrackingCoefficients(const AxisTrace& trace, double dt_s, double window_s, bool with_extensions,
-                                          double friction_band, double* fit_rms, double* signal_rms);
+                                          double friction_band, const DriveMode& mode, double* fit_rms,
+                                          double* signal_rms);
+// The drive mode that explains a trace best (grid, then refined; AxisTestOptions), or none when it
+// lowers the residual of the model without a mode by less than o.mode_min_gain.
+DriveMode FindDriveMode(const AxisTrace& trace, double dt_s, double friction_band, const AxisTestOptions& o);
 
 // Runs the tests on the virtual machine's drives (any `run` — e.g. a real
 // machine's trace recorder — may be passed instead) and fits the model.

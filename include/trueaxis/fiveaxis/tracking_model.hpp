@@ -18,6 +18,14 @@
 // constant friction force, but each reversal leaves a transient. The band
 // (how sharply friction turns over at a reversal) is chosen per axis by the
 // identification.
+//
+// Slow drive mode (not in seed 004): a heavy load on a slow velocity loop gives
+// the tracking error a lightly damped pole pair (e.g. 20 Hz, damping 0.15,
+// decaying over 50 ms) that 10 Laguerre filters with a 10 ms pole cannot span.
+// The identification searches that pair in its own traces (DriveMode) and the
+// model adds 4 Kautz filters (the orthonormal filters of one pole pair) of the
+// acceleration and 4 of the direction of motion at it. An axis without such a
+// mode (frequency 0) has these terms zero.
 #include <array>
 #include <string>
 #include <vector>
@@ -29,9 +37,20 @@ namespace trueaxis::fiveaxis {
 inline constexpr int kSeedTerms = 3;     // v, a, j
 inline constexpr int kLagTerms = 10;     // Laguerre filters of a
 inline constexpr int kFrictionTerms = 8; // Laguerre filters of s = tanh(v / band)
-inline constexpr int kModelTerms = kSeedTerms + kLagTerms + kFrictionTerms;
+inline constexpr int kModeTerms = 4;     // Kautz filters of a at the drive mode
+inline constexpr int kModeFrictionTerms = 4;  // Kautz filters of s at the drive mode
+// Model files written before the drive mode hold this many coefficients per run.
+inline constexpr int kModelTermsWithoutMode = kSeedTerms + kLagTerms + kFrictionTerms;
+inline constexpr int kModelTerms = kModelTermsWithoutMode + kModeTerms + kModeFrictionTerms;
 inline constexpr double kLaguerreTimeConstantS = 0.01;  // pole of the Laguerre filters
 using ModelCoefficients = std::array<double, kModelTerms>;
+
+// A pole pair of an axis's tracking error, s = 2πf·(−ζ ± i·√(1 − ζ²)); damping 1 is a double real pole.
+struct DriveMode {
+  double frequency_hz = 0;  // 0 = none
+  double damping = 0;       // 0 < ζ ≤ 1
+  bool present() const { return frequency_hz > 0; }
+};
 
 struct AxisErrorModel {
   ModelCoefficients without_ff{};  // c_v (s), c_a (s²), c_j (s³), lag and friction terms at kf = 0
@@ -39,6 +58,7 @@ struct AxisErrorModel {
   double fit_rms = 0;              // identification residual at kf = 1 (mm or deg)
   double signal_rms = 0;           // rms tracking error of that identification run
   double friction_band = 0.1;      // mm/s or deg/s
+  DriveMode mode;                  // slow drive mode (none: the last kModeTerms + kModeFrictionTerms terms are 0)
   ModelCoefficients At(double kf) const;
 };
 
@@ -56,12 +76,21 @@ struct Derivatives {
 Derivatives SavitzkyGolay(const std::vector<double>& x, double dt_s, int half_window);
 int HalfWindowSamples(double window_s, double dt_s);
 
-// The model's regressors of one axis command: v, a, j, the lagged accelerations, the friction transients.
+// The model's regressors of one axis command: v, a, j, the lagged accelerations, the friction transients,
+// and (when `mode` is present) the acceleration and the direction of motion filtered at the drive mode
+// (else those terms are empty vectors).
 // `direction_from` (same length), when given, supplies the direction of
 // motion instead of `command` (the correction keeps the programmed one).
 std::array<std::vector<double>, kModelTerms> ModelRegressors(const std::vector<double>& command, double dt_s,
                                                              double derivative_window_s, double friction_band,
+                                                             const DriveMode& mode,
                                                              const std::vector<double>* direction_from = nullptr);
+// Direction of motion of a sampled position: tanh(v / friction_band), v its Savitzky–Golay velocity.
+std::vector<double> DirectionOfMotion(const std::vector<double>& position, double dt_s, double derivative_window_s,
+                                      double friction_band);
+// The `count` (even) Kautz filters of one pole pair driven by x, into out[0] … out[count − 1].
+void KautzBank(const std::vector<double>& x, double dt_s, const DriveMode& mode, int count,
+               std::vector<double>* out);
 
 // Predicted tracking error of each axis for joint commands at kf.
 std::vector<AxisVector> PredictTrackingError(const TrackingErrorModel& model, const std::vector<AxisVector>& command,
@@ -90,8 +119,9 @@ std::vector<std::string> ModelFitWarnings(const TrackingErrorModel& model, const
 
 std::string ModelToJson(const TrackingErrorModel& model, const std::array<std::string, kAxisCount>& names);
 // InputError naming the source and the field for a malformed model: a missing
-// or non-numeric field, coefficients not 21 finite plausible numbers, a
-// derivative window outside 0 … 1 s, axis names other than the machine's
+// or non-numeric field, coefficients not 29 (or, written before the drive
+// mode, 21) finite plausible numbers, a drive mode outside 0 … 1000 Hz or
+// damping outside 0 … 1, a derivative window outside 0 … 1 s, axis names other than the machine's
 // (machine_axes, in order — also catches a name given twice).
 TrackingErrorModel ModelFromJson(const std::string& text, const std::string& source,
                                  const std::array<std::string, kAxisCount>& machine_axes);
