@@ -336,8 +336,9 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
       std::vector<Eigen::Index> cols;
       SensorSelectionOptions so;
       double ridge_lambda = 0;
+      double weight = 1;
     };
-    std::vector<Member> members{{{}, o.selection, o.ridge_lambda}};
+    std::vector<Member> members{{{}, o.selection, o.ridge_lambda, 1}};
     std::string count_cv, choice;
     bool constant = false;
     double shrink = 1;  // toward the constant: 1 = the model as fitted
@@ -370,23 +371,27 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
           choice = t.choice;
           constant = t.cols.empty();
           if (!constant) {
-            members = {{t.cols, t.so, t.ridge_lambda}};
+            members = {{t.cols, t.so, t.ridge_lambda, 1 / (t.score * t.score)}};
             Eigen::VectorXd predicted = t.predicted;
             // Averaged with every other eligible candidate of the same kind (with lags only where
             // lags were chosen) that is as good within the folds' noise: the choice among
             // near-equal input sets is itself noisy, and their average varies less than any of them.
+            // Each counts by the inverse square of its score (forecasts combined by the inverse of
+            // their mean squared error): the better of them weigh more.
             // Candidates that fit the same (a count above what the selection keeps) count once.
             std::vector<std::string> with;
-            Eigen::VectorXd sum = t.predicted;
+            Eigen::VectorXd sum = members.front().weight * t.predicted;
             for (const auto& u : tried)
               if (&u != &t && !u.cols.empty() && u.lags == t.lags && eligible(u) && u.score <= mean.score &&
                   AsGoodWithinTheNoise(u, t) && u.fold_rms != t.fold_rms &&
                   std::none_of(tried.data(), &u, [&](const InputCandidate& v) { return v.fold_rms == u.fold_rms; })) {
-                sum += u.predicted;
-                members.push_back({u.cols, u.so, u.ridge_lambda});
+                members.push_back({u.cols, u.so, u.ridge_lambda, 1 / (u.score * u.score)});
+                sum += members.back().weight * u.predicted;
                 with.push_back(u.choice);
               }
-            const Eigen::VectorXd average = sum / static_cast<double>(members.size());
+            double total = 0;
+            for (const Member& m : members) total += m.weight;
+            const Eigen::VectorXd average = sum / total;
             if (members.size() > 1 && eligible_predictions(average)) {
               predicted = average;
               choice += fmt::format(" averaged with {}", fmt::join(with, ", "));
@@ -430,9 +435,10 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
       channels.push_back(std::move(ch));
       continue;
     }
-    // The members' fits on all the rows, averaged coefficient by coefficient (the average of linear
+    // The members' fits on all the rows, averaged with their weights coefficient by coefficient (the average of linear
     // models is linear), then shrunk toward the training mean.
-    const double weight = 1.0 / static_cast<double>(members.size());
+    double total_weight = 0;
+    for (const Member& m : members) total_weight += m.weight;
     double intercept_um = 0;
     std::vector<std::pair<int, double>> k_by_column;  // column of the series, k
     for (const Member& m : members) {
@@ -443,6 +449,7 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
         sol = SolveChannel(s.temperatures_c(Eigen::all, m.cols), y, m.so, m.ridge_lambda);
         for (int& k : sol.sensors) k = static_cast<int>(m.cols[static_cast<std::size_t>(k)]);
       }
+      const double weight = m.weight / total_weight;
       intercept_um += weight * sol.intercept_um;
       for (std::size_t k = 0; k < sol.sensors.size(); ++k) {
         auto at = std::find_if(k_by_column.begin(), k_by_column.end(),

@@ -25,8 +25,9 @@ struct LinearFitOptions {
   // held-out RMS; eligible are those not worse than the constant on the use-like rows (UseLikeBlocks:
   // the latest fold, or every experiment); the simplest eligible within 2 % of the best that is worse
   // than neither the constant nor all inputs is taken, averaged with the eligible candidates of its
-  // kind (plain / with lags) that score as well within the folds' noise (their average is linear:
-  // each coefficient the mean of theirs), shrunk toward the constant by the factor in
+  // kind (plain / with lags) that score as well within the folds' noise, each weighted by the inverse
+  // square of its score (the average is linear: each coefficient the weighted mean of theirs),
+  // shrunk toward the constant by the factor in
   // [0, 1] the use-like rows support, and kept only if it beats the constant there by more than one
   // standard error (blocks as replicates) — else the channel is the constant. selection.max_sensors
   // is then only an upper bound. The choice is the data's, per recording: four sensors can be far
