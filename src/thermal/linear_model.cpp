@@ -373,8 +373,8 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
           if (!constant) {
             members = {{t.cols, t.so, t.ridge_lambda, 1 / (t.score * t.score)}};
             Eigen::VectorXd predicted = t.predicted;
-            // Averaged with every other eligible candidate of the same kind (with lags only where
-            // lags were chosen) that is as good within the folds' noise: the choice among
+            // Averaged with every other eligible candidate of the same kind (plain sensors, or
+            // sensors and lags) that is as good within the folds' noise: the choice among
             // near-equal input sets is itself noisy, and their average varies less than any of them.
             // Each counts by the inverse square of its score (forecasts combined by the inverse of
             // their mean squared error): the better of them weigh more.
@@ -435,8 +435,8 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
       channels.push_back(std::move(ch));
       continue;
     }
-    // The members' fits on all the rows, averaged with their weights coefficient by coefficient (the average of linear
-    // models is linear), then shrunk toward the training mean.
+    // The members' fits on all the rows, averaged with their weights coefficient by coefficient
+    // (the average of linear models is linear), then shrunk toward the training mean.
     double total_weight = 0;
     for (const Member& m : members) total_weight += m.weight;
     double intercept_um = 0;
