@@ -235,18 +235,25 @@ bool BeatsConstantBeyondNoise(const Eigen::VectorXd& y, const Eigen::VectorXd& m
 
 // One candidate of the choice: the constant, or a count (or all) of an input set.
 struct InputCandidate {
-  std::string label;                // as printed: "constant", "3", "all"
+  std::string label;                // as printed: "constant", "3", "all", "all λ 0.1"
   std::string choice;               // as kept: "constant", "3 sensors", "all sensors and lags", ...
   std::vector<Eigen::Index> cols;   // the input set (columns of the series); empty: constant
   SensorSelectionOptions so;
+  double ridge_lambda = 0;
+  bool lags = false;                // the input set holds lagged inputs
   Eigen::VectorXd predicted;  // out of fold
   std::vector<double> fold_rms;  // held-out RMS per fold
   double score = 0;              // their geometric mean: what the candidates are ranked by
 };
 
+// The heavier ridge penalties offered on all inputs of a set, next to the one asked for (unit-free:
+// the penalty acts on standardised temperatures). Many correlated inputs fitted with a light penalty
+// follow the training rows closely and the future less well; a heavier one spreads the weight.
+constexpr double kExtraRidgeLambdas[] = {1e-2, 1e-1};
+
 // The candidates of one channel in order of growing complexity, with their fold RMS: the constant,
 // counts of the plain sensors and all of them, then (with lagged inputs) counts of sensors and lags
-// together and all inputs.
+// together and all inputs; all of a set also with the heavier ridge penalties.
 std::vector<InputCandidate> CrossValidatedCandidates(const ThermalSeries& s, const Eigen::VectorXd& y,
                                                      const TimeFolds& folds, const LinearFitOptions& o) {
   std::vector<Eigen::Index> plain, every;
@@ -255,25 +262,35 @@ std::vector<InputCandidate> CrossValidatedCandidates(const ThermalSeries& s, con
     if (!ParseLaggedName(s.temperature_names[k], nullptr, nullptr)) plain.push_back(static_cast<Eigen::Index>(k));
   }
   std::vector<InputCandidate> out;
-  out.push_back({"constant", "constant", {}, o.selection, {}, {}, 0});
-  auto add_set = [&](const std::vector<Eigen::Index>& cols, const std::string& what) {
+  out.push_back({"constant", "constant", {}, o.selection, o.ridge_lambda, false, {}, {}, 0});
+  auto add_set = [&](const std::vector<Eigen::Index>& cols, const std::string& what, bool lags) {
     const int available = static_cast<int>(cols.size());
     const int bound = std::min(o.selection.max_sensors, available);
     for (int m : {1, 2, 3, 4, 6, 8, 12, 16, 24, 32}) {
       if (m > bound || m >= available) break;
-      InputCandidate c{std::to_string(m), fmt::format("{} of the {}", m, what), cols, o.selection, {}, {}, 0};
+      InputCandidate c{std::to_string(m), fmt::format("{} of the {}", m, what), cols, o.selection, o.ridge_lambda,
+                       lags, {}, {}, 0};
       c.so.max_sensors = m;
       out.push_back(std::move(c));
     }
-    InputCandidate all{"all", "all " + what, cols, o.selection, {}, {}, 0};
+    InputCandidate all{"all", "all " + what, cols, o.selection, o.ridge_lambda, lags, {}, {}, 0};
     all.so.method = SelectionMethod::kAll;
     all.so.max_sensors = available;
-    out.push_back(std::move(all));
+    out.push_back(all);
+    if (o.ridge_lambda > 0 && available > 1)
+      for (double lambda : kExtraRidgeLambdas)
+        if (lambda > o.ridge_lambda) {
+          InputCandidate heavier = all;
+          heavier.label = fmt::format("all λ {:g}", lambda);
+          heavier.choice = fmt::format("all {}, ridge λ {:g}", what, lambda);
+          heavier.ridge_lambda = lambda;
+          out.push_back(std::move(heavier));
+        }
   };
-  if (!plain.empty()) add_set(plain, "sensors");
-  if (every.size() > plain.size()) add_set(every, "sensors and lags");
+  if (!plain.empty()) add_set(plain, "sensors", false);
+  if (every.size() > plain.size()) add_set(every, "sensors and lags", true);
   for (auto& c : out) {
-    c.predicted = FoldPredictions(s.temperatures_c, y, folds, c.cols, c.so, o.ridge_lambda);
+    c.predicted = FoldPredictions(s.temperatures_c, y, folds, c.cols, c.so, c.ridge_lambda);
     double log_sum = 0;
     for (const TimeFold& f : folds.folds) {
       c.fold_rms.push_back(HeldOutRms(y(f.validate_rows), c.predicted(f.validate_rows)));
@@ -282,6 +299,20 @@ std::vector<InputCandidate> CrossValidatedCandidates(const ThermalSeries& s, con
     c.score = std::exp(log_sum / static_cast<double>(c.fold_rms.size()));
   }
   return out;
+}
+
+// Whether `other` scores as well as `anchor` within the folds' noise: the per-fold log ratios of
+// their held-out RMS, log(other / anchor), have a mean within one standard error of 0 (or below it).
+bool AsGoodWithinTheNoise(const InputCandidate& other, const InputCandidate& anchor) {
+  const std::size_t k = anchor.fold_rms.size();
+  if (k < 2 || other.fold_rms.size() != k) return false;
+  std::vector<double> d;
+  for (std::size_t f = 0; f < k; ++f)
+    d.push_back(std::log(std::max(other.fold_rms[f], kTinyRmsUm)) - std::log(std::max(anchor.fold_rms[f], kTinyRmsUm)));
+  double mean = 0, var = 0;
+  for (double v : d) mean += v / static_cast<double>(k);
+  for (double v : d) var += (v - mean) * (v - mean) / static_cast<double>(k - 1);
+  return mean <= std::sqrt(var / static_cast<double>(k));
 }
 
 }  // namespace
@@ -299,8 +330,15 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
   const TimeFolds folds = o.choose_count_by_cv && n >= 25 ? MakeTimeFolds(s) : TimeFolds{};
   for (Eigen::Index c = 0; c < s.errors_um.cols(); ++c) {
     const Eigen::VectorXd y = s.errors_um.col(c);
-    SensorSelectionOptions chosen = o.selection;
-    std::vector<Eigen::Index> chosen_cols;  // empty: every column
+    // The fits averaged into the channel (one unless the choice averages several): input set
+    // (empty: every column), selection and penalty.
+    struct Member {
+      std::vector<Eigen::Index> cols;
+      SensorSelectionOptions so;
+      double ridge_lambda = 0;
+      double weight = 1;
+    };
+    std::vector<Member> members{{{}, o.selection, o.ridge_lambda, 1}};
     std::string count_cv, choice;
     bool constant = false;
     double shrink = 1;  // toward the constant: 1 = the model as fitted
@@ -310,7 +348,8 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
       // for the first time — does not decide alone). Only candidates that are not worse than the
       // constant on the use-like rows (the latest fold; every experiment) nor on all folds together
       // are eligible, and of those the simplest within 2 % of the best (all inputs included) that
-      // is not worse than the constant is taken. It is shrunk toward the constant as far as the
+      // is not worse than the constant is taken, averaged with the eligible candidates of its kind
+      // that score as well within the folds' noise. It is shrunk toward the constant as far as the
       // use-like rows ask, and kept only if it beats the constant there by more than the noise;
       // otherwise the channel is the constant.
       const std::vector<InputCandidate> tried = CrossValidatedCandidates(s, y, folds, o);
@@ -318,25 +357,51 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
       const auto blocks = UseLikeBlocks(folds);
       const std::vector<Eigen::Index> use_rows = RowsOf(blocks);
       const double mean_use_rms = HeldOutRms(y(use_rows), mean.predicted(use_rows));
-      auto eligible = [&](const InputCandidate& t) {
-        return HeldOutRms(y(use_rows), t.predicted(use_rows)) <= mean_use_rms &&
-               HeldOutRms(y, t.predicted) <= HeldOutRms(y, mean.predicted);
+      const double mean_all_rms = HeldOutRms(y, mean.predicted);
+      auto eligible_predictions = [&](const Eigen::VectorXd& p) {
+        return HeldOutRms(y(use_rows), p(use_rows)) <= mean_use_rms && HeldOutRms(y, p) <= mean_all_rms;
       };
+      auto eligible = [&](const InputCandidate& t) { return eligible_predictions(t.predicted); };
       double best = std::numeric_limits<double>::infinity();
       for (const auto& t : tried)
         if (eligible(t)) best = std::min(best, t.score);
       const double limit = std::min(kCountTolerance * best, mean.score);
       for (const auto& t : tried)
         if (eligible(t) && t.score <= limit) {
-          chosen = t.so;
-          chosen_cols = t.cols;
           choice = t.choice;
           constant = t.cols.empty();
           if (!constant) {
+            members = {{t.cols, t.so, t.ridge_lambda, 1 / (t.score * t.score)}};
+            Eigen::VectorXd predicted = t.predicted;
+            // Averaged with every other eligible candidate of the same kind (plain sensors, or
+            // sensors and lags) that is as good within the folds' noise: the choice among
+            // near-equal input sets is itself noisy, and their average varies less than any of them.
+            // Each counts by the inverse square of its score (forecasts combined by the inverse of
+            // their mean squared error): the better of them weigh more.
+            // Candidates that fit the same (a count above what the selection keeps) count once.
+            std::vector<std::string> with;
+            Eigen::VectorXd sum = members.front().weight * t.predicted;
+            for (const auto& u : tried)
+              if (&u != &t && !u.cols.empty() && u.lags == t.lags && eligible(u) && u.score <= mean.score &&
+                  AsGoodWithinTheNoise(u, t) && u.fold_rms != t.fold_rms &&
+                  std::none_of(tried.data(), &u, [&](const InputCandidate& v) { return v.fold_rms == u.fold_rms; })) {
+                members.push_back({u.cols, u.so, u.ridge_lambda, 1 / (u.score * u.score)});
+                sum += members.back().weight * u.predicted;
+                with.push_back(u.choice);
+              }
+            double total = 0;
+            for (const Member& m : members) total += m.weight;
+            const Eigen::VectorXd average = sum / total;
+            if (members.size() > 1 && eligible_predictions(average)) {
+              predicted = average;
+              choice += fmt::format(" averaged with {}", fmt::join(with, ", "));
+            } else {
+              members.resize(1);
+            }
             // Shrunk toward the constant as far as the use-like rows ask (a ridge path's end point
             // is the constant; this is the step along it the latest data supports).
-            shrink = ShrinkTowardConstant(y(use_rows), t.predicted(use_rows), mean.predicted(use_rows));
-            const Eigen::VectorXd blended = mean.predicted + shrink * (t.predicted - mean.predicted);
+            shrink = ShrinkTowardConstant(y(use_rows), predicted(use_rows), mean.predicted(use_rows));
+            const Eigen::VectorXd blended = mean.predicted + shrink * (predicted - mean.predicted);
             const double blended_use_rms = HeldOutRms(y(use_rows), blended(use_rows));
             if (shrink < 1) choice += fmt::format(", shrunk ×{:.2f} toward the constant", shrink);
             if (shrink == 0 || !BeatsConstantBeyondNoise(y, blended, mean.predicted, blocks)) {
@@ -353,7 +418,7 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
         }
       std::string set;
       for (const auto& t : tried) {
-        const std::string group = t.cols.empty() ? "" : t.choice.find("lags") != std::string::npos ? "with lags " : "sensors ";
+        const std::string group = t.cols.empty() ? "" : t.lags ? "with lags " : "sensors ";
         count_cv += fmt::format("{}{}{}: {:.3f}", count_cv.empty() ? "" : group != set ? "; " : ", ",
                                 group != set ? group : "", t.label, t.score);
         set = group;
@@ -370,16 +435,32 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
       channels.push_back(std::move(ch));
       continue;
     }
-    ChannelSolution sol;
-    if (chosen_cols.empty()) {
-      sol = SolveChannel(s.temperatures_c, y, chosen, o.ridge_lambda);
-    } else {
-      sol = SolveChannel(s.temperatures_c(Eigen::all, chosen_cols), y, chosen, o.ridge_lambda);
-      for (int& k : sol.sensors) k = static_cast<int>(chosen_cols[static_cast<std::size_t>(k)]);
+    // The members' fits on all the rows, averaged with their weights coefficient by coefficient
+    // (the average of linear models is linear), then shrunk toward the training mean.
+    double total_weight = 0;
+    for (const Member& m : members) total_weight += m.weight;
+    double intercept_um = 0;
+    std::vector<std::pair<int, double>> k_by_column;  // column of the series, k
+    for (const Member& m : members) {
+      ChannelSolution sol;
+      if (m.cols.empty()) {
+        sol = SolveChannel(s.temperatures_c, y, m.so, m.ridge_lambda);
+      } else {
+        sol = SolveChannel(s.temperatures_c(Eigen::all, m.cols), y, m.so, m.ridge_lambda);
+        for (int& k : sol.sensors) k = static_cast<int>(m.cols[static_cast<std::size_t>(k)]);
+      }
+      const double weight = m.weight / total_weight;
+      intercept_um += weight * sol.intercept_um;
+      for (std::size_t k = 0; k < sol.sensors.size(); ++k) {
+        auto at = std::find_if(k_by_column.begin(), k_by_column.end(),
+                               [&](const auto& e) { return e.first == sol.sensors[k]; });
+        if (at == k_by_column.end()) at = k_by_column.insert(k_by_column.end(), {sol.sensors[k], 0.0});
+        at->second += weight * sol.k_um_per_c[k];
+      }
     }
-    ch.intercept_um = shrink * sol.intercept_um + (1 - shrink) * y.mean();
-    for (std::size_t k = 0; k < sol.sensors.size(); ++k) {
-      const std::string& sensor = s.temperature_names[static_cast<std::size_t>(sol.sensors[k])];
+    ch.intercept_um = shrink * intercept_um + (1 - shrink) * y.mean();
+    for (const auto& [column, k_um_per_c] : k_by_column) {
+      const std::string& sensor = s.temperature_names[static_cast<std::size_t>(column)];
       int idx = -1;
       for (std::size_t u = 0; u < used.size(); ++u)
         if (used[u] == sensor) idx = static_cast<int>(u);
@@ -388,7 +469,7 @@ LinearThermalModel FitLinearModel(const ThermalSeries& s, const LinearFitOptions
         used.push_back(sensor);
       }
       ch.inputs.push_back(idx);
-      ch.k_um_per_c.push_back(shrink * sol.k_um_per_c[k]);
+      ch.k_um_per_c.push_back(shrink * k_um_per_c);
     }
     channels.push_back(std::move(ch));
   }

@@ -1,6 +1,7 @@
 // Inputs chosen the way the model is used (time_folds.hpp, linear_model.hpp): forward-chaining
 // folds over one recording, leave one experiment out over several; the constant and all inputs
 // always candidates; lags kept only where they earn their place; the constant where nothing beats it.
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -211,21 +212,31 @@ TEST(TimeOrderedCv, AModelTheFoldsOnlyPartlySupportIsShrunkTowardTheConstant) {
     s.errors_um(r, 0) = (r < 0.6 * s.Rows() ? 2.0 : 1.0) * (t - 20) + noise(rng);
   }
   const auto m = FitThermalModel(s, DefaultFit());
-  const auto& ch = dynamic_cast<const LinearThermalModel&>(*m).channel_models().front();
+  const auto& lm = dynamic_cast<const LinearThermalModel&>(*m);
+  const auto& ch = lm.channel_models().front();
   ASSERT_NE(ch.cv_choice.find("shrunk ×"), std::string::npos) << m->Describe();
   ThermalFitOptions plain = DefaultFit();
   plain.linear.choose_count_by_cv = false;
   plain.linear.selection.max_sensors = 1;
   const auto plain_model = FitThermalModel(s, plain);
   const auto& unshrunk = dynamic_cast<const LinearThermalModel&>(*plain_model).channel_models().front();
-  ASSERT_EQ(ch.inputs.size(), 1u);
+  // s1 carries nothing: the fit on both sensors is as good as the one on s0 within the folds'
+  // noise and may be averaged in (its weight on s1 is then next to nothing); s0 is there either way.
+  ASSERT_FALSE(ch.inputs.empty());
+  ASSERT_EQ(lm.InputSensors()[static_cast<std::size_t>(ch.inputs[0])], "s0") << m->Describe();
   ASSERT_EQ(unshrunk.k_um_per_c.size(), 1u);
   const double factor = ch.k_um_per_c[0] / unshrunk.k_um_per_c[0];
   EXPECT_GT(factor, 0.2);
   EXPECT_LT(factor, 0.9);
-  // The same factor moves the intercept toward the mean: at the mean temperature it predicts the mean.
-  const double t_mean = s.temperatures_c.col(0).mean(), e_mean = s.errors_um.col(0).mean();
-  EXPECT_NEAR(ch.intercept_um + ch.k_um_per_c[0] * t_mean, e_mean, 1e-6);
+  // The same factor moves the intercept toward the mean: at the mean temperatures it predicts the mean.
+  double at_mean = ch.intercept_um;
+  for (std::size_t k = 0; k < ch.inputs.size(); ++k) {
+    const std::string& name = lm.InputSensors()[static_cast<std::size_t>(ch.inputs[k])];
+    const auto column = std::find(s.temperature_names.begin(), s.temperature_names.end(), name);
+    ASSERT_NE(column, s.temperature_names.end()) << name;
+    at_mean += ch.k_um_per_c[k] * s.temperatures_c.col(column - s.temperature_names.begin()).mean();
+  }
+  EXPECT_NEAR(at_mean, s.errors_um.col(0).mean(), 1e-6);
 }
 
 // The latest fold (the last tenth of the rows) is where the choice looks for what the use will be
@@ -253,6 +264,38 @@ TEST(TimeOrderedCv, AModelThatBeatsTheConstantOnlyInOneBlockOfTheLatestFoldIsNot
   EXPECT_NE(m->Describe().find("the constant (the training mean): no input beat it"), std::string::npos) << m->Describe();
 }
 
+// The error follows s0; s1 (a part at rest) carries nothing. s0 alone and both sensors predict the
+// later folds equally well within their noise — which of them scores best is chance — and the
+// choice is their average (a linear model, its weight on s1 next to nothing), named in cv_choice.
+// Heavier ridge penalties are offered on all inputs, and not for plain least squares.
+TEST(TimeOrderedCv, InputSetsAsGoodWithinTheNoiseAreAveraged) {
+  std::mt19937_64 rng(21);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  ThermalSeries s = testing::MakeSeries(24 * 60, 2, 60.0);
+  for (int r = 0; r < s.Rows(); ++r) {
+    const double h = r / 60.0, t = 20 + 2 * std::sin(2 * M_PI * h / 5) + std::sin(2 * M_PI * h / 13);
+    s.temperatures_c(r, 0) = t + 0.02 * noise(rng);
+    s.temperatures_c(r, 1) = 22 + 0.02 * noise(rng);
+    s.errors_um(r, 0) = 2.0 * (t - 20) + 0.05 * noise(rng);
+  }
+  const auto m = FitThermalModel(s, DefaultFit());
+  const auto& lm = dynamic_cast<const LinearThermalModel&>(*m);
+  const auto& ch = lm.channel_models().front();
+  EXPECT_NE(ch.cv_choice.find(" averaged with "), std::string::npos) << m->Describe();
+  ASSERT_EQ(ch.inputs.size(), 2u) << m->Describe();
+  EXPECT_EQ(lm.InputSensors()[static_cast<std::size_t>(ch.inputs[0])], "s0") << m->Describe();
+  EXPECT_NEAR(ch.k_um_per_c[0], 2.0, 0.05) << m->Describe();
+  EXPECT_LT(std::abs(ch.k_um_per_c[1]), 0.1) << m->Describe();
+  EXPECT_NE(ch.count_cv.find("all λ 0.01: "), std::string::npos) << ch.count_cv;
+  EXPECT_NE(ch.count_cv.find("all λ 0.1: "), std::string::npos) << ch.count_cv;
+  EXPECT_NE(m->ToJson().dump().find("averaged with"), std::string::npos);
+  ThermalFitOptions mlr = DefaultFit();
+  mlr.kind = ModelKind::kMlr;
+  const auto least_squares = FitThermalModel(s, mlr);
+  const auto& ls = dynamic_cast<const LinearThermalModel&>(*least_squares).channel_models().front();
+  EXPECT_EQ(ls.count_cv.find("λ"), std::string::npos) << ls.count_cv;
+}
+
 // Validation RMSE of `model` on `channel` in a `thermal evaluate --markdown` table.
 double ValidationRmse(const std::string& md, const std::string& model, const std::string& channel) {
   const auto at = md.find("| " + model + " | " + channel + " |");
@@ -277,6 +320,21 @@ std::vector<std::pair<double, double>> DefaultAgainstConstant(const std::string&
   return out;
 }
 
+// The drawn working day of a horizontal machining centre (hmc1250, seed 3) held out on its last
+// `fraction`: per channel the default model's and the constant's validation RMSE, each checked to be
+// a number and the default not worse than the constant.
+std::vector<std::pair<double, double>> DrawnHorizontalMachiningDay(double fraction, const std::string& dir) {
+  const auto sim = testing::RunCli(fmt::format("sim recording --machine {}/examples/machines/hmc1250.toml --seed 3 "
+                                               "--out {}/day.csv 2>&1", TRUEAXIS_SOURCE_DIR, dir));
+  EXPECT_EQ(sim.exit_code, 0) << sim.output;
+  const auto rows = DefaultAgainstConstant(dir + "/day.csv", fraction, {"X_at_938mm", "Y_at_675mm", "Z_at_750mm"}, dir);
+  for (std::size_t c = 0; c < rows.size(); ++c) {
+    EXPECT_TRUE(std::isfinite(rows[c].first) && std::isfinite(rows[c].second)) << "channel " << c;
+    EXPECT_LE(rows[c].first, rows[c].second) << "channel " << c;
+  }
+  return rows;
+}
+
 // A drawn working day of a horizontal machining centre held out on its last 2.4 h (machining, dry,
 // at the training mean): the forward folds of the first 21.6 h include the first hours of flood
 // coolant, where every model fails and which dominated the pooled RMS, so a three-sensor model was
@@ -284,15 +342,18 @@ std::vector<std::pair<double, double>> DefaultAgainstConstant(const std::string&
 // geometric mean, eligible only if not worse than the constant on the latest fold, the default
 // must not lose to the constant on any channel.
 TEST(TimeOrderedCvCli, NeverWorseThanTheConstantOnTheLastHoursOfADrawnHorizontalMachiningDay) {
-  const std::string dir = testing::TempDir("cv_hmc_day");
-  const auto sim = testing::RunCli(fmt::format("sim recording --machine {}/examples/machines/hmc1250.toml --seed 3 "
-                                               "--out {}/day.csv 2>&1", TRUEAXIS_SOURCE_DIR, dir));
-  ASSERT_EQ(sim.exit_code, 0) << sim.output;
-  const auto rows = DefaultAgainstConstant(dir + "/day.csv", 0.1, {"X_at_938mm", "Y_at_675mm", "Z_at_750mm"}, dir);
-  for (std::size_t c = 0; c < rows.size(); ++c) {
-    ASSERT_TRUE(std::isfinite(rows[c].first) && std::isfinite(rows[c].second)) << "channel " << c;
-    EXPECT_LE(rows[c].first, rows[c].second) << "channel " << c;
-  }
+  EXPECT_EQ(DrawnHorizontalMachiningDay(0.1, testing::TempDir("cv_hmc_day")).size(), 3u);
+}
+
+// The same drawn day held out on its last 30 %: the latest fold of the training part is the onset
+// of flood coolant, where the input set that scored best, shrunk toward the constant, beat it in
+// three of five blocks — within the noise, and the channel was the constant (16.6 µm held out
+// against 7.7 µm for ridge on all inputs). Averaged with the input sets that scored as well, it
+// beats the constant beyond the noise there, and held out too.
+TEST(TimeOrderedCvCli, TheAverageOfEquallyGoodInputSetsHoldsWhereTheBestAloneWasNotShipped) {
+  const auto rows = DrawnHorizontalMachiningDay(0.3, testing::TempDir("cv_hmc_day_30"));
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_LT(rows[2].first, 0.6 * rows[2].second);  // Z: the constant before
 }
 
 // The real spindle recording held out on its last 10 % (4.6 h of speed steps unlike anything

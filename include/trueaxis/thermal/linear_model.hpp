@@ -20,10 +20,14 @@ struct LinearFitOptions {
   // rows (time_folds.hpp: forward chaining over one recording, leave one experiment out over
   // several) among the constant (the training mean, no input), 1, 2, 3, 4, 6, 8, 12, … and all of
   // the plain sensors, and — when the series holds lagged inputs — the same counts of sensors and
-  // lags together and all inputs. Candidates are ranked by the geometric mean of their folds'
+  // lags together and all inputs; with ridge_lambda > 0 all of a set also with the heavier penalties
+  // 0.01 and 0.1. Candidates are ranked by the geometric mean of their folds'
   // held-out RMS; eligible are those not worse than the constant on the use-like rows (UseLikeBlocks:
   // the latest fold, or every experiment); the simplest eligible within 2 % of the best that is worse
-  // than neither the constant nor all inputs is taken, shrunk toward the constant by the factor in
+  // than neither the constant nor all inputs is taken, averaged with the eligible candidates of its
+  // kind (plain / with lags) that score as well within the folds' noise, each weighted by the inverse
+  // square of its score (the average is linear: each coefficient the weighted mean of theirs),
+  // shrunk toward the constant by the factor in
   // [0, 1] the use-like rows support, and kept only if it beats the constant there by more than one
   // standard error (blocks as replicates) — else the channel is the constant. selection.max_sensors
   // is then only an upper bound. The choice is the data's, per recording: four sensors can be far
