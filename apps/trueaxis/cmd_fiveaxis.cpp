@@ -61,7 +61,7 @@ TrackingErrorModel LoadOrIdentify(const std::string& model_path, const FiveAxisM
 // --method: how the corrected command is found (docs/fiveaxis.md, "Correction").
 void AddMethodOption(CLI::App* cmd, std::string* method) {
   cmd->add_option("--method", *method,
-                  "inverse: the model inverted per axis; passes: seed 004's correction through the kinematics, "
+                  "inverse: the model inverted per axis; passes: the contour-error correction through the kinematics, "
                   "repeated --iterations times")
       ->check(CLI::IsMember({"inverse", "passes"}))
       ->capture_default_str();
