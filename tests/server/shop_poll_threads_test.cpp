@@ -3,9 +3,11 @@
 // latency histogram count every machine of every thread.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <string>
 
 #include "shop_fixture.hpp"
+#include "support/cli_runner.hpp"
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/server/shop.hpp"
 #include "trueaxis/store/history_db.hpp"
@@ -93,6 +95,26 @@ TEST(ShopPollThreads, NoMoreThreadsThanMachinesAndOutOfRangeIsRefused) {
       EXPECT_EQ(e.source(), config.source) << e.what();
     }
   }
+}
+
+// The command line: the shop file's value and --poll-threads, each refused out of range (exit 2)
+// naming where it came from, before anything is polled.
+TEST(ShopPollThreads, TheServerCommandRefusesOutOfRangeThreadCountsNamingTheSetting) {
+  const std::string dir = TempDir("poll_threads_cli");
+  const std::string model = WriteModel(dir + "/model.json");
+  const std::string shop = dir + "/shop.toml";
+  auto write = [&](int k) {
+    std::ofstream(shop) << "[server]\npoll_threads = " << k << "\n\n[[machine]]\nname = \"m1\"\nport = 1\naxes = [\"X\", \"Y\", \"Z\"]\n"
+                        << "model = \"" << model << "\"\n";
+  };
+  write(kMaxPollThreads + 1);
+  auto r = trueaxis::testing::RunCli("server --config " + shop + " --duration-s 0.1 --quiet");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(shop + ":2: field 'server.poll_threads'"), std::string::npos) << r.output;
+  write(1);
+  r = trueaxis::testing::RunCli("server --config " + shop + " --duration-s 0.1 --quiet --poll-threads 0");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("field '--poll-threads': 0 is out of range"), std::string::npos) << r.output;
 }
 
 }  // namespace
