@@ -158,7 +158,8 @@ def run_server(args, tmp, n):
     shop, _ = start_virtual_shop(args, tmp, n, str(n), model, http_port)
     log = os.path.join(tmp, f"server_{n}.log")
     server = start([args.trueaxis, "server", "--config", os.path.join(tmp, f"shop_{n}.toml"), "--quiet",
-                    "--duration-s", str(args.warmup_s + args.measure_s + 120)], log, args.nice)
+                    "--duration-s", str(args.warmup_s + args.measure_s + 120)]
+                   + (["--poll-threads", str(args.poll_threads)] if args.poll_threads else []), log, args.nice)
     api = f"http://127.0.0.1:{http_port}/api"
     try:
         wait_for("the server's API", lambda: get_json(api + "/stats") is not None, 120, server, log)
@@ -234,6 +235,8 @@ def main():
     ap.add_argument("--hold-hz", type=float, default=9.9, help="a run holds 10 Hz when its slowest machine reaches this")
     ap.add_argument("--nice", type=int, default=0,
                     help="run the server, the virtual shop and the poller with this niceness (e.g. -5: ahead of other work)")
+    ap.add_argument("--poll-threads", type=int, default=0,
+                    help="the server's polling threads (--poll-threads of `trueaxis server`; 0: the shop file's, 1)")
     ap.add_argument("--json", help="also write every run's figures to this file")
     args = ap.parse_args()
     if not os.access(args.trueaxis, os.X_OK):
@@ -244,7 +247,8 @@ def main():
         write_model(os.path.join(tmp, "model.json"))
         try:
             print(f"separate processes, period {args.period_s} s, warm-up {args.warmup_s} s, measured {args.measure_s} s, "
-                  f"{os.cpu_count()} cores" + (f", niceness {args.nice}" if args.nice else ""))
+                  f"{os.cpu_count()} cores" + (f", niceness {args.nice}" if args.nice else "")
+                  + (f", {args.poll_threads} server polling threads" if args.poll_threads else ""))
             print("| N machines | Hz per machine mean (min) | p99 read→write | overruns | faults | server CPU | server RSS "
                   "| virtual shop CPU | server / shop CPU per machine-cycle | load average (start → end) |")
             print("|---|---|---|---|---|---|---|---|---|---|")

@@ -1,5 +1,5 @@
 // trueaxis server: the workshop server (seed 003, docs/server.md). Polls every
-// machine's terminal over MODBUS TCP from one event loop, runs each machine's
+// machine's terminal over MODBUS TCP from event loops, runs each machine's
 // compensator (the same step as `run`), writes the corrections back, records
 // the shop's history and serves the JSON control API.
 //
@@ -46,6 +46,8 @@ struct ServerOptions {
   double status_interval_s = 5;
   int http_port = -1;  // the shop file's unless --http-port is given
   bool http_port_given = false;
+  int poll_threads = 1;  // the shop file's [server] poll_threads unless --poll-threads is given
+  bool poll_threads_given = false;
   bool quiet = false;
   cli::WebCliOptions web;  // the browser front end over the whole shop (docs/web.md)
   std::string mtconnect;   // HOST:PORT of the MTConnect agent ("" none)
@@ -99,6 +101,12 @@ void RunServer(const ServerOptions& o) {
   if (!o.mtconnect.empty()) server::CheckMtconnectOptions(mtc);
   server::ShopConfig config = server::ReadShopConfig(o.config);  // InputError: file, line, field
   if (o.http_port_given) config.http_port = o.http_port;
+  if (o.poll_threads_given) {
+    if (o.poll_threads < 1 || o.poll_threads > server::kMaxPollThreads)
+      throw InputError("command line", 0, "--poll-threads",
+                       fmt::format("{} is out of range: 1 to {} polling threads", o.poll_threads, server::kMaxPollThreads));
+    config.poll_threads = o.poll_threads;
+  }
   // Another server on the port, or a bind address that is not this computer's: say which setting.
   auto http_error = [&](const std::string& error) {
     if (o.http_port_given) return InputError("command line", 0, "--http-port", error);
@@ -284,6 +292,9 @@ void Setup(CLI::App& app) {
   cmd->add_option("--status-interval-s", o->status_interval_s, "Seconds between status lines (0: none)")->capture_default_str();
   CLI::Option* http_port =
       cmd->add_option("--http-port", o->http_port, "HTTP control API port 1..65535, overriding the shop file's [http] port (0: off)");
+  CLI::Option* poll_threads = cmd->add_option("--poll-threads", o->poll_threads,
+                  fmt::format("Threads that poll the terminals (1 to {}), overriding the shop file's [server] poll_threads",
+                              server::kMaxPollThreads));
   cmd->add_flag("--quiet", o->quiet, "No status lines");
   cli::AddWebOptions(cmd, o->web, "--web");
   cmd->add_option("--mtconnect", o->mtconnect,
@@ -325,10 +336,11 @@ void Setup(CLI::App& app) {
     PrintOrFail(Call(*url, "POST", "/api/machines/" + *machine + "/rollback", {{"user", *user}}));
   });
 
-  cmd->callback([o, cmd, http_port] {
+  cmd->callback([o, cmd, http_port, poll_threads] {
     if (!cmd->get_subcommands().empty()) return;  // status / model ran
     if (o->config.empty()) throw InputError("command line", 0, "--config", "missing (required): the shop file");
     o->http_port_given = http_port->count() > 0;
+    o->poll_threads_given = poll_threads->count() > 0;
     RunServer(*o);
   });
 }

@@ -83,7 +83,8 @@ nlohmann::json ToJson(const ShopStats& s) {
           {"latency_max_ms", s.latency_max_ms},
           {"latency_samples", s.latency_samples},
           {"latency_histogram", s.latency_histogram},  // [[upper edge ms, count], …]: the p99 of any window by difference
-          {"history_dropped", s.history_dropped}};
+          {"history_dropped", s.history_dropped},
+          {"poll_threads", s.poll_threads}};
 }
 
 namespace {

@@ -85,6 +85,11 @@ class LatencyHistogram {
     max_ms_ = std::max(max_ms_, ms);
   }
   void Clear() { *this = LatencyHistogram(); }
+  void Merge(const LatencyHistogram& o) {
+    for (std::size_t k = 0; k < counts_.size(); ++k) counts_[k] += o.counts_[k];
+    total_ += o.total_;
+    max_ms_ = std::max(max_ms_, o.max_ms_);
+  }
   std::uint64_t total() const { return total_; }
   double max_ms() const { return max_ms_; }
   double Quantile(double q) const {
@@ -114,10 +119,31 @@ struct ModelEntry {
 
 int RevisionOf(const station::PublishedModel& m) { return m.composite ? m.composite->revision : 0; }
 
-// A registered change of the controls, applied by the loop thread at the next cycle.
+// A registered change of the controls, applied by the machine's loop thread at the next cycle.
 struct Controls {
   std::vector<std::uint8_t> axis_enabled;
   std::optional<CoolantState> coolant_override;
+};
+
+struct Timer {
+  double due_s;
+  std::uint32_t machine;
+  bool tick;                 // else a request / connect deadline
+  std::uint64_t generation;  // deadlines: valid while the machine's generation matches
+  bool operator>(const Timer& o) const { return due_s > o.due_s; }
+};
+
+// One polling thread ([server] poll_threads): its epoll set, its timers and its share of the
+// shop's counters. Machine i belongs to thread i mod K for good: no other loop thread touches
+// anything of it, and the counters here are written by this thread only (read under stats_mu and
+// summed by Shop::Stats).
+struct Poller {
+  EventLoop loop;
+  int epoll_fd = loop.epoll_fd();
+  std::priority_queue<Timer, std::vector<Timer>, std::greater<Timer>> timers;
+  mutable std::mutex stats_mu;
+  LatencyHistogram latency;
+  ShopStats totals;  // cycles, complete_cycles, faults, overruns
 };
 
 }  // namespace
@@ -129,8 +155,9 @@ struct MachineSlot {
   std::size_t index = 0;
   sockaddr_in addr{};
   std::size_t module_count = 0;
+  Poller* poller = nullptr;  // the loop thread that owns this machine
 
-  // ---- loop thread only ----
+  // ---- its loop thread only ----
   Link link = Link::kDown;
   int fd = -1;
   Phase phase = Phase::kIdle;
@@ -183,22 +210,10 @@ struct MachineSlot {
 struct Shop::Impl {
   ShopConfig& config;
   store::HistoryWriter* history = nullptr;
-  std::vector<std::unique_ptr<MachineSlot>> machines;
-  EventLoop loop;
-  int epoll_fd = loop.epoll_fd();
+  std::vector<std::unique_ptr<MachineSlot>> machines;  // fixed once constructed: loop threads index it
+  std::vector<std::unique_ptr<Poller>> pollers;         // machine i → pollers[i % size]
   Clock::time_point t0 = Clock::now();
   double unix_offset_s = UnixNowS();  // unix time = loop time + offset
-  struct Timer {
-    double due_s;
-    std::uint32_t machine;
-    bool tick;                 // else a request / connect deadline
-    std::uint64_t generation;  // deadlines: valid while the machine's generation matches
-    bool operator>(const Timer& o) const { return due_s > o.due_s; }
-  };
-  std::priority_queue<Timer, std::vector<Timer>, std::greater<Timer>> timers;
-  mutable std::mutex stats_mu;
-  LatencyHistogram latency;
-  ShopStats totals;
   std::mutex audit_mu;
 
   explicit Impl(ShopConfig& c) : config(c) {}
@@ -316,12 +331,12 @@ struct Shop::Impl {
 
   // ------------------------------------------------------------ link
   void PushDeadline(MachineSlot& m, double due) {
-    timers.push({due, static_cast<std::uint32_t>(m.index), false, ++m.deadline_generation});
+    m.poller->timers.push({due, static_cast<std::uint32_t>(m.index), false, ++m.deadline_generation});
   }
 
   void CloseLink(MachineSlot& m) {
     if (m.fd >= 0) {
-      epoll_ctl(epoll_fd, EPOLL_CTL_DEL, m.fd, nullptr);
+      epoll_ctl(m.poller->epoll_fd, EPOLL_CTL_DEL, m.fd, nullptr);
       close(m.fd);
     }
     m.fd = -1;
@@ -343,8 +358,8 @@ struct Shop::Impl {
     ++m.faults;
     m.last_fault = why;
     {
-      std::lock_guard<std::mutex> lock(stats_mu);
-      ++totals.faults;
+      std::lock_guard<std::mutex> lock(m.poller->stats_mu);
+      ++m.poller->totals.faults;
     }
     if (history && (was_open || m.faults == 1 || m.backoff_s >= m.cfg.max_backoff_s))
       history->PushAlarm(now + unix_offset_s, "warning", m.cfg.name,
@@ -365,7 +380,7 @@ struct Shop::Impl {
     epoll_event ev{};
     ev.events = EPOLLOUT | EPOLLIN;
     ev.data.u64 = m.index;
-    if (epoll_ctl(epoll_fd, EPOLL_CTL_ADD, m.fd, &ev) != 0) return Fault(m, now, fmt::format("epoll: {}", std::strerror(errno)));
+    if (epoll_ctl(m.poller->epoll_fd, EPOLL_CTL_ADD, m.fd, &ev) != 0) return Fault(m, now, fmt::format("epoll: {}", std::strerror(errno)));
     m.link = Link::kConnecting;
     if (connect(m.fd, reinterpret_cast<const sockaddr*>(&m.addr), sizeof m.addr) != 0 && errno != EINPROGRESS)
       return Fault(m, now, fmt::format("connect: {}", std::strerror(errno)));
@@ -380,7 +395,7 @@ struct Shop::Impl {
     epoll_event ev{};
     ev.events = EPOLLIN | EPOLLRDHUP;
     ev.data.u64 = m.index;
-    epoll_ctl(epoll_fd, EPOLL_CTL_MOD, m.fd, &ev);
+    epoll_ctl(m.poller->epoll_fd, EPOLL_CTL_MOD, m.fd, &ev);
     m.link = Link::kOpen;
     ++m.deadline_generation;
     ++m.connects;
@@ -496,9 +511,9 @@ struct Shop::Impl {
     ++m.complete_cycles;
     m.backoff_s = 0;
     m.last_latency_ms = (now - m.cycle_start_s) * 1000.0;
-    std::lock_guard<std::mutex> lock(stats_mu);
-    ++totals.complete_cycles;
-    latency.Add(m.last_latency_ms);
+    std::lock_guard<std::mutex> lock(m.poller->stats_mu);
+    ++m.poller->totals.complete_cycles;
+    m.poller->latency.Add(m.last_latency_ms);
   }
 
   void OnFrame(MachineSlot& m, std::span<const std::uint8_t> frame, double now) {
@@ -639,17 +654,18 @@ struct Shop::Impl {
     const double period = m.cfg.period_s;
     m.next_tick_s += period;
     if (m.next_tick_s <= now) m.next_tick_s += std::ceil((now - m.next_tick_s) / period) * period;  // fell behind: skip
-    timers.push({m.next_tick_s, static_cast<std::uint32_t>(m.index), true, 0});
+    Poller& p = *m.poller;
+    p.timers.push({m.next_tick_s, static_cast<std::uint32_t>(m.index), true, 0});
     ++m.cycles;
     {
-      std::lock_guard<std::mutex> lock(stats_mu);
-      ++totals.cycles;
+      std::lock_guard<std::mutex> lock(p.stats_mu);
+      ++p.totals.cycles;
     }
     if (m.link == Link::kOpen) {
       if (m.phase != Phase::kIdle) {  // the terminal is still answering the last cycle: never queue a second
         ++m.overruns;
-        std::lock_guard<std::mutex> lock(stats_mu);
-        ++totals.overruns;
+        std::lock_guard<std::mutex> lock(p.stats_mu);
+        ++p.totals.overruns;
         return;
       }
       return BeginCycle(m, now);
@@ -669,10 +685,12 @@ struct Shop::Impl {
       return Fault(m, now, fmt::format("no answer within {:.0f} ms while {}", m.cfg.response_timeout_s * 1000, PhaseName(m.phase)));
   }
 
-  void Loop() {
+  // One polling thread's loop: its own timers and epoll set, its own machines only.
+  void Loop(Poller& p) {
+    auto& timers = p.timers;
     std::vector<epoll_event> events(1024);
     double iteration_s = -1;
-    while (!loop.stopping()) {
+    while (!p.loop.stopping()) {
       // At most one pass per kBatchS: the answers that arrive meanwhile are taken together, so a
       // thousand terminals cost a few hundred wake-ups a second instead of one per answer.
       if (const double since = Now() - iteration_s; since < kBatchS)
@@ -687,7 +705,7 @@ struct Shop::Impl {
       }
       int wait_ms = 100;
       if (!timers.empty()) wait_ms = std::clamp(static_cast<int>(std::ceil((timers.top().due_s - Now()) * 1000.0)), 0, 100);
-      const int n = epoll_wait(epoll_fd, events.data(), static_cast<int>(events.size()), wait_ms);
+      const int n = epoll_wait(p.epoll_fd, events.data(), static_cast<int>(events.size()), wait_ms);
       now = Now();
       for (int i = 0; i < n; ++i) {
         if (events[i].data.u64 == EventLoop::kWakeToken) continue;
@@ -713,11 +731,19 @@ Shop::Shop(ShopConfig config, store::HistoryWriter* history) : config_(std::move
                        fmt::format("{}: cannot open for append ({})", config_.audit_log, std::strerror(errno)));
     std::fclose(f);
   }
+  if (config_.poll_threads < 1 || config_.poll_threads > kMaxPollThreads)
+    throw InputError(config_.source, config_.poll_threads_line, "server.poll_threads",
+                     fmt::format("{} is out of range: 1 to {} polling threads", config_.poll_threads, kMaxPollThreads));
+  // No more threads than machines: a thread without a machine would only wake up.
+  const std::size_t threads = std::max<std::size_t>(1, std::min<std::size_t>(static_cast<std::size_t>(config_.poll_threads),
+                                                                             config_.machines.size()));
+  for (std::size_t k = 0; k < threads; ++k) impl_->pollers.push_back(std::make_unique<Poller>());
   const double unix0 = impl_->unix_offset_s;
   for (std::size_t i = 0; i < config_.machines.size(); ++i) {
     const MachineConfig& c = config_.machines[i];
     auto m = std::make_unique<MachineSlot>(c);
     m->index = i;
+    m->poller = impl_->pollers[i % threads].get();
     m->addr.sin_family = AF_INET;
     m->addr.sin_port = htons(static_cast<std::uint16_t>(c.port));
     inet_pton(AF_INET, c.host.c_str(), &m->addr.sin_addr);
@@ -766,7 +792,7 @@ Shop::~Shop() { Stop(); }
 
 void Shop::Start() {
   Impl& s = *impl_;
-  if (s.loop.thread().joinable()) return;
+  if (s.pollers.front()->loop.thread().joinable()) return;
   std::string why;
   if (!EnsureOpenFileLimit(s.machines.size() + 256, &why)) throw std::runtime_error("trueaxis server: " + why);
   // Staggered start: machine i's first cycle is i/N of a period in, so the shop's requests spread over the period.
@@ -775,15 +801,17 @@ void Shop::Start() {
   for (std::size_t i = 0; i < n; ++i) {
     MachineSlot& m = *s.machines[i];
     m.next_tick_s = now + m.cfg.period_s * static_cast<double>(i) / static_cast<double>(n);
-    s.timers.push({m.next_tick_s, static_cast<std::uint32_t>(i), true, 0});
+    m.poller->timers.push({m.next_tick_s, static_cast<std::uint32_t>(i), true, 0});
     m.reconnect_at_s = m.next_tick_s;
   }
-  s.loop.Start([&s] { s.Loop(); });
+  for (auto& p : s.pollers) p->loop.Start([&s, q = p.get()] { s.Loop(*q); });
 }
 
 void Shop::Stop() {
   Impl& s = *impl_;
-  if (!s.loop.Stop()) return;
+  bool was_running = false;
+  for (auto& p : s.pollers) was_running = p->loop.Stop() || was_running;
+  if (!was_running) return;
   for (auto& m : s.machines) s.CloseLink(*m);
 }
 
@@ -830,26 +858,33 @@ std::vector<std::string> Shop::MachineNames() const {
 
 ShopStats Shop::Stats() const {
   ShopStats s;
-  {
-    std::lock_guard<std::mutex> lock(impl_->stats_mu);
-    s = impl_->totals;
-    const LatencyHistogram& h = impl_->latency;
-    s.latency_samples = h.total();
-    if (h.total() > 0) {
-      s.latency_p50_ms = h.Quantile(0.5);
-      s.latency_p99_ms = h.Quantile(0.99);
-      s.latency_max_ms = h.max_ms();
-    }
-    s.latency_histogram = h.NonEmpty();
+  LatencyHistogram h;  // the polling threads' histograms merged
+  for (const auto& p : impl_->pollers) {
+    std::lock_guard<std::mutex> lock(p->stats_mu);
+    s.cycles += p->totals.cycles;
+    s.complete_cycles += p->totals.complete_cycles;
+    s.faults += p->totals.faults;
+    s.overruns += p->totals.overruns;
+    h.Merge(p->latency);
   }
+  s.latency_samples = h.total();
+  if (h.total() > 0) {
+    s.latency_p50_ms = h.Quantile(0.5);
+    s.latency_p99_ms = h.Quantile(0.99);
+    s.latency_max_ms = h.max_ms();
+  }
+  s.latency_histogram = h.NonEmpty();
   if (impl_->history) s.history_dropped = impl_->history->Stats().dropped;
-  s.loop_cpu_s = ThreadCpuSeconds(impl_->loop.thread());
+  for (auto& p : impl_->pollers) s.loop_cpu_s += ThreadCpuSeconds(p->loop.thread());
+  s.poll_threads = static_cast<int>(impl_->pollers.size());
   return s;
 }
 
 void Shop::ResetLatency() {
-  std::lock_guard<std::mutex> lock(impl_->stats_mu);
-  impl_->latency.Clear();
+  for (auto& p : impl_->pollers) {
+    std::lock_guard<std::mutex> lock(p->stats_mu);
+    p->latency.Clear();
+  }
 }
 
 ModelChange Shop::LoadModel(const std::string& machine, const std::string& model_file, const std::string& user,

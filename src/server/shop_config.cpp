@@ -56,6 +56,12 @@ ShopConfig ParseShopConfig(const std::string& text, const std::string& source) {
     c.http_port_line = m.Line(m.Node("port"));
     m.RejectUnknown();
   }
+  if (const toml::table* t = r.Table("server")) {
+    TomlTableReader m(*t, source, "server");
+    m.Int("poll_threads", c.poll_threads, 1, kMaxPollThreads);
+    c.poll_threads_line = m.Line(m.Node("poll_threads"));
+    m.RejectUnknown();
+  }
   if (const toml::table* t = r.Table("mqtt")) {
     TomlTableReader m(*t, source, "mqtt");
     if (!m.String("broker", c.mqtt.broker) || c.mqtt.broker.rfind("tcp://", 0) != 0)

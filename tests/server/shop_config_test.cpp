@@ -1,6 +1,8 @@
 // The shop file: errors name the file, the line and the field.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include "trueaxis/core/input_error.hpp"
 #include "trueaxis/server/shop_config.hpp"
 
@@ -85,6 +87,21 @@ TEST(ShopConfig, ErrorsNameLineAndField) {
     ExpectError(s, e.line, e.field);
   }
   ExpectError("history = \"x.db\"\n", 1, "machine");
+}
+
+// [server] poll_threads: 1 by default, 1 to kMaxPollThreads; anything else names its line.
+TEST(ShopConfig, PollThreadsAreReadAndOutOfRangeIsRefused) {
+  EXPECT_EQ(ParseShopConfig(kShop, "shop.toml").poll_threads, 1);
+  auto with = [](const std::string& server) {
+    std::string s = kShop;
+    return s.insert(s.find("[limits]"), "[server]\n" + server + "\n");
+  };
+  EXPECT_EQ(ParseShopConfig(with("poll_threads = 2"), "shop.toml").poll_threads, 2);
+  EXPECT_EQ(ParseShopConfig(with(fmt::format("poll_threads = {}", kMaxPollThreads)), "shop.toml").poll_threads, kMaxPollThreads);
+  ExpectError(with("poll_threads = 0"), 3, "server.poll_threads");
+  ExpectError(with(fmt::format("poll_threads = {}", kMaxPollThreads + 1)), 3, "server.poll_threads");
+  ExpectError(with("poll_threads = 1.5"), 3, "server.poll_threads");
+  ExpectError(with("pol_threads = 2"), 3, "server.pol_threads");
 }
 
 // A machine's temperature pipeline and data-driven thermal model, read as `run` reads them.

@@ -1,8 +1,10 @@
 #pragma once
-// server::Shop: the workshop server (seed 003). One event-loop thread polls
-// every machine's terminal over MODBUS TCP (epoll, non-blocking sockets, its
-// own MBAP framing — libmodbus' select() breaks at socket numbers ≥ 1024 and
-// its context is not thread-safe), runs each machine's compensator with the
+// server::Shop: the workshop server (seed 003). Event-loop threads ([server]
+// poll_threads, 1 by default; machine i belongs to thread i mod K for good,
+// each thread with its own epoll set, timers and counters) poll every
+// machine's terminal over MODBUS TCP (epoll, non-blocking sockets, its own
+// MBAP framing — libmodbus' select() breaks at socket numbers ≥ 1024 and
+// its context is not thread-safe), run each machine's compensator with the
 // same pure step as `trueaxis run` (runtime::Step: signal chain conditioning,
 // limiter, faults) and writes the corrections back with one FC 16.
 //
@@ -93,13 +95,14 @@ struct ShopStats {
   std::uint64_t complete_cycles = 0;  // read → step → write acknowledged
   std::uint64_t faults = 0;
   std::uint64_t overruns = 0;         // a tick found the previous cycle still in flight
-  // read → write of complete cycles since the last ResetLatency: p50 and p99 are the upper edge of
+  // read → write of complete cycles since the last ResetLatency (every loop thread's, merged): p50 and p99 are the upper edge of
   // their bucket (buckets 6 % wide), max exact
   double latency_p50_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;
   std::uint64_t latency_samples = 0;
   std::vector<std::pair<double, std::uint64_t>> latency_histogram;  // (bucket's upper edge ms, count), non-empty buckets
   std::uint64_t history_dropped = 0;
-  double loop_cpu_s = 0;              // CPU time of the event-loop thread so far
+  double loop_cpu_s = 0;              // CPU time of the event-loop threads so far (summed)
+  int poll_threads = 0;               // event-loop threads (machine i is polled by thread i mod poll_threads)
 };
 
 class Shop {

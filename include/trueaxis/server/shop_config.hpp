@@ -58,9 +58,15 @@ struct ShopConfig {
   int audit_log_line = 0;           // where audit_log, [http] bind / port are in the shop file (0: not given)
   int http_bind_line = 0;
   int http_port_line = 0;
+  // [server] poll_threads: the machines are polled by this many threads, machine i by thread
+  // i mod poll_threads (each with its own epoll set); 1 to kMaxPollThreads.
+  int poll_threads = 1;
+  int poll_threads_line = 0;        // where it (or [server]) is in the shop file (0: not given)
   MqttConfig mqtt;
   std::vector<MachineConfig> machines;
 };
+
+inline constexpr int kMaxPollThreads = 64;
 
 ShopConfig ParseShopConfig(const std::string& text, const std::string& source);
 ShopConfig ReadShopConfig(const std::string& path);
